@@ -1,0 +1,318 @@
+#include "core/json_reader.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "core/error.h"
+
+namespace lt::json {
+
+struct Context {
+  nlohmann::json root;
+  std::string file;
+  std::filesystem::path base_dir;
+};
+
+namespace {
+
+const char* TypeName(const nlohmann::json& j) {
+  switch (j.type()) {
+    case nlohmann::json::value_t::null: return "null";
+    case nlohmann::json::value_t::boolean: return "a boolean";
+    case nlohmann::json::value_t::number_integer:
+    case nlohmann::json::value_t::number_unsigned:
+    case nlohmann::json::value_t::number_float: return "a number";
+    case nlohmann::json::value_t::string: return "a string";
+    case nlohmann::json::value_t::array: return "an array";
+    case nlohmann::json::value_t::object: return "an object";
+    default: return "an unsupported value";
+  }
+}
+
+// Line and column (1-based) of a byte offset in text.
+std::pair<size_t, size_t> LineColumn(const std::string& text, size_t offset) {
+  size_t line = 1, col = 1;
+  for (size_t i = 0; i < offset && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      col = 1;
+    } else {
+      ++col;
+    }
+  }
+  return {line, col};
+}
+
+}  // namespace
+
+bool Range::Contains(double v) const {
+  if (std::isnan(v)) return false;
+  bool above = lo_closed ? v >= lo : v > lo;
+  bool below = hi_closed ? v <= hi : v < hi;
+  return above && below;
+}
+
+std::string Range::Describe() const {
+  bool has_lo = std::isfinite(lo), has_hi = std::isfinite(hi);
+  if (has_lo && has_hi) {
+    return "must be in " + std::string(lo_closed ? "[" : "(") + FormatNumber(lo) + ", " +
+           FormatNumber(hi) + (hi_closed ? "]" : ")");
+  }
+  if (has_lo) return std::string("must be ") + (lo_closed ? ">= " : "> ") + FormatNumber(lo);
+  if (has_hi) return std::string("must be ") + (hi_closed ? "<= " : "< ") + FormatNumber(hi);
+  return "must be finite";
+}
+
+std::string EscapePointerToken(std::string_view key) {
+  std::string out;
+  for (char c : key) {
+    if (c == '~') {
+      out += "~0";
+    } else if (c == '/') {
+      out += "~1";
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------- Value
+
+Value::Value(std::shared_ptr<const Context> ctx, const nlohmann::json* node, std::string pointer)
+    : ctx_(std::move(ctx)), node_(node), pointer_(std::move(pointer)) {}
+
+const std::string& Value::file() const { return ctx_->file; }
+
+std::string Value::where() const { return ctx_->file + ": " + (pointer_.empty() ? "/" : pointer_); }
+
+void Value::Fail(const std::string& message) const { throw InputError(where(), message); }
+
+double Value::Number(Range range) const {
+  if (!node_->is_number()) Fail(std::string("must be a number, got ") + TypeName(*node_));
+  double v = node_->get<double>();
+  if (!std::isfinite(v)) Fail("must be finite, got " + FormatNumber(v));
+  if (!range.Contains(v)) Fail(range.Describe() + ", got " + FormatNumber(v));
+  return v;
+}
+
+int64_t Value::Integer(Range range) const {
+  if (node_->is_number_integer()) {
+    if (node_->is_number_unsigned() && node_->get<uint64_t>() > uint64_t(INT64_MAX)) {
+      Fail("integer is too large");
+    }
+    int64_t v = node_->get<int64_t>();
+    if (!range.Contains(double(v))) Fail(range.Describe() + ", got " + std::to_string(v));
+    return v;
+  }
+  if (node_->is_number()) Fail("must be an integer, got " + FormatNumber(node_->get<double>()));
+  Fail(std::string("must be an integer, got ") + TypeName(*node_));
+}
+
+bool Value::Bool() const {
+  if (!node_->is_boolean()) Fail(std::string("must be true or false, got ") + TypeName(*node_));
+  return node_->get<bool>();
+}
+
+std::string Value::String() const {
+  if (!node_->is_string()) Fail(std::string("must be a string, got ") + TypeName(*node_));
+  return node_->get<std::string>();
+}
+
+std::string Value::Enum(std::initializer_list<std::string_view> choices) const {
+  std::string s = String();
+  std::string list;
+  for (auto c : choices) {
+    if (s == c) return s;
+    list += (list.empty() ? "" : ", ") + std::string("\"") + std::string(c) + "\"";
+  }
+  Fail("must be one of " + list + ", got \"" + s + "\"");
+}
+
+std::vector<Value> Value::Array(size_t min_size, size_t max_size) const {
+  if (!node_->is_array()) Fail(std::string("must be an array, got ") + TypeName(*node_));
+  size_t n = node_->size();
+  if (n < min_size || n > max_size) {
+    if (min_size == max_size) {
+      Fail("must have " + std::to_string(min_size) + " elements, got " + std::to_string(n));
+    }
+    if (n < min_size) Fail("must have at least " + std::to_string(min_size) + " elements, got " + std::to_string(n));
+    Fail("must have at most " + std::to_string(max_size) + " elements, got " + std::to_string(n));
+  }
+  std::vector<Value> out;
+  out.reserve(n);
+  for (size_t i = 0; i < n; ++i) out.push_back(Child(i));
+  return out;
+}
+
+std::vector<double> Value::Numbers(size_t size, Range range) const {
+  std::vector<double> out;
+  for (const Value& v : Array(size, size)) out.push_back(v.Number(range));
+  return out;
+}
+
+Eigen::Vector3d Value::Vec3(Range range) const {
+  auto v = Numbers(3, range);
+  return {v[0], v[1], v[2]};
+}
+
+std::filesystem::path Value::Path() const {
+  std::string s = String();
+  if (s.empty()) Fail("must be a non-empty path");
+  std::filesystem::path p(s);
+  if (p.is_relative()) p = ctx_->base_dir / p;
+  return p.lexically_normal();
+}
+
+Object Value::AsObject() const { return Object(*this); }
+
+Value Value::Child(std::string_view key) const {
+  if (!node_->is_object()) Fail(std::string("must be an object, got ") + TypeName(*node_));
+  auto it = node_->find(std::string(key));
+  if (it == node_->end()) Fail("missing required key \"" + std::string(key) + "\"");
+  return Value(ctx_, &*it, pointer_ + "/" + EscapePointerToken(key));
+}
+
+Value Value::Child(size_t index) const {
+  if (!node_->is_array()) Fail(std::string("must be an array, got ") + TypeName(*node_));
+  if (index >= node_->size()) Fail("has no element " + std::to_string(index));
+  return Value(ctx_, &(*node_)[index], pointer_ + "/" + std::to_string(index));
+}
+
+// ---------------------------------------------------------------- Object
+
+Object::Object(const Value& v) : v_(v) {
+  if (!v.IsObject()) v.Fail(std::string("must be an object, got ") + TypeName(v.raw()));
+}
+
+bool Object::Has(std::string_view key) const {
+  known_.emplace(key);
+  return v_.raw().contains(std::string(key));
+}
+
+Value Object::Get(std::string_view key) const {
+  known_.emplace(key);
+  return v_.Child(key);
+}
+
+std::optional<Value> Object::Find(std::string_view key) const {
+  if (!Has(key)) return std::nullopt;
+  return v_.Child(key);
+}
+
+Object Object::GetObject(std::string_view key) const { return Get(key).AsObject(); }
+
+std::optional<Object> Object::FindObject(std::string_view key) const {
+  auto v = Find(key);
+  if (!v) return std::nullopt;
+  return v->AsObject();
+}
+
+double Object::Number(std::string_view key, Range range) const { return Get(key).Number(range); }
+
+double Object::Number(std::string_view key, double fallback, Range range) const {
+  auto v = Find(key);
+  return v ? v->Number(range) : fallback;
+}
+
+int64_t Object::Integer(std::string_view key, Range range) const { return Get(key).Integer(range); }
+
+int64_t Object::Integer(std::string_view key, int64_t fallback, Range range) const {
+  auto v = Find(key);
+  return v ? v->Integer(range) : fallback;
+}
+
+bool Object::Bool(std::string_view key, bool fallback) const {
+  auto v = Find(key);
+  return v ? v->Bool() : fallback;
+}
+
+std::string Object::String(std::string_view key) const { return Get(key).String(); }
+
+std::string Object::String(std::string_view key, const std::string& fallback) const {
+  auto v = Find(key);
+  return v ? v->String() : fallback;
+}
+
+std::string Object::Enum(std::string_view key, std::initializer_list<std::string_view> choices) const {
+  return Get(key).Enum(choices);
+}
+
+std::string Object::Enum(std::string_view key, std::string_view fallback,
+                         std::initializer_list<std::string_view> choices) const {
+  auto v = Find(key);
+  return v ? v->Enum(choices) : std::string(fallback);
+}
+
+Eigen::Vector3d Object::Vec3(std::string_view key, Range range) const { return Get(key).Vec3(range); }
+
+Eigen::Vector3d Object::Vec3(std::string_view key, const Eigen::Vector3d& fallback, Range range) const {
+  auto v = Find(key);
+  return v ? v->Vec3(range) : fallback;
+}
+
+std::filesystem::path Object::Path(std::string_view key) const { return Get(key).Path(); }
+
+void Object::Accept(std::initializer_list<std::string_view> keys) const {
+  for (auto k : keys) known_.emplace(k);
+}
+
+void Object::Finish() const {
+  for (auto it = v_.raw().begin(); it != v_.raw().end(); ++it) {
+    if (known_.count(it.key()) == 0) {
+      std::string pointer = v_.pointer() + "/" + EscapePointerToken(it.key());
+      std::string known_list;
+      for (const auto& k : known_) known_list += (known_list.empty() ? "" : ", ") + k;
+      throw InputError(v_.file() + ": " + pointer,
+                       "unknown key \"" + it.key() + "\"" +
+                           (known_list.empty() ? "" : " (known keys: " + known_list + ")"));
+    }
+  }
+}
+
+// ---------------------------------------------------------------- Document
+
+Value Document::Root() const { return Value(ctx_, &ctx_->root, ""); }
+
+const std::string& Document::file() const { return ctx_->file; }
+
+Document Document::Parse(const std::string& text, std::string display_name,
+                         const std::filesystem::path& base_dir) {
+  auto ctx = std::make_shared<Context>();
+  ctx->file = std::move(display_name);
+  ctx->base_dir = base_dir;
+  try {
+    ctx->root = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    auto [line, col] = LineColumn(text, e.byte > 0 ? e.byte - 1 : 0);
+    std::string msg = e.what();
+    // nlohmann's message starts with "[json.exception.parse_error.101] parse error at line..": keep the part after "error: " when present.
+    auto pos = msg.find("error: ");
+    if (pos != std::string::npos) msg = msg.substr(pos + 7);
+    throw InputError(ctx->file + ":" + std::to_string(line) + ":" + std::to_string(col),
+                     "invalid JSON: " + msg);
+  } catch (const nlohmann::json::exception& e) {  // e.g. a number too large for a double
+    std::string msg = e.what();
+    auto pos = msg.find("] ");
+    if (pos != std::string::npos) msg = msg.substr(pos + 2);
+    throw InputError(ctx->file, "invalid JSON: " + msg);
+  }
+  Document d;
+  d.ctx_ = std::move(ctx);
+  return d;
+}
+
+Document Document::Load(const std::filesystem::path& path, std::string display_name) {
+  if (display_name.empty()) display_name = path.string();
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(display_name, "cannot open file (looked for " + path.string() + ")");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) throw InputError(display_name, "cannot read file");
+  std::filesystem::path base = path.parent_path();
+  if (base.empty()) base = ".";
+  return Parse(ss.str(), display_name, base);
+}
+
+}  // namespace lt::json

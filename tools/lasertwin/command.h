@@ -1,0 +1,26 @@
+// Subcommands of `lasertwin`. Each cmd_*.cpp file registers itself with
+// LT_REGISTER_COMMAND; main.cpp adds them all to the CLI11 app in name order.
+//
+// Exit codes: 0 success; 2 bad input (an lt::InputError or a usage error, message
+// on stderr); 1 internal failure.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <string>
+
+namespace lt::cli {
+
+// Adds one subcommand (with its options and callback) to the app.
+using AddCommand = std::function<void(CLI::App& app)>;
+
+struct CommandRegistrar {
+  CommandRegistrar(const std::string& name, AddCommand add);
+};
+
+}  // namespace lt::cli
+
+#define LT_CONCAT_INNER(a, b) a##b
+#define LT_CONCAT(a, b) LT_CONCAT_INNER(a, b)
+#define LT_REGISTER_COMMAND(name, add_fn) \
+  static ::lt::cli::CommandRegistrar LT_CONCAT(lt_command_registrar_, __LINE__)(name, add_fn)
