@@ -1,0 +1,28 @@
+// Reading and writing image files (PNG, TIFF, EXR, ... through OpenImageIO).
+// Errors (missing, unreadable, truncated file) are lt::InputError naming the file.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/image.h"
+
+namespace lt {
+
+// Reads any image in its own sample type (see AnyImage). 8-bit files give
+// Image<uint8_t>, 9..16-bit give Image<uint16_t>, everything else Image<float>.
+AnyImage ReadImage(const std::filesystem::path& path);
+
+// Reads an image as float in its own units (no scaling: an 8-bit 255 is 255.0f).
+Image<float> ReadImageFloat(const std::filesystem::path& path);
+
+// Writes atomically (temporary name, then rename). The format follows the
+// extension; PNG takes uint8/uint16, EXR takes float (stored as half unless
+// full_float). channel_names (optional) name EXR channels, e.g. {"R","G","B"}.
+void WriteImage(const std::filesystem::path& path, const Image<uint8_t>& image);
+void WriteImage(const std::filesystem::path& path, const Image<uint16_t>& image);
+void WriteImage(const std::filesystem::path& path, const Image<float>& image, bool full_float = true,
+                const std::vector<std::string>& channel_names = {});
+
+}  // namespace lt
