@@ -69,4 +69,25 @@ float GgxReflectionPdf(const Eigen::Vector3f& wo, const Eigen::Vector3f& m, floa
   return GgxD(m, ax, ay) / (2.0f * (wo.z() + SmithS(wo, ax, ay)));
 }
 
+double GgxDirectionalAlbedo(float cos_theta, float alpha, float f0, int n) {
+  const float mu = std::clamp(cos_theta, 0.0f, 1.0f);
+  const Eigen::Vector3f wo(std::sqrt(std::max(0.0f, (1.0f - mu) * (1.0f + mu))), 0.0f, mu);
+  if (wo.z() <= 0.0f) return 0.0;
+  const float g1 = GgxG1(wo, alpha, alpha);
+  double sum = 0;
+  for (int a = 0; a < n; ++a) {
+    for (int b = 0; b < n; ++b) {
+      const Eigen::Vector3f m =
+          SampleGgxVisibleNormal(wo, alpha, alpha, (float(a) + 0.5f) / float(n), (float(b) + 0.5f) / float(n));
+      const float wo_m = wo.dot(m);
+      const Eigen::Vector3f wi = 2.0f * wo_m * m - wo;
+      if (wi.z() <= 0.0f) continue;
+      const float c = 1.0f - std::clamp(wo_m, 0.0f, 1.0f), c2 = c * c;
+      const float fresnel = f0 + (1.0f - f0) * c2 * c2 * c;
+      sum += double(fresnel) * GgxG2(wo, wi, alpha, alpha) / g1;
+    }
+  }
+  return sum / (double(n) * n);
+}
+
 }  // namespace lt

@@ -40,4 +40,11 @@ float GgxVisibleNormalPdf(const Eigen::Vector3f& wo, const Eigen::Vector3f& m, f
 // D_wo(m) / (4 wo.m) = G1(wo) D(m) / (4 wo.z), with m the half vector of wo, wi.
 float GgxReflectionPdf(const Eigen::Vector3f& wo, const Eigen::Vector3f& m, float alpha_x, float alpha_y);
 
+// Directional albedo of the isotropic GGX specular lobe with Schlick Fresnel of
+// normal reflectance f0, seen from cos(theta_o) = cos_theta:
+//   E = integral of F(wo.h) D(h) G2 / (4 cos_o cos_i) cos_i dwi
+//     = E_{m ~ D_wo}[F(wo.m) G2(wo, wi) / G1(wo)],  wi = reflect(wo, m),
+// by deterministic stratified quadrature with n x n visible normals (midpoints).
+double GgxDirectionalAlbedo(float cos_theta, float alpha, float f0, int n);
+
 }  // namespace lt
