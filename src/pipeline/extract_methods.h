@@ -64,17 +64,24 @@ struct LinePeak {
 // Full width at half maximum of the peak around plateau [first, last] of
 // line[0, n): the half level is base + (peak - base) / 2, crossings are
 // interpolated linearly. Returns NaN when a crossing is not found inside the
-// line (the peak runs into the border).
+// line (the peak runs into the border) or a higher value comes first (the
+// "peak" is the flank of another one).
 template <typename T>
 double PeakFwhm(const T* line, int n, int first, int last, double peak, double base) {
   double half = base + 0.5 * (peak - base);
   int x = first;
-  while (x >= 0 && double(line[x]) > half) --x;
+  while (x >= 0 && double(line[x]) > half) {
+    if (double(line[x]) > peak) return std::nan("");  // the flank of a higher peak
+    --x;
+  }
   if (x < 0) return std::nan("");
   double a = double(line[x]), b = double(line[x + 1]);
   double left = x + (half - a) / (b - a);
   x = last;
-  while (x < n && double(line[x]) > half) ++x;
+  while (x < n && double(line[x]) > half) {
+    if (double(line[x]) > peak) return std::nan("");
+    ++x;
+  }
   if (x >= n) return std::nan("");
   a = double(line[x - 1]), b = double(line[x]);
   double right = (x - 1) + (a - half) / (a - b);
