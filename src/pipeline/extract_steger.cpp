@@ -29,6 +29,8 @@ constexpr double kFwhmPerSigma = 2.3548200450309493;  // 2 sqrt(2 ln 2)
 constexpr double kPixelVariance = 1.0 / 12.0;          // variance of a pixel-wide box
 constexpr float kInPixelMargin = 0.6f;                 // accept |t n| <= 0.6 (Steger: 0.5)
 constexpr int kColumnDilation = 2;
+constexpr double kMaxCurvatureRatio = 0.3;
+constexpr double kMaxAlongGradient = 0.5;             // |curvature along| / |curvature across|
 
 // Most negative eigenvalue of [[a, b], [b, c]] and its unit eigenvector; also
 // returns the other eigenvalue.
@@ -234,15 +236,19 @@ bool StegerDetector::Refine(const ImageView<T>& image, const Candidate& c, Strip
   const double sigma = kernels_.sigma;
   const int R = kernels_.radius;
   double px = c.px, py = c.py, nx = c.nx, ny = c.ny;
-  double lambda = 0, r = 0, step = 1;
+  double lambda = 0, r = 0, step = 1, grad_along = 0;
   for (int iter = 0; iter < 4 && std::abs(step) > 1e-3; ++iter) {
     SmoothedDerivatives d = SmoothedDerivativesAt(image, px, py, sigma, R);
     double other;
     MinEigen(d.rxx, d.rxy, d.ryy, &lambda, &other, &nx, &ny);
     if (!(lambda < 0)) return false;
+    // Along a line the curvature is small; near a line's end (or on a blob)
+    // it approaches the curvature across, and the normal is unreliable.
+    if (other < kMaxCurvatureRatio * lambda) return false;
     step = -(d.rx * nx + d.ry * ny) / lambda;
     if (!(std::abs(step) <= 1.0)) return false;
     r = d.r;
+    grad_along = -d.rx * ny + d.ry * nx;
     px += step * nx;
     py += step * ny;
   }
@@ -251,10 +257,17 @@ bool StegerDetector::Refine(const ImageView<T>& image, const Candidate& c, Strip
   if (px < R || px > W - 1 - R) return false;  // kernel support would leave the image
   if (std::abs(nx) < min_abs_nx_) return false;
   const double y = c.y;
-  if (std::abs(py - y) > 1.0) return false;
+  if (std::abs(py - y) > kInPixelMargin + 0.05) return false;
+  // Line ends: the intensity changes along the line. With the smoothed
+  // profile's width S = sqrt(r / -lambda), a Gaussian stripe of constant
+  // intensity has |dr/dt| S / r = 0; within about a filter sigma of an end it
+  // exceeds 0.5 and the centre is biased, so such points are dropped.
+  const double level = r - options_.background;
+  if (!(level > 0)) return false;
+  if (std::abs(grad_along) * std::sqrt(level / -lambda) > kMaxAlongGradient * level) return false;
   // Where the line (direction (-ny, nx)) crosses row y.
   const double u = px - (y - py) * ny / nx;
-  const double S2 = -(r - options_.background) / lambda;
+  const double S2 = level / -lambda;
   const double s2 = S2 - sigma * sigma - 2 * kPixelVariance;
   point->u = u;
   point->v = y;
