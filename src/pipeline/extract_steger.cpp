@@ -69,7 +69,7 @@ StegerDetector::StegerDetector(const ExtractionOptions& options)
   const double sigma = kernels_.sigma;
   const double S = std::sqrt(s * s + sigma * sigma + 2 * kPixelVariance);
   contrast_per_curvature_ = S * S * S / s;
-  row_margin_ = int(std::ceil(3.0 * sigma));
+  row_margin_ = options.EdgeLinesWithoutPoints();
   min_abs_nx_ = std::cos(options.max_angle_deg * M_PI / 180.0);
 }
 

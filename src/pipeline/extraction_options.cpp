@@ -82,4 +82,8 @@ double ExtractionOptions::SigmaUsed() const {
   return std::max(1.0, expected_width / (2.0 * std::sqrt(3.0)));
 }
 
+int ExtractionOptions::EdgeLinesWithoutPoints() const {
+  return method == ExtractionMethod::kSteger ? int(std::ceil(3.0 * SigmaUsed())) : 0;
+}
+
 }  // namespace lt

@@ -76,6 +76,9 @@ struct ExtractionOptions {
   void Check() const;
   // The Steger filter scale actually used.
   double SigmaUsed() const;
+  // Search lines this close to the start and end of the image (or ROI) give no
+  // points: ceil(3 sigma) for steger (its filter would reach outside), else 0.
+  int EdgeLinesWithoutPoints() const;
 };
 
 }  // namespace lt

@@ -62,6 +62,8 @@ void Run(ExtractArgs& a) {
   if (!a.roi.empty()) o.roi = ParseRoi(a.roi);
   if (!a.weights.empty()) o.channel_weights = ParseNumbers(a.weights, "--weights");
   a.plane_options.axis = o.axis;
+  // Edge connectivity must reach past the lines a method cannot measure.
+  a.plane_options.edge_margin = std::max(a.plane_options.edge_margin, o.EdgeLinesWithoutPoints() + 2);
   if (a.planes < 0) throw InputError("--planes", "must be >= 1");
   if (a.planes > 0) a.plane_options.Check();
   StripeExtractor extractor(o);  // validates the options
@@ -140,7 +142,7 @@ void AddExtract(CLI::App& app) {
                   "Plane identification: max step across between adjacent lines (pixels)")
       ->capture_default_str();
   cmd->add_option("--edge-margin", args->plane_options.edge_margin,
-                  "Plane identification: edge connectivity distance (pixels)")
+                  "Plane identification: edge connectivity distance (pixels; at least steger's edge margin + 2)")
       ->capture_default_str();
   cmd->add_option("--min-segment-points", args->plane_options.min_segment_points,
                   "Plane identification: smaller segments are noise")
