@@ -56,15 +56,26 @@ SmoothedDerivatives SmoothedDerivativesAt(const ImageView<T>& image, double x, d
   const int ix0 = int(std::floor(x)) - R, iy0 = int(std::floor(y)) - R;
   const int n = 2 * R + 2;
   std::array<double, kMax> kx0, kx1, kx2, ky0, ky1, ky2;
-  for (int i = 0; i < n; ++i) {
-    const double zx = x - (ix0 + i), zy = y - (iy0 + i);
-    kx0[i] = IntegratedGaussian0(zx, sigma);
-    kx1[i] = IntegratedGaussian1(zx, sigma);
-    kx2[i] = IntegratedGaussian2(zx, sigma);
-    ky0[i] = IntegratedGaussian0(zy, sigma);
-    ky1[i] = IntegratedGaussian1(zy, sigma);
-    ky2[i] = IntegratedGaussian2(zy, sigma);
-  }
+  // Neighbouring taps share pixel edges: Phi, g and g' are evaluated once per
+  // edge (n + 1 edges per axis) and differenced.
+  auto fill = [&](double first_offset, double* k0, double* k1, double* k2) {
+    const double inv_s2 = 1.0 / (sigma * sigma), inv = 1.0 / (sigma * std::sqrt(2.0));
+    double prev_phi = 0, prev_g = 0, prev_dg = 0;
+    for (int e = 0; e <= n; ++e) {
+      const double z = first_offset + 0.5 - e;  // edge between taps e - 1 and e
+      const double phi = 0.5 * std::erfc(-z * inv);
+      const double g = kInvSqrt2Pi / sigma * std::exp(-0.5 * z * z * inv_s2);
+      const double dg = -z * inv_s2 * g;
+      if (e > 0) {
+        k0[e - 1] = prev_phi - phi;
+        k1[e - 1] = prev_g - g;
+        k2[e - 1] = prev_dg - dg;
+      }
+      prev_phi = phi, prev_g = g, prev_dg = dg;
+    }
+  };
+  fill(x - ix0, kx0.data(), kx1.data(), kx2.data());
+  fill(y - iy0, ky0.data(), ky1.data(), ky2.data());
   std::array<int, kMax> cols;
   for (int i = 0; i < n; ++i) cols[i] = MirrorIndex(ix0 + i, image.width);
   SmoothedDerivatives d;
