@@ -30,7 +30,8 @@ std::string Num(double v) {
   return s.str();
 }
 
-std::string Vec(const Eigen::Vector3d& v, double scale = 1.0) {
+std::string Vec(Eigen::Vector3d v, double scale = 1.0) {
+  v = (v.array().abs() < 1e-12).select(0.0, v);  // no "-1.2e-16" from rotations
   return "[" + Num(v.x() * scale) + ", " + Num(v.y() * scale) + ", " + Num(v.z() * scale) + "]";
 }
 
