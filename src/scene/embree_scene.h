@@ -83,6 +83,10 @@ class EmbreeScene {
 
   // Fills a hit from what Embree reports (instance, triangle, barycentrics).
   Hit MakeHit(const Ray& ray, uint32_t instance_id, uint32_t primitive_id, float u, float v) const;
+  // Throws std::runtime_error when Embree has reported an error on this scene's
+  // device. Construction calls it; code that calls Embree on handle() directly
+  // calls it after its own Embree calls.
+  void CheckDevice() const { ThrowIfError("using the scene"); }
 
  private:
   struct DeviceErrors;

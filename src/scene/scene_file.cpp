@@ -47,8 +47,18 @@ void AddMissing(nlohmann::json& target, const nlohmann::json& defaults) {
   }
 }
 
-nlohmann::json Resolve(const nlohmann::json& raw, const SceneFile& s) {
+nlohmann::json Resolve(const nlohmann::json& raw, const SceneFile& s, const std::filesystem::path& base_dir) {
   nlohmann::json r = raw;
+  auto absolute = [&](const std::string& p) {
+    std::filesystem::path path(p);
+    if (path.is_relative()) path = base_dir / path;
+    return std::filesystem::absolute(path).lexically_normal().string();
+  };
+  // The sensor's one file reference (parsed by ParseSensorRig).
+  if (r["sensor"].contains("pattern_projector") && r["sensor"]["pattern_projector"].contains("image")) {
+    auto& image = r["sensor"]["pattern_projector"]["image"];
+    image = absolute(image.get<std::string>());
+  }
   r["seed"] = s.seed;
   for (size_t i = 0; i < s.objects.size(); ++i) {
     r["objects"][i]["gltf"] = std::filesystem::absolute(s.objects[i].gltf).lexically_normal().string();
@@ -73,7 +83,7 @@ nlohmann::json Resolve(const nlohmann::json& raw, const SceneFile& s) {
   return r;
 }
 
-SceneFile Parse(const json::Document& doc, const std::filesystem::path& path) {
+SceneFile Parse(const json::Document& doc, const std::filesystem::path& path, const std::filesystem::path& base_dir) {
   json::Value root = doc.Root();
   json::Object o(root);
   SceneFile s;
@@ -95,7 +105,7 @@ SceneFile Parse(const json::Document& doc, const std::filesystem::path& path) {
   if (auto render = o.Find("render")) s.render = ParseRenderSettings(*render);
   if (auto output = o.Find("output")) s.output = ParseOutputSettings(*output);
   o.Finish();
-  s.resolved = Resolve(root.raw(), s);
+  s.resolved = Resolve(root.raw(), s, base_dir);
   return s;
 }
 
@@ -109,12 +119,14 @@ int SceneFile::FindMaterial(const std::string& name) const {
 }
 
 SceneFile LoadSceneFile(const std::filesystem::path& path) {
-  return Parse(json::Document::Load(path), path);
+  std::filesystem::path base = path.parent_path();
+  if (base.empty()) base = ".";
+  return Parse(json::Document::Load(path), path, base);
 }
 
 SceneFile ParseSceneText(const std::string& text, const std::string& display_name,
                          const std::filesystem::path& base_dir) {
-  return Parse(json::Document::Parse(text, display_name, base_dir), display_name);
+  return Parse(json::Document::Parse(text, display_name, base_dir), display_name, base_dir);
 }
 
 }  // namespace lt
