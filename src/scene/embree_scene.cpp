@@ -155,26 +155,54 @@ Hit EmbreeScene::MakeHit(const Ray& ray, uint32_t instance_id, uint32_t primitiv
   const SceneInstance& inst = g.instances.at(instance_id);
   const Mesh& mesh = g.meshes[inst.mesh];
   const uint32_t* tri = &mesh.indices.at(3 * size_t(primitive_id));
-  const double w = 1.0 - double(u) - double(v);
+  const double w_float = 1.0 - double(u) - double(v);
   Hit hit;
   hit.instance_id = instance_id;
   hit.primitive_id = primitive_id;
-  hit.barycentric = {u, v};
   hit.material_id = g.MaterialOf(inst, primitive_id);
 
   const Eigen::Vector3d p0 = mesh.positions[tri[0]].cast<double>(), p1 = mesh.positions[tri[1]].cast<double>(),
                         p2 = mesh.positions[tri[2]].cast<double>();
-  hit.position = inst.world_from_mesh * (w * p0 + double(u) * p1 + double(v) * p2);
-  hit.t = (hit.position - ray.origin).dot(ray.direction) / ray.direction.squaredNorm();
+  // Embree found the triangle in float; the hit itself is recomputed in double
+  // as the exact intersection of the double ray with the triangle's plane (world
+  // frame), so it lies on the ray and on the surface to double precision.
+  // Barycentrics follow from it; Embree's float ones are the fallback for rays
+  // grazing the plane.
+  double w = w_float, bu = double(u), bv = double(v);
+  bool exact = false;
+  {
+    const Eigen::Vector3d a = inst.world_from_mesh * p0, b = inst.world_from_mesh * p1, c = inst.world_from_mesh * p2;
+    const Eigen::Vector3d e1 = b - a, e2 = c - a, n = e1.cross(e2);
+    const double denom = n.dot(ray.direction), n2 = n.squaredNorm();
+    if (n2 > 0 && std::abs(denom) > 1e-9 * std::sqrt(n2) * ray.direction.norm()) {
+      const double t = n.dot(a - ray.origin) / denom;
+      const Eigen::Vector3d q = ray.origin + t * ray.direction - a;
+      const double d00 = e1.dot(e1), d01 = e1.dot(e2), d11 = e2.dot(e2), d20 = q.dot(e1), d21 = q.dot(e2);
+      const double det = d00 * d11 - d01 * d01;
+      if (det > 0) {
+        bu = (d11 * d20 - d01 * d21) / det;
+        bv = (d00 * d21 - d01 * d20) / det;
+        w = 1.0 - bu - bv;
+        hit.position = ray.origin + t * ray.direction;
+        hit.t = t;
+        exact = true;
+      }
+    }
+  }
+  if (!exact) {
+    hit.position = inst.world_from_mesh * (w * p0 + bu * p1 + bv * p2);
+    hit.t = (hit.position - ray.origin).dot(ray.direction) / ray.direction.squaredNorm();
+  }
+  hit.barycentric = {float(bu), float(bv)};
 
   const Eigen::Matrix3d& nm = normal_from_mesh_[instance_id];
   hit.geometric_normal = (nm * (p1 - p0).cross(p2 - p0)).normalized();
-  const Eigen::Vector3d n_obj = w * mesh.normals[tri[0]].cast<double>() + double(u) * mesh.normals[tri[1]].cast<double>() +
-                                double(v) * mesh.normals[tri[2]].cast<double>();
+  const Eigen::Vector3d n_obj = w * mesh.normals[tri[0]].cast<double>() + bu * mesh.normals[tri[1]].cast<double>() +
+                                bv * mesh.normals[tri[2]].cast<double>();
   Eigen::Vector3d ns = nm * n_obj;
   hit.shading_normal = ns.norm() > 1e-12 ? Eigen::Vector3d(ns.normalized()) : hit.geometric_normal;
   if (!mesh.texcoords.empty()) {
-    hit.uv = float(w) * mesh.texcoords[tri[0]] + u * mesh.texcoords[tri[1]] + v * mesh.texcoords[tri[2]];
+    hit.uv = float(w) * mesh.texcoords[tri[0]] + float(bu) * mesh.texcoords[tri[1]] + float(bv) * mesh.texcoords[tri[2]];
   }
   hit.front_face = ray.direction.dot(hit.geometric_normal) < 0;
   return hit;
