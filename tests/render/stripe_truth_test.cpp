@@ -95,7 +95,8 @@ TEST_P(StripeTruthPlane, TiltedPlaneMatchesClosedForm) {
     ASSERT_TRUE(X.has_value()) << "row " << c.v;
     double u = cam.Project(*X)->x();
     worst = std::max(worst, std::abs(u - c.u));
-    EXPECT_LT((c.p_cam - *X).norm(), 1e-9);
+    // Mesh vertices are float: the rendered plane is the analytic one to ~0.2 m * 2^-24 = 1.2e-8 m.
+    EXPECT_LT((c.p_cam - *X).norm(), 5e-8);
     ++compared;
   }
   EXPECT_EQ(compared, cam.height());  // the stripe crosses every row
