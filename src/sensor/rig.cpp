@@ -210,7 +210,6 @@ LaserProjector ParseLaser(const Object& o) {
     }
     p.sheet_angles_rad = EvenSheetAngles(n, spacing);
   }
-  p.sheet_power.assign(p.sheet_angles_rad.size(), 1.0);
   if (auto sp = o.Find("sheet_power")) {
     p.sheet_power = NumberList(*sp, 1, Range::NonNegative());
   }
