@@ -89,7 +89,7 @@ class ShutterSchedule {
 
  private:
   double SwitchTime(int64_t index, uint64_t seed) const;
-  double LitTime(int light, int64_t index, double a, double b, uint64_t seed) const;
+  double LitTime(int light, int64_t index, double exposure, uint64_t seed) const;
 
   ShutterParams params_;
   std::vector<double> gap_;     // per cycle entry: time to the next frame start
