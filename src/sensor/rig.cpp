@@ -127,6 +127,7 @@ ImageSensor ParseImageSensor(const Object& o) {
   const bool mono = p.color_filter == ColorFilter::kMono;
   if (auto q = o.Find("quantum_efficiency")) {
     if (q->IsNumber()) {
+      if (!mono) q->Fail("a Bayer sensor needs per-channel tables: {\"wavelength_nm\": [...], \"r\": [...], \"g\": [...], \"b\": [...]}");
       double v = q->Number(Range::Closed(0, 1));
       p.qe_wavelength_m = {550e-9};
       p.qe = {{{v}, {v}, {v}}};
