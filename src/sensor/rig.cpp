@@ -288,6 +288,7 @@ ShutterSchedule ParseShutter(const Object& o) {
       f.laser = e.Bool("laser", false);
       f.pattern = e.Bool("pattern", false);
       f.led = e.Bool("led", false);
+      if (e.Has("analog_gain_db")) f.analog_gain_db = e.Number("analog_gain_db", Range::Closed(-40, 60));
       e.Finish();
       p.cycle.push_back(f);
     }

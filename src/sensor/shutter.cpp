@@ -16,8 +16,8 @@ constexpr double kJitterClamp = 5.0;
 ShutterParams AlternatingShutter(double bright_exposure_s, double dim_exposure_s, double frame_period_s,
                                  bool led_in_bright) {
   ShutterParams p;
-  p.cycle = {ShutterFrameSpec{"bright", bright_exposure_s, false, false, led_in_bright},
-             ShutterFrameSpec{"dim", dim_exposure_s, true, false, false}};
+  p.cycle = {ShutterFrameSpec{"bright", bright_exposure_s, false, false, led_in_bright, std::nullopt},
+             ShutterFrameSpec{"dim", dim_exposure_s, true, false, false, std::nullopt}};
   p.frame_period_s = frame_period_s;
   return p;
 }
@@ -27,6 +27,9 @@ void ShutterParams::Check() const {
   for (size_t c = 0; c < cycle.size(); ++c) {
     if (!(cycle[c].exposure_s > 0 && std::isfinite(cycle[c].exposure_s))) {
       throw ParamError("cycle/" + std::to_string(c) + "/exposure_us", "must be > 0");
+    }
+    if (cycle[c].analog_gain_db && !(std::abs(*cycle[c].analog_gain_db) <= 60)) {
+      throw ParamError("cycle/" + std::to_string(c) + "/analog_gain_db", "must be in [-40, 60]");
     }
   }
   if (!(frame_period_s > 0 && std::isfinite(frame_period_s))) throw ParamError("frame_period_ms", "must be > 0");
@@ -111,6 +114,7 @@ ShutterFrame ShutterSchedule::Frame(int64_t index, uint64_t seed) const {
   f.laser_on = spec.laser;
   f.pattern_on = spec.pattern;
   f.led_on = spec.led;
+  f.analog_gain_db = spec.analog_gain_db;
   f.switch_time_s = SwitchTime(index, seed);
   f.laser_fraction = LitTime(0, index, spec.exposure_s, seed) / spec.exposure_s;
   f.pattern_fraction = LitTime(1, index, spec.exposure_s, seed) / spec.exposure_s;

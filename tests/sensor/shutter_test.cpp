@@ -45,7 +45,8 @@ TEST(Shutter, ExposureChangeOverheadReproducesTheThesisFrameRates) {
 
 TEST(Shutter, LongExposureStretchesTheFrame) {
   ShutterParams p;
-  p.cycle = {ShutterFrameSpec{"a", 30e-3, true, false, false}, ShutterFrameSpec{"b", 1e-3, false, false, true}};
+  p.cycle = {ShutterFrameSpec{"a", 30e-3, true, false, false, std::nullopt},
+             ShutterFrameSpec{"b", 1e-3, false, false, true, std::nullopt}};
   p.frame_period_s = 10e-3;
   ShutterSchedule s(p);
   EXPECT_NEAR(s.FrameStart(1), 30e-3, 1e-15);
@@ -89,6 +90,15 @@ TEST(Shutter, JitterBleedsOnAverageSigmaOverRootTwoPi) {
   // Deterministic per seed.
   EXPECT_EQ(s.Frame(10, 7).laser_fraction, s.Frame(10, 7).laser_fraction);
   EXPECT_NE(s.Frame(10, 7).switch_time_s, s.Frame(10, 8).switch_time_s);
+}
+
+TEST(Shutter, CycleEntriesCarryTheirGain) {
+  ShutterParams p = AlternatingShutter(1e-3, 100e-6, 10e-3);
+  p.cycle[1].analog_gain_db = 12.0;
+  ShutterSchedule s(p);
+  EXPECT_FALSE(s.Frame(0).analog_gain_db);
+  ASSERT_TRUE(s.Frame(3).analog_gain_db);
+  EXPECT_EQ(*s.Frame(3).analog_gain_db, 12.0);
 }
 
 TEST(Shutter, InvalidParametersNameTheirKey) {
