@@ -75,6 +75,29 @@ TEST(Lens, RaysConvergeOnTheFocusPlaneInsideTheAperture) {
   }
 }
 
+TEST(Lens, FisheyeThinLensFocusesOnASphereBeyondNinetyDegrees) {
+  CameraParams p = Lens(0.2);
+  p.width = p.height = 1000;
+  p.fx = p.fy = 200;
+  p.cx = p.cy = 499.5;
+  p.distortion = DistortionModel::kFisheye;
+  p.fisheye = {-0.02, 0.001, 0.0, 0.0};
+  Camera cam(p);
+  Eigen::Vector2d px(499.5 + 200 * 2.0, 499.5);  // θ_d = 2.0 rad: θ > 90°
+  Eigen::Vector3d chief = *cam.Unproject(px);
+  ASSERT_LT(chief.z(), 0.0);
+  Rng rng(9);
+  for (int i = 0; i < 200; ++i) {
+    auto ray = cam.GenerateRay(px, {rng.NextDouble(), rng.NextDouble()});
+    ASSERT_TRUE(ray);
+    EXPECT_NEAR(ray->origin.dot(chief), 0.0, 1e-15);  // aperture disc faces the chief ray
+    EXPECT_LE(ray->origin.norm(), 0.5 * cam.aperture_diameter_m() * (1 + 1e-12));
+    // The ray passes through the focus point S·chief.
+    Eigen::Vector3d to_focus = 0.2 * chief - ray->origin;
+    EXPECT_LT((to_focus.normalized() - ray->direction).norm(), 1e-12);
+  }
+}
+
 TEST(Lens, CircleOfConfusionMatchesClosedForm) {
   Camera cam(Lens(0.1));
   const double v = 8.5e-3, s = 0.1, n = 2.8;
