@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <mutex>
@@ -155,26 +156,49 @@ Hit EmbreeScene::MakeHit(const Ray& ray, uint32_t instance_id, uint32_t primitiv
   const SceneInstance& inst = g.instances.at(instance_id);
   const Mesh& mesh = g.meshes[inst.mesh];
   const uint32_t* tri = &mesh.indices.at(3 * size_t(primitive_id));
-  const double w = 1.0 - double(u) - double(v);
   Hit hit;
   hit.instance_id = instance_id;
   hit.primitive_id = primitive_id;
-  hit.barycentric = {u, v};
   hit.material_id = g.MaterialOf(inst, primitive_id);
 
   const Eigen::Vector3d p0 = mesh.positions[tri[0]].cast<double>(), p1 = mesh.positions[tri[1]].cast<double>(),
                         p2 = mesh.positions[tri[2]].cast<double>();
-  hit.position = inst.world_from_mesh * (w * p0 + double(u) * p1 + double(v) * p2);
-  hit.t = (hit.position - ray.origin).dot(ray.direction) / ray.direction.squaredNorm();
+  // Refine the hit in double: intersect the ray with the triangle's plane in the
+  // world frame. Embree found the triangle; its float barycentrics are only
+  // accurate to ~1e-7 of the distances involved, the refined point to ~1e-16.
+  const Eigen::Vector3d w0 = inst.world_from_mesh * p0, w1 = inst.world_from_mesh * p1, w2 = inst.world_from_mesh * p2;
+  const Eigen::Vector3d e1 = w1 - w0, e2 = w2 - w0;
+  const Eigen::Vector3d pvec = ray.direction.cross(e2);
+  const double det = e1.dot(pvec);
+  double bu = u, bv = v;
+  if (std::abs(det) > 1e-14 * e1.norm() * e2.norm() * ray.direction.norm()) {  // not grazing
+    const Eigen::Vector3d tvec = ray.origin - w0;
+    const Eigen::Vector3d qvec = tvec.cross(e1);
+    bu = tvec.dot(pvec) / det;
+    bv = ray.direction.dot(qvec) / det;
+    hit.t = e2.dot(qvec) / det;
+    hit.position = ray.origin + hit.t * ray.direction;
+  } else {
+    hit.position = (1.0 - bu - bv) * w0 + bu * w1 + bv * w2;
+    hit.t = (hit.position - ray.origin).dot(ray.direction) / ray.direction.squaredNorm();
+  }
+  // Barycentrics for interpolation, kept inside the triangle (the refined point
+  // can lie a rounding error outside an edge Embree decided it was inside of).
+  bu = std::clamp(bu, 0.0, 1.0);
+  bv = std::clamp(bv, 0.0, 1.0 - bu);
+  const double bw = 1.0 - bu - bv;
+  hit.barycentric = {float(bu), float(bv)};
 
   const Eigen::Matrix3d& nm = normal_from_mesh_[instance_id];
   hit.geometric_normal = (nm * (p1 - p0).cross(p2 - p0)).normalized();
-  const Eigen::Vector3d n_obj = w * mesh.normals[tri[0]].cast<double>() + double(u) * mesh.normals[tri[1]].cast<double>() +
-                                double(v) * mesh.normals[tri[2]].cast<double>();
+  const Eigen::Vector3d n_obj = bw * mesh.normals[tri[0]].cast<double>() + bu * mesh.normals[tri[1]].cast<double>() +
+                                bv * mesh.normals[tri[2]].cast<double>();
   Eigen::Vector3d ns = nm * n_obj;
   hit.shading_normal = ns.norm() > 1e-12 ? Eigen::Vector3d(ns.normalized()) : hit.geometric_normal;
   if (!mesh.texcoords.empty()) {
-    hit.uv = float(w) * mesh.texcoords[tri[0]] + u * mesh.texcoords[tri[1]] + v * mesh.texcoords[tri[2]];
+    hit.uv = (bw * mesh.texcoords[tri[0]].cast<double>() + bu * mesh.texcoords[tri[1]].cast<double>() +
+              bv * mesh.texcoords[tri[2]].cast<double>())
+                 .cast<float>();
   }
   hit.front_face = ray.direction.dot(hit.geometric_normal) < 0;
   return hit;
