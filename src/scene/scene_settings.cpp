@@ -16,6 +16,10 @@ void RenderSettings::Check() const {
     throw std::invalid_argument("render.russian_roulette_depth must be in [1, 64]");
   }
   if (threads < 0 || threads > 1024) throw std::invalid_argument("render.threads must be in [0, 1024]");
+  if (frames < 1 || frames > 1000000) throw std::invalid_argument("render.frames must be in [1, 1000000]");
+  if (!(speckle_contrast >= 0 && speckle_contrast <= 1)) {
+    throw std::invalid_argument("render.speckle_contrast must be in [0, 1]");
+  }
 }
 
 void OutputSettings::Check() const {
@@ -39,6 +43,8 @@ RenderSettings ParseRenderSettings(const json::Value& value) {
   s.adaptive_sampling = o.Bool("adaptive_sampling", s.adaptive_sampling);
   s.subsurface = o.Bool("subsurface", s.subsurface);
   s.threads = int(o.Integer("threads", s.threads, Range::Closed(0, 1024)));
+  s.frames = int(o.Integer("frames", s.frames, Range::Closed(1, 1000000)));
+  s.speckle_contrast = o.Number("speckle_contrast", s.speckle_contrast, Range::Closed(0, 1));
   o.Finish();
   return s;
 }
@@ -86,7 +92,9 @@ nlohmann::json ToJson(const RenderSettings& s) {
           {"russian_roulette_depth", s.russian_roulette_depth},
           {"adaptive_sampling", s.adaptive_sampling},
           {"subsurface", s.subsurface},
-          {"threads", s.threads}};
+          {"threads", s.threads},
+          {"frames", s.frames},
+          {"speckle_contrast", s.speckle_contrast}};
 }
 
 nlohmann::json ToJson(const OutputSettings& s) {

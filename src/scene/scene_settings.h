@@ -19,6 +19,8 @@ struct RenderSettings {
   bool adaptive_sampling = true;   // pixels no light path can reach get one sample
   bool subsurface = true;          // false renders subsurface materials as surfaces only
   int threads = 0;                 // 0 = all hardware threads, else [1, 1024]
+  int frames = 1;                  // frames in the sequence, [1, 1000000]
+  double speckle_contrast = 0;     // laser speckle contrast C in [0, 1]; 0 = no speckle
   void Check() const;              // throws std::invalid_argument
 };
 

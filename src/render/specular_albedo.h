@@ -1,0 +1,46 @@
+// Directional albedo of the dielectric GGX specular lobe of the glTF
+// metallic-roughness BSDF (Schlick Fresnel with F0 = 0.04, height-correlated
+// Smith), used to couple the diffuse lobe to the specular one so that the BSDF
+// conserves energy (docs/rendering.md, "BSDF: energy conservation").
+//
+//   E(mu, alpha) = integral over the hemisphere of f_spec(wo, wi) cos(theta_i) dwi
+//   E_avg(alpha) = 2 integral_0^1 E(mu, alpha) mu dmu
+//
+// E is tabulated (specular_albedo_table.inc, generated offline by
+// tools/render/gen_specular_albedo_table.cpp) on 64 x 64 nodes
+//   mu = t^4,  t = i / 63;   alpha = (r_min + (1 - r_min) s^1.5)^2,  s = j / 63,
+// with r_min = sqrt(kMinGgxAlpha) (alpha is the square of glTF's roughness),
+// which crowd the nodes where E changes fastest (grazing view of smooth
+// surfaces), and read back by bilinear interpolation in (t, s). E_avg is the
+// exact cosine-weighted integral of that interpolant, so the coupled diffuse
+// lobe integrates exactly to 1 - E(mu) of the table.
+#pragma once
+
+namespace lt {
+
+inline constexpr float kDielectricF0 = 0.04f;
+// Smallest GGX alpha the renderer uses: roughness -> 0 is clamped here so that
+// D, its sampling and the pdf stay finite in float (D(n) = 1/(pi alpha^2) = 3e5).
+inline constexpr float kMinGgxAlpha = 1e-3f;
+
+// Table layout (shared with the generator).
+inline constexpr int kSpecularAlbedoNodes = 64;
+inline constexpr int kSpecularAlbedoQuadrature = 128;  // n x n visible normals per entry
+float SpecularAlbedoNodeMu(int i);     // mu of column i (the mu = 0 column holds the limit mu -> 0)
+float SpecularAlbedoNodeAlpha(int j);  // alpha of row j
+
+// Schlick's Fresnel approximation for reflectance f0 at normal incidence.
+inline float SchlickFresnel(float f0, float cos_theta) {
+  const float c = cos_theta < 0.0f ? 0.0f : (cos_theta > 1.0f ? 1.0f : cos_theta);
+  const float m = 1.0f - c, m2 = m * m;
+  return f0 + (1.0f - f0) * m2 * m2 * m;
+}
+
+// The tabulated E(mu, alpha), mu = cos(theta_o) in [0, 1], alpha in [kMinGgxAlpha, 1].
+float DielectricSpecularAlbedo(float cos_theta, float alpha);
+// E_avg(alpha) of the interpolated table.
+float DielectricSpecularAlbedoAverage(float alpha);
+// The raw table entry at column i, row j.
+float DielectricSpecularAlbedoNode(int i, int j);
+
+}  // namespace lt
