@@ -171,7 +171,7 @@ Hit EmbreeScene::MakeHit(const Ray& ray, uint32_t instance_id, uint32_t primitiv
   const Eigen::Vector3d pvec = ray.direction.cross(e2);
   const double det = e1.dot(pvec);
   double bu = u, bv = v;
-  if (std::abs(det) > 1e-14 * e1.norm() * e2.norm() * ray.direction.norm()) {  // not grazing
+  if (std::abs(det) > 1e-9 * e1.norm() * e2.norm() * ray.direction.norm()) {  // not grazing
     const Eigen::Vector3d tvec = ray.origin - w0;
     const Eigen::Vector3d qvec = tvec.cross(e1);
     bu = tvec.dot(pvec) / det;
