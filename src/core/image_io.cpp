@@ -1,0 +1,105 @@
+#include "core/image_io.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+
+namespace lt {
+
+namespace {
+
+std::unique_ptr<OIIO::ImageInput> OpenInput(const std::filesystem::path& path, OIIO::ImageSpec* spec) {
+  if (!std::filesystem::exists(path)) throw InputError(path.string(), "no such file");
+  if (std::filesystem::is_directory(path)) throw InputError(path.string(), "is a folder, not an image");
+  auto in = OIIO::ImageInput::open(path.string());
+  if (!in) {
+    std::string err = OIIO::geterror();
+    throw InputError(path.string(), "cannot read image" + (err.empty() ? "" : ": " + err));
+  }
+  *spec = in->spec();
+  if (spec->width <= 0 || spec->height <= 0 || spec->nchannels <= 0) {
+    throw InputError(path.string(), "image has zero size (" + std::to_string(spec->width) + "x" +
+                                        std::to_string(spec->height) + ", " +
+                                        std::to_string(spec->nchannels) + " channels)");
+  }
+  if (spec->depth > 1) throw InputError(path.string(), "volume images are not supported");
+  return in;
+}
+
+template <typename T>
+Image<T> ReadAs(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
+                const std::filesystem::path& path) {
+  Image<T> img(spec.width, spec.height, spec.nchannels);
+  if (!in.read_image(0, 0, 0, spec.nchannels, type, img.pixels.data())) {
+    std::string err = in.geterror();
+    throw InputError(path.string(), "cannot decode image" + (err.empty() ? "" : ": " + err));
+  }
+  return img;
+}
+
+template <typename T>
+void Write(const std::filesystem::path& path, const Image<T>& image, OIIO::TypeDesc file_type,
+           OIIO::TypeDesc mem_type, const std::vector<std::string>& channel_names) {
+  if (image.empty() || image.channels <= 0) throw std::invalid_argument("cannot write an empty image: " + path.string());
+  if (image.pixels.size() != size_t(image.width) * image.height * image.channels) {
+    throw std::invalid_argument("image buffer size does not match its dimensions: " + path.string());
+  }
+  WriteAtomically(path, [&](const std::filesystem::path& tmp) {
+    auto out = OIIO::ImageOutput::create(path.string());
+    if (!out) throw std::runtime_error("no image writer for " + path.string() + ": " + OIIO::geterror());
+    OIIO::ImageSpec spec(image.width, image.height, image.channels, file_type);
+    if (!channel_names.empty()) {
+      if (int(channel_names.size()) != image.channels) {
+        throw std::invalid_argument("channel name count does not match channels: " + path.string());
+      }
+      spec.channelnames = channel_names;
+    }
+    if (!out->open(tmp.string(), spec)) throw std::runtime_error("cannot create " + tmp.string() + ": " + out->geterror());
+    if (!out->write_image(mem_type, image.pixels.data())) {
+      throw std::runtime_error("cannot write " + tmp.string() + ": " + out->geterror());
+    }
+    if (!out->close()) throw std::runtime_error("cannot finish " + tmp.string() + ": " + out->geterror());
+  });
+}
+
+}  // namespace
+
+AnyImage ReadImage(const std::filesystem::path& path) {
+  OIIO::ImageSpec spec;
+  auto in = OpenInput(path, &spec);
+  OIIO::TypeDesc f = spec.format;
+  if (f == OIIO::TypeDesc::UINT8 || f == OIIO::TypeDesc::INT8) {
+    return ReadAs<uint8_t>(*in, spec, OIIO::TypeDesc::UINT8, path);
+  }
+  if (f == OIIO::TypeDesc::UINT16 || f == OIIO::TypeDesc::INT16) {
+    return ReadAs<uint16_t>(*in, spec, OIIO::TypeDesc::UINT16, path);
+  }
+  return ReadAs<float>(*in, spec, OIIO::TypeDesc::FLOAT, path);
+}
+
+Image<float> ReadImageFloat(const std::filesystem::path& path) {
+  return std::visit(
+      [](auto&& img) -> Image<float> {
+        Image<float> out(img.width, img.height, img.channels);
+        for (size_t i = 0; i < img.pixels.size(); ++i) out.pixels[i] = float(img.pixels[i]);
+        return out;
+      },
+      ReadImage(path));
+}
+
+void WriteImage(const std::filesystem::path& path, const Image<uint8_t>& image) {
+  Write(path, image, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8, {});
+}
+
+void WriteImage(const std::filesystem::path& path, const Image<uint16_t>& image) {
+  Write(path, image, OIIO::TypeDesc::UINT16, OIIO::TypeDesc::UINT16, {});
+}
+
+void WriteImage(const std::filesystem::path& path, const Image<float>& image, bool full_float,
+                const std::vector<std::string>& channel_names) {
+  Write(path, image, full_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::HALF, OIIO::TypeDesc::FLOAT,
+        channel_names);
+}
+
+}  // namespace lt

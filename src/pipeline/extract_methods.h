@@ -1,0 +1,110 @@
+// Internal interface between StripeExtractor and the per-method files. All
+// methods work on a mono image whose rows are the search lines (the extractor
+// transposes for column search) and report points in that image's coordinates:
+// u along the row, v = row index.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "core/image.h"
+#include "pipeline/extraction_options.h"
+#include "pipeline/stripe_point.h"
+
+namespace lt {
+
+// Resolved thresholds for one image type.
+struct MethodParams {
+  const ExtractionOptions* options = nullptr;
+  double threshold = 0;       // minimum peak intensity
+  double high_threshold = 0;  // steger hysteresis high threshold
+};
+
+// Points gathered per band of rows, so threads write without locking and the
+// result order does not depend on scheduling. Buffers keep their capacity.
+struct BandedPoints {
+  int band_rows = 16;
+  std::vector<std::vector<StripePoint>> bands;
+
+  int Reset(int height) {  // returns the number of bands
+    int n = (height + band_rows - 1) / band_rows;
+    if (int(bands.size()) < n) bands.resize(n);
+    for (int i = 0; i < n; ++i) bands[i].clear();
+    used = n;
+    return n;
+  }
+  void AppendTo(std::vector<StripePoint>* out) const {
+    for (int i = 0; i < used; ++i) out->insert(out->end(), bands[i].begin(), bands[i].end());
+  }
+  int used = 0;
+};
+
+// Runs fn(band, y0, y1) for every band of rows, in parallel (in the calling
+// task arena).
+template <typename Fn>
+void ForEachBand(int height, int band_rows, Fn&& fn) {
+  int n = (height + band_rows - 1) / band_rows;
+  tbb::parallel_for(tbb::blocked_range<int>(0, n, 1), [&](const tbb::blocked_range<int>& r) {
+    for (int b = r.begin(); b < r.end(); ++b) fn(b, b * band_rows, std::min(height, (b + 1) * band_rows));
+  });
+}
+
+// A peak on one search line: plateau [first, last] of its maximum value.
+struct LinePeak {
+  int first = 0;
+  int last = 0;
+  double value = 0;
+};
+
+// Full width at half maximum of the peak around plateau [first, last] of
+// line[0, n): the half level is base + (peak - base) / 2, crossings are
+// interpolated linearly. Returns NaN when a crossing is not found inside the
+// line (the peak runs into the border) or a higher value comes first (the
+// "peak" is the flank of another one).
+template <typename T>
+double PeakFwhm(const T* line, int n, int first, int last, double peak, double base) {
+  double half = base + 0.5 * (peak - base);
+  int x = first;
+  while (x >= 0 && double(line[x]) > half) {
+    if (double(line[x]) > peak) return std::nan("");  // the flank of a higher peak
+    --x;
+  }
+  if (x < 0) return std::nan("");
+  double a = double(line[x]), b = double(line[x + 1]);
+  double left = x + (half - a) / (b - a);
+  x = last;
+  while (x < n && double(line[x]) > half) {
+    if (double(line[x]) > peak) return std::nan("");
+    ++x;
+  }
+  if (x >= n) return std::nan("");
+  a = double(line[x - 1]), b = double(line[x]);
+  double right = (x - 1) + (a - half) / (a - b);
+  return right - left;
+}
+
+inline bool WidthAccepted(double fwhm, const ExtractionOptions& o) {
+  if (!(fwhm >= o.min_width)) return false;  // also rejects NaN
+  return o.max_width == 0 || fwhm <= o.max_width;
+}
+
+// Maximum search / maximum centre of mass: one point per row (extract_max.cpp,
+// extract_com.cpp).
+template <typename T>
+void ExtractMax(const ImageView<T>& image, const MethodParams& params, BandedPoints* out);
+template <typename T>
+void ExtractCom(const ImageView<T>& image, const MethodParams& params, BandedPoints* out);
+// Brightest plateau of a row (first maximum); false if the row is empty.
+template <typename T>
+LinePeak FindRowMaximum(const T* row, int n);
+
+// Multi-maximum centre of mass: every peak of each row (extract_multicom.cpp).
+template <typename T>
+void ExtractMultiCom(const ImageView<T>& image, const MethodParams& params, BandedPoints* out);
+
+}  // namespace lt

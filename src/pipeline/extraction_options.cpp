@@ -1,0 +1,89 @@
+#include "pipeline/extraction_options.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+
+namespace lt {
+
+const char* MethodName(ExtractionMethod method) {
+  switch (method) {
+    case ExtractionMethod::kMax: return "max";
+    case ExtractionMethod::kCom: return "com";
+    case ExtractionMethod::kMultiCom: return "multicom";
+    case ExtractionMethod::kSteger: return "steger";
+  }
+  return "?";
+}
+
+const char* AxisName(SearchAxis axis) { return axis == SearchAxis::kRows ? "rows" : "cols"; }
+
+ExtractionMethod ParseMethod(const std::string& text, const std::string& where) {
+  for (auto m : {ExtractionMethod::kMax, ExtractionMethod::kCom, ExtractionMethod::kMultiCom, ExtractionMethod::kSteger}) {
+    if (text == MethodName(m)) return m;
+  }
+  throw InputError(where, "unknown extraction method '" + text + "' (expected max, com, multicom or steger)");
+}
+
+SearchAxis ParseAxis(const std::string& text, const std::string& where) {
+  if (text == "rows") return SearchAxis::kRows;
+  if (text == "cols") return SearchAxis::kCols;
+  throw InputError(where, "unknown search axis '" + text + "' (expected rows or cols)");
+}
+
+namespace {
+void Require(bool ok, const char* option, const std::string& message) {
+  if (!ok) throw InputError(std::string("option ") + option, message);
+}
+bool FiniteOrAuto(double v) { return std::isnan(v) || std::isfinite(v); }
+}  // namespace
+
+void ExtractionOptions::Check() const {
+  if (roi) {
+    Require(roi->x >= 0 && roi->y >= 0, "roi", "must start inside the image (x, y >= 0)");
+    Require(roi->width > 0 && roi->height > 0, "roi", "must have a positive width and height");
+  }
+  Require(FiniteOrAuto(threshold) && !(threshold < 0), "threshold", "must be >= 0, got " + FormatNumber(threshold));
+  Require(FiniteOrAuto(high_threshold) && !(high_threshold < 0), "high_threshold",
+          "must be >= 0, got " + FormatNumber(high_threshold));
+  if (!std::isnan(threshold) && !std::isnan(high_threshold)) {
+    Require(high_threshold >= threshold, "high_threshold",
+            "must be >= threshold (" + FormatNumber(threshold) + "), got " + FormatNumber(high_threshold));
+  }
+  Require(std::isfinite(background), "background", "must be finite");
+  Require(window >= 0 && window <= 1000, "window", "must be in [0, 1000] pixels, got " + std::to_string(window));
+  Require(std::isfinite(min_width) && min_width >= 0, "min_width", "must be >= 0, got " + FormatNumber(min_width));
+  Require(std::isfinite(max_width) && max_width >= 0, "max_width", "must be >= 0, got " + FormatNumber(max_width));
+  Require(max_width == 0 || max_width >= min_width, "max_width",
+          "must be 0 (no limit) or >= min_width, got " + FormatNumber(max_width));
+  Require(std::isfinite(expected_width) && expected_width > 0 && expected_width <= 200, "expected_width",
+          "must be in (0, 200] pixels, got " + FormatNumber(expected_width));
+  Require(std::isfinite(sigma) && sigma >= 0 && sigma <= 50, "sigma",
+          "must be 0 (automatic) or in (0, 50] pixels, got " + FormatNumber(sigma));
+  Require(sigma == 0 || sigma >= 0.5, "sigma", "must be >= 0.5 pixels, got " + FormatNumber(sigma));
+  Require(std::isfinite(max_angle_deg) && max_angle_deg > 0 && max_angle_deg < 90, "max_angle_deg",
+          "must be in (0, 90) degrees, got " + FormatNumber(max_angle_deg));
+  Require(channel >= -1, "channel", "must be >= 0, got " + std::to_string(channel));
+  Require(channel < 0 || channel_weights.empty(), "channel", "give either a channel or channel weights, not both");
+  if (!channel_weights.empty()) {
+    double sum = 0;
+    for (double w : channel_weights) {
+      Require(std::isfinite(w), "channel_weights", "must be finite");
+      sum += std::abs(w);
+    }
+    Require(sum > 0, "channel_weights", "must not all be zero");
+  }
+  Require(threads >= 0 && threads <= 1024, "threads", "must be in [0, 1024], got " + std::to_string(threads));
+}
+
+double ExtractionOptions::SigmaUsed() const {
+  if (sigma > 0) return sigma;
+  return std::max(1.0, expected_width / (2.0 * std::sqrt(3.0)));
+}
+
+int ExtractionOptions::EdgeLinesWithoutPoints() const {
+  return method == ExtractionMethod::kSteger ? int(std::ceil(3.0 * SigmaUsed())) : 0;
+}
+
+}  // namespace lt

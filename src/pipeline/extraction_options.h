@@ -1,0 +1,84 @@
+// Options of laser stripe extraction (docs/extraction.md explains each method
+// and parameter).
+#pragma once
+
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pipeline/stripe_point.h"
+
+namespace lt {
+
+enum class ExtractionMethod {
+  kMax,       // maximum search: brightest pixel of each row (one stripe)
+  kCom,       // maximum centre of mass: intensity centroid around the maximum (one stripe)
+  kMultiCom,  // multi-maximum centre of mass: every peak above a threshold (N stripes)
+  kSteger,    // Steger 1998: Gaussian-derivative ridge detector (N stripes, any direction)
+};
+
+// Direction of search. kRows: stripes run roughly top to bottom and each image
+// row is searched across (one point per stripe and row). kCols: stripes run
+// roughly left to right and each column is searched.
+enum class SearchAxis { kRows, kCols };
+
+const char* MethodName(ExtractionMethod method);
+const char* AxisName(SearchAxis axis);
+// Parse "max", "com", "multicom", "steger" / "rows", "cols"; throw
+// lt::InputError(where, ...) for anything else.
+ExtractionMethod ParseMethod(const std::string& text, const std::string& where);
+SearchAxis ParseAxis(const std::string& text, const std::string& where);
+
+struct ExtractionOptions {
+  static constexpr double kAuto = std::numeric_limits<double>::quiet_NaN();
+
+  ExtractionMethod method = ExtractionMethod::kCom;
+  SearchAxis axis = SearchAxis::kRows;
+  // Search only inside this rectangle (whole-image coordinates). The ROI
+  // behaves as if the image were cropped to it: border rules apply at its edges.
+  std::optional<PixelRect> roi;
+
+  // Minimum stripe peak intensity in image units (after channel weighting).
+  // kAuto: 10% of the sample type's full scale (25.5 for 8-bit, 6553.5 for
+  // 16-bit, 0.1 for float images). For steger it is the low hysteresis threshold,
+  // expressed as the peak intensity of a stripe of the expected width.
+  double threshold = kAuto;
+  // Steger's high hysteresis threshold, same units. kAuto: 2 x threshold.
+  double high_threshold = kAuto;
+  // Level subtracted from intensities before the centre of mass (com), and
+  // before the half-maximum and width estimates of every method.
+  double background = 0;
+  // com: half width of the centroid window in pixels; 0 = automatic
+  // (ceil(1.25 x the measured FWHM of the peak in that row)).
+  int window = 0;
+  // Accepted stripe width range: FWHM along the search axis in pixels
+  // (max, com, multicom). max_width 0 = no upper limit.
+  double min_width = 1.5;
+  double max_width = 0;
+  // steger: expected stripe FWHM across the stripe in pixels; sets the filter
+  // scale sigma = max(1, expected_width / (2 sqrt 3)) unless sigma > 0 is given.
+  double expected_width = 5.0;
+  double sigma = 0;
+  // steger: stripes must cross the search axis at less than this angle from
+  // its normal (degrees), otherwise the crossing point is ill-defined.
+  double max_angle_deg = 75;
+
+  // Colour input: use one channel, or a weighted sum of channels (one weight per
+  // channel, e.g. 1,0,0 for a red laser). Mono images need neither.
+  int channel = -1;
+  std::vector<double> channel_weights;
+
+  // Worker threads (TBB arena); 0 = all hardware threads.
+  int threads = 0;
+
+  // Throws lt::InputError naming the offending option.
+  void Check() const;
+  // The Steger filter scale actually used.
+  double SigmaUsed() const;
+  // Search lines this close to the start and end of the image (or ROI) give no
+  // points: ceil(3 sigma) for steger (its filter would reach outside), else 0.
+  int EdgeLinesWithoutPoints() const;
+};
+
+}  // namespace lt

@@ -1,0 +1,195 @@
+#include "pipeline/plane_identification.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "core/error.h"
+
+namespace lt {
+
+const char* SegmentTypeName(SegmentType type) {
+  switch (type) {
+    case SegmentType::kFloating: return "F";
+    case SegmentType::kStartEdge: return "LEC";
+    case SegmentType::kEndEdge: return "REC";
+    case SegmentType::kBothEdges: return "LREC";
+  }
+  return "?";
+}
+
+void PlaneIdOptions::Check() const {
+  if (!(std::isfinite(link_distance) && link_distance > 0 && link_distance <= 100)) {
+    throw InputError("option link_distance", "must be in (0, 100] pixels, got " + FormatNumber(link_distance));
+  }
+  if (edge_margin < 0 || edge_margin > 1000) {
+    throw InputError("option edge_margin", "must be in [0, 1000] pixels, got " + std::to_string(edge_margin));
+  }
+  if (min_segment_points < 1) {
+    throw InputError("option min_segment_points", "must be >= 1, got " + std::to_string(min_segment_points));
+  }
+}
+
+namespace {
+
+int Find(std::vector<int>& parent, int i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+struct Ends {
+  double first_along = 0, first_across = 0;  // mean position on the first search line
+  double last_along = 0, last_across = 0;    // and on the last
+};
+
+}  // namespace
+
+PlaneIdentification IdentifyPlanes(const std::vector<StripePoint>& points, const PixelRect& region, int n_planes,
+                                   const PlaneIdOptions& options) {
+  options.Check();
+  if (n_planes < 1) throw InputError("option planes", "must be >= 1, got " + std::to_string(n_planes));
+  PlaneIdentification result;
+  result.points = points;
+  for (auto& p : result.points) p.plane = -1;
+  const bool rows = options.axis == SearchAxis::kRows;
+  const int n = int(points.size());
+  auto along = [&](int i) { return rows ? points[i].v : points[i].u; };
+  auto across = [&](int i) { return rows ? points[i].u : points[i].v; };
+
+  // 1. Connected components over adjacent search lines.
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    double la = std::round(along(a)), lb = std::round(along(b));
+    return la != lb ? la < lb : across(a) < across(b);
+  });
+  std::vector<int> parent(n);
+  std::iota(parent.begin(), parent.end(), 0);
+  const double link = options.link_distance;
+  int prev_begin = 0, prev_end = 0;
+  for (int i = 0; i < n;) {
+    const double line = std::round(along(order[i]));
+    int e = i;
+    while (e < n && std::round(along(order[e])) == line) ++e;
+    const bool prev_adjacent = prev_end > prev_begin && std::round(along(order[prev_begin])) == line - 1;
+    int p = prev_begin;
+    for (int k = i; k < e; ++k) {
+      const double x = across(order[k]);
+      if (k > i && x - across(order[k - 1]) <= link) parent[Find(parent, order[k])] = Find(parent, order[k - 1]);
+      if (!prev_adjacent) continue;
+      while (p < prev_end && across(order[p]) < x - link) ++p;
+      for (int q = p; q < prev_end && across(order[q]) <= x + link; ++q) {
+        int ra = Find(parent, order[k]), rb = Find(parent, order[q]);
+        if (ra != rb) parent[ra] = rb;
+      }
+    }
+    prev_begin = i;
+    prev_end = e;
+    i = e;
+  }
+  std::vector<int> segment_of(n, -1);
+  for (int k = 0; k < n; ++k) {  // segments numbered in order of their first point
+    const int i = order[k], r = Find(parent, i);
+    if (segment_of[r] < 0) {
+      segment_of[r] = int(result.segments.size());
+      result.segments.emplace_back();
+    }
+    result.segments[segment_of[r]].points.push_back(i);
+  }
+
+  // 2. Classification (thesis Algorithm 1) and segment ends.
+  const double start = rows ? region.y : region.x;
+  const double end = start + (rows ? region.height : region.width) - 1;
+  std::vector<Ends> ends(result.segments.size());
+  std::vector<int> candidates;  // segment indices taking part in grouping
+  for (size_t s = 0; s < result.segments.size(); ++s) {
+    StripeSegment& seg = result.segments[s];
+    bool at_start = false, at_end = false;
+    for (int i : seg.points) {
+      at_start |= along(i) <= start + options.edge_margin;
+      at_end |= along(i) >= end - options.edge_margin;
+    }
+    seg.type = at_start && at_end ? SegmentType::kBothEdges
+               : at_start         ? SegmentType::kStartEdge
+               : at_end           ? SegmentType::kEndEdge
+                                  : SegmentType::kFloating;
+    seg.ignored = int(seg.points.size()) < options.min_segment_points;
+    Ends& e = ends[s];
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (int i : seg.points) lo = std::min(lo, std::round(along(i))), hi = std::max(hi, std::round(along(i)));
+    int nlo = 0, nhi = 0;
+    for (int i : seg.points) {
+      if (std::round(along(i)) == lo) e.first_across += across(i), ++nlo;
+      if (std::round(along(i)) == hi) e.last_across += across(i), ++nhi;
+    }
+    e.first_along = lo, e.last_along = hi;
+    e.first_across /= nlo, e.last_across /= nhi;
+    if (!seg.ignored) candidates.push_back(int(s));
+  }
+
+  // 3. Grouping: a chain starts at each start-edge segment and grows by the
+  // shortest connection vector from a chain's end to the start of a free
+  // segment further along, shortest first over all chains, until it reaches
+  // an end-edge segment.
+  struct Chain {
+    std::vector<int> segments;
+    bool closed = false;
+  };
+  std::vector<Chain> chains;
+  std::vector<char> used(result.segments.size(), 0);
+  for (int s : candidates) {
+    const SegmentType t = result.segments[s].type;
+    if (t == SegmentType::kStartEdge || t == SegmentType::kBothEdges) {
+      chains.push_back({{s}, t == SegmentType::kBothEdges});
+      used[s] = 1;
+    }
+  }
+  for (;;) {
+    double best = std::numeric_limits<double>::infinity();
+    int best_chain = -1, best_seg = -1;
+    for (size_t c = 0; c < chains.size(); ++c) {
+      if (chains[c].closed) continue;
+      const Ends& tail = ends[chains[c].segments.back()];
+      for (int s : candidates) {
+        if (used[s]) continue;
+        const SegmentType t = result.segments[s].type;
+        if (t != SegmentType::kFloating && t != SegmentType::kEndEdge) continue;
+        if (ends[s].first_along <= tail.last_along) continue;  // must continue further along
+        const double d = std::hypot(ends[s].first_along - tail.last_along, ends[s].first_across - tail.last_across);
+        if (d < best) best = d, best_chain = int(c), best_seg = s;
+      }
+    }
+    if (best_chain < 0) break;
+    chains[best_chain].segments.push_back(best_seg);
+    used[best_seg] = 1;
+    if (result.segments[best_seg].type == SegmentType::kEndEdge) chains[best_chain].closed = true;
+  }
+
+  result.groups_found = int(chains.size());
+  int unjoined = 0;
+  for (int s : candidates) unjoined += !used[s];
+  if (int(chains.size()) != n_planes || unjoined > 0) {
+    result.ok = false;
+    result.error = "found " + std::to_string(chains.size()) + " stripe group(s) starting at the " +
+                   (rows ? "top" : "left") + " edge, expected " + std::to_string(n_planes);
+    if (unjoined > 0) result.error += "; " + std::to_string(unjoined) + " segment(s) could not be joined to a group";
+    return result;
+  }
+  // 4. Plane numbers across the image, by position at the start edge.
+  std::vector<int> chain_order(chains.size());
+  std::iota(chain_order.begin(), chain_order.end(), 0);
+  std::sort(chain_order.begin(), chain_order.end(), [&](int a, int b) {
+    return ends[chains[a].segments.front()].first_across < ends[chains[b].segments.front()].first_across;
+  });
+  for (int id = 0; id < int(chain_order.size()); ++id) {
+    for (int s : chains[chain_order[id]].segments) {
+      result.segments[s].plane = id;
+      for (int i : result.segments[s].points) result.points[i].plane = id;
+    }
+  }
+  result.ok = true;
+  return result;
+}
+
+}  // namespace lt

@@ -1,0 +1,208 @@
+#include "pipeline/stripe_extractor.h"
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <string>
+
+#include <tbb/task_arena.h>
+
+#include "core/error.h"
+#include "pipeline/extract_methods.h"
+#include "pipeline/extract_steger.h"
+
+namespace lt {
+
+namespace {
+
+template <typename T>
+double FullScale() {
+  if constexpr (std::is_integral_v<T>) return double(std::numeric_limits<T>::max());
+  return 1.0;
+}
+
+std::string Size(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
+
+// Copies `src` transposed into `dst` (dst row i = src column i).
+template <typename T>
+void Transpose(const ImageView<T>& src, T* dst) {
+  constexpr int kBlock = 32;
+  const int W = src.width, H = src.height;
+  for (int y0 = 0; y0 < H; y0 += kBlock) {
+    for (int x0 = 0; x0 < W; x0 += kBlock) {
+      for (int x = x0; x < std::min(W, x0 + kBlock); ++x) {
+        T* out = dst + size_t(x) * H;
+        for (int y = y0; y < std::min(H, y0 + kBlock); ++y) out[y] = src.Row(y)[x];
+      }
+    }
+  }
+}
+
+}  // namespace
+
+struct StripeExtractor::Impl {
+  ExtractionOptions options;
+  tbb::task_arena arena;
+  BandedPoints banded;
+  std::unique_ptr<StegerDetector> steger;
+  std::vector<uint8_t> buf8[2];
+  std::vector<uint16_t> buf16[2];
+  std::vector<float> buf32[2];
+
+  explicit Impl(ExtractionOptions o)
+      : options((o.Check(), std::move(o))),
+        arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic) {
+    if (options.method == ExtractionMethod::kSteger) steger = std::make_unique<StegerDetector>(options);
+  }
+
+  template <typename T>
+  std::vector<T>& Buffer(int slot) {
+    if constexpr (std::is_same_v<T, uint8_t>) return buf8[slot];
+    else if constexpr (std::is_same_v<T, uint16_t>) return buf16[slot];
+    else return buf32[slot];
+  }
+
+  // Runs the method on a mono image whose rows are search lines; appends
+  // points in that image's coordinates.
+  template <typename T>
+  void RunMethod(const ImageView<T>& work, const MethodParams& params, std::vector<StripePoint>* points) {
+    arena.execute([&] {
+      switch (options.method) {
+        case ExtractionMethod::kMax:
+          ExtractMax(work, params, &banded);
+          banded.AppendTo(points);
+          break;
+        case ExtractionMethod::kCom:
+          ExtractCom(work, params, &banded);
+          banded.AppendTo(points);
+          break;
+        case ExtractionMethod::kMultiCom:
+          ExtractMultiCom(work, params, &banded);
+          banded.AppendTo(points);
+          break;
+        case ExtractionMethod::kSteger:
+          steger->Run(work, params, points);
+          break;
+      }
+    });
+  }
+
+  // Orients (transposes for column search) and runs.
+  template <typename T>
+  void RunOriented(const ImageView<T>& mono, const MethodParams& params, std::vector<StripePoint>* points) {
+    if (options.axis == SearchAxis::kRows) {
+      RunMethod(mono, params, points);
+      return;
+    }
+    auto& buf = Buffer<T>(1);
+    buf.resize(size_t(mono.width) * mono.height);
+    Transpose(mono, buf.data());
+    ImageView<T> work{buf.data(), mono.height, mono.width, 1, ptrdiff_t(mono.height)};
+    RunMethod(work, params, points);
+    for (auto& p : *points) std::swap(p.u, p.v);
+  }
+};
+
+StripeExtractor::StripeExtractor(ExtractionOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {}
+StripeExtractor::~StripeExtractor() = default;
+
+const ExtractionOptions& StripeExtractor::options() const { return impl_->options; }
+
+template <typename T>
+double StripeExtractor::ThresholdFor() const {
+  const double t = impl_->options.threshold;
+  return std::isnan(t) ? 0.1 * FullScale<T>() : t;
+}
+
+template <typename T>
+void StripeExtractor::Extract(const ImageView<T>& image, std::vector<StripePoint>* points) {
+  const ExtractionOptions& o = impl_->options;
+  points->clear();
+  if (image.data == nullptr || image.empty()) {
+    throw InputError("", "image is empty (" + Size(image.width, image.height) + ")");
+  }
+  if (image.channels < 1) throw InputError("", "image has no channels");
+  ImageView<T> view = image;
+  PixelRect region{0, 0, image.width, image.height};
+  if (o.roi) {
+    const PixelRect& r = *o.roi;
+    if (r.x < 0 || r.y < 0 || r.width <= 0 || r.height <= 0 || int64_t(r.x) + r.width > image.width ||
+        int64_t(r.y) + r.height > image.height) {
+      throw InputError("", "ROI " + std::to_string(r.x) + "," + std::to_string(r.y) + "," + std::to_string(r.width) +
+                               "," + std::to_string(r.height) + " is not inside the " +
+                               Size(image.width, image.height) + " image");
+    }
+    view = image.Crop(r.x, r.y, r.width, r.height);
+    region = r;
+  }
+  const int C = image.channels;
+  if (o.channel >= C) {
+    throw InputError("", "channel " + std::to_string(o.channel) + " requested but the image has " +
+                             std::to_string(C) + (C == 1 ? " channel" : " channels"));
+  }
+  if (!o.channel_weights.empty() && int(o.channel_weights.size()) != C) {
+    throw InputError("", std::to_string(o.channel_weights.size()) + " channel weights given but the image has " +
+                             std::to_string(C) + (C == 1 ? " channel" : " channels"));
+  }
+  if (C > 1 && o.channel < 0 && o.channel_weights.empty()) {
+    throw InputError("", "the image has " + std::to_string(C) +
+                             " channels: choose the laser's channel or give channel weights");
+  }
+  if constexpr (std::is_floating_point_v<T>) {
+    for (int y = 0; y < view.height; ++y) {
+      const T* row = view.Row(y);
+      bool ok = true;
+      for (int i = 0; i < view.width * C; ++i) ok &= std::isfinite(row[i]);
+      if (!ok) throw InputError("", "image row " + std::to_string(region.y + y) + " holds NaN or infinite values");
+    }
+  }
+  MethodParams params;
+  params.options = &o;
+  params.threshold = ThresholdFor<T>();
+  params.high_threshold = std::isnan(o.high_threshold) ? 2.0 * params.threshold : o.high_threshold;
+  const int W = view.width, H = view.height;
+  if (!o.channel_weights.empty() && !(C == 1 && o.channel_weights[0] == 1.0)) {
+    auto& buf = impl_->Buffer<float>(0);
+    buf.resize(size_t(W) * H);
+    for (int y = 0; y < H; ++y) {
+      const T* row = view.Row(y);
+      float* out = buf.data() + size_t(y) * W;
+      for (int x = 0; x < W; ++x) {
+        double s = 0;
+        for (int c = 0; c < C; ++c) s += o.channel_weights[c] * double(row[x * C + c]);
+        out[x] = float(s);
+      }
+    }
+    impl_->RunOriented(ImageView<float>{buf.data(), W, H, 1, ptrdiff_t(W)}, params, points);
+  } else if (C > 1) {
+    auto& buf = impl_->Buffer<T>(0);
+    buf.resize(size_t(W) * H);
+    const int c = o.channel;
+    for (int y = 0; y < H; ++y) {
+      const T* row = view.Row(y);
+      T* out = buf.data() + size_t(y) * W;
+      for (int x = 0; x < W; ++x) out[x] = row[x * C + c];
+    }
+    impl_->RunOriented(ImageView<T>{buf.data(), W, H, 1, ptrdiff_t(W)}, params, points);
+  } else {
+    impl_->RunOriented(view, params, points);
+  }
+  for (auto& p : *points) {
+    p.u += region.x;
+    p.v += region.y;
+  }
+}
+
+std::vector<StripePoint> StripeExtractor::Extract(const AnyImage& image) {
+  return std::visit([&](const auto& img) { return Extract(img.View()); }, image);
+}
+
+#define LT_INSTANTIATE(T)                                                                  \
+  template void StripeExtractor::Extract<T>(const ImageView<T>&, std::vector<StripePoint>*); \
+  template double StripeExtractor::ThresholdFor<T>() const;
+LT_INSTANTIATE(uint8_t)
+LT_INSTANTIATE(uint16_t)
+LT_INSTANTIATE(float)
+#undef LT_INSTANTIATE
+
+}  // namespace lt

@@ -1,0 +1,64 @@
+#include "render/frame_lights.h"
+
+namespace lt {
+
+EmitterLayout MakeEmitterLayout(const SensorRig& rig) {
+  EmitterLayout layout;
+  for (const auto& laser : rig.lasers) {
+    layout.channels += laser.sheet_count();
+    layout.group_wavelength_m.push_back(laser.wavelength_m());
+  }
+  layout.laser_sheets = layout.channels;
+  if (rig.pattern) {
+    layout.channels += 1;
+    layout.group_wavelength_m.push_back(rig.pattern->wavelength_m());
+  }
+  layout.groups = int(layout.group_wavelength_m.size());
+  return layout;
+}
+
+FrameLights MakeFrameLights(const SensorRig& rig, const Pose& world_from_cam, double laser_fraction,
+                            double pattern_fraction, double led_fraction) {
+  FrameLights lights;
+  int channel = 0, group = 0;
+  for (const auto& laser : rig.lasers) {
+    if (laser_fraction > 0 && laser.power_w() > 0) {
+      Pose world_from_projector = world_from_cam * laser.cam_from_projector();
+      PointEmitter e;
+      e.laser = &laser;
+      e.projector_from_world = world_from_projector.inverse();
+      e.origin_world = world_from_projector.translation();
+      e.wavelength_m = laser.wavelength_m();
+      e.group = group;
+      e.first_channel = channel;
+      e.channels = laser.sheet_count();
+      e.weight = laser_fraction;
+      lights.emitters.push_back(e);
+    }
+    channel += laser.sheet_count();
+    ++group;
+  }
+  if (rig.pattern) {
+    if (pattern_fraction > 0 && rig.pattern->power_w() > 0) {
+      Pose world_from_projector = world_from_cam * rig.pattern->cam_from_projector();
+      PointEmitter e;
+      e.pattern = &*rig.pattern;
+      e.projector_from_world = world_from_projector.inverse();
+      e.origin_world = world_from_projector.translation();
+      e.wavelength_m = rig.pattern->wavelength_m();
+      e.group = group;
+      e.first_channel = channel;
+      e.channels = 1;
+      e.weight = pattern_fraction;
+      lights.emitters.push_back(e);
+    }
+    ++group;
+  }
+  lights.groups = group;
+  if (rig.led && led_fraction > 0) {
+    lights.led = LedLight{&*rig.led, world_from_cam, world_from_cam * rig.led->cam_from_led(), led_fraction};
+  }
+  return lights;
+}
+
+}  // namespace lt

@@ -1,0 +1,342 @@
+#include "render/frame_renderer.h"
+
+#include <tbb/blocked_range2d.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/image_io.h"
+#include "render/speckle.h"
+#include "render/subsurface_profile.h"
+
+namespace lt {
+
+namespace {
+
+constexpr uint64_t kPixelSamplePurpose = 0x504958454c53414dull;  // camera samples
+constexpr uint64_t kSpecklePurpose = 0x535045434b4c4531ull;
+constexpr int kTile = 16;
+constexpr double kNearSigmas = 8.0;
+
+double Ms(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+bool IsStaticWithin(const Motion& motion, double t0, double t1) {
+  Pose a = WorldFromCamAt(motion, t0), b = WorldFromCamAt(motion, t1);
+  return a.isApprox(b, 1e-15) || (a.matrix() - b.matrix()).cwiseAbs().maxCoeff() == 0.0;
+}
+
+Ray WorldRay(const Pose& world_from_cam, const CameraRay& r) {
+  Ray ray;
+  ray.origin = world_from_cam * r.origin;
+  ray.direction = world_from_cam.linear() * r.direction;
+  return ray;
+}
+
+template <typename F>
+void InArena(int threads, F&& f) {
+  if (threads > 0) {
+    tbb::task_arena arena(threads);
+    arena.execute(f);
+  } else {
+    f();
+  }
+}
+
+}  // namespace
+
+FrameRenderer::FrameRenderer(const SceneFile& scene, const EmbreeScene& embree, const RenderOverrides& overrides)
+    : scene_(scene),
+      embree_(embree),
+      spp_(overrides.spp.value_or(scene.render.spp)),
+      threads_(overrides.threads.value_or(scene.render.threads)),
+      seed_(overrides.seed.value_or(scene.seed)),
+      layout_(MakeEmitterLayout(scene.sensor)) {
+  if (scene_.environment.kind == Environment::Kind::kMap) environment_map_ = ReadImageFloat(scene_.environment.exr);
+  PathTracerOptions options;
+  options.max_bounces = scene.render.max_bounces;
+  options.russian_roulette_depth = scene.render.russian_roulette_depth;
+  options.subsurface = scene.render.subsurface;
+  tracer_ = std::make_unique<PathTracer>(
+      embree, scene.environment,
+      scene.environment.kind == Environment::Kind::kMap ? &environment_map_ : nullptr, options, layout_.channels);
+  const Camera& cam = scene.sensor.camera;
+  radiance_to_irradiance_ = Image<float>(cam.width(), cam.height(), 1);
+  for (int y = 0; y < cam.height(); ++y)
+    for (int x = 0; x < cam.width(); ++x)
+      radiance_to_irradiance_.At(x, y) = float(cam.RadianceToIrradiance(Eigen::Vector2d(x, y)));
+  for (const Material& m : embree.geometry().materials) {
+    if (m.emissive.maxCoeff() > 0) has_emission_ = true;
+    if (m.subsurface && scene.render.subsurface) {
+      DiffusionProfileParams p;
+      p.albedo = 1.0;  // the widest profile for this mean free path
+      p.mean_free_path = m.subsurface->mean_free_path_laser_m;
+      subsurface_reach_m_ = std::max(subsurface_reach_m_, BurleyProfile(p).SampleRadius(0.999));
+    }
+  }
+}
+
+FrameRenderer::~FrameRenderer() = default;
+
+void FrameRenderer::GroundTruthPass(const Pose& world_from_cam, const FrameLights& lights, RenderedFrame* out) const {
+  const Camera& cam = scene_.sensor.camera;
+  const int w = cam.width(), h = cam.height();
+  GroundTruthBuffers& gt = out->gt;
+  gt.depth = Image<float>(w, h, 1, 0.0f);
+  gt.normal = Image<float>(w, h, 3, 0.0f);
+  gt.instance = Image<float>(w, h, 1, -1.0f);
+  gt.material = Image<float>(w, h, 1, -1.0f);
+  Image<uint8_t> near(w, h, 1, 0);
+  const Pose cam_from_world = world_from_cam.inverse();
+  const double footprint_per_m = cam.pixel_pitch_m() / cam.image_distance_m();  // metres per pixel per metre depth
+  tbb::enumerable_thread_specific<uint64_t> rays(0);
+  tbb::parallel_for(0, h, [&](int y) {
+    uint64_t& ray_count = rays.local();
+    for (int x = 0; x < w; ++x) {
+      auto dir = cam.Unproject(Eigen::Vector2d(x, y));
+      if (!dir) continue;
+      Ray ray;
+      ray.origin = world_from_cam.translation();
+      ray.direction = world_from_cam.linear() * *dir;
+      ++ray_count;
+      auto hit = embree_.Intersect(ray);
+      if (!hit) continue;
+      Eigen::Vector3d p_cam = cam_from_world * hit->position;
+      Eigen::Vector3d n = cam_from_world.linear() * hit->shading_normal;
+      if (n.dot(p_cam) > 0) n = -n;
+      gt.depth.At(x, y) = float(p_cam.z());
+      for (int c = 0; c < 3; ++c) gt.normal.At(x, y, c) = float(n[c]);
+      gt.instance.At(x, y) = float(hit->instance_id);
+      gt.material.At(x, y) = float(hit->material_id);
+      // Can an emitter reach the neighbourhood of this point?
+      double distance = (hit->position - ray.origin).norm();
+      for (const PointEmitter& e : lights.emitters) {
+        if (e.pattern) {
+          near.At(x, y) = 1;
+          break;
+        }
+        Eigen::Vector3d p_proj = e.projector_from_world * hit->position;
+        double r = p_proj.norm();
+        if (!(r > 0)) continue;
+        double margin = (2.0 * distance * footprint_per_m + subsurface_reach_m_) / r;
+        double sigma = e.laser->SheetSigma(r);
+        for (int k = 0; k < e.channels; ++k) {
+          if (std::abs(e.laser->SheetOffsetAngle(k, p_proj)) <= kNearSigmas * sigma + margin) {
+            near.At(x, y) = 1;
+            break;
+          }
+        }
+        if (near.At(x, y)) break;
+      }
+    }
+  });
+  for (uint64_t r : rays) out->stats.rays += r;
+  // Dilate by one pixel plus the largest defocus blur radius seen in the frame.
+  double max_coc = 0;
+  if (!cam.is_pinhole()) {
+    for (float z : gt.depth.pixels)
+      if (z > 0) max_coc = std::max(max_coc, cam.CircleOfConfusionPx(z));
+  }
+  int radius = 1 + int(std::ceil(0.5 * max_coc));
+  out->near_mask = Image<float>(w, h, 1, 0.0f);
+  tbb::parallel_for(0, h, [&](int y) {
+    for (int x = 0; x < w; ++x) {
+      bool any = false;
+      for (int dy = -radius; dy <= radius && !any; ++dy) {
+        int yy = y + dy;
+        if (yy < 0 || yy >= h) continue;
+        for (int dx = -radius; dx <= radius; ++dx) {
+          int xx = x + dx;
+          if (xx >= 0 && xx < w && near.At(xx, yy)) {
+            any = true;
+            break;
+          }
+        }
+      }
+      out->near_mask.At(x, y) = any ? 1.0f : 0.0f;
+    }
+  });
+}
+
+void FrameRenderer::SamplePass(const RenderedFrame& frame, bool all_pixels, Film* film, FrameStats* stats) const {
+  const Camera& cam = scene_.sensor.camera;
+  const ShutterFrame& sf = frame.shutter;
+  const bool moving = !IsStaticWithin(scene_.motion, sf.t_start_s, sf.t_end_s);
+  const FrameLights fixed_lights = MakeFrameLights(scene_.sensor, frame.world_from_cam, sf.laser_fraction,
+                                                   sf.pattern_fraction, sf.led_fraction);
+  const int k = int(std::lround(std::sqrt(double(spp_))));
+  const bool square = k * k == spp_;
+  tbb::enumerable_thread_specific<TraceStats> tstats;
+  tbb::enumerable_thread_specific<uint64_t> tsamples(0);
+  tbb::parallel_for(
+      tbb::blocked_range2d<int>(0, cam.height(), kTile, 0, cam.width(), kTile), [&](const auto& range) {
+        TraceStats& ts = tstats.local();
+        uint64_t& ns = tsamples.local();
+        std::vector<float> mono(size_t(layout_.channels));
+        for (int y = range.rows().begin(); y < range.rows().end(); ++y) {
+          for (int x = range.cols().begin(); x < range.cols().end(); ++x) {
+            const bool full = all_pixels || frame.near_mask.At(x, y) > 0;
+            const int n = full ? spp_ : 1;
+            const uint64_t pixel = uint64_t(y) * uint64_t(cam.width()) + uint64_t(x);
+            for (int s = 0; s < n; ++s) {
+              Rng rng = Rng::For(seed_, uint64_t(sf.index), pixel, uint64_t(s), kPixelSamplePurpose);
+              double jx, jy;
+              if (n == 1) {
+                jx = rng.NextDouble(), jy = rng.NextDouble();
+              } else if (square) {
+                jx = ((s % k) + rng.NextDouble()) / k, jy = ((s / k) + rng.NextDouble()) / k;
+              } else {
+                jx = rng.NextDouble(), jy = rng.NextDouble();
+              }
+              Eigen::Vector2d lens(0.5, 0.5);
+              if (!cam.is_pinhole()) lens = Eigen::Vector2d(rng.NextDouble(), rng.NextDouble());
+              Pose world_from_cam = frame.world_from_cam;
+              FrameLights moving_lights;
+              const FrameLights* lights = &fixed_lights;
+              if (moving) {
+                double t = sf.t_start_s + rng.NextDouble() * (sf.t_end_s - sf.t_start_s);
+                world_from_cam = WorldFromCamAt(scene_.motion, t);
+                moving_lights = MakeFrameLights(scene_.sensor, world_from_cam, sf.laser_fraction,
+                                                sf.pattern_fraction, sf.led_fraction);
+                lights = &moving_lights;
+              }
+              auto cam_ray = cam.GenerateRay(Eigen::Vector2d(x - 0.5 + jx, y - 0.5 + jy), lens);
+              Eigen::Vector3f rgb = Eigen::Vector3f::Zero();
+              std::fill(mono.begin(), mono.end(), 0.0f);
+              if (cam_ray) tracer_->Trace(WorldRay(world_from_cam, *cam_ray), *lights, rng, &rgb, mono, &ts);
+              film->AddSample(x, y, rgb, mono);
+              ++ns;
+            }
+          }
+        }
+      });
+  for (const auto& t : tstats) stats->rays += t.rays;
+  for (uint64_t s : tsamples) stats->samples += s;
+}
+
+RenderedFrame FrameRenderer::Render(int64_t frame_index) const {
+  auto t0 = std::chrono::steady_clock::now();
+  const SensorRig& rig = scene_.sensor;
+  const Camera& cam = rig.camera;
+  const int w = cam.width(), h = cam.height();
+  RenderedFrame out;
+  out.shutter = rig.shutter.Frame(frame_index, seed_);
+  const ShutterFrame& sf = out.shutter;
+  out.world_from_cam = WorldFromCamAt(scene_.motion, 0.5 * (sf.t_start_s + sf.t_end_s));
+  FrameLights lights =
+      MakeFrameLights(rig, out.world_from_cam, sf.laser_fraction, sf.pattern_fraction, sf.led_fraction);
+  const bool broadband = (lights.led.has_value()) || tracer_->has_environment() || has_emission_;
+
+  FilmOptions film_options;
+  film_options.width = w;
+  film_options.height = h;
+  film_options.laser_sheets = layout_.channels;
+  Film film(film_options);
+  InArena(threads_, [&] {
+    GroundTruthPass(out.world_from_cam, lights, &out);
+    SamplePass(out, broadband || !scene_.render.adaptive_sampling, &film, &out.stats);
+  });
+  for (float v : out.near_mask.pixels) out.stats.near_pixels += v > 0;
+
+  // Radiance images.
+  out.radiance = Image<float>(w, h, 4, 0.0f);
+  out.laser_radiance = Image<float>(w, h, std::max(layout_.channels, 1), 0.0f);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      Eigen::Vector3f rgb = film.MeanRgb(x, y);
+      for (int c = 0; c < 3; ++c) out.radiance.At(x, y, c) = rgb[c];
+      for (int c = 0; c < layout_.channels; ++c) out.laser_radiance.At(x, y, c) = film.MeanLaser(x, y, c);
+    }
+  }
+  // Laser speckle: one fully developed field per frame over all monochromatic channels.
+  if (scene_.render.speckle_contrast > 0 && !lights.emitters.empty()) {
+    SpeckleOptions so;
+    so.wavelength = lights.emitters.front().wavelength_m;
+    so.f_number = cam.working_f_number();
+    so.pixel_pitch = cam.pixel_pitch_m();
+    so.contrast = scene_.render.speckle_contrast;
+    Image<float> field = GenerateSpeckle(w, h, so, HashKey(seed_, uint64_t(frame_index), kSpecklePurpose));
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        for (int c = 0; c < layout_.channels; ++c) out.laser_radiance.At(x, y, c) *= field.At(x, y);
+  }
+  float max_laser = 0;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      float total = 0;
+      for (int c = 0; c < layout_.channels; ++c) total += out.laser_radiance.At(x, y, c);
+      out.radiance.At(x, y, 3) = total;
+      max_laser = std::max(max_laser, total);
+    }
+  }
+  // The sheet that lights each pixel: the largest laser-sheet share, where the
+  // pixel's laser radiance is at least 1% of the frame's brightest laser pixel.
+  out.gt.plane = Image<float>(w, h, 1, -1.0f);
+  for (int y = 0; y < h && max_laser > 0; ++y) {
+    for (int x = 0; x < w; ++x) {
+      if (out.radiance.At(x, y, 3) < 0.01f * max_laser) continue;
+      int best = -1;
+      float best_v = 0;
+      for (int c = 0; c < layout_.laser_sheets; ++c) {
+        if (out.laser_radiance.At(x, y, c) > best_v) best_v = out.laser_radiance.At(x, y, c), best = c;
+      }
+      out.gt.plane.At(x, y) = float(best);
+    }
+  }
+
+  // Sensor: energy per pixel over the exposure, then EMVA 1288.
+  SensorExposure exposure;
+  exposure.width = w;
+  exposure.height = h;
+  exposure.exposure_s = sf.exposure_s;
+  const double joules_per_radiance = cam.pixel_area_m2() * sf.exposure_s;
+  for (int g = 0; g < layout_.groups; ++g) {
+    MonochromaticEnergy m;
+    m.wavelength_m = layout_.group_wavelength_m[size_t(g)];
+    m.energy_j = Image<float>(w, h, 1, 0.0f);
+    exposure.monochromatic.push_back(std::move(m));
+  }
+  {
+    int channel = 0;
+    for (size_t l = 0; l < rig.lasers.size(); ++l) {
+      for (int s = 0; s < rig.lasers[l].sheet_count(); ++s, ++channel) {
+        for (int y = 0; y < h; ++y)
+          for (int x = 0; x < w; ++x)
+            exposure.monochromatic[l].energy_j.At(x, y) += float(
+                double(out.laser_radiance.At(x, y, channel)) * radiance_to_irradiance_.At(x, y) * joules_per_radiance);
+      }
+    }
+    if (rig.pattern) {
+      auto& energy = exposure.monochromatic.back().energy_j;
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+          energy.At(x, y) = float(double(out.laser_radiance.At(x, y, channel)) * radiance_to_irradiance_.At(x, y) *
+                                  joules_per_radiance);
+    }
+  }
+  exposure.broadband_j = Image<float>(w, h, 3, 0.0f);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c)
+        exposure.broadband_j.At(x, y, c) =
+            float(double(out.radiance.At(x, y, c)) * radiance_to_irradiance_.At(x, y) * joules_per_radiance);
+  out.raw = rig.image_sensor.Expose(exposure, seed_, uint64_t(frame_index));
+  auto t1 = std::chrono::steady_clock::now();
+  out.stats.render_ms = Ms(t0, t1);
+
+  // Exact stripe centres, for frames the lasers light.
+  out.axis = ChooseScanAxis(rig.lasers);
+  if (sf.laser_fraction > 0 && !rig.lasers.empty()) {
+    InArena(threads_, [&] {
+      out.centers = ComputeStripeCenters(embree_, cam, rig.lasers, out.world_from_cam, out.axis);
+    });
+  }
+  out.stats.ground_truth_ms = Ms(t1, std::chrono::steady_clock::now());
+  return out;
+}
+
+}  // namespace lt

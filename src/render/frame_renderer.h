@@ -1,0 +1,98 @@
+// Renders one frame of a scene: the camera image as the sensor delivers it, the
+// radiance behind it, and the frame's ground truth.
+//
+// Passes:
+//  1. Chief rays through every pixel centre at mid-exposure give the per-pixel
+//     ground truth (depth, normal, instance, material) and decide, cheaply and
+//     geometrically, which pixels a laser sheet can reach: a pixel is "near" when
+//     its surface point lies within 8 sigma of a sheet's plane (plus the pixel's
+//     footprint and the subsurface profile's reach), dilated by the defocus blur
+//     and by one pixel. Far pixels need one sample; near pixels get the budget.
+//     When broadband light is on (LED, environment, emission), every pixel is lit
+//     and gets the full budget.
+//  2. Path samples (render/path_tracer.h), stratified over the pixel, the lens
+//     aperture (thin lens only) and the exposure time (moving scanner only),
+//     accumulated in the film. Every random number comes from
+//     Rng::For(seed, frame, pixel, sample), so frames are bit-identical whatever
+//     the thread count.
+//  3. Radiance -> sensor irradiance (Camera::RadianceToIrradiance) -> energy per
+//     pixel over the exposure -> EMVA 1288 image sensor -> digital numbers.
+//  4. Exact stripe centres by ray casting (render/stripe_truth.h).
+#pragma once
+
+#include <chrono>
+#include <memory>
+
+#include "core/image.h"
+#include "render/film.h"
+#include "render/frame_lights.h"
+#include "render/path_tracer.h"
+#include "render/stripe_truth.h"
+#include "scene/embree_scene.h"
+#include "scene/scene_file.h"
+
+namespace lt {
+
+struct RenderOverrides {
+  std::optional<int> spp;
+  std::optional<int> threads;
+  std::optional<uint64_t> seed;
+};
+
+struct GroundTruthBuffers {
+  Image<float> depth;     // camera z (m) of the surface seen by the pixel centre; 0 where nothing is hit
+  Image<float> normal;    // 3 channels: unit normal in the camera frame, facing the camera; 0 where nothing
+  Image<float> instance;  // instance id, -1 where nothing is hit
+  Image<float> material;  // material id, -1 where nothing is hit
+  Image<float> plane;     // laser sheet (global plane index) that lights the pixel most, -1 where unlit
+};
+
+struct FrameStats {
+  uint64_t rays = 0;
+  uint64_t samples = 0;
+  int64_t near_pixels = 0;
+  double render_ms = 0;        // passes 1-3
+  double ground_truth_ms = 0;  // stripe centres
+};
+
+struct RenderedFrame {
+  ShutterFrame shutter;
+  Pose world_from_cam;                // at mid-exposure
+  Image<uint16_t> raw;                // sensor output (DN), 1 channel (Bayer mosaic or mono)
+  Image<float> radiance;              // 4 channels: R, G, B broadband and total laser, W/(m² sr), exposure-averaged
+  Image<float> laser_radiance;        // 1 channel per laser sheet / pattern channel
+  GroundTruthBuffers gt;
+  Image<float> near_mask;             // 1 where the pixel got the full sample budget
+  std::vector<StripeCenter> centers;  // exact stripe centres (laser lit frames)
+  ScanAxis axis = ScanAxis::kRows;
+  FrameStats stats;
+};
+
+class FrameRenderer {
+ public:
+  FrameRenderer(const SceneFile& scene, const EmbreeScene& embree, const RenderOverrides& overrides = {});
+  ~FrameRenderer();
+
+  int spp() const { return spp_; }
+  uint64_t seed() const { return seed_; }
+  RenderedFrame Render(int64_t frame_index) const;
+
+ private:
+  struct Impl;
+  void GroundTruthPass(const Pose& world_from_cam, const FrameLights& lights, RenderedFrame* out) const;
+  void SamplePass(const RenderedFrame& frame, bool all_pixels, Film* film, FrameStats* stats) const;
+
+  const SceneFile& scene_;
+  const EmbreeScene& embree_;
+  int spp_;
+  int threads_;
+  uint64_t seed_;
+  EmitterLayout layout_;
+  Image<float> environment_map_;
+  std::unique_ptr<PathTracer> tracer_;
+  Image<float> radiance_to_irradiance_;  // Camera::RadianceToIrradiance per pixel
+  double subsurface_reach_m_ = 0;        // radius holding 99.9% of the widest subsurface profile
+  bool has_emission_ = false;
+};
+
+}  // namespace lt

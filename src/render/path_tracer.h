@@ -1,0 +1,95 @@
+// The light transport of one camera sample: a path tracer over the Embree scene.
+//
+// Two kinds of light travel along each path. Broadband light (LED, environment,
+// emissive surfaces) is carried in linear RGB. Monochromatic light (each laser
+// projector, the pattern projector) is carried per emitter at its wavelength,
+// with the material's reflectance at that wavelength (render/spectrum.h), and
+// recorded per film channel (one per laser sheet), so the laser-only image and
+// the sheet that lights each pixel come out of the same samples.
+//
+// At every path vertex:
+//  - point emitters (delta lights) by next-event estimation: a shadow ray to the
+//    projector and its analytic radiant intensity I(direction) / r²; points the
+//    emitter cannot reach (LaserProjector::MayIlluminate) cost no ray;
+//  - the LED rectangle by area sampling, combined with BSDF sampling by
+//    multiple importance sampling (power heuristic); BSDF-sampled rays that meet
+//    the rectangle add its radiance with the matching weight;
+//  - the environment (constant or lat-long map) where a path escapes;
+//  - subsurface materials: monochromatic light enters at nearby points x_i found
+//    by probe rays (Burley's profile, axis MIS as in Christensen & Burley 2015)
+//    and leaves at the shading point with the profile's weight R(|x_i − x_o|);
+//    broadband light, which varies slowly across the profile's few hundred
+//    micrometres, uses the local diffuse lobe (docs/rendering.md);
+//  - the path continues by BSDF sampling up to max_bounces, with Russian
+//    roulette from russian_roulette_depth.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/image.h"
+#include "core/random.h"
+#include "render/frame_lights.h"
+#include "scene/embree_scene.h"
+#include "scene/material.h"
+#include "scene/scene_settings.h"
+
+namespace lt {
+
+struct PathTracerOptions {
+  int max_bounces = 2;
+  int russian_roulette_depth = 3;
+  bool subsurface = true;
+};
+
+// Counters of one thread's work.
+struct TraceStats {
+  uint64_t rays = 0;  // closest-hit and occlusion rays
+};
+
+class PathTracer {
+ public:
+  // `environment_map` is the lat-long map (3 channels) when the environment is a
+  // map, else null. The scene, materials and map must outlive the tracer.
+  PathTracer(const EmbreeScene& scene, const Environment& environment, const Image<float>* environment_map,
+             const PathTracerOptions& options, int channels);
+
+  // Adds the radiance arriving along `ray` (world frame, from the camera) to rgb
+  // and mono (one entry per film channel), weighted by each light's lit fraction.
+  void Trace(const Ray& ray, const FrameLights& lights, Rng& rng, Eigen::Vector3f* rgb, std::span<float> mono,
+             TraceStats* stats) const;
+
+  // Radiance of the environment in a world direction.
+  Eigen::Vector3f EnvironmentRadiance(const Eigen::Vector3d& dir) const;
+  bool has_environment() const { return has_environment_; }
+
+  // Start of a secondary ray leaving surface point p (world) with geometric
+  // normal n toward `dir`: offset along ±n by an amount that clears Embree's float
+  // error in the render frame.
+  Eigen::Vector3d SpawnOrigin(const Eigen::Vector3d& p, const Eigen::Vector3d& n, const Eigen::Vector3d& dir) const;
+
+ private:
+  struct Vertex;
+  void AddEmitterLight(const Vertex& v, const FrameLights& lights, std::span<const float> beta_mono,
+                       std::span<float> mono, TraceStats* stats) const;
+  void AddSubsurfaceLight(const Vertex& v, const FrameLights& lights, std::span<const float> beta_mono, Rng& rng,
+                          std::span<float> mono, TraceStats* stats) const;
+  void AddLedLight(const Vertex& v, const LedLight& led, const Eigen::Vector3f& beta, Rng& rng,
+                   Eigen::Vector3f* rgb, TraceStats* stats) const;
+  // Irradiance factor I_k cos/r² at p for each channel of emitter e (written to
+  // per_channel), or false when p is unlit (shadowed, outside the beam, facing away).
+  bool EmitterIrradiance(const PointEmitter& e, const Eigen::Vector3d& p, const Eigen::Vector3d& n_geo,
+                         const Eigen::Vector3d& n_shade, Eigen::Vector3d* wi, double* cos_shade,
+                         std::span<double> per_channel, TraceStats* stats) const;
+
+  const EmbreeScene& scene_;
+  const std::vector<Material>& materials_;
+  const Environment& environment_;
+  const Image<float>* environment_map_;
+  PathTracerOptions options_;
+  int channels_;
+  bool has_environment_;
+};
+
+}  // namespace lt

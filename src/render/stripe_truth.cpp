@@ -1,0 +1,228 @@
+#include "render/stripe_truth.h"
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+
+namespace lt {
+
+namespace {
+
+// One laser sheet in the world frame, with what the lit test needs.
+struct WorldSheet {
+  int plane;
+  const LaserProjector* laser;
+  int sheet;
+  Plane plane_world;
+  Eigen::Vector3d origin_world;
+  Pose projector_from_world;
+};
+
+struct Sample {
+  bool valid = false;
+  Eigen::Vector3d p_world;
+  Eigen::Vector3d normal;  // geometric, world
+  double depth = 0;        // distance along the ray, metres
+};
+
+class LineScanner {
+ public:
+  LineScanner(const EmbreeScene& scene, const Camera& camera, const Pose& world_from_cam, ScanAxis axis,
+              const StripeTruthOptions& options)
+      : scene_(scene), camera_(camera), world_from_cam_(world_from_cam), axis_(axis), options_(options) {}
+
+  // Pixel of position s along scan line `line`.
+  Eigen::Vector2d Pixel(int line, double s) const {
+    return axis_ == ScanAxis::kRows ? Eigen::Vector2d(s, line) : Eigen::Vector2d(line, s);
+  }
+
+  Sample Cast(int line, double s) const {
+    Sample out;
+    auto dir = camera_.Unproject(Pixel(line, s));
+    if (!dir) return out;
+    Ray ray;
+    ray.origin = world_from_cam_.translation();
+    ray.direction = world_from_cam_.linear() * *dir;
+    auto hit = scene_.Intersect(ray);
+    if (!hit) return out;
+    out.valid = true;
+    out.p_world = hit->position;
+    out.normal = hit->geometric_normal;
+    out.depth = hit->t * ray.direction.norm();
+    return out;
+  }
+
+  // Footprint of one pixel at a distance (metres), for the continuity test.
+  double Footprint(double depth) const { return depth * camera_.pixel_pitch_m() / camera_.image_distance_m(); }
+
+  // Refines a sign change of the sheet's signed distance between s0 and s1.
+  std::optional<std::pair<double, Sample>> Refine(int line, const WorldSheet& ws, double s0, Sample a, double s1,
+                                                  Sample b) const {
+    double g0 = ws.plane_world.SignedDistance(a.p_world), g1 = ws.plane_world.SignedDistance(b.p_world);
+    if (g0 == 0.0) return std::make_pair(s0, a);
+    if (g1 == 0.0) return std::make_pair(s1, b);
+    int side = 0;
+    for (int it = 0; it < options_.max_iterations && std::abs(s1 - s0) > options_.tolerance_px; ++it) {
+      double s = (s0 * g1 - s1 * g0) / (g1 - g0);  // regula falsi
+      double lo = std::min(s0, s1), hi = std::max(s0, s1), w = hi - lo;
+      if (!(s > lo + 1e-3 * w && s < hi - 1e-3 * w)) s = 0.5 * (s0 + s1);
+      Sample m = Cast(line, s);
+      if (!m.valid) return std::nullopt;
+      double gm = ws.plane_world.SignedDistance(m.p_world);
+      if (gm == 0.0) return std::make_pair(s, m);
+      if ((gm > 0) == (g1 > 0)) {
+        s1 = s, b = m, g1 = gm;
+        if (side == -1) g0 *= 0.5;  // Illinois: halve the stale end
+        side = -1;
+      } else {
+        s0 = s, a = m, g0 = gm;
+        if (side == +1) g1 *= 0.5;
+        side = +1;
+      }
+    }
+    // A crossing on a continuous surface: both ends converge onto one point.
+    double gap = (a.p_world - b.p_world).norm();
+    if (gap > 1e-3 * Footprint(std::max(a.depth, b.depth))) return std::nullopt;
+    const Sample& best = std::abs(ws.plane_world.SignedDistance(a.p_world)) <=
+                                 std::abs(ws.plane_world.SignedDistance(b.p_world))
+                             ? a
+                             : b;
+    double s_best = &best == &a ? s0 : s1;
+    // Interpolate within the final bracket for the last digits.
+    double ga = ws.plane_world.SignedDistance(a.p_world), gb = ws.plane_world.SignedDistance(b.p_world);
+    double s = (ga != gb) ? (s0 * gb - s1 * ga) / (gb - ga) : s_best;
+    if (!(s >= std::min(s0, s1) && s <= std::max(s0, s1))) s = s_best;
+    return std::make_pair(s, best);
+  }
+
+  bool Lit(const WorldSheet& ws, const Sample& p) const {
+    Eigen::Vector3d to_cam = world_from_cam_.translation() - p.p_world;
+    Eigen::Vector3d to_laser = ws.origin_world - p.p_world;
+    double facing_cam = p.normal.dot(to_cam), facing_laser = p.normal.dot(to_laser);
+    if (facing_cam == 0.0 || facing_laser == 0.0 || (facing_cam > 0) != (facing_laser > 0)) return false;
+    // Fan: relative to the central ray at the same distance.
+    Eigen::Vector3d p_proj = ws.projector_from_world * p.p_world;
+    double r = p_proj.norm();
+    double here = ws.laser->SheetIntensityAt(ws.sheet, p_proj);
+    double central = ws.laser->SheetIntensityAt(ws.sheet, ws.laser->SheetDirection(ws.sheet) * r);
+    if (!(central > 0) || here < options_.fan_threshold * central) return false;
+    // Shadow: offset the start along the normal, toward the laser's side.
+    double scale = std::max({1.0, p.p_world.cwiseAbs().maxCoeff()});
+    double eps = 1e-6 * scale + 1e-4 * Footprint(p.depth);
+    Eigen::Vector3d n = facing_laser > 0 ? p.normal : Eigen::Vector3d(-p.normal);
+    Ray shadow;
+    shadow.origin = p.p_world + eps * n;
+    shadow.direction = ws.origin_world - shadow.origin;
+    shadow.t_min = 0;
+    shadow.t_max = 1.0 - 1e-9;
+    return !scene_.Occluded(shadow);
+  }
+
+ private:
+  const EmbreeScene& scene_;
+  const Camera& camera_;
+  Pose world_from_cam_;
+  ScanAxis axis_;
+  StripeTruthOptions options_;
+};
+
+}  // namespace
+
+std::string ScanAxisName(ScanAxis axis) { return axis == ScanAxis::kRows ? "rows" : "cols"; }
+
+void StripeTruthOptions::Check() const {
+  if (!(tolerance_px > 0 && tolerance_px < 0.1)) throw std::invalid_argument("tolerance_px must be in (0, 0.1)");
+  if (!(fan_threshold >= 0 && fan_threshold < 1)) throw std::invalid_argument("fan_threshold must be in [0, 1)");
+  if (max_iterations < 1) throw std::invalid_argument("max_iterations must be >= 1");
+}
+
+ScanAxis ChooseScanAxis(const std::vector<LaserProjector>& lasers) {
+  if (lasers.empty() || lasers[0].sheet_count() == 0) return ScanAxis::kRows;
+  Eigen::Vector3d n = lasers[0].SheetPlane(0).n;
+  return std::abs(n.x()) >= std::abs(n.y()) ? ScanAxis::kRows : ScanAxis::kCols;
+}
+
+int GlobalPlaneIndex(const std::vector<LaserProjector>& lasers, int laser, int sheet) {
+  int index = 0;
+  for (int i = 0; i < laser; ++i) index += lasers[size_t(i)].sheet_count();
+  return index + sheet;
+}
+
+int PlaneCount(const std::vector<LaserProjector>& lasers) {
+  return GlobalPlaneIndex(lasers, int(lasers.size()), 0);
+}
+
+std::vector<StripeCenter> ComputeStripeCenters(const EmbreeScene& scene, const Camera& camera,
+                                               const std::vector<LaserProjector>& lasers,
+                                               const Pose& world_from_cam, ScanAxis axis,
+                                               const StripeTruthOptions& options) {
+  options.Check();
+  std::vector<WorldSheet> sheets;
+  for (size_t l = 0; l < lasers.size(); ++l) {
+    const LaserProjector& laser = lasers[l];
+    Pose world_from_projector = world_from_cam * laser.cam_from_projector();
+    for (int s = 0; s < laser.sheet_count(); ++s) {
+      sheets.push_back({GlobalPlaneIndex(lasers, int(l), s), &laser, s,
+                        laser.SheetPlaneInProjector(s).Transformed(world_from_projector),
+                        world_from_projector.translation(), world_from_projector.inverse()});
+    }
+  }
+  const int lines = axis == ScanAxis::kRows ? camera.height() : camera.width();
+  const int length = axis == ScanAxis::kRows ? camera.width() : camera.height();
+  LineScanner scanner(scene, camera, world_from_cam, axis, options);
+  Pose cam_from_world = world_from_cam.inverse();
+
+  std::vector<std::vector<StripeCenter>> per_line(static_cast<size_t>(lines));
+  tbb::parallel_for(0, lines, [&](int line) {
+    // Samples at the image border (-0.5), every pixel centre, and the far border.
+    std::vector<double> pos;
+    pos.reserve(size_t(length) + 2);
+    pos.push_back(-0.5);
+    for (int i = 0; i < length; ++i) pos.push_back(i);
+    pos.push_back(length - 0.5);
+    std::vector<Sample> samples(pos.size());
+    for (size_t i = 0; i < pos.size(); ++i) samples[i] = scanner.Cast(line, pos[i]);
+    auto& out = per_line[size_t(line)];
+    for (const WorldSheet& ws : sheets) {
+      for (size_t i = 0; i + 1 < pos.size(); ++i) {
+        const Sample &a = samples[i], &b = samples[i + 1];
+        if (!a.valid || !b.valid) continue;
+        double ga = ws.plane_world.SignedDistance(a.p_world), gb = ws.plane_world.SignedDistance(b.p_world);
+        // A root exactly on a sample belongs to the interval that starts there.
+        bool crossing = (ga > 0 && gb < 0) || (ga < 0 && gb > 0) || ga == 0.0;
+        if (!crossing) continue;
+        auto root = scanner.Refine(line, ws, pos[i], a, pos[i + 1], b);
+        if (!root || !scanner.Lit(ws, root->second)) continue;
+        Eigen::Vector2d px = scanner.Pixel(line, root->first);
+        StripeCenter c;
+        c.u = px.x();
+        c.v = px.y();
+        c.plane = ws.plane;
+        c.p_world = root->second.p_world;
+        c.p_cam = cam_from_world * c.p_world;
+        out.push_back(c);
+      }
+    }
+  });
+  std::vector<StripeCenter> all;
+  for (auto& v : per_line) all.insert(all.end(), v.begin(), v.end());
+  return all;
+}
+
+std::string StripeCentersCsv(const std::vector<StripeCenter>& centers) {
+  std::ostringstream out;
+  out << "u,v,plane,x_cam,y_cam,z_cam,x_world,y_world,z_world\n";
+  char buf[512];
+  for (const auto& c : centers) {
+    std::snprintf(buf, sizeof buf, "%.6f,%.6f,%d,%.9g,%.9g,%.9g,%.12g,%.12g,%.12g\n", c.u, c.v, c.plane,
+                  c.p_cam.x(), c.p_cam.y(), c.p_cam.z(), c.p_world.x(), c.p_world.y(), c.p_world.z());
+    out << buf;
+  }
+  return out.str();
+}
+
+}  // namespace lt

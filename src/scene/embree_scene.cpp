@@ -1,0 +1,213 @@
+#include "scene/embree_scene.h"
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <cstring>
+#include <mutex>
+#include <stdexcept>
+
+namespace lt {
+
+namespace {
+
+const char* ErrorName(RTCError code) {
+  switch (code) {
+    case RTC_ERROR_NONE: return "no error";
+    case RTC_ERROR_UNKNOWN: return "unknown error";
+    case RTC_ERROR_INVALID_ARGUMENT: return "invalid argument";
+    case RTC_ERROR_INVALID_OPERATION: return "invalid operation";
+    case RTC_ERROR_OUT_OF_MEMORY: return "out of memory";
+    case RTC_ERROR_UNSUPPORTED_CPU: return "unsupported CPU";
+    case RTC_ERROR_CANCELLED: return "cancelled";
+    default: return "error";
+  }
+}
+
+float ToFloatT(double t) {
+  if (std::isinf(t)) return t > 0 ? std::numeric_limits<float>::infinity() : -std::numeric_limits<float>::infinity();
+  return float(t);
+}
+
+RTCRay MakeRtcRay(const Ray& ray, const Eigen::Vector3d& render_origin) {
+  const Eigen::Vector3d o = ray.origin - render_origin;
+  RTCRay r;
+  r.org_x = float(o.x());
+  r.org_y = float(o.y());
+  r.org_z = float(o.z());
+  r.dir_x = float(ray.direction.x());
+  r.dir_y = float(ray.direction.y());
+  r.dir_z = float(ray.direction.z());
+  r.tnear = std::max(0.0f, ToFloatT(ray.t_min));
+  r.tfar = ToFloatT(ray.t_max);
+  r.time = 0.0f;
+  r.mask = 0xFFFFFFFFu;
+  r.id = 0;
+  r.flags = 0;
+  return r;
+}
+
+void CheckRay(const Ray& ray) {
+  if (!ray.origin.allFinite() || !ray.direction.allFinite() || ray.direction.squaredNorm() == 0.0 ||
+      std::isnan(ray.t_min) || std::isnan(ray.t_max)) {
+    throw std::invalid_argument("EmbreeScene: ray origin and direction must be finite and the direction non-zero");
+  }
+}
+
+}  // namespace
+
+// Collects errors Embree reports through its callback (from any thread).
+struct EmbreeScene::DeviceErrors {
+  std::mutex mutex;
+  std::string first;
+  static void Callback(void* user, RTCError code, const char* message) {
+    auto* self = static_cast<DeviceErrors*>(user);
+    std::lock_guard<std::mutex> lock(self->mutex);
+    if (self->first.empty()) self->first = std::string(ErrorName(code)) + (message ? std::string(": ") + message : "");
+  }
+};
+
+void EmbreeScene::ThrowIfError(const char* stage) const {
+  std::string message;
+  {
+    std::lock_guard<std::mutex> lock(errors_->mutex);
+    message = errors_->first;
+  }
+  RTCError code = device_ ? rtcGetDeviceError(device_) : RTC_ERROR_NONE;
+  if (message.empty() && code != RTC_ERROR_NONE) message = ErrorName(code);
+  if (!message.empty()) throw std::runtime_error(std::string("Embree error while ") + stage + ": " + message);
+}
+
+EmbreeScene::EmbreeScene(std::shared_ptr<const SceneGeometry> geometry)
+    : geometry_(std::move(geometry)), errors_(std::make_unique<DeviceErrors>()) {
+  if (!geometry_) throw std::invalid_argument("EmbreeScene: no geometry");
+  const SceneGeometry& g = *geometry_;
+  bounds_ = g.WorldBounds();
+  render_origin_ = bounds_.isEmpty() ? Eigen::Vector3d(Eigen::Vector3d::Zero()) : Eigen::Vector3d(bounds_.center());
+
+  device_ = rtcNewDevice(nullptr);
+  if (!device_) {
+    throw std::runtime_error(std::string("Embree error while creating the device: ") +
+                             ErrorName(rtcGetDeviceError(nullptr)));
+  }
+  rtcSetDeviceErrorFunction(device_, &DeviceErrors::Callback, errors_.get());
+
+  try {
+    // One scene per mesh, holding its triangles in object space.
+    for (const Mesh& mesh : g.meshes) {
+      RTCScene ms = rtcNewScene(device_);
+      mesh_scenes_.push_back(ms);
+      rtcSetSceneBuildQuality(ms, RTC_BUILD_QUALITY_MEDIUM);
+      RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+      // Vertices are copied (Embree pads the buffer for its SIMD loads); the
+      // index buffer is shared in place.
+      auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                                   3 * sizeof(float), mesh.VertexCount()));
+      if (vertices && !mesh.positions.empty()) {
+        std::memcpy(vertices, mesh.positions.data(), mesh.VertexCount() * 3 * sizeof(float));
+      }
+      rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.indices.data(), 0,
+                                 3 * sizeof(uint32_t), mesh.TriangleCount());
+      rtcCommitGeometry(geom);
+      rtcAttachGeometry(ms, geom);
+      rtcReleaseGeometry(geom);
+      rtcCommitScene(ms);
+      ThrowIfError(("building mesh \"" + mesh.name + "\"").c_str());
+    }
+
+    // The top scene: one instance per SceneInstance, geometry id = instance index.
+    scene_ = rtcNewScene(device_);
+    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_MEDIUM);
+    const Eigen::Translation3d render_from_world(-render_origin_);
+    for (size_t i = 0; i < g.instances.size(); ++i) {
+      const SceneInstance& inst = g.instances[i];
+      const Eigen::Affine3d render_from_mesh = render_from_world * inst.world_from_mesh;  // in double
+      const Eigen::Matrix<float, 3, 4> m = render_from_mesh.matrix().topRows<3>().cast<float>();
+      float xfm[12];
+      std::memcpy(xfm, m.data(), sizeof xfm);  // Eigen is column-major
+      RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+      rtcSetGeometryInstancedScene(geom, mesh_scenes_[inst.mesh]);
+      rtcSetGeometryTimeStepCount(geom, 1);
+      rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
+      rtcCommitGeometry(geom);
+      rtcAttachGeometryByID(scene_, geom, unsigned(i));
+      rtcReleaseGeometry(geom);
+      normal_from_mesh_.push_back(inst.world_from_mesh.linear().inverse().transpose());
+    }
+    rtcCommitScene(scene_);
+    ThrowIfError("building the scene");
+  } catch (...) {
+    if (scene_) rtcReleaseScene(scene_);
+    for (RTCScene s : mesh_scenes_) rtcReleaseScene(s);
+    rtcReleaseDevice(device_);
+    throw;
+  }
+}
+
+EmbreeScene::~EmbreeScene() {
+  if (scene_) rtcReleaseScene(scene_);
+  for (RTCScene s : mesh_scenes_) rtcReleaseScene(s);
+  if (device_) rtcReleaseDevice(device_);
+}
+
+Hit EmbreeScene::MakeHit(const Ray& ray, uint32_t instance_id, uint32_t primitive_id, float u, float v) const {
+  const SceneGeometry& g = *geometry_;
+  const SceneInstance& inst = g.instances.at(instance_id);
+  const Mesh& mesh = g.meshes[inst.mesh];
+  const uint32_t* tri = &mesh.indices.at(3 * size_t(primitive_id));
+  const double w = 1.0 - double(u) - double(v);
+  Hit hit;
+  hit.instance_id = instance_id;
+  hit.primitive_id = primitive_id;
+  hit.barycentric = {u, v};
+  hit.material_id = g.MaterialOf(inst, primitive_id);
+
+  const Eigen::Vector3d p0 = mesh.positions[tri[0]].cast<double>(), p1 = mesh.positions[tri[1]].cast<double>(),
+                        p2 = mesh.positions[tri[2]].cast<double>();
+  hit.position = inst.world_from_mesh * (w * p0 + double(u) * p1 + double(v) * p2);
+  hit.t = (hit.position - ray.origin).dot(ray.direction) / ray.direction.squaredNorm();
+
+  const Eigen::Matrix3d& nm = normal_from_mesh_[instance_id];
+  hit.geometric_normal = (nm * (p1 - p0).cross(p2 - p0)).normalized();
+  const Eigen::Vector3d n_obj = w * mesh.normals[tri[0]].cast<double>() + double(u) * mesh.normals[tri[1]].cast<double>() +
+                                double(v) * mesh.normals[tri[2]].cast<double>();
+  Eigen::Vector3d ns = nm * n_obj;
+  hit.shading_normal = ns.norm() > 1e-12 ? Eigen::Vector3d(ns.normalized()) : hit.geometric_normal;
+  if (!mesh.texcoords.empty()) {
+    hit.uv = float(w) * mesh.texcoords[tri[0]] + u * mesh.texcoords[tri[1]] + v * mesh.texcoords[tri[2]];
+  }
+  hit.front_face = ray.direction.dot(hit.geometric_normal) < 0;
+  return hit;
+}
+
+std::optional<Hit> EmbreeScene::Intersect(const Ray& ray) const {
+  CheckRay(ray);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh;
+  rh.ray = MakeRtcRay(ray, render_origin_);
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(scene_, &context, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+  return MakeHit(ray, rh.hit.instID[0], rh.hit.primID, rh.hit.u, rh.hit.v);
+}
+
+bool EmbreeScene::Occluded(const Ray& ray) const {
+  CheckRay(ray);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay r = MakeRtcRay(ray, render_origin_);
+  rtcOccluded1(scene_, &context, &r);
+  return r.tfar == -std::numeric_limits<float>::infinity();
+}
+
+void EmbreeScene::IntersectMany(std::span<const Ray> rays, std::span<std::optional<Hit>> hits) const {
+  if (rays.size() != hits.size()) throw std::invalid_argument("EmbreeScene::IntersectMany: size mismatch");
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) hits[i] = Intersect(rays[i]);
+  });
+}
+
+}  // namespace lt

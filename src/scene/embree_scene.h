@@ -1,0 +1,105 @@
+// The loaded scene as an Embree ray-tracing scene, with instancing: one Embree
+// triangle geometry (in its own scene) per mesh, instanced once per SceneInstance.
+//
+// Precision: Embree works in float. To keep millimetre-scale geometry exact up to
+// 1 km from the world origin, Embree holds the "render frame": the world
+// translated by a double offset `render_origin()` (the centre of the scene
+// bounds). Instance transforms are composed in double (render_from_world *
+// world_from_mesh) and only then cast to float. Hits are reported in the world
+// frame, recomputed in double from the object-space triangle and the instance's
+// double transform, so their accuracy does not depend on the distance from the origin.
+//
+// Embree device errors become exceptions (std::runtime_error), never ignored.
+#pragma once
+
+#include <embree3/rtcore.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "scene/scene_geometry.h"
+
+namespace lt {
+
+// A ray in the world frame: points origin + t * direction for t in [t_min, t_max].
+struct Ray {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();  // need not be unit length
+  double t_min = 0;
+  double t_max = std::numeric_limits<double>::infinity();
+};
+
+struct Hit {
+  double t = 0;                           // ray parameter (in units of |direction|)
+  Eigen::Vector3d position;               // world frame, metres
+  Eigen::Vector3d geometric_normal;       // world, unit, front side (counter-clockwise winding)
+  Eigen::Vector3d shading_normal;         // world, unit, interpolated vertex normal
+  Eigen::Vector2f uv = Eigen::Vector2f::Zero();  // interpolated TEXCOORD_0 (0 when the mesh has none)
+  Eigen::Vector2f barycentric;            // (u, v): position = (1-u-v) p0 + u p1 + v p2
+  uint32_t material_id = 0;               // index into SceneGeometry::materials
+  uint32_t instance_id = 0;               // index into SceneGeometry::instances
+  uint32_t primitive_id = 0;              // triangle index within the instance's mesh
+  bool front_face = true;                 // the ray arrived on the side geometric_normal points to
+};
+
+class EmbreeScene {
+ public:
+  // Builds the Embree scene. The geometry is shared (Embree reads its index
+  // buffers in place), so it stays alive as long as this object.
+  explicit EmbreeScene(std::shared_ptr<const SceneGeometry> geometry);
+  ~EmbreeScene();
+  EmbreeScene(const EmbreeScene&) = delete;
+  EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+  // The nearest hit along the ray, if any. Thread-safe.
+  std::optional<Hit> Intersect(const Ray& ray) const;
+  // Whether anything lies on the ray within [t_min, t_max]. Thread-safe.
+  bool Occluded(const Ray& ray) const;
+  // Intersect for many rays, in parallel (hits.size() must equal rays.size()).
+  void IntersectMany(std::span<const Ray> rays, std::span<std::optional<Hit>> hits) const;
+
+  // The world point the render frame's origin sits at; render = world - render_origin.
+  const Eigen::Vector3d& render_origin() const { return render_origin_; }
+  Eigen::Vector3d RenderFromWorld(const Eigen::Vector3d& p_in_world) const { return p_in_world - render_origin_; }
+  Eigen::Vector3d WorldFromRender(const Eigen::Vector3d& p_in_render) const { return p_in_render + render_origin_; }
+  // The Embree scene (render frame). For callers that trace rays themselves.
+  RTCScene handle() const { return scene_; }
+
+  const SceneGeometry& geometry() const { return *geometry_; }
+  // Exact world bounds of all instanced geometry (empty box for an empty scene).
+  const Eigen::AlignedBox3d& bounds() const { return bounds_; }
+  size_t triangle_count() const { return geometry_->InstancedTriangleCount(); }
+  size_t unique_triangle_count() const { return geometry_->UniqueTriangleCount(); }
+  size_t instance_count() const { return geometry_->instances.size(); }
+  size_t degenerate_triangle_count() const { return geometry_->degenerate_triangles; }
+  const std::vector<std::string>& warnings() const { return geometry_->warnings; }
+
+  // Fills a hit from what Embree reports (instance, triangle, barycentrics).
+  Hit MakeHit(const Ray& ray, uint32_t instance_id, uint32_t primitive_id, float u, float v) const;
+  // Throws std::runtime_error when Embree has reported an error on this scene's
+  // device. Construction calls it; code that calls Embree on handle() directly
+  // calls it after its own Embree calls.
+  void CheckDevice() const { ThrowIfError("using the scene"); }
+
+ private:
+  struct DeviceErrors;
+  void ThrowIfError(const char* stage) const;
+
+  std::shared_ptr<const SceneGeometry> geometry_;
+  std::unique_ptr<DeviceErrors> errors_;
+  RTCDevice device_ = nullptr;
+  RTCScene scene_ = nullptr;
+  std::vector<RTCScene> mesh_scenes_;
+  std::vector<Eigen::Matrix3d> normal_from_mesh_;  // inverse transpose of each instance's linear part
+  Eigen::Vector3d render_origin_ = Eigen::Vector3d::Zero();
+  Eigen::AlignedBox3d bounds_;
+};
+
+}  // namespace lt

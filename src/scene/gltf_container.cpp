@@ -1,0 +1,171 @@
+#include "scene/gltf_container.h"
+
+#include <cstring>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "core/error.h"
+#include "core/json_reader.h"
+
+namespace lt {
+
+namespace {
+
+constexpr uint32_t kGlbMagic = 0x46546C67;  // "glTF"
+constexpr uint32_t kChunkJson = 0x4E4F534A;  // "JSON"
+constexpr uint32_t kChunkBin = 0x004E4942;   // "BIN\0"
+
+uint32_t ReadU32(const std::vector<unsigned char>& b, size_t offset) {
+  uint32_t v;
+  std::memcpy(&v, b.data() + offset, 4);  // GLB is little-endian, as is every supported host
+  return v;
+}
+
+int HexValue(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+  return -1;
+}
+
+// Fails when an external file named by uri does not exist (or is shorter than byte_length).
+void CheckExternal(const nlohmann::json& uri, const std::string& where, const std::string& what,
+                   const std::filesystem::path& base_dir, int64_t byte_length) {
+  if (!uri.is_string()) throw InputError(where, "uri must be a string");
+  const std::string s = uri.get<std::string>();
+  if (s.rfind("data:", 0) == 0) return;
+  if (s.empty()) throw InputError(where, "uri must not be empty");
+  std::filesystem::path p = (base_dir / DecodeUri(s)).lexically_normal();
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(p, ec)) {
+    throw InputError(where, what + " file not found (looked for " + p.string() + ")");
+  }
+  if (byte_length >= 0) {
+    auto size = std::filesystem::file_size(p, ec);
+    if (!ec && size != uint64_t(byte_length)) {
+      throw InputError(where, what + " file " + p.string() + " has " + std::to_string(size) +
+                                  " bytes, byteLength says " + std::to_string(byte_length));
+    }
+  }
+}
+
+}  // namespace
+
+std::string DecodeUri(const std::string& uri) {
+  std::string out;
+  out.reserve(uri.size());
+  for (size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() && HexValue(uri[i + 1]) >= 0 && HexValue(uri[i + 2]) >= 0) {
+      out += char(HexValue(uri[i + 1]) * 16 + HexValue(uri[i + 2]));
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  }
+  return out;
+}
+
+std::vector<unsigned char> ReadFileBytes(const std::filesystem::path& path, const std::string& file) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    throw InputError(file, "file not found (looked for " + path.string() + ")");
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(file, "cannot open file (looked for " + path.string() + ")");
+  in.seekg(0, std::ios::end);
+  std::streamoff size = in.tellg();
+  in.seekg(0, std::ios::beg);
+  if (size < 0) throw InputError(file, "cannot read file " + path.string());
+  if (uint64_t(size) > UINT32_MAX) throw InputError(file, "file is larger than 4 GiB, which glTF does not allow");
+  std::vector<unsigned char> bytes(static_cast<size_t>(size));
+  if (size > 0 && !in.read(reinterpret_cast<char*>(bytes.data()), size)) {
+    throw InputError(file, "cannot read file " + path.string());
+  }
+  return bytes;
+}
+
+GltfContainer ParseGltfContainer(const std::vector<unsigned char>& bytes, const std::string& file) {
+  GltfContainer c;
+  if (bytes.size() < 4 || ReadU32(bytes, 0) != kGlbMagic) {
+    if (bytes.empty()) throw InputError(file, "file is empty");
+    c.json_text.assign(bytes.begin(), bytes.end());
+    c.total_length = bytes.size();
+    return c;
+  }
+  c.binary = true;
+  const size_t n = bytes.size();
+  auto fail = [&](const std::string& m) -> void { throw InputError(file, "invalid GLB: " + m); };
+  if (n < 20) fail("truncated: " + std::to_string(n) + " bytes, the header needs 20");
+  uint32_t version = ReadU32(bytes, 4), length = ReadU32(bytes, 8);
+  if (version != 2) fail("container version " + std::to_string(version) + ", only 2 is supported");
+  if (length > n) {
+    fail("truncated: the header says " + std::to_string(length) + " bytes, the file has " + std::to_string(n));
+  }
+  if (length < 20) fail("header length " + std::to_string(length) + " is too small");
+  uint64_t json_length = ReadU32(bytes, 12);
+  if (ReadU32(bytes, 16) != kChunkJson) fail("the first chunk is not JSON");
+  if (json_length == 0 || 20 + json_length > length) {
+    fail("JSON chunk of " + std::to_string(json_length) + " bytes does not fit in " + std::to_string(length) + " bytes");
+  }
+  if (json_length % 4 != 0) fail("JSON chunk length must be a multiple of 4");
+  uint64_t end = 20 + json_length;
+  if (end < length) {
+    if (end + 8 > length) fail("truncated BIN chunk header");
+    uint64_t bin_length = ReadU32(bytes, size_t(end));
+    if (ReadU32(bytes, size_t(end) + 4) != kChunkBin) fail("the second chunk is not BIN");
+    if (end + 8 + bin_length > length) {
+      fail("BIN chunk of " + std::to_string(bin_length) + " bytes does not fit in the file (" +
+           std::to_string(length - end - 8) + " bytes left)");
+    }
+    if (bin_length % 4 != 0) fail("BIN chunk length must be a multiple of 4");
+  }
+  c.json_text.assign(bytes.begin() + 20, bytes.begin() + static_cast<ptrdiff_t>(20 + json_length));
+  c.total_length = length;
+  return c;
+}
+
+void CheckGltfJson(const GltfContainer& container, const std::string& file, const std::filesystem::path& base_dir) {
+  json::Document doc = json::Document::Parse(container.json_text, file, base_dir);
+  const nlohmann::json& root = doc.Root().raw();
+  if (!root.is_object()) throw InputError(file, "invalid glTF: the top level must be a JSON object");
+  auto asset = root.find("asset");
+  if (asset == root.end() || !asset->is_object()) throw InputError(file + ": /asset", "missing required object");
+  auto version = asset->find("version");
+  if (version == asset->end() || !version->is_string() || version->get<std::string>().rfind("2.", 0) != 0) {
+    throw InputError(file + ": /asset/version",
+                     "glTF version must be 2.x, got " + (version == asset->end() ? std::string("none") : version->dump()));
+  }
+  static const std::set<std::string> kSupported = {"KHR_materials_emissive_strength", "KHR_mesh_quantization"};
+  if (auto req = root.find("extensionsRequired"); req != root.end() && req->is_array()) {
+    for (size_t i = 0; i < req->size(); ++i) {
+      const auto& e = (*req)[i];
+      if (!e.is_string() || kSupported.count(e.get<std::string>()) == 0) {
+        throw InputError(file + ": /extensionsRequired/" + std::to_string(i),
+                         "required extension " + e.dump() + " is not supported");
+      }
+    }
+  }
+  if (auto buffers = root.find("buffers"); buffers != root.end() && buffers->is_array()) {
+    for (size_t i = 0; i < buffers->size(); ++i) {
+      const auto& b = (*buffers)[i];
+      if (!b.is_object()) continue;  // tinygltf reports it
+      auto uri = b.find("uri");
+      if (uri == b.end()) continue;
+      auto len = b.find("byteLength");
+      int64_t byte_length = len != b.end() && len->is_number_unsigned() ? int64_t(len->get<uint64_t>()) : -1;
+      CheckExternal(*uri, file + ": /buffers/" + std::to_string(i) + "/uri", "buffer", base_dir, byte_length);
+    }
+  }
+  if (auto images = root.find("images"); images != root.end() && images->is_array()) {
+    for (size_t i = 0; i < images->size(); ++i) {
+      const auto& im = (*images)[i];
+      if (!im.is_object()) continue;
+      auto uri = im.find("uri");
+      if (uri == im.end()) continue;
+      CheckExternal(*uri, file + ": /images/" + std::to_string(i) + "/uri", "texture image", base_dir, -1);
+    }
+  }
+}
+
+}  // namespace lt

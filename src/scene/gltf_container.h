@@ -1,0 +1,33 @@
+// The outer layer of a glTF file: reading the bytes, the GLB container (header and
+// chunks, checked completely before tinygltf sees them) and a first pass over the
+// JSON that checks the version, required extensions and that every external buffer
+// and image file exists, so a missing file is reported with the path looked for.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace lt {
+
+struct GltfContainer {
+  bool binary = false;     // .glb
+  std::string json_text;   // whole file (.gltf) or the JSON chunk (.glb)
+  size_t total_length = 0; // bytes that belong to the file (GLB header length)
+};
+
+// Reads a whole file; an lt::InputError naming `file` and the path looked for on failure.
+std::vector<unsigned char> ReadFileBytes(const std::filesystem::path& path, const std::string& file);
+
+// Splits a .glb into its chunks, or takes a .gltf as JSON text (told apart by the
+// "glTF" magic). Throws lt::InputError for a truncated or inconsistent container.
+GltfContainer ParseGltfContainer(const std::vector<unsigned char>& bytes, const std::string& file);
+
+// Checks the JSON before the full parse (see above). base_dir is the folder of the file.
+void CheckGltfJson(const GltfContainer& container, const std::string& file, const std::filesystem::path& base_dir);
+
+// Percent-decodes a URI ("my%20file.bin" -> "my file.bin").
+std::string DecodeUri(const std::string& uri);
+
+}  // namespace lt

@@ -1,0 +1,278 @@
+#include "scene/gltf_loader.h"
+
+#include <tiny_gltf.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/json_reader.h"
+#include "scene/gltf_container.h"
+#include "scene/gltf_materials.h"
+#include "scene/gltf_mesh.h"
+
+namespace lt {
+
+namespace {
+
+// ---------------------------------------------------------------- file access for tinygltf
+
+// tinygltf looks for external files in the base folder and then in ".". Only
+// absolute paths (the base folder is made absolute) are accepted, so nothing is
+// ever picked up from the working directory by accident.
+bool FileExistsCallback(const std::string& path, void*) {
+  std::error_code ec;
+  return std::filesystem::path(path).is_absolute() && std::filesystem::is_regular_file(path, ec);
+}
+
+std::string ExpandFilePathCallback(const std::string& path, void*) { return path; }
+
+bool ReadWholeFileCallback(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+  try {
+    *out = ReadFileBytes(path, path);
+    return true;
+  } catch (const InputError& e) {
+    if (err) *err += e.what();
+    return false;
+  }
+}
+
+bool WriteWholeFileCallback(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+  if (err) *err += "writing is not supported";
+  return false;
+}
+
+// Decodes images through tinygltf's stb-based loader, after checking that an
+// image stored in a buffer view lies inside its buffer (tinygltf does not).
+struct ImageLoadContext {
+  const tinygltf::Model* model = nullptr;
+};
+
+bool LoadImageCallback(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int, int,
+                       const unsigned char* bytes, int size, void* user) {
+  const auto* ctx = static_cast<const ImageLoadContext*>(user);
+  if (image->bufferView >= 0) {
+    const auto& m = *ctx->model;
+    if (size_t(image->bufferView) >= m.bufferViews.size()) return false;
+    const tinygltf::BufferView& bv = m.bufferViews[size_t(image->bufferView)];
+    if (bv.buffer < 0 || size_t(bv.buffer) >= m.buffers.size()) return false;
+    const size_t buffer_size = m.buffers[size_t(bv.buffer)].data.size();
+    if (bv.byteOffset > buffer_size || bv.byteLength > buffer_size - bv.byteOffset ||
+        bv.byteLength > size_t(INT32_MAX)) {
+      if (err) {
+        *err += "image[" + std::to_string(index) + "] bufferView " + std::to_string(image->bufferView) +
+                " lies outside buffer " + std::to_string(bv.buffer) + " (" + std::to_string(buffer_size) + " bytes)";
+      }
+      return false;
+    }
+  }
+  if (bytes == nullptr || size <= 0) {
+    if (err) *err += "image[" + std::to_string(index) + "] is empty";
+    return false;
+  }
+  return tinygltf::LoadImageData(image, index, err, warn, 0, 0, bytes, size, nullptr);
+}
+
+std::string Trim(std::string s) {
+  while (!s.empty() && (s.back() == '\n' || s.back() == ' ' || s.back() == '\r')) s.pop_back();
+  for (auto& c : s) {
+    if (c == '\n') c = ';';
+  }
+  return s;
+}
+
+// ---------------------------------------------------------------- node hierarchy
+
+Eigen::Affine3d LocalTransform(const tinygltf::Node& node, const std::string& where) {
+  auto finite = [&](const std::vector<double>& v, const char* key) {
+    for (double x : v) {
+      if (!std::isfinite(x)) throw InputError(where + "/" + key, "must be finite, got " + FormatNumber(x));
+    }
+  };
+  Eigen::Affine3d t = Eigen::Affine3d::Identity();
+  if (!node.matrix.empty()) {
+    if (node.matrix.size() != 16) throw InputError(where + "/matrix", "must have 16 elements");
+    finite(node.matrix, "matrix");
+    Eigen::Matrix4d m;
+    for (int c = 0; c < 4; ++c) {
+      for (int r = 0; r < 4; ++r) m(r, c) = node.matrix[size_t(4 * c + r)];  // column-major
+    }
+    if (std::abs(m(3, 0)) > 1e-9 || std::abs(m(3, 1)) > 1e-9 || std::abs(m(3, 2)) > 1e-9 ||
+        std::abs(m(3, 3) - 1) > 1e-9) {
+      throw InputError(where + "/matrix", "must be affine (last row 0 0 0 1)");
+    }
+    t.matrix() = m;
+    return t;
+  }
+  if (!node.translation.empty()) {
+    if (node.translation.size() != 3) throw InputError(where + "/translation", "must have 3 elements");
+    finite(node.translation, "translation");
+    t.translate(Eigen::Vector3d(node.translation[0], node.translation[1], node.translation[2]));
+  }
+  if (!node.rotation.empty()) {
+    if (node.rotation.size() != 4) throw InputError(where + "/rotation", "must have 4 elements");
+    finite(node.rotation, "rotation");
+    Eigen::Quaterniond q(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);  // glTF: x y z w
+    if (q.norm() < 1e-6) throw InputError(where + "/rotation", "must be a unit quaternion, got norm " + FormatNumber(q.norm()));
+    t.rotate(q.normalized());
+  }
+  if (!node.scale.empty()) {
+    if (node.scale.size() != 3) throw InputError(where + "/scale", "must have 3 elements");
+    finite(node.scale, "scale");
+    t.scale(Eigen::Vector3d(node.scale[0], node.scale[1], node.scale[2]));
+  }
+  return t;
+}
+
+struct NodeUse {
+  int gltf_mesh;
+  Eigen::Affine3d transform;
+  std::string node_name;
+};
+
+// Walks the default scene (iteratively, so deep hierarchies cannot overflow the stack).
+std::vector<NodeUse> WalkScene(const GltfSource& src, std::vector<std::string>* warnings) {
+  const auto& m = src.model;
+  std::vector<int> roots;
+  if (m.defaultScene >= 0 || !m.scenes.empty()) {
+    int scene = m.defaultScene >= 0 ? m.defaultScene : 0;
+    if (size_t(scene) >= m.scenes.size()) {
+      throw InputError(src.file + ": /scene", "scene " + std::to_string(scene) + " does not exist (" +
+                                                  std::to_string(m.scenes.size()) + " scenes)");
+    }
+    roots = m.scenes[size_t(scene)].nodes;
+    for (size_t i = 0; i < roots.size(); ++i) {
+      if (roots[i] < 0 || size_t(roots[i]) >= m.nodes.size()) {
+        throw InputError(GltfWhere(src, "scenes", scene) + "/nodes/" + std::to_string(i),
+                         "node " + std::to_string(roots[i]) + " does not exist (" + std::to_string(m.nodes.size()) +
+                             " nodes)");
+      }
+    }
+  } else {
+    std::vector<char> is_child(m.nodes.size(), 0);
+    for (const auto& n : m.nodes) {
+      for (int c : n.children) {
+        if (c >= 0 && size_t(c) < m.nodes.size()) is_child[size_t(c)] = 1;
+      }
+    }
+    for (size_t i = 0; i < m.nodes.size(); ++i) {
+      if (!is_child[i]) roots.push_back(int(i));
+    }
+    if (!m.meshes.empty()) warnings->push_back(src.file + ": no scene defined; all root nodes are loaded");
+  }
+
+  std::vector<NodeUse> uses;
+  std::vector<char> visited(m.nodes.size(), 0);
+  std::vector<std::pair<int, Eigen::Affine3d>> stack;
+  for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.emplace_back(*it, Eigen::Affine3d::Identity());
+  while (!stack.empty()) {
+    auto [index, parent] = stack.back();
+    stack.pop_back();
+    const std::string where = GltfWhere(src, "nodes", index);
+    if (visited[size_t(index)]) {
+      throw InputError(where, "node is reached twice from the scene (the node hierarchy must be a tree)");
+    }
+    visited[size_t(index)] = 1;
+    const tinygltf::Node& node = m.nodes[size_t(index)];
+    Eigen::Affine3d global = parent * LocalTransform(node, where);
+    if (node.mesh >= 0) {
+      if (size_t(node.mesh) >= m.meshes.size()) {
+        throw InputError(where + "/mesh", "mesh " + std::to_string(node.mesh) + " does not exist (" +
+                                              std::to_string(m.meshes.size()) + " meshes)");
+      }
+      std::string name = node.name.empty() ? "node " + std::to_string(index) : node.name;
+      double det = global.linear().determinant();
+      if (!(std::abs(det) > 1e-30) || !global.matrix().allFinite()) {
+        warnings->push_back(src.file + ": node \"" + name + "\" has a singular transform; its mesh is skipped");
+      } else {
+        uses.push_back({node.mesh, global, name});
+      }
+    } else if (node.mesh < -1) {
+      throw InputError(where + "/mesh", "must be >= 0, got " + std::to_string(node.mesh));
+    }
+    for (size_t c = node.children.size(); c-- > 0;) {
+      int child = node.children[c];
+      if (child < 0 || size_t(child) >= m.nodes.size()) {
+        throw InputError(where + "/children/" + std::to_string(c),
+                         "node " + std::to_string(child) + " does not exist (" + std::to_string(m.nodes.size()) +
+                             " nodes)");
+      }
+      stack.emplace_back(child, global);
+    }
+  }
+  return uses;
+}
+
+}  // namespace
+
+GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display_name) {
+  const std::string file = display_name.empty() ? path.string() : display_name;
+  std::error_code ec;
+  std::filesystem::path abs = std::filesystem::absolute(path, ec).lexically_normal();
+  if (ec) abs = path;
+  std::vector<unsigned char> bytes = ReadFileBytes(abs, file);
+  GltfContainer container = ParseGltfContainer(bytes, file);
+  const std::filesystem::path base = abs.parent_path();
+  CheckGltfJson(container, file, base);
+
+  GltfAsset asset;
+  asset.path = path;
+  tinygltf::Model model;
+  tinygltf::TinyGLTF loader;
+  tinygltf::FsCallbacks fs{&FileExistsCallback, &ExpandFilePathCallback, &ReadWholeFileCallback,
+                           &WriteWholeFileCallback, nullptr};
+  loader.SetFsCallbacks(fs);
+  ImageLoadContext image_ctx{&model};
+  loader.SetImageLoader(&LoadImageCallback, &image_ctx);
+  std::string err, warn;
+  bool ok;
+  if (container.binary) {
+    ok = loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(container.total_length),
+                                     base.string());
+  } else {
+    ok = loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
+                                    unsigned(bytes.size()), base.string());
+  }
+  if (!ok) throw InputError(file, "invalid glTF: " + Trim(err.empty() ? "parse failed" : err));
+  if (!warn.empty()) asset.warnings.push_back(file + ": " + Trim(warn));
+  bytes = {};
+
+  const GltfSource src{model, file};
+  asset.materials = ConvertGltfMaterials(src, &asset.warnings);
+  std::vector<NodeUse> uses = WalkScene(src, &asset.warnings);
+
+  const uint32_t default_material = uint32_t(asset.materials.size());
+  bool uses_default = false;
+  std::map<int, long> mesh_slot;  // glTF mesh -> index in asset.meshes, -1 when empty
+  for (const NodeUse& use : uses) {
+    auto it = mesh_slot.find(use.gltf_mesh);
+    if (it == mesh_slot.end()) {
+      GltfMeshStats stats;
+      Mesh mesh = ConvertGltfMesh(src, use.gltf_mesh, default_material, &stats, &asset.warnings);
+      asset.degenerate_triangles += stats.degenerate_triangles;
+      long slot = -1;
+      if (mesh.TriangleCount() > 0) {
+        uses_default |= stats.uses_default_material;
+        mesh.Validate();
+        slot = long(asset.meshes.size());
+        asset.meshes.push_back(std::move(mesh));
+      } else {
+        asset.warnings.push_back(file + ": mesh \"" + mesh.name + "\" has no triangles; it is skipped");
+      }
+      it = mesh_slot.emplace(use.gltf_mesh, slot).first;
+    }
+    if (it->second >= 0) asset.instances.push_back({size_t(it->second), use.transform, use.node_name});
+  }
+  if (uses_default) asset.materials.push_back(DefaultMaterial());
+  if (asset.degenerate_triangles > 0) {
+    asset.warnings.push_back(file + ": " + std::to_string(asset.degenerate_triangles) +
+                             " degenerate triangles dropped");
+  }
+  if (asset.instances.empty()) asset.warnings.push_back(file + ": the scene holds no triangles");
+  return asset;
+}
+
+}  // namespace lt

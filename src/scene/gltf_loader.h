@@ -1,0 +1,48 @@
+// Loading glTF 2.0 files (.gltf with external or embedded base64 buffers, and .glb)
+// into CPU meshes, materials and instances.
+//
+// What is read: the default scene's node hierarchy (TRS and matrix transforms),
+// meshes with several primitives, triangles / triangle strips / triangle fans,
+// indexed (u8/u16/u32) or not, normalized and sparse accessors, POSITION, NORMAL
+// (flat normals computed where missing, as glTF 2.0 specifies), TEXCOORD_0,
+// metallic-roughness factors, base-colour textures with their samplers, emissive
+// factor (with KHR_materials_emissive_strength). Points and lines are skipped with
+// a warning naming the mesh. Degenerate triangles are counted and dropped.
+// A mesh used by several nodes is loaded once and instanced.
+//
+// Every error in the file (truncated, out-of-range buffer view, index past the
+// vertex count, NaN position, missing buffer or texture) is an lt::InputError
+// naming the file and, where it can, the JSON pointer of the offending element.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "scene/material.h"
+#include "scene/mesh.h"
+
+namespace lt {
+
+// One use of a mesh by a node of the default scene.
+struct GltfInstance {
+  size_t mesh = 0;                   // index into GltfAsset::meshes
+  Eigen::Affine3d file_from_mesh;    // the node's global transform (may scale)
+  std::string node_name;             // glTF node name, or "node <index>"
+};
+
+struct GltfAsset {
+  std::filesystem::path path;
+  std::vector<Mesh> meshes;          // triangle_material indexes `materials`
+  std::vector<Material> materials;   // the file's materials in order, then "default" if used
+  std::vector<GltfInstance> instances;
+  size_t degenerate_triangles = 0;   // dropped while loading
+  std::vector<std::string> warnings; // each prefixed with the file name
+};
+
+// Loads a .gltf or .glb (detected from the content, not the extension). Errors
+// name the file as `display_name` (default: the path as given).
+GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display_name = "");
+
+}  // namespace lt

@@ -1,0 +1,151 @@
+#include "scene/gltf_materials.h"
+
+#include <tiny_gltf.h>
+
+#include <cmath>
+#include <algorithm>
+#include <cstring>
+#include <memory>
+
+#include "core/error.h"
+
+namespace lt {
+
+namespace {
+
+WrapMode ToWrap(int mode, const std::string& where) {
+  switch (mode) {
+    case TINYGLTF_TEXTURE_WRAP_REPEAT: return WrapMode::kRepeat;
+    case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return WrapMode::kClampToEdge;
+    case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return WrapMode::kMirroredRepeat;
+    default: throw InputError(where, "unknown wrap mode " + std::to_string(mode));
+  }
+}
+
+double UnitFactor(double v, const std::string& where) {
+  if (!std::isfinite(v) || v < 0.0 || v > 1.0) throw InputError(where, "must be in [0, 1], got " + FormatNumber(v));
+  return v;
+}
+
+// Decoded RGBA8 image of glTF image `index`.
+std::shared_ptr<Texture> MakeTexture(const GltfSource& src, int texture_index) {
+  const auto& m = src.model;
+  const std::string tex_where = GltfWhere(src, "textures", texture_index);
+  const tinygltf::Texture& tex = m.textures[size_t(texture_index)];
+  if (tex.source < 0 || size_t(tex.source) >= m.images.size()) {
+    throw InputError(tex_where + "/source", "image " + std::to_string(tex.source) + " does not exist (" +
+                                                std::to_string(m.images.size()) + " images)");
+  }
+  const tinygltf::Image& img = m.images[size_t(tex.source)];
+  const std::string img_where = GltfWhere(src, "images", tex.source);
+  auto out = std::make_shared<Texture>();
+  out->name = !img.name.empty() ? img.name : (!img.uri.empty() && img.uri.rfind("data:", 0) != 0 ? img.uri : "image " + std::to_string(tex.source));
+  if (img.image.empty() || img.width < 1 || img.height < 1) {
+    throw InputError(img_where, "image could not be loaded" + (img.uri.empty() ? "" : " from \"" + img.uri.substr(0, 64) + "\""));
+  }
+  if (img.component != 4 || (img.bits != 8 && img.bits != 16)) {
+    throw InputError(img_where, "unsupported pixel layout (" + std::to_string(img.component) + " channels, " +
+                                    std::to_string(img.bits) + " bits)");
+  }
+  const size_t n = size_t(img.width) * size_t(img.height) * 4;
+  if (img.image.size() != n * size_t(img.bits / 8)) throw InputError(img_where, "decoded image has the wrong size");
+  out->image = Image<uint8_t>(img.width, img.height, 4);
+  if (img.bits == 8) {
+    std::copy(img.image.begin(), img.image.end(), out->image.pixels.begin());
+  } else {  // 16-bit: keep the high byte (rounded)
+    for (size_t i = 0; i < n; ++i) {
+      uint16_t v;
+      std::memcpy(&v, &img.image[2 * i], 2);
+      out->image.pixels[i] = uint8_t((uint32_t(v) + 128) / 257);
+    }
+  }
+  if (tex.sampler >= 0) {
+    if (size_t(tex.sampler) >= m.samplers.size()) {
+      throw InputError(tex_where + "/sampler", "sampler " + std::to_string(tex.sampler) + " does not exist");
+    }
+    const tinygltf::Sampler& s = m.samplers[size_t(tex.sampler)];
+    const std::string s_where = GltfWhere(src, "samplers", tex.sampler);
+    out->wrap_s = ToWrap(s.wrapS, s_where + "/wrapS");
+    out->wrap_t = ToWrap(s.wrapT, s_where + "/wrapT");
+  } else if (tex.sampler < -1) {
+    throw InputError(tex_where + "/sampler", "must be >= 0");
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<std::string>* warnings) {
+  const auto& m = src.model;
+  std::vector<std::shared_ptr<const Texture>> textures(m.textures.size());
+  std::vector<Material> out;
+  out.reserve(m.materials.size());
+  for (size_t i = 0; i < m.materials.size(); ++i) {
+    const tinygltf::Material& gm = m.materials[i];
+    const std::string where = GltfWhere(src, "materials", int(i));
+    Material mat;
+    mat.name = gm.name.empty() ? "material " + std::to_string(i) : gm.name;
+    const auto& pbr = gm.pbrMetallicRoughness;
+    if (pbr.baseColorFactor.size() != 4) {
+      throw InputError(where + "/pbrMetallicRoughness/baseColorFactor", "must have 4 elements");
+    }
+    for (int c = 0; c < 3; ++c) {
+      mat.base_color[c] = float(UnitFactor(pbr.baseColorFactor[size_t(c)],
+                                           where + "/pbrMetallicRoughness/baseColorFactor/" + std::to_string(c)));
+    }
+    UnitFactor(pbr.baseColorFactor[3], where + "/pbrMetallicRoughness/baseColorFactor/3");
+    mat.metallic = float(UnitFactor(pbr.metallicFactor, where + "/pbrMetallicRoughness/metallicFactor"));
+    mat.roughness = float(UnitFactor(pbr.roughnessFactor, where + "/pbrMetallicRoughness/roughnessFactor"));
+    if (gm.emissiveFactor.size() != 3) throw InputError(where + "/emissiveFactor", "must have 3 elements");
+    double strength = 1.0;
+    if (auto it = gm.extensions.find("KHR_materials_emissive_strength"); it != gm.extensions.end()) {
+      const tinygltf::Value& ext = it->second;
+      if (ext.IsObject() && ext.Has("emissiveStrength")) {
+        const tinygltf::Value& s = ext.Get("emissiveStrength");
+        strength = s.IsNumber() || s.IsInt() ? s.GetNumberAsDouble() : -1.0;
+        if (!std::isfinite(strength) || strength < 0) {
+          throw InputError(where + "/extensions/KHR_materials_emissive_strength/emissiveStrength",
+                           "must be a number >= 0");
+        }
+      }
+    }
+    for (int c = 0; c < 3; ++c) {
+      mat.emissive[c] = float(strength * UnitFactor(gm.emissiveFactor[size_t(c)], where + "/emissiveFactor/" + std::to_string(c)));
+    }
+    mat.double_sided = gm.doubleSided;
+
+    const int tex = pbr.baseColorTexture.index;
+    if (tex >= 0) {
+      if (size_t(tex) >= m.textures.size()) {
+        throw InputError(where + "/pbrMetallicRoughness/baseColorTexture/index",
+                         "texture " + std::to_string(tex) + " does not exist (" + std::to_string(m.textures.size()) +
+                             " textures)");
+      }
+      if (!textures[size_t(tex)]) textures[size_t(tex)] = MakeTexture(src, tex);
+      mat.base_color_texture = textures[size_t(tex)];
+      if (pbr.baseColorTexture.texCoord != 0) {
+        warnings->push_back(src.file + ": material \"" + mat.name + "\": base colour texture reads TEXCOORD_" +
+                            std::to_string(pbr.baseColorTexture.texCoord) + "; TEXCOORD_0 is used instead");
+      }
+    } else if (tex < -1) {
+      throw InputError(where + "/pbrMetallicRoughness/baseColorTexture/index", "must be >= 0");
+    }
+
+    std::string ignored;
+    auto note = [&](bool present, const char* what) {
+      if (present) ignored += (ignored.empty() ? "" : ", ") + std::string(what);
+    };
+    note(pbr.metallicRoughnessTexture.index >= 0, "metallic-roughness texture");
+    note(gm.normalTexture.index >= 0, "normal texture");
+    note(gm.occlusionTexture.index >= 0, "occlusion texture");
+    note(gm.emissiveTexture.index >= 0, "emissive texture");
+    note(gm.alphaMode != "OPAQUE", "alpha mode");
+    if (!ignored.empty()) {
+      warnings->push_back(src.file + ": material \"" + mat.name + "\": ignored " + ignored);
+    }
+    out.push_back(std::move(mat));
+  }
+  return out;
+}
+
+}  // namespace lt

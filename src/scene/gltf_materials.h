@@ -1,0 +1,18 @@
+// Conversion of glTF materials (metallic-roughness factors, base-colour texture with
+// its sampler, emissive) into lt::Material. Used by the glTF loader.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "scene/gltf_accessors.h"
+#include "scene/material.h"
+
+namespace lt {
+
+// All materials of the file, in order. Textures used by several materials are
+// shared. Features that are not rendered (normal, occlusion, metallic-roughness
+// and emissive textures, alpha modes) are ignored with a warning.
+std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<std::string>* warnings);
+
+}  // namespace lt

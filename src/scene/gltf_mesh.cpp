@@ -1,0 +1,237 @@
+#include "scene/gltf_mesh.h"
+
+#include <tiny_gltf.h>
+
+#include <cmath>
+
+#include "core/error.h"
+
+namespace lt {
+
+namespace {
+
+const char* ModeName(int mode) {
+  switch (mode) {
+    case TINYGLTF_MODE_POINTS: return "points";
+    case TINYGLTF_MODE_LINE: return "lines";
+    case TINYGLTF_MODE_LINE_LOOP: return "line loop";
+    case TINYGLTF_MODE_LINE_STRIP: return "line strip";
+    case TINYGLTF_MODE_TRIANGLES: return "triangles";
+    case TINYGLTF_MODE_TRIANGLE_STRIP: return "triangle strip";
+    case TINYGLTF_MODE_TRIANGLE_FAN: return "triangle fan";
+    default: return "unknown";
+  }
+}
+
+int FindAttribute(const tinygltf::Primitive& p, const char* name) {
+  auto it = p.attributes.find(name);
+  return it == p.attributes.end() ? -1 : it->second;
+}
+
+// Fails when any value is not finite.
+void CheckFinite(const GltfSource& src, int accessor, const std::vector<float>& v, int components,
+                 const char* what) {
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (!std::isfinite(v[i])) {
+      throw InputError(GltfWhere(src, "accessors", accessor),
+                       std::string(what) + " " + std::to_string(i / components) + " is not finite (" +
+                           FormatNumber(v[i]) + ")");
+    }
+  }
+}
+
+// Corner list (3 per triangle) of a primitive, from its indices or implicit 0..n-1.
+std::vector<uint32_t> Triangulate(const std::vector<uint32_t>& corners_in, int mode, const std::string& where) {
+  const size_t n = corners_in.size();
+  std::vector<uint32_t> tri;
+  if (mode == TINYGLTF_MODE_TRIANGLES) {
+    if (n % 3 != 0) {
+      throw InputError(where, "a triangle list needs a multiple of 3 vertices, got " + std::to_string(n));
+    }
+    return corners_in;
+  }
+  if (n < 3) return tri;
+  tri.reserve((n - 2) * 3);
+  for (size_t i = 0; i + 2 < n; ++i) {
+    if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+      // glTF 2.0 3.7.2.1: triangle i is {v_i, v_{i+(1+i%2)}, v_{i+(2-i%2)}}.
+      tri.insert(tri.end(), {corners_in[i], corners_in[i + 1 + i % 2], corners_in[i + 2 - i % 2]});
+    } else {  // fan: {v_{i+1}, v_{i+2}, v_0}
+      tri.insert(tri.end(), {corners_in[i + 1], corners_in[i + 2], corners_in[0]});
+    }
+  }
+  return tri;
+}
+
+Eigen::Vector3f Vec3At(const std::vector<float>& v, size_t i) { return {v[3 * i], v[3 * i + 1], v[3 * i + 2]}; }
+
+}  // namespace
+
+Mesh ConvertGltfMesh(const GltfSource& src, int index, uint32_t default_material, GltfMeshStats* stats,
+                     std::vector<std::string>* warnings) {
+  const tinygltf::Mesh& gm = src.model.meshes[size_t(index)];
+  const std::string mesh_where = GltfWhere(src, "meshes", index);
+  Mesh mesh;
+  mesh.name = gm.name.empty() ? "mesh " + std::to_string(index) : gm.name;
+
+  bool any_texcoords = false;
+  for (const auto& p : gm.primitives) any_texcoords |= FindAttribute(p, "TEXCOORD_0") >= 0;
+
+  for (size_t pi = 0; pi < gm.primitives.size(); ++pi) {
+    const tinygltf::Primitive& prim = gm.primitives[pi];
+    const std::string where = mesh_where + "/primitives/" + std::to_string(pi);
+    if (prim.mode == TINYGLTF_MODE_POINTS || prim.mode == TINYGLTF_MODE_LINE ||
+        prim.mode == TINYGLTF_MODE_LINE_LOOP || prim.mode == TINYGLTF_MODE_LINE_STRIP) {
+      warnings->push_back(src.file + ": mesh \"" + mesh.name + "\" primitive " + std::to_string(pi) + ": " +
+                          ModeName(prim.mode) + " skipped (only triangles are rendered)");
+      continue;
+    }
+    if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+        prim.mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+      throw InputError(where + "/mode", "unknown primitive mode " + std::to_string(prim.mode));
+    }
+    if (!prim.targets.empty()) {
+      warnings->push_back(src.file + ": mesh \"" + mesh.name + "\" primitive " + std::to_string(pi) +
+                          ": morph targets ignored");
+    }
+    uint32_t material = default_material;
+    if (prim.material >= 0) {
+      if (size_t(prim.material) >= src.model.materials.size()) {
+        throw InputError(where + "/material", "material " + std::to_string(prim.material) + " does not exist (" +
+                                                  std::to_string(src.model.materials.size()) + " materials)");
+      }
+      material = uint32_t(prim.material);
+    } else if (prim.material < -1) {
+      throw InputError(where + "/material", "must be >= 0, got " + std::to_string(prim.material));
+    } else {
+      stats->uses_default_material = true;
+    }
+
+    const int pos_acc = FindAttribute(prim, "POSITION");
+    if (pos_acc < 0) throw InputError(where + "/attributes", "missing required attribute POSITION");
+    std::vector<float> pos = ReadFloatAccessor(src, pos_acc, 3);
+    CheckFinite(src, pos_acc, pos, 3, "position");
+    const size_t nverts = pos.size() / 3;
+    if (nverts > size_t(UINT32_MAX)) throw InputError(where, "too many vertices");
+
+    std::vector<float> nrm;
+    if (int acc = FindAttribute(prim, "NORMAL"); acc >= 0) {
+      nrm = ReadFloatAccessor(src, acc, 3);
+      CheckFinite(src, acc, nrm, 3, "normal");
+      if (nrm.size() != pos.size()) {
+        throw InputError(GltfWhere(src, "accessors", acc), "NORMAL has " + std::to_string(nrm.size() / 3) +
+                                                               " elements, POSITION " + std::to_string(nverts));
+      }
+    }
+    std::vector<float> uv;
+    if (int acc = FindAttribute(prim, "TEXCOORD_0"); acc >= 0) {
+      uv = ReadFloatAccessor(src, acc, 2);
+      CheckFinite(src, acc, uv, 2, "texture coordinate");
+      if (uv.size() / 2 != nverts) {
+        throw InputError(GltfWhere(src, "accessors", acc), "TEXCOORD_0 has " + std::to_string(uv.size() / 2) +
+                                                               " elements, POSITION " + std::to_string(nverts));
+      }
+    }
+
+    std::vector<uint32_t> corners;
+    if (prim.indices >= 0) {
+      corners = ReadIndexAccessor(src, prim.indices);
+      for (size_t i = 0; i < corners.size(); ++i) {
+        if (corners[i] >= nverts) {
+          throw InputError(GltfWhere(src, "accessors", prim.indices),
+                           "index " + std::to_string(corners[i]) + " (element " + std::to_string(i) +
+                               ") is past the vertex count " + std::to_string(nverts));
+        }
+      }
+    } else {
+      corners.resize(nverts);
+      for (size_t i = 0; i < nverts; ++i) corners[i] = uint32_t(i);
+    }
+    std::vector<uint32_t> tri = Triangulate(corners, prim.mode, where);
+    corners = {};
+
+    // Keep the non-degenerate triangles.
+    size_t kept = 0;
+    for (size_t t = 0; t < tri.size() / 3; ++t) {
+      uint32_t a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2];
+      if (a == b || b == c || a == c || IsDegenerateTriangle(Vec3At(pos, a), Vec3At(pos, b), Vec3At(pos, c))) {
+        ++stats->degenerate_triangles;
+        continue;
+      }
+      tri[3 * kept] = a;
+      tri[3 * kept + 1] = b;
+      tri[3 * kept + 2] = c;
+      ++kept;
+    }
+    tri.resize(3 * kept);
+
+    const size_t base = mesh.positions.size();
+    if (!nrm.empty()) {
+      // Shared vertices with the file's normals. Zero-length normals are replaced
+      // by the area-weighted normal of the triangles around the vertex.
+      if (base + nverts > size_t(UINT32_MAX)) throw InputError(mesh_where, "too many vertices");
+      mesh.positions.reserve(base + nverts);
+      mesh.normals.reserve(base + nverts);
+      for (size_t v = 0; v < nverts; ++v) mesh.positions.push_back(Vec3At(pos, v));
+      std::vector<uint32_t> zero;
+      for (size_t v = 0; v < nverts; ++v) {
+        Eigen::Vector3f n = Vec3At(nrm, v);
+        float len = n.norm();
+        if (!(len > 1e-12f)) zero.push_back(uint32_t(v));
+        mesh.normals.push_back(len > 1e-12f ? Eigen::Vector3f(n / len) : Eigen::Vector3f::Zero());
+      }
+      if (!zero.empty()) {
+        // Accumulate face normals only into the vertices whose normal was zero.
+        std::vector<Eigen::Vector3d> acc(zero.size(), Eigen::Vector3d::Zero());
+        std::vector<int64_t> slot(nverts, -1);
+        for (size_t k = 0; k < zero.size(); ++k) slot[zero[k]] = int64_t(k);
+        for (size_t t = 0; t < tri.size() / 3; ++t) {
+          Eigen::Vector3d fn = FaceNormal(Vec3At(pos, tri[3 * t]), Vec3At(pos, tri[3 * t + 1]),
+                                          Vec3At(pos, tri[3 * t + 2]));
+          for (int k = 0; k < 3; ++k) {
+            if (slot[tri[3 * t + k]] >= 0) acc[size_t(slot[tri[3 * t + k]])] += fn;
+          }
+        }
+        for (size_t k = 0; k < zero.size(); ++k) {
+          mesh.normals[base + zero[k]] =
+              acc[k].norm() > 0 ? Eigen::Vector3f(acc[k].normalized().cast<float>()) : Eigen::Vector3f::UnitZ();
+        }
+        warnings->push_back(src.file + ": mesh \"" + mesh.name + "\" primitive " + std::to_string(pi) + ": " +
+                            std::to_string(zero.size()) + " zero-length normals replaced by face normals");
+      }
+      if (any_texcoords) {
+        mesh.texcoords.reserve(base + nverts);
+        for (size_t v = 0; v < nverts; ++v) {
+          mesh.texcoords.push_back(uv.empty() ? Eigen::Vector2f::Zero() : Eigen::Vector2f(uv[2 * v], uv[2 * v + 1]));
+        }
+      }
+      mesh.indices.reserve(mesh.indices.size() + tri.size());
+      for (uint32_t i : tri) mesh.indices.push_back(uint32_t(base + i));
+    } else {
+      // No normals: glTF asks for flat shading, so every triangle gets its own
+      // three vertices carrying the face normal.
+      if (base + tri.size() > size_t(UINT32_MAX)) throw InputError(mesh_where, "too many vertices");
+      mesh.positions.reserve(base + tri.size());
+      mesh.normals.reserve(base + tri.size());
+      if (any_texcoords) mesh.texcoords.reserve(base + tri.size());
+      mesh.indices.reserve(mesh.indices.size() + tri.size());
+      for (size_t t = 0; t < tri.size() / 3; ++t) {
+        Eigen::Vector3f p[3] = {Vec3At(pos, tri[3 * t]), Vec3At(pos, tri[3 * t + 1]), Vec3At(pos, tri[3 * t + 2])};
+        Eigen::Vector3f fn = FaceNormal(p[0], p[1], p[2]).normalized().cast<float>();
+        for (int k = 0; k < 3; ++k) {
+          mesh.indices.push_back(uint32_t(mesh.positions.size()));
+          mesh.positions.push_back(p[k]);
+          mesh.normals.push_back(fn);
+          if (any_texcoords) {
+            uint32_t v = tri[3 * t + k];
+            mesh.texcoords.push_back(uv.empty() ? Eigen::Vector2f::Zero() : Eigen::Vector2f(uv[2 * v], uv[2 * v + 1]));
+          }
+        }
+      }
+    }
+    mesh.triangle_material.insert(mesh.triangle_material.end(), tri.size() / 3, material);
+  }
+  return mesh;
+}
+
+}  // namespace lt

@@ -1,0 +1,77 @@
+#include "scene/scene_geometry.h"
+
+#include <map>
+
+#include "scene/gltf_loader.h"
+#include "scene/scene_file.h"
+
+namespace lt {
+
+size_t SceneGeometry::UniqueTriangleCount() const {
+  size_t n = 0;
+  for (const auto& m : meshes) n += m.TriangleCount();
+  return n;
+}
+
+size_t SceneGeometry::InstancedTriangleCount() const {
+  size_t n = 0;
+  for (const auto& i : instances) n += meshes[i.mesh].TriangleCount();
+  return n;
+}
+
+Eigen::AlignedBox3d SceneGeometry::WorldBounds() const {
+  Eigen::AlignedBox3d box;
+  for (const auto& inst : instances) {
+    for (const auto& p : meshes[inst.mesh].positions) box.extend(inst.world_from_mesh * p.cast<double>());
+  }
+  return box;
+}
+
+SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
+  SceneGeometry g;
+  for (const auto& m : scene.materials) g.materials.push_back(m.material);
+
+  // A glTF file used by several objects is loaded once.
+  struct Loaded {
+    size_t first_mesh;
+    std::vector<GltfInstance> instances;
+  };
+  std::map<std::filesystem::path, Loaded> loaded;
+  for (size_t oi = 0; oi < scene.objects.size(); ++oi) {
+    const SceneObject& obj = scene.objects[oi];
+    g.object_names.push_back(obj.name);
+    std::error_code ec;
+    std::filesystem::path key = std::filesystem::weakly_canonical(obj.gltf, ec);
+    if (ec) key = obj.gltf;
+    auto it = loaded.find(key);
+    if (it == loaded.end()) {
+      GltfAsset asset = LoadGltf(obj.gltf, obj.gltf.string());
+      const uint32_t material_base = uint32_t(g.materials.size());
+      for (auto& m : asset.materials) g.materials.push_back(std::move(m));
+      Loaded l{g.meshes.size(), std::move(asset.instances)};
+      for (auto& mesh : asset.meshes) {
+        for (auto& id : mesh.triangle_material) id += material_base;
+        g.meshes.push_back(std::move(mesh));
+      }
+      g.degenerate_triangles += asset.degenerate_triangles;
+      for (auto& w : asset.warnings) g.warnings.push_back(std::move(w));
+      it = loaded.emplace(key, std::move(l)).first;
+    }
+    const int32_t override_id = obj.material.empty() ? -1 : int32_t(scene.FindMaterial(obj.material));
+    for (const GltfInstance& gi : it->second.instances) {
+      SceneInstance inst;
+      inst.mesh = it->second.first_mesh + gi.mesh;
+      inst.object = oi;
+      inst.world_from_mesh = obj.world_from_object * gi.file_from_mesh;
+      inst.material_override = override_id;
+      inst.name = obj.name + "/" + gi.node_name;
+      g.instances.push_back(std::move(inst));
+    }
+    if (it->second.instances.empty()) {
+      g.warnings.push_back("object \"" + obj.name + "\": " + obj.gltf.string() + " holds no triangles");
+    }
+  }
+  return g;
+}
+
+}  // namespace lt

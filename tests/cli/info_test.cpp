@@ -1,0 +1,208 @@
+// `lasertwin info` end to end: the example scenes load (exit 0) and each bad
+// scene file in tests/data/scenes/bad gives its message on stderr, naming the
+// file and the JSON pointer, with exit code 2.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <filesystem>
+#include <future>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <set>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+using ::testing::StartsWith;
+
+const fs::path kSource = LT_SOURCE_DIR;
+const fs::path kData = kSource / "tests" / "data";
+
+struct Result {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+std::string ReadAll(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// Runs `lasertwin ARGS` with stdout and stderr captured.
+Result RunLasertwin(const std::string& args) {
+  static std::atomic<int> counter{0};
+  const fs::path tmp = fs::temp_directory_path() / ("lt_cli_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+  const std::string command = std::string(LT_LASERTWIN) + " " + args + " >" + (tmp.string() + ".out") + " 2>" +
+                              (tmp.string() + ".err");
+  int status = std::system(command.c_str());
+  Result r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = ReadAll(tmp.string() + ".out");
+  r.err = ReadAll(tmp.string() + ".err");
+  fs::remove(tmp.string() + ".out");
+  fs::remove(tmp.string() + ".err");
+  return r;
+}
+
+std::string Quoted(const fs::path& p) { return "'" + p.string() + "'"; }
+
+TEST(InfoCommand, DemoSceneLoads) {
+  Result r = RunLasertwin("info --json " + Quoted(kSource / "scenes/demo/scene.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["objects"].size(), 2u);
+  EXPECT_EQ(j["objects"][0]["name"], "test_part");
+  EXPECT_EQ(j["objects"][0]["material"], "pla_white");
+  EXPECT_EQ(j["geometry"]["instances"], 2);
+  EXPECT_EQ(j["geometry"]["degenerate_triangles_dropped"], 0);
+  // The print bed (150 x 150 mm, top at z = 0, 2 mm thick) bounds the scene; the
+  // 3 mm part stands on it.
+  // 1e-8: the vertices are stored as float (0.075 m is 0.0750000030 as a float).
+  EXPECT_NEAR(j["bounds_m"]["min"][0].get<double>(), -0.075, 1e-8);
+  EXPECT_NEAR(j["bounds_m"]["max"][1].get<double>(), 0.075, 1e-8);
+  EXPECT_NEAR(j["bounds_m"]["min"][2].get<double>(), -0.002, 1e-8);
+  EXPECT_NEAR(j["bounds_m"]["max"][2].get<double>(), 0.003, 1e-8);
+  EXPECT_EQ(j["sensor"]["camera"]["resolution"], nlohmann::json({1280, 1024}));
+  EXPECT_EQ(j["sensor"]["lasers"][0]["wavelength_nm"].get<double>(), 650.0);
+  EXPECT_EQ(j["warnings"].size(), 0u);
+}
+
+TEST(InfoCommand, TextOutputNamesEverySection) {
+  Result r = RunLasertwin("info " + Quoted(kData / "scenes/full.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* s : {"objects: 3", "geometry: 6 triangles (2 unique in 1 meshes), 3 instances",
+                        "bounds (world, mm): min [0, 0, -10] max [100, 10, 0]", "materials: 3", "1 painted:",
+                        "texture ", "checker.png (4x4)", "emissive [2, 2, 1.5] W/(m^2 sr)",
+                        "laser 0: 450 nm, 5 mW", "motion: static, camera at [0, 0, 100] mm looking along [0, 0, -1]",
+                        "\"scale\":2.5", "\"spp\":4", "\"png_bit_depth\":16", "warnings: 0"}) {
+    EXPECT_THAT(r.out, HasSubstr(s));
+  }
+}
+
+TEST(InfoCommand, MissingSceneFile) {
+  const fs::path p = kData / "scenes/does_not_exist.json";
+  Result r = RunLasertwin("info " + Quoted(p));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.out, "");
+  EXPECT_THAT(r.err, HasSubstr(p.string() + ": cannot open file (looked for " + p.string() + ")"));
+}
+
+TEST(InfoCommand, UsageErrorsExitWithTwo) {
+  EXPECT_EQ(RunLasertwin("info").exit_code, 2);
+  EXPECT_EQ(RunLasertwin("info --no-such-flag x.json").exit_code, 2);
+}
+
+struct BadScene {
+  const char* file;      // in tests/data/scenes/bad
+  std::string message;   // what follows "lasertwin: error: <where>"
+  bool gltf = false;     // the error names a glTF file instead of the scene file
+};
+
+// {file, expected message}. For scene errors the message follows
+// "<scene path>: "; for glTF errors it is complete after "lasertwin: error: ".
+std::vector<BadScene> BadScenes() {
+  const std::string bad = (kData / "scenes/bad").string();
+  const std::string gltf = (kData / "gltf").string();
+  return {
+      {"unknown_top_key.json",
+       "/seeds: unknown key \"seeds\" (known keys: $schema, description, environment, materials, motion, objects, "
+       "output, render, seed, sensor)"},
+      {"seed_negative.json", "/seed: must be >= 0, got -1"},
+      {"seed_not_integer.json", "/seed: must be an integer, got 1.5"},
+      {"objects_empty.json", "/objects: must have at least 1 elements, got 0"},
+      {"objects_missing.json", "/: missing required key \"objects\""},
+      {"object_unknown_key.json",
+       "/objects/0/colour: unknown key \"colour\" (known keys: gltf, material, name, world_from_object)"},
+      {"object_gltf_missing.json",
+       "/objects/0/gltf: glTF file not found (looked for " + bad + "/nowhere/part.glb)"},
+      {"object_duplicate_name.json", "/objects/1/name: duplicate object name \"square\""},
+      {"object_unknown_material.json", "/objects/0/material: unknown material \"steel\" (known: \"pla\")"},
+      {"object_bad_pose.json",
+       "/objects/0/world_from_object/rotation_quat_wxyz: rotation quaternion must have unit norm, got norm "
+       "1.4142135623730951"},
+      {"material_base_color_range.json", "/materials/pla/base_color/0: must be in [0, 1], got 1.2"},
+      {"material_roughness_type.json", "/materials/pla/roughness: must be a number, got a string"},
+      {"material_subsurface_zero.json", "/materials/pla/subsurface/mean_free_path_mm: must be > 0, got 0"},
+      {"material_texture_missing.json",
+       "/materials/pla/base_color_texture: texture not found (looked for " + bad + "/wood.png)"},
+      {"environment_both.json", "/environment: give exactly one of \"radiance\" (constant) or \"exr\" (map)"},
+      {"environment_negative.json", "/environment/radiance/1: must be >= 0, got -0.5"},
+      {"environment_exr_missing.json",
+       "/environment/exr: environment map not found (looked for " + (kData / "scenes/missing_sky.exr").string() + ")"},
+      {"sensor_missing.json", "/: missing required key \"sensor\""},
+      {"camera_f_number_zero.json", "/sensor/camera/f_number: must be > 0, got 0"},
+      {"camera_resolution_zero.json", "/sensor/camera/resolution/0: must be in [1, 65536], got 0"},
+      {"shutter_negative_exposure.json", "/sensor/shutter/alternating/dim_exposure_us: must be > 0, got -0.5"},
+      {"laser_power_negative.json", "/sensor/lasers/0/power_mw: must be > 0, got -5"},
+      {"motion_unknown_type.json", "/motion/type: must be one of \"static\", got \"robot\""},
+      {"motion_unknown_key.json",
+       "/motion/world_from_camera: unknown key \"world_from_camera\" (known keys: type, world_from_cam)"},
+      {"render_spp_zero.json", "/render/spp: must be in [1, 65536], got 0"},
+      {"render_threads_negative.json", "/render/threads: must be in [0, 1024], got -1"},
+      {"output_bit_depth.json", "/output/png_bit_depth: must be 8 or 16, got 12"},
+      {"output_bool_type.json", "/output/write_radiance: must be true or false, got a string"},
+      {"gltf_truncated.json", gltf + "/truncated.glb: invalid GLB: truncated: the header says 832 bytes, the file has 416",
+       true},
+      {"gltf_index_past_vertex_count.json",
+       gltf + "/bad_index.gltf: /accessors/2: index 7 (element 5) is past the vertex count 4", true},
+      {"gltf_nan_position.json", gltf + "/nan_position.gltf: /accessors/0: position 2 is not finite (nan)", true},
+      {"gltf_missing_buffer.json",
+       gltf + "/missing_buffer.gltf: /buffers/0/uri: buffer file not found (looked for " + gltf + "/missing_buffer.bin)",
+       true},
+      {"gltf_view_out_of_range.json",
+       gltf + "/view_out_of_range.gltf: /bufferViews/0: byte range [4096, 4144) is outside buffer 0 (120 bytes)", true},
+  };
+}
+
+TEST(InfoCommand, BadScenesGiveTheirMessageAndExitCodeTwo) {
+  auto cases = BadScenes();
+  ASSERT_GE(cases.size(), 20u);
+  // The runs are independent processes: start them a few at a time.
+  std::vector<std::future<Result>> runs;
+  for (const BadScene& c : cases) {
+    const fs::path p = kData / "scenes/bad" / c.file;
+    ASSERT_TRUE(fs::exists(p)) << p;
+    runs.push_back(std::async(std::launch::async, [p] { return RunLasertwin("info " + Quoted(p)); }));
+    if (runs.size() % 4 == 0) runs[runs.size() - 4].wait();
+  }
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const BadScene& c = cases[i];
+    const fs::path p = kData / "scenes/bad" / c.file;
+    Result r = runs[i].get();
+    EXPECT_EQ(r.exit_code, 2) << c.file;
+    EXPECT_EQ(r.out, "") << c.file;
+    const std::string expected = "lasertwin: error: " + (c.gltf ? c.message : p.string() + ": " + c.message) + "\n";
+    EXPECT_EQ(r.err, expected) << c.file;
+  }
+}
+
+// JSON that is not even JSON (NaN, a trailing comma) names file:line:column.
+TEST(InfoCommand, SyntaxErrorsNameLineAndColumn) {
+  for (auto [file, place] : {std::pair{"nan_value.json", ":3:21: invalid JSON: "},
+                             std::pair{"trailing_comma.json", ":2:68: invalid JSON: "}}) {
+    const fs::path p = kData / "scenes/bad" / file;
+    Result r = RunLasertwin("info " + Quoted(p));
+    EXPECT_EQ(r.exit_code, 2) << file;
+    EXPECT_THAT(r.err, StartsWith("lasertwin: error: " + p.string() + place)) << file;
+  }
+}
+
+// Every file in the bad folder is covered by one of the tests above.
+TEST(InfoCommand, EveryBadSceneIsChecked) {
+  std::set<std::string> listed = {"nan_value.json", "trailing_comma.json"};
+  for (const auto& c : BadScenes()) listed.insert(c.file);
+  for (const auto& entry : fs::directory_iterator(kData / "scenes/bad")) {
+    EXPECT_TRUE(listed.count(entry.path().filename().string())) << entry.path();
+  }
+}
+
+}  // namespace

@@ -1,0 +1,265 @@
+// Extraction behaviour other than accuracy: empty rows, noise, borders, ROI,
+// column search, sample types, colour input, threads, buffer reuse, bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/error.h"
+#include "stripe_test_util.h"
+
+namespace lt::test {
+namespace {
+
+const ExtractionMethod kAll[] = {ExtractionMethod::kMax, ExtractionMethod::kCom, ExtractionMethod::kMultiCom,
+                                 ExtractionMethod::kSteger};
+
+ExtractionOptions Options(ExtractionMethod m) {
+  ExtractionOptions o;
+  o.method = m;
+  o.threshold = 50;
+  o.expected_width = 4.7;
+  return o;
+}
+
+SyntheticFrame Frame(double u0 = 60.4, double angle_deg = 8) {
+  SyntheticFrame f;
+  f.width = 128;
+  f.height = 64;
+  f.stripes.push_back(LineStripe(u0, 32, angle_deg, 2, 200));
+  return f;
+}
+
+TEST(ExtractionBehaviour, RowsWithoutStripeGiveNoPoint) {
+  SyntheticFrame f = Frame();
+  f.stripes[0].visible_rows = {{0, 20}, {40, 64}};
+  for (auto m : kAll) {
+    auto pts = ExtractFrom<uint8_t>(f, Options(m));
+    SCOPED_TRACE(MethodName(m));
+    ASSERT_FALSE(pts.empty());
+    for (const auto& p : pts) {
+      // Steger's filter reaches a few rows into the gap; nothing is reported
+      // in the middle of it.
+      EXPECT_FALSE(p.v >= 25 && p.v < 35) << p.v;
+      EXPECT_NEAR(p.u, f.stripes[0].CentreU(p.v), 0.6);
+    }
+  }
+}
+
+TEST(ExtractionBehaviour, NoiseOnlyFrameGivesNoPoints) {
+  // Noise sigma 8 DN on a 20 DN background (threshold 50): peaks of ~4 sigma
+  // occur in a 128x64 frame but are single pixels, rejected by the width
+  // check (max/com/multicom; the background is given so that the half-maximum
+  // level sits between the spike and its neighbours) or by the
+  // second-derivative threshold (steger).
+  SyntheticFrame f = Frame();
+  f.stripes.clear();
+  f.background = 20;
+  f.noise_sigma = 8;
+  for (auto m : kAll) {
+    SCOPED_TRACE(MethodName(m));
+    ExtractionOptions o = Options(m);
+    o.background = 20;
+    EXPECT_TRUE(ExtractFrom<uint8_t>(f, o).empty());
+  }
+}
+
+TEST(ExtractionBehaviour, StripeAtTheBorderGivesNoPoints) {
+  // Centre half a pixel inside the left border: the peak runs into the border.
+  for (double u0 : {0.5, 126.8}) {
+    SyntheticFrame f = Frame(u0, 0);
+    for (auto m : kAll) {
+      SCOPED_TRACE(std::string(MethodName(m)) + " at " + std::to_string(u0));
+      EXPECT_TRUE(ExtractFrom<uint8_t>(f, Options(m)).empty());
+    }
+  }
+}
+
+TEST(ExtractionBehaviour, RoiKeepsWholeImageCoordinates) {
+  SyntheticFrame f = Frame();
+  f.stripes.push_back(LineStripe(20.3, 32, 0, 2, 250));  // brighter distractor outside the ROI
+  for (auto m : kAll) {
+    ExtractionOptions o = Options(m);
+    o.roi = PixelRect{36, 5, 70, 50};
+    auto pts = ExtractFrom<uint8_t>(f, o);
+    SCOPED_TRACE(MethodName(m));
+    ASSERT_GT(pts.size(), 30u);
+    for (const auto& p : pts) {
+      EXPECT_GE(p.v, 5);
+      EXPECT_LT(p.v, 55);
+      EXPECT_NEAR(p.u, f.stripes[0].CentreU(p.v), 0.6);
+    }
+  }
+}
+
+TEST(ExtractionBehaviour, ColumnSearchFindsHorizontalStripes) {
+  // A stripe running left to right: v = CentreV(u) for a line at 80 degrees
+  // from the v axis, i.e. 10 degrees from horizontal.
+  SyntheticFrame f;
+  f.width = 128;
+  f.height = 64;
+  f.stripes.push_back(LineStripe(64, 30.6, 80, 2, 200));
+  for (auto m : kAll) {
+    ExtractionOptions o = Options(m);
+    o.axis = SearchAxis::kCols;
+    auto pts = ExtractFrom<float>(f, o);
+    SCOPED_TRACE(MethodName(m));
+    ASSERT_GT(pts.size(), 100u);
+    double tol = m == ExtractionMethod::kMax ? 0.5 + 1e-9 : 0.02;
+    for (const auto& p : pts) {
+      EXPECT_EQ(p.u, std::round(p.u));
+      EXPECT_NEAR(p.v, f.stripes[0].CentreV(p.u), tol);
+    }
+  }
+}
+
+TEST(ExtractionBehaviour, SampleTypesAgree) {
+  // The same frame as 8-bit, 16-bit (x 257) and float gives the same points
+  // within the 8-bit rounding (float and 16-bit see the unrounded profile).
+  SyntheticFrame f = Frame();
+  Image<float> radiance = RenderSyntheticFrame(f);
+  Image<float> scaled = radiance;
+  for (auto& v : scaled.pixels) v *= 257.0f;
+  for (auto m : kAll) {
+    ExtractionOptions o8 = Options(m), o16 = Options(m);
+    o16.threshold = 50 * 257.0;
+    auto p8 = StripeExtractor(o8).Extract(QuantizeImage<uint8_t>(radiance).View());
+    auto p16 = StripeExtractor(o16).Extract(QuantizeImage<uint16_t>(scaled).View());
+    auto pf = StripeExtractor(o8).Extract(radiance.View());
+    SCOPED_TRACE(MethodName(m));
+    ASSERT_EQ(p16.size(), pf.size());
+    ASSERT_NEAR(double(p8.size()), double(pf.size()), 2);
+    for (size_t i = 0; i < pf.size(); ++i) {
+      EXPECT_NEAR(p16[i].u, pf[i].u, 0.005);
+      EXPECT_NEAR(p16[i].strength / 257.0, pf[i].strength, 0.01 * pf[i].strength + 1);
+    }
+  }
+}
+
+TEST(ExtractionBehaviour, ColourChannelAndWeights) {
+  // Red laser in channel 0, a brighter green line in channel 1.
+  SyntheticFrame red = Frame(), green = Frame(90.2, 0);
+  green.stripes[0].amplitude = 250;
+  Image<uint8_t> r = QuantizeImage<uint8_t>(RenderSyntheticFrame(red));
+  Image<uint8_t> g = QuantizeImage<uint8_t>(RenderSyntheticFrame(green));
+  Image<uint8_t> rgb(r.width, r.height, 3);
+  for (int y = 0; y < r.height; ++y)
+    for (int x = 0; x < r.width; ++x) rgb.At(x, y, 0) = r.At(x, y), rgb.At(x, y, 1) = g.At(x, y);
+  for (auto m : kAll) {
+    SCOPED_TRACE(MethodName(m));
+    ExtractionOptions o = Options(m);
+    EXPECT_THROW(StripeExtractor(o).Extract(rgb.View()), InputError);  // no channel chosen
+    o.channel = 0;
+    auto by_channel = StripeExtractor(o).Extract(rgb.View());
+    auto mono = StripeExtractor(Options(m)).Extract(r.View());
+    ASSERT_EQ(by_channel.size(), mono.size());
+    for (size_t i = 0; i < mono.size(); ++i) EXPECT_DOUBLE_EQ(by_channel[i].u, mono[i].u);
+    o.channel = -1;
+    o.channel_weights = {1, 0, 0};
+    auto weighted = StripeExtractor(o).Extract(rgb.View());
+    ASSERT_EQ(weighted.size(), mono.size());
+    for (size_t i = 0; i < mono.size(); ++i) EXPECT_NEAR(weighted[i].u, mono[i].u, 1e-4);
+    o.channel_weights = {1, 0};
+    EXPECT_THROW(StripeExtractor(o).Extract(rgb.View()), InputError);  // 2 weights, 3 channels
+    o.channel_weights.clear();
+    o.channel = 3;
+    EXPECT_THROW(StripeExtractor(o).Extract(rgb.View()), InputError);
+  }
+}
+
+TEST(ExtractionBehaviour, ThreadCountAndReuseDoNotChangeResults) {
+  SyntheticFrame f = Frame();
+  f.width = 300;
+  f.height = 200;
+  f.stripes.push_back(LineStripe(200.7, 100, -20, 3, 180));
+  f.noise_sigma = 2;
+  Image<uint8_t> img = QuantizeImage<uint8_t>(RenderSyntheticFrame(f));
+  Image<uint8_t> small = QuantizeImage<uint8_t>(RenderSyntheticFrame(Frame()));
+  for (auto m : {ExtractionMethod::kMultiCom, ExtractionMethod::kSteger}) {
+    ExtractionOptions o = Options(m);
+    o.threads = 1;
+    StripeExtractor one(o);
+    o.threads = 2;
+    StripeExtractor two(o);
+    auto a = one.Extract(img.View());
+    two.Extract(small.View());  // a different size first: buffers are resized, not stale
+    auto b = two.Extract(img.View());
+    auto c = two.Extract(img.View());
+    SCOPED_TRACE(MethodName(m));
+    ASSERT_EQ(a.size(), b.size());
+    ASSERT_EQ(b.size(), c.size());
+    EXPECT_GT(a.size(), 300u);
+    for (size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].u, b[i].u);
+      EXPECT_EQ(a[i].v, b[i].v);
+      EXPECT_EQ(b[i].u, c[i].u);
+    }
+  }
+}
+
+TEST(ExtractionBehaviour, WidthAndStrengthEstimates) {
+  // FWHM of a sigma-2 Gaussian is 4.71 px; along a row of a stripe tilted by
+  // 8 degrees it is 4.71 / cos(8) = 4.76 px (max/com/multicom measure along the
+  // row, Steger across the stripe). Strength ~ peak (200 less pixel averaging).
+  SyntheticFrame f = Frame();
+  for (auto m : kAll) {
+    ExtractionOptions o = Options(m);
+    auto pts = ExtractFrom<float>(f, o);
+    SCOPED_TRACE(MethodName(m));
+    ASSERT_FALSE(pts.empty());
+    const double expected = m == ExtractionMethod::kSteger ? 4.71 : 4.71 / std::cos(8 * M_PI / 180);
+    // Linear interpolation of half-maximum crossings errs by up to ~0.15 px.
+    for (const auto& p : pts) EXPECT_NEAR(p.width, expected, m == ExtractionMethod::kSteger ? 0.02 : 0.2);
+    for (const auto& p : pts) EXPECT_NEAR(p.strength, 200, 12);
+  }
+}
+
+TEST(ExtractionBadInput, EmptyImageRoiAndValues) {
+  StripeExtractor ex(Options(ExtractionMethod::kCom));
+  Image<uint8_t> empty;
+  EXPECT_THROW(ex.Extract(empty.View()), InputError);
+  Image<uint8_t> img(40, 30, 1, 0);
+  ExtractionOptions o = Options(ExtractionMethod::kCom);
+  o.roi = PixelRect{30, 0, 20, 10};  // leaves the image on the right
+  try {
+    StripeExtractor(o).Extract(img.View());
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("not inside the 40x30 image"), std::string::npos) << e.what();
+  }
+  Image<float> bad(10, 10, 1, 0.0f);
+  bad.At(3, 4) = std::nanf("");
+  EXPECT_THROW(StripeExtractor(Options(ExtractionMethod::kSteger)).Extract(bad.View()), InputError);
+  bad.At(3, 4) = INFINITY;
+  EXPECT_THROW(StripeExtractor(Options(ExtractionMethod::kMax)).Extract(bad.View()), InputError);
+  // A 1x1 image is valid and has no stripe.
+  Image<uint16_t> tiny(1, 1, 1, 60000);
+  for (auto m : kAll) EXPECT_TRUE(StripeExtractor(Options(m)).Extract(tiny.View()).empty());
+}
+
+TEST(ExtractionBadInput, OptionsAreChecked) {
+  auto expect_bad = [](auto mutate, const char* what) {
+    ExtractionOptions o;
+    mutate(o);
+    try {
+      o.Check();
+      ADD_FAILURE() << "expected InputError for " << what;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  expect_bad([](ExtractionOptions& o) { o.threshold = -1; }, "threshold");
+  expect_bad([](ExtractionOptions& o) { o.threshold = 10, o.high_threshold = 5; }, "high_threshold");
+  expect_bad([](ExtractionOptions& o) { o.expected_width = 0; }, "expected_width");
+  expect_bad([](ExtractionOptions& o) { o.min_width = 5, o.max_width = 2; }, "max_width");
+  expect_bad([](ExtractionOptions& o) { o.roi = PixelRect{0, 0, 0, 5}; }, "roi");
+  expect_bad([](ExtractionOptions& o) { o.channel = 0, o.channel_weights = {1}; }, "channel");
+  expect_bad([](ExtractionOptions& o) { o.channel_weights = {0, 0}; }, "channel_weights");
+  expect_bad([](ExtractionOptions& o) { o.sigma = 0.2; }, "sigma");
+  expect_bad([](ExtractionOptions& o) { o.threads = -1; }, "threads");
+  EXPECT_THROW(ParseMethod("gauss", "--method"), InputError);
+  EXPECT_EQ(ParseMethod("multicom", "--method"), ExtractionMethod::kMultiCom);
+  EXPECT_THROW(ParseAxis("diagonal", "--axis"), InputError);
+}
+
+}  // namespace
+}  // namespace lt::test

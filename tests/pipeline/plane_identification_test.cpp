@@ -1,0 +1,150 @@
+// Multi-line plane identification: segment classification, grouping, left to
+// right numbering, and refusal when the frame does not give N groups.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+#include "pipeline/plane_identification.h"
+#include "stripe_test_util.h"
+
+namespace lt::test {
+namespace {
+
+// Points of a vertical line at column u over rows [a, b).
+void AddLine(std::vector<StripePoint>* pts, double u, int a, int b, double slope = 0) {
+  for (int v = a; v < b; ++v) pts->push_back({u + slope * v, double(v), 4, 100, -1});
+}
+
+TEST(PlaneIdentification, ClassifiesSegments) {
+  std::vector<StripePoint> pts;
+  AddLine(&pts, 20, 0, 100);   // LREC
+  AddLine(&pts, 50, 2, 40);    // LEC (within the 5-pixel margin of the top)
+  AddLine(&pts, 50.5, 50, 70); // F
+  AddLine(&pts, 51, 80, 99);   // REC
+  AddLine(&pts, 80, 30, 32);   // 2 points: noise
+  PlaneIdentification id = IdentifyPlanes(pts, {0, 0, 120, 100}, 2, PlaneIdOptions{});
+  ASSERT_EQ(id.segments.size(), 5u);
+  std::vector<std::string> types;
+  for (const auto& s : id.segments) types.push_back(SegmentTypeName(s.type));
+  // Segments are numbered in order of their first point (row, then column).
+  EXPECT_EQ(types, (std::vector<std::string>{"LREC", "LEC", "F", "F", "REC"}));
+  EXPECT_TRUE(id.segments[2].ignored);  // the noise, first seen at row 30
+  EXPECT_FALSE(id.segments[3].ignored);
+  ASSERT_TRUE(id.ok) << id.error;
+  EXPECT_EQ(id.groups_found, 2);
+  for (const auto& p : id.points) {
+    const int expected = p.u < 30 ? 0 : p.u < 60 ? 1 : -1;
+    EXPECT_EQ(p.plane, expected) << p.u << "," << p.v;
+  }
+}
+
+TEST(PlaneIdentification, TiltedStripesStayConnected) {
+  // 60 degrees from vertical: 1.73 px per row, linked with the default 2 px.
+  std::vector<StripePoint> pts;
+  AddLine(&pts, 10, 0, 60, std::tan(60 * M_PI / 180));
+  PlaneIdentification id = IdentifyPlanes(pts, {0, 0, 200, 60}, 1, PlaneIdOptions{});
+  ASSERT_TRUE(id.ok) << id.error;
+  EXPECT_EQ(id.segments.size(), 1u);
+  PlaneIdOptions strict;
+  strict.link_distance = 1;  // 8-connectivity breaks it into pieces
+  EXPECT_GT(IdentifyPlanes(pts, {0, 0, 200, 60}, 1, strict).segments.size(), 1u);
+}
+
+TEST(PlaneIdentification, ReportsInsteadOfGuessing) {
+  std::vector<StripePoint> pts;
+  AddLine(&pts, 20, 0, 100);
+  AddLine(&pts, 60, 0, 100);
+  PlaneIdentification three = IdentifyPlanes(pts, {0, 0, 120, 100}, 3, PlaneIdOptions{});
+  EXPECT_FALSE(three.ok);
+  EXPECT_NE(three.error.find("found 2"), std::string::npos) << three.error;
+  EXPECT_NE(three.error.find("expected 3"), std::string::npos) << three.error;
+  for (const auto& p : three.points) EXPECT_EQ(p.plane, -1);
+  // A floating segment with nothing above it to join: two chains start, but a
+  // segment is left over.
+  AddLine(&pts, 100, 30, 60);
+  PlaneIdentification left_over = IdentifyPlanes(pts, {0, 0, 120, 100}, 2, PlaneIdOptions{});
+  EXPECT_FALSE(left_over.ok);
+  EXPECT_NE(left_over.error.find("could not be joined"), std::string::npos) << left_over.error;
+  EXPECT_THROW(IdentifyPlanes(pts, {0, 0, 120, 100}, 0, PlaneIdOptions{}), InputError);
+  PlaneIdOptions bad;
+  bad.link_distance = 0;
+  EXPECT_THROW(IdentifyPlanes(pts, {0, 0, 120, 100}, 2, bad), InputError);
+}
+
+TEST(PlaneIdentification, ColumnSearchNumbersTopToBottom) {
+  std::vector<StripePoint> pts;
+  for (int u = 0; u < 80; ++u) {
+    pts.push_back({double(u), 40.0 + 0.1 * u, 4, 100, -1});
+    pts.push_back({double(u), 10.0, 4, 100, -1});
+  }
+  PlaneIdOptions o;
+  o.axis = SearchAxis::kCols;
+  PlaneIdentification id = IdentifyPlanes(pts, {0, 0, 80, 60}, 2, o);
+  ASSERT_TRUE(id.ok) << id.error;
+  for (const auto& p : id.points) EXPECT_EQ(p.plane, p.v < 20 ? 0 : 1);
+}
+
+// A 5-sheet frame: stripes at different tilts, one curved, with gaps that
+// break them into LEC, F and REC segments (occlusions). Extraction then
+// identification must give every point the plane of the stripe it lies on.
+SyntheticFrame FiveSheetFrame() {
+  SyntheticFrame f;
+  f.width = 420;
+  f.height = 240;
+  f.noise_sigma = 2;
+  f.background = 4;
+  f.stripes.push_back(LineStripe(60, 120, -8, 2, 180));
+  f.stripes.push_back(LineStripe(135, 120, -3, 2, 200));
+  SyntheticStripe arc;
+  arc.shape = SyntheticStripe::Shape::kArc;
+  arc.cu = -400, arc.cv = 120, arc.radius = 610, arc.sigma = 2, arc.amplitude = 190;
+  f.stripes.push_back(arc);
+  f.stripes.push_back(LineStripe(280, 120, 4, 2, 170));
+  f.stripes.push_back(LineStripe(355, 120, 9, 2, 200));
+  f.stripes[0].visible_rows = {{0, 90}, {110, 240}};
+  f.stripes[2].visible_rows = {{0, 60}, {80, 150}, {175, 240}};
+  f.stripes[3].visible_rows = {{0, 200}, {215, 240}};
+  f.stripes[4].visible_rows = {{0, 40}, {52, 130}, {140, 240}};
+  return f;
+}
+
+TEST(PlaneIdentification, FiveSheetFrameEverySegmentOnItsPlane) {
+  SyntheticFrame f = FiveSheetFrame();
+  for (auto m : {ExtractionMethod::kMultiCom, ExtractionMethod::kSteger}) {
+    SCOPED_TRACE(MethodName(m));
+    ExtractionOptions o;
+    o.method = m;
+    o.threshold = 60;
+    o.expected_width = 4.7;
+    auto pts = ExtractFrom<uint8_t>(f, o);
+    ASSERT_GT(pts.size(), 900u);
+    PlaneIdOptions po;
+    po.edge_margin = std::max(po.edge_margin, o.EdgeLinesWithoutPoints() + 2);
+    PlaneIdentification id = IdentifyPlanes(pts, {0, 0, f.width, f.height}, 5, po);
+    ASSERT_TRUE(id.ok) << id.error;
+    int floating = 0, real_segments = 0;
+    for (const auto& s : id.segments) {
+      if (s.ignored) continue;
+      ++real_segments;
+      floating += s.type == SegmentType::kFloating;
+      for (int i : s.points) {
+        const StripePoint& p = id.points[i];
+        int truth = -1;
+        double best = 1e9;
+        for (int k = 0; k < 5; ++k) {
+          double d = std::abs(p.u - f.stripes[k].CentreU(p.v));
+          if (d < best) best = d, truth = k;
+        }
+        ASSERT_LT(best, 1.0);
+        EXPECT_EQ(s.plane, truth) << "point " << p.u << "," << p.v;
+      }
+    }
+    EXPECT_EQ(real_segments, 5 + 1 + 2 + 1 + 2);  // each gap adds a segment
+    EXPECT_EQ(floating, 2);                       // the middle pieces of stripes 2 and 4
+  }
+}
+
+}  // namespace
+}  // namespace lt::test

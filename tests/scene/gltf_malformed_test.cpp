@@ -1,0 +1,284 @@
+// Malformed glTF files: each is a clean lt::InputError naming the file and the
+// place, never a crash or a read out of bounds (the suite also runs under ASan).
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "scene/gltf_loader.h"
+#include "test_util.h"
+
+namespace lt {
+namespace {
+
+using test::ErrorOf;
+using test::TempDir;
+using ::testing::HasSubstr;
+
+std::string GlbError(const GltfBuilder& b) {
+  TempDir dir;
+  b.WriteGlb(dir / "bad.glb");
+  return ErrorOf([&] { LoadGltf(dir / "bad.glb", "bad.glb"); });
+}
+
+std::string BytesError(const std::vector<uint8_t>& bytes) {
+  TempDir dir;
+  test::WriteBytes(dir / "bad.glb", bytes);
+  return ErrorOf([&] { LoadGltf(dir / "bad.glb", "bad.glb"); });
+}
+
+TEST(GltfMalformed, MissingFileNamesThePath) {
+  TempDir dir;
+  EXPECT_EQ(ErrorOf([&] { LoadGltf(dir / "nope.glb", "nope.glb"); }),
+            "nope.glb: file not found (looked for " + (dir / "nope.glb").string() + ")");
+}
+
+TEST(GltfMalformed, TruncatedGlb) {
+  auto bytes = test::SquareBuilder().ToGlb();
+  bytes.resize(bytes.size() - 10);
+  EXPECT_THAT(BytesError(bytes), HasSubstr("bad.glb: invalid GLB: truncated: the header says"));
+  bytes.resize(15);
+  EXPECT_EQ(BytesError(bytes), "bad.glb: invalid GLB: truncated: 15 bytes, the header needs 20");
+}
+
+TEST(GltfMalformed, BinChunkLongerThanTheFile) {
+  auto bytes = test::SquareBuilder().ToGlb();
+  // The BIN chunk header follows the JSON chunk; claim 8 more bytes than there are.
+  uint32_t json_length;
+  std::memcpy(&json_length, &bytes[12], 4);
+  uint32_t bin_length;
+  std::memcpy(&bin_length, &bytes[20 + json_length], 4);
+  bin_length += 8;
+  std::memcpy(&bytes[20 + json_length], &bin_length, 4);
+  EXPECT_THAT(BytesError(bytes), HasSubstr("bad.glb: invalid GLB: BIN chunk of"));
+}
+
+TEST(GltfMalformed, InvalidJson) {
+  TempDir dir;
+  test::WriteText(dir / "bad.gltf", "{\"asset\": {\"version\": \"2.0\"},\n \"nodes\": [}");
+  EXPECT_THAT(ErrorOf([&] { LoadGltf(dir / "bad.gltf", "bad.gltf"); }), HasSubstr("bad.gltf:2:"));
+}
+
+TEST(GltfMalformed, WrongVersion) {
+  GltfBuilder b = test::SquareBuilder();
+  b.json()["asset"]["version"] = "1.0";
+  EXPECT_EQ(GlbError(b), "bad.glb: /asset/version: glTF version must be 2.x, got \"1.0\"");
+}
+
+TEST(GltfMalformed, BufferViewOutOfRange) {
+  GltfBuilder b = test::SquareBuilder();
+  b.json()["bufferViews"][0]["byteOffset"] = 100000;
+  EXPECT_THAT(GlbError(b), HasSubstr("bad.glb: /bufferViews/0: byte range [100000, 100048) is outside buffer 0"));
+}
+
+TEST(GltfMalformed, AccessorPastItsBufferView) {
+  GltfBuilder b = test::SquareBuilder();
+  b.json()["accessors"][0]["count"] = 5;  // POSITION: 5 x 12 bytes in a 48-byte view
+  EXPECT_EQ(GlbError(b),
+            "bad.glb: /accessors/0: 5 elements of 12 bytes (stride 12) from byte 0 do not fit in bufferView 0 (48 bytes)");
+  b.json()["accessors"][0]["count"] = 4;
+  b.json()["accessors"][0]["byteOffset"] = 4;
+  EXPECT_THAT(GlbError(b), HasSubstr("bad.glb: /accessors/0: 4 elements of 12 bytes (stride 12) from byte 4"));
+}
+
+TEST(GltfMalformed, StrideSmallerThanElement) {
+  GltfBuilder b = test::SquareBuilder();
+  b.json()["bufferViews"][0]["byteStride"] = 8;
+  EXPECT_THAT(GlbError(b), HasSubstr("bad.glb: /bufferViews/0: byteStride 8 is smaller than an element"));
+}
+
+TEST(GltfMalformed, IndexPastTheVertexCount) {
+  GltfBuilder b;
+  int mesh = b.AddTriangleMesh("m", test::SquarePositions(), {}, {}, {0, 1, 2, 0, 2, 7});
+  b.AddNode("n", mesh);
+  EXPECT_EQ(GlbError(b), "bad.glb: /accessors/1: index 7 (element 5) is past the vertex count 4");
+}
+
+TEST(GltfMalformed, NanPosition) {
+  GltfBuilder b;
+  std::vector<float> p = test::SquarePositions();
+  p[7] = std::nanf("");
+  int mesh = b.AddTriangleMesh("m", p, {}, {}, test::SquareIndices());
+  b.AddNode("n", mesh);
+  EXPECT_EQ(GlbError(b), "bad.glb: /accessors/0: position 2 is not finite (nan)");
+}
+
+TEST(GltfMalformed, MissingExternalBufferNamesThePath) {
+  TempDir dir;
+  test::SquareBuilder().WriteGltf(dir / "m.gltf", false);
+  std::filesystem::remove(dir / "m.bin");
+  EXPECT_EQ(ErrorOf([&] { LoadGltf(dir / "m.gltf", "m.gltf"); }),
+            "m.gltf: /buffers/0/uri: buffer file not found (looked for " + (dir / "m.bin").string() + ")");
+}
+
+TEST(GltfMalformed, TruncatedExternalBuffer) {
+  TempDir dir;
+  test::SquareBuilder().WriteGltf(dir / "m.gltf", false);
+  std::filesystem::resize_file(dir / "m.bin", 20);
+  EXPECT_THAT(ErrorOf([&] { LoadGltf(dir / "m.gltf", "m.gltf"); }),
+              HasSubstr("m.gltf: /buffers/0/uri: buffer file " + (dir / "m.bin").string() + " has 20 bytes"));
+}
+
+TEST(GltfMalformed, GlbWithoutBinChunk) {
+  GltfBuilder b = test::SquareBuilder();
+  auto bytes = b.ToGlb();
+  uint32_t json_length;
+  std::memcpy(&json_length, &bytes[12], 4);
+  bytes.resize(20 + json_length);  // drop the BIN chunk, fix the total length
+  uint32_t total = uint32_t(bytes.size());
+  std::memcpy(&bytes[8], &total, 4);
+  EXPECT_THAT(BytesError(bytes), HasSubstr("bad.glb: invalid glTF:"));
+}
+
+TEST(GltfMalformed, MissingTextureNamesThePath) {
+  TempDir dir;
+  GltfBuilder b = test::SquareBuilder(true, true);
+  b.json()["images"] = {{{"uri", "textures/wood%20grain.png"}}};
+  b.json()["textures"] = {{{"source", 0}}};
+  b.WriteGltf(dir / "m.gltf", true);
+  EXPECT_EQ(ErrorOf([&] { LoadGltf(dir / "m.gltf", "m.gltf"); }),
+            "m.gltf: /images/0/uri: texture image file not found (looked for " +
+                (dir / "textures/wood grain.png").string() + ")");
+}
+
+TEST(GltfMalformed, ImageBufferViewOutsideItsBuffer) {
+  GltfBuilder b = test::SquareBuilder(true, true);
+  std::vector<uint8_t> junk(16, 7);
+  int view = b.AddBufferView(junk.data(), junk.size());
+  b.json()["bufferViews"][size_t(view)]["byteLength"] = 100000;
+  b.json()["images"] = {{{"bufferView", view}, {"mimeType", "image/png"}}};
+  EXPECT_THAT(GlbError(b), HasSubstr("lies outside buffer 0"));
+}
+
+TEST(GltfMalformed, UndecodableImage) {
+  GltfBuilder b = test::SquareBuilder(true, true);
+  std::vector<uint8_t> junk(16, 7);
+  int view = b.AddBufferView(junk.data(), junk.size());
+  b.json()["images"] = {{{"bufferView", view}, {"mimeType", "image/png"}}};
+  EXPECT_THAT(GlbError(b), HasSubstr("bad.glb: invalid glTF:"));
+}
+
+TEST(GltfMalformed, MissingPosition) {
+  GltfBuilder b = test::SquareBuilder();
+  b.json()["meshes"][0]["primitives"][0]["attributes"].erase("POSITION");
+  EXPECT_EQ(GlbError(b), "bad.glb: /meshes/0/primitives/0/attributes: missing required attribute POSITION");
+}
+
+TEST(GltfMalformed, PositionWithWrongType) {
+  GltfBuilder b = test::SquareBuilder();
+  b.json()["accessors"][0]["type"] = "VEC2";
+  EXPECT_EQ(GlbError(b), "bad.glb: /accessors/0: type must be VEC3, got VEC2");
+}
+
+TEST(GltfMalformed, NormalCountDiffersFromPositions) {
+  GltfBuilder b = test::SquareBuilder();
+  b.json()["accessors"][1]["count"] = 3;
+  EXPECT_EQ(GlbError(b), "bad.glb: /accessors/1: NORMAL has 3 elements, POSITION 4");
+}
+
+TEST(GltfMalformed, TriangleListNotAMultipleOfThree) {
+  GltfBuilder b = test::SquareBuilder();
+  b.json()["accessors"][2]["count"] = 5;
+  EXPECT_EQ(GlbError(b), "bad.glb: /meshes/0/primitives/0: a triangle list needs a multiple of 3 vertices, got 5");
+}
+
+TEST(GltfMalformed, DanglingReferences) {
+  {
+    GltfBuilder b = test::SquareBuilder();
+    b.json()["nodes"][0]["mesh"] = 4;
+    EXPECT_EQ(GlbError(b), "bad.glb: /nodes/0/mesh: mesh 4 does not exist (1 meshes)");
+  }
+  {
+    GltfBuilder b = test::SquareBuilder();
+    b.json()["meshes"][0]["primitives"][0]["material"] = 2;
+    EXPECT_EQ(GlbError(b), "bad.glb: /meshes/0/primitives/0/material: material 2 does not exist (0 materials)");
+  }
+  {
+    GltfBuilder b = test::SquareBuilder();
+    b.json()["nodes"][0]["children"] = {9};
+    EXPECT_EQ(GlbError(b), "bad.glb: /nodes/0/children/0: node 9 does not exist (1 nodes)");
+  }
+  {
+    GltfBuilder b = test::SquareBuilder();
+    b.json()["scene"] = 3;
+    EXPECT_EQ(GlbError(b), "bad.glb: /scene: scene 3 does not exist (1 scenes)");
+  }
+  {
+    GltfBuilder b = test::SquareBuilder();
+    b.json()["accessors"][0]["bufferView"] = 12;
+    EXPECT_THAT(GlbError(b), HasSubstr("bufferView 12 does not exist"));
+  }
+}
+
+TEST(GltfMalformed, NodeCycle) {
+  GltfBuilder b = test::SquareBuilder();
+  b.AddNode("loop", -1, {}, false);
+  b.json()["nodes"][0]["children"] = {1};
+  b.json()["nodes"][1]["children"] = {0};
+  EXPECT_EQ(GlbError(b), "bad.glb: /nodes/0: node is reached twice from the scene (the node hierarchy must be a tree)");
+}
+
+TEST(GltfMalformed, NonAffineMatrix) {
+  GltfBuilder b = test::SquareBuilder();
+  b.json()["nodes"][0]["matrix"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 2};
+  EXPECT_EQ(GlbError(b), "bad.glb: /nodes/0/matrix: must be affine (last row 0 0 0 1)");
+}
+
+TEST(GltfMalformed, SparseIndexPastTheCount) {
+  GltfBuilder b = test::SquareBuilder();
+  std::vector<uint16_t> idx = {9, 0};
+  std::vector<float> val = {3, 4, 0};
+  int iv = b.AddBufferView(idx.data(), 2);
+  int vv = b.AddBufferView(val.data(), 12);
+  b.json()["accessors"][0]["sparse"] = {
+      {"count", 1}, {"indices", {{"bufferView", iv}, {"componentType", 5123}}}, {"values", {{"bufferView", vv}}}};
+  EXPECT_EQ(GlbError(b), "bad.glb: /accessors/0/sparse/indices: index 9 is past the accessor's 4 elements");
+}
+
+TEST(GltfMalformed, SparseValuesPastTheirView) {
+  GltfBuilder b = test::SquareBuilder();
+  std::vector<uint16_t> idx = {1, 2};
+  std::vector<float> val = {3, 4, 0};
+  int iv = b.AddBufferView(idx.data(), 4);
+  int vv = b.AddBufferView(val.data(), 12);
+  b.json()["accessors"][0]["sparse"] = {
+      {"count", 2}, {"indices", {{"bufferView", iv}, {"componentType", 5123}}}, {"values", {{"bufferView", vv}}}};
+  EXPECT_EQ(GlbError(b), "bad.glb: /accessors/0/sparse/values: 2 values do not fit in bufferView 4");
+}
+
+// Every truncation of a valid file, and many random byte changes in its JSON,
+// give either a loaded asset or an lt::InputError: never another exception or a
+// crash (ASan checks the reads).
+TEST(GltfMalformed, TruncationsAndMutationsNeverCrash) {
+  TempDir dir;
+  GltfBuilder b = test::SquareBuilder(true, true);
+  b.AddMaterial("m", {1, 1, 1, 1}, 0, 1);
+  b.json()["meshes"][0]["primitives"][0]["material"] = 0;
+  const std::vector<uint8_t> good = b.ToGlb();
+  auto attempt = [&](const std::vector<uint8_t>& bytes) {
+    test::WriteBytes(dir / "f.glb", bytes);
+    try {
+      LoadGltf(dir / "f.glb", "f.glb");
+    } catch (const InputError&) {
+    }
+  };
+  for (size_t n = 0; n < good.size(); n += 5) {
+    attempt(std::vector<uint8_t>(good.begin(), good.begin() + static_cast<ptrdiff_t>(n)));
+  }
+  uint32_t json_length;
+  std::memcpy(&json_length, &good[12], 4);
+  std::mt19937 rng(12345);  // fixed seed: the same mutations every run
+  const std::string digits = "0123456789-]}\",";
+  for (int i = 0; i < 300; ++i) {
+    std::vector<uint8_t> bytes = good;
+    for (int k = 0; k < 2; ++k) {
+      size_t at = 20 + rng() % json_length;
+      bytes[at] = uint8_t(digits[rng() % digits.size()]);
+    }
+    attempt(bytes);
+  }
+  SUCCEED();
+}
+
+}  // namespace
+}  // namespace lt

@@ -1,0 +1,157 @@
+// `lasertwin extract IMAGE... --method max|com|multicom|steger [--roi X,Y,W,H]
+// [--axis rows|cols] [--out FILE.csv | DIR] [--planes N] ...`: laser stripe
+// centres of camera images as CSV (u,v,width,strength[,plane]).
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <set>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/image_io.h"
+#include "pipeline/plane_identification.h"
+#include "pipeline/stripe_csv.h"
+#include "pipeline/stripe_extractor.h"
+#include "tools/lasertwin/command.h"
+
+namespace lt::cli {
+namespace {
+
+struct ExtractArgs {
+  std::vector<std::string> images;
+  std::string method = "com";
+  std::string axis = "rows";
+  std::string roi;
+  std::string weights;
+  std::string out;
+  ExtractionOptions options;
+  int planes = 0;
+  PlaneIdOptions plane_options;
+};
+
+std::vector<double> ParseNumbers(const std::string& text, const std::string& where) {
+  std::vector<double> values;
+  std::stringstream ss(text);
+  for (std::string f; std::getline(ss, f, ',');) {
+    size_t used = 0;
+    double v = 0;
+    try {
+      v = std::stod(f, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != f.size() || !std::isfinite(v)) throw InputError(where, "'" + f + "' is not a number");
+    values.push_back(v);
+  }
+  return values;
+}
+
+PixelRect ParseRoi(const std::string& text) {
+  std::vector<double> v = ParseNumbers(text, "--roi");
+  if (v.size() != 4) throw InputError("--roi", "expected X,Y,W,H, got '" + text + "'");
+  for (double x : v) {
+    if (x != std::floor(x) || std::abs(x) > 1e9) throw InputError("--roi", "expected whole pixel numbers, got '" + text + "'");
+  }
+  return {int(v[0]), int(v[1]), int(v[2]), int(v[3])};
+}
+
+void Run(ExtractArgs& a) {
+  ExtractionOptions& o = a.options;
+  o.method = ParseMethod(a.method, "--method");
+  o.axis = ParseAxis(a.axis, "--axis");
+  if (!a.roi.empty()) o.roi = ParseRoi(a.roi);
+  if (!a.weights.empty()) o.channel_weights = ParseNumbers(a.weights, "--weights");
+  a.plane_options.axis = o.axis;
+  // Edge connectivity must reach past the lines a method cannot measure.
+  a.plane_options.edge_margin = std::max(a.plane_options.edge_margin, o.EdgeLinesWithoutPoints() + 2);
+  if (a.planes < 0) throw InputError("--planes", "must be >= 1");
+  if (a.planes > 0) a.plane_options.Check();
+  StripeExtractor extractor(o);  // validates the options
+
+  namespace fs = std::filesystem;
+  const bool several = a.images.size() > 1;
+  if (several && a.out.empty()) throw InputError("--out", "several images need --out DIR (one CSV per image)");
+  if (several) {
+    std::set<std::string> stems;
+    for (const auto& image : a.images) {
+      if (!stems.insert(fs::path(image).stem().string()).second) {
+        throw InputError(image, "another image has the same name; their CSV files would collide in " + a.out);
+      }
+    }
+    std::error_code ec;
+    fs::create_directories(a.out, ec);
+    if (!fs::is_directory(a.out)) throw InputError(a.out, "cannot create the output folder");
+  }
+  size_t total = 0;
+  for (const auto& image : a.images) {
+    AnyImage img = ReadImage(image);
+    std::vector<StripePoint> points;
+    int width = 0, height = 0;
+    try {
+      std::visit([&](const auto& im) { width = im.width, height = im.height; }, img);
+      points = extractor.Extract(img);
+    } catch (const InputError& e) {
+      throw InputError(image, e.message());
+    }
+    total += points.size();
+    if (a.planes > 0) {
+      PixelRect region = o.roi ? *o.roi : PixelRect{0, 0, width, height};
+      PlaneIdentification id = IdentifyPlanes(points, region, a.planes, a.plane_options);
+      if (!id.ok) std::cerr << "lasertwin: warning: " << image << ": plane identification failed: " << id.error << "\n";
+      points = std::move(id.points);
+    }
+    if (a.out.empty()) {
+      std::cout << FormatStripeCsv(points, a.planes > 0);
+    } else {
+      fs::path target = several ? fs::path(a.out) / (fs::path(image).stem().string() + ".csv") : fs::path(a.out);
+      WriteStripeCsv(target, points, a.planes > 0);
+    }
+  }
+  if (total == 0) {
+    std::cerr << "lasertwin: note: no stripe points found; check --threshold (the default is 10% of the "
+                 "image's full scale), --roi and --axis\n";
+  }
+}
+
+void AddExtract(CLI::App& app) {
+  auto args = std::make_shared<ExtractArgs>();
+  auto* cmd = app.add_subcommand("extract", "Find laser stripe centres in images (CSV: u,v,width,strength[,plane])");
+  cmd->add_option("images", args->images, "Image files (PNG, TIFF, EXR; 8/16-bit or float)")->required();
+  cmd->add_option("--method", args->method, "max | com | multicom | steger")->capture_default_str();
+  cmd->add_option("--axis", args->axis, "rows (stripes run top to bottom) | cols (left to right)")
+      ->capture_default_str();
+  cmd->add_option("--roi", args->roi, "Search only in X,Y,W,H (pixels)");
+  cmd->add_option("--out", args->out, "CSV file (one image) or folder (several images); default: standard output");
+  auto& o = args->options;
+  cmd->add_option("--threshold", o.threshold,
+                  "Minimum stripe peak intensity in image units (default: 10% of full scale)");
+  cmd->add_option("--high-threshold", o.high_threshold, "steger: high hysteresis threshold (default: 2 x threshold)");
+  cmd->add_option("--background", o.background, "Level subtracted before centroid and width")->capture_default_str();
+  cmd->add_option("--window", o.window, "com: half window in pixels (0: from the peak width)")->capture_default_str();
+  cmd->add_option("--min-width", o.min_width, "Minimum peak FWHM in pixels")->capture_default_str();
+  cmd->add_option("--max-width", o.max_width, "Maximum peak FWHM in pixels (0: none)")->capture_default_str();
+  cmd->add_option("--width", o.expected_width, "steger: expected stripe FWHM in pixels")->capture_default_str();
+  cmd->add_option("--sigma", o.sigma, "steger: filter sigma in pixels (0: from --width)")->capture_default_str();
+  cmd->add_option("--max-angle-deg", o.max_angle_deg, "steger: largest stripe angle from the search normal")
+      ->capture_default_str();
+  cmd->add_option("--channel", o.channel, "Colour images: channel holding the laser (0-based)");
+  cmd->add_option("--weights", args->weights, "Colour images: channel weights, e.g. 1,0,0");
+  cmd->add_option("--threads", o.threads, "Worker threads (0: all)")->capture_default_str();
+  cmd->add_option("--planes", args->planes, "Identify N laser planes (adds the plane column)");
+  cmd->add_option("--link-distance", args->plane_options.link_distance,
+                  "Plane identification: max step across between adjacent lines (pixels)")
+      ->capture_default_str();
+  cmd->add_option("--edge-margin", args->plane_options.edge_margin,
+                  "Plane identification: edge connectivity distance (pixels; at least steger's edge margin + 2)")
+      ->capture_default_str();
+  cmd->add_option("--min-segment-points", args->plane_options.min_segment_points,
+                  "Plane identification: smaller segments are noise")
+      ->capture_default_str();
+  cmd->callback([args] { Run(*args); });
+}
+
+}  // namespace
+
+LT_REGISTER_COMMAND("extract", AddExtract);
+
+}  // namespace lt::cli
