@@ -94,8 +94,16 @@ EmbreeScene::EmbreeScene(std::shared_ptr<const SceneGeometry> geometry)
   rtcSetDeviceErrorFunction(device_, &DeviceErrors::Callback, errors_.get());
 
   try {
-    // One scene per mesh, holding its triangles in object space.
+    // One scene per mesh, holding its triangles in object space, re-centred:
+    // Embree gets positions minus the mesh's bounds centre c (rounded to float,
+    // so the subtraction is exact) and the instance transform gains T(c). Float
+    // arithmetic inside Embree then works on small numbers even for meshes whose
+    // vertices lie far from their origin (georeferenced exports).
+    std::vector<Eigen::Vector3d> mesh_center;
     for (const Mesh& mesh : g.meshes) {
+      Eigen::AlignedBox3d b = mesh.Bounds();
+      Eigen::Vector3f c = b.isEmpty() ? Eigen::Vector3f::Zero() : Eigen::Vector3f(b.center().cast<float>());
+      mesh_center.push_back(c.cast<double>());
       RTCScene ms = rtcNewScene(device_);
       mesh_scenes_.push_back(ms);
       rtcSetSceneBuildQuality(ms, RTC_BUILD_QUALITY_MEDIUM);
@@ -104,8 +112,10 @@ EmbreeScene::EmbreeScene(std::shared_ptr<const SceneGeometry> geometry)
       // index buffer is shared in place.
       auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                                    3 * sizeof(float), mesh.VertexCount()));
-      if (vertices && !mesh.positions.empty()) {
-        std::memcpy(vertices, mesh.positions.data(), mesh.VertexCount() * 3 * sizeof(float));
+      if (vertices) {
+        for (size_t v = 0; v < mesh.VertexCount(); ++v) {
+          for (int k = 0; k < 3; ++k) vertices[3 * v + size_t(k)] = mesh.positions[v][k] - c[k];
+        }
       }
       rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.indices.data(), 0,
                                  3 * sizeof(uint32_t), mesh.TriangleCount());
@@ -122,7 +132,8 @@ EmbreeScene::EmbreeScene(std::shared_ptr<const SceneGeometry> geometry)
     const Eigen::Translation3d render_from_world(-render_origin_);
     for (size_t i = 0; i < g.instances.size(); ++i) {
       const SceneInstance& inst = g.instances[i];
-      const Eigen::Affine3d render_from_mesh = render_from_world * inst.world_from_mesh;  // in double
+      const Eigen::Affine3d render_from_mesh =
+          render_from_world * inst.world_from_mesh * Eigen::Translation3d(mesh_center[inst.mesh]);  // in double
       const Eigen::Matrix<float, 3, 4> m = render_from_mesh.matrix().topRows<3>().cast<float>();
       float xfm[12];
       std::memcpy(xfm, m.data(), sizeof xfm);  // Eigen is column-major

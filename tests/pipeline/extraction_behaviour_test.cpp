@@ -5,6 +5,8 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/image_io.h"
+#include <filesystem>
 #include "stripe_test_util.h"
 
 namespace lt::test {
@@ -211,6 +213,28 @@ TEST(ExtractionBehaviour, WidthAndStrengthEstimates) {
     for (const auto& p : pts) EXPECT_NEAR(p.width, expected, m == ExtractionMethod::kSteger ? 0.02 : 0.2);
     for (const auto& p : pts) EXPECT_NEAR(p.strength, 200, 12);
   }
+}
+
+TEST(ExtractionBehaviour, ImageFilesGiveTheSamePoints) {
+  // A 16-bit PNG written and read back (ReadImage keeps the sample type)
+  // gives exactly the points of the in-memory image.
+  SyntheticFrame f = Frame();
+  Image<float> scaled = RenderSyntheticFrame(f);
+  for (auto& v : scaled.pixels) v *= 257.0f;
+  Image<uint16_t> img = QuantizeImage<uint16_t>(scaled);
+  auto path = std::filesystem::temp_directory_path() / "lt_extraction_behaviour_16bit.png";
+  WriteImage(path, img);
+  AnyImage back = ReadImage(path);
+  ASSERT_TRUE(std::holds_alternative<Image<uint16_t>>(back));
+  ExtractionOptions o = Options(ExtractionMethod::kSteger);
+  o.threshold = 50 * 257.0;
+  StripeExtractor ex(o);
+  auto from_file = ex.Extract(back);
+  auto in_memory = ex.Extract(img.View());
+  ASSERT_GT(in_memory.size(), 40u);
+  ASSERT_EQ(from_file.size(), in_memory.size());
+  for (size_t i = 0; i < in_memory.size(); ++i) EXPECT_EQ(from_file[i].u, in_memory[i].u);
+  std::filesystem::remove(path);
 }
 
 TEST(ExtractionBadInput, EmptyImageRoiAndValues) {

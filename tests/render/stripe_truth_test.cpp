@@ -1,0 +1,211 @@
+// Ground-truth stripe centres against closed form: the stripe on a plane is the
+// line where the surface plane meets the laser plane; its centre on row v is the
+// point of that line whose projection (through the camera model, with
+// distortion) lands on row v, found here by root finding on the forward
+// projection alone (no ray casts). The renderer's centres must agree to 1e-3 px.
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "render/stripe_truth.h"
+#include "render_test_world.h"
+
+namespace lt {
+namespace {
+
+using test::World;
+
+struct PlaneRect {
+  Eigen::Vector3d c, a, b;  // centre, unit edge directions
+  double ha, hb;
+  Eigen::Vector3d n() const { return a.cross(b).normalized(); }
+};
+
+// Point of the line X0 + s L whose projection has image coordinate `coord` (index
+// 1 = row v) equal to value; nullopt when none in [-smax, smax].
+std::optional<Eigen::Vector3d> SolveOnLine(const Camera& cam, const Eigen::Vector3d& X0, const Eigen::Vector3d& L,
+                                           double value, double smax) {
+  auto f = [&](double s) -> std::optional<double> {
+    auto px = cam.Project(X0 + s * L);
+    if (!px) return std::nullopt;
+    return px->y() - value;
+  };
+  const int n = 4000;
+  for (int i = 0; i < n; ++i) {
+    double s0 = -smax + 2 * smax * i / n, s1 = -smax + 2 * smax * (i + 1) / n;
+    auto f0 = f(s0), f1 = f(s1);
+    if (!f0 || !f1 || (*f0 > 0) == (*f1 > 0)) continue;
+    for (int it = 0; it < 200; ++it) {
+      double sm = 0.5 * (s0 + s1);
+      auto fm = f(sm);
+      if (!fm) return std::nullopt;
+      if ((*fm > 0) == (*f0 > 0)) s0 = sm, f0 = fm; else s1 = sm;
+    }
+    return X0 + 0.5 * (s0 + s1) * L;
+  }
+  return std::nullopt;
+}
+
+// The laser plane meets the rectangle's plane along a line: a point and direction.
+std::pair<Eigen::Vector3d, Eigen::Vector3d> PlaneLine(const Plane& laser, const PlaneRect& r) {
+  Eigen::Vector3d m = r.n();
+  Eigen::Vector3d L = m.cross(laser.n).normalized();
+  // Point on both planes closest to r.c: solve [m; n; L] X = [m.c; -d; L.c].
+  Eigen::Matrix3d A;
+  A.row(0) = m;
+  A.row(1) = laser.n;
+  A.row(2) = L;
+  Eigen::Vector3d X0 = A.colPivHouseholderQr().solve(Eigen::Vector3d(m.dot(r.c), -laser.d, L.dot(r.c)));
+  return {X0, L};
+}
+
+Camera DistortedCamera() {
+  BrownConradyCoeffs bc;
+  bc.k1 = -0.25;
+  bc.k2 = 0.08;
+  bc.p1 = 0.001;
+  bc.p2 = -0.0015;
+  bc.k3 = -0.01;
+  return test::TestCamera(200, 150, 180, DistortionModel::kBrownConrady, bc);
+}
+
+class StripeTruthPlane : public ::testing::TestWithParam<bool> {};
+
+TEST_P(StripeTruthPlane, TiltedPlaneMatchesClosedForm) {
+  const bool distorted = GetParam();
+  Camera cam = distorted ? DistortedCamera() : test::TestCamera(200, 150, 180);
+  LaserProjector laser = test::TestLaser(0.03, 0.1);
+  // A plane 0.1 m away, tilted 35 degrees about y and 20 degrees about x.
+  Eigen::Matrix3d R = (Eigen::AngleAxisd(35 * M_PI / 180, Eigen::Vector3d::UnitY()) *
+                       Eigen::AngleAxisd(20 * M_PI / 180, Eigen::Vector3d::UnitX()))
+                          .toRotationMatrix();
+  PlaneRect rect{Eigen::Vector3d(0, 0, 0.1), R.col(0), R.col(1), 0.2, 0.2};
+  if (rect.n().z() > 0) std::swap(rect.a, rect.b);  // face the camera
+  World world;
+  world.Add(test::Rectangle(rect.c, rect.a, rect.b, rect.ha, rect.hb));
+  world.Build();
+  std::vector<LaserProjector> lasers = {laser};
+  ASSERT_EQ(ChooseScanAxis(lasers), ScanAxis::kRows);
+  auto centers = ComputeStripeCenters(*world.embree, cam, lasers, Pose::Identity(), ScanAxis::kRows);
+  auto [X0, L] = PlaneLine(laser.SheetPlane(0), rect);
+  int compared = 0;
+  double worst = 0;
+  for (const auto& c : centers) {
+    auto X = SolveOnLine(cam, X0, L, c.v, 0.5);
+    ASSERT_TRUE(X.has_value()) << "row " << c.v;
+    double u = cam.Project(*X)->x();
+    worst = std::max(worst, std::abs(u - c.u));
+    // Mesh vertices are float: the rendered plane is the analytic one to ~0.2 m * 2^-24 = 1.2e-8 m.
+    EXPECT_LT((c.p_cam - *X).norm(), 5e-8);
+    ++compared;
+  }
+  EXPECT_EQ(compared, cam.height());  // the stripe crosses every row
+  EXPECT_LT(worst, 1e-3) << "largest deviation from the closed form (px)";
+  EXPECT_LT(worst, 1e-4) << "the refinement targets 1e-4 px";
+}
+
+INSTANTIATE_TEST_SUITE_P(WithAndWithoutDistortion, StripeTruthPlane, ::testing::Values(false, true));
+
+// Segment p->q passes through the open box (deeper than margin)?
+// Segment p->q passes through the box grown by -margin, ignoring 1 um at each end
+// (the end points may lie on the box's surface)?
+bool SegmentHitsBox(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& lo,
+                    const Eigen::Vector3d& hi, double margin) {
+  Eigen::Vector3d d = q - p;
+  double t0 = 1e-6 / d.norm(), t1 = 1 - 1e-6 / d.norm();
+  for (int k = 0; k < 3; ++k) {
+    double l = lo[k] + margin, h = hi[k] - margin;
+    if (std::abs(d[k]) < 1e-300) {
+      if (p[k] <= l || p[k] >= h) return false;
+      continue;
+    }
+    double a = (l - p[k]) / d[k], b = (h - p[k]) / d[k];
+    if (a > b) std::swap(a, b);
+    t0 = std::max(t0, a);
+    t1 = std::min(t1, b);
+    if (t0 >= t1) return false;
+  }
+  return true;
+}
+
+TEST(StripeTruth, BoxOnAFloorMatchesClosedForm) {
+  for (bool distorted : {false, true}) {
+    Camera cam = distorted ? DistortedCamera() : test::TestCamera(200, 150, 180);
+    LaserProjector laser = test::TestLaser(0.03, 0.11);
+    const Eigen::Vector3d lo(-0.012, -0.015, 0.095), hi(0.014, 0.011, 0.12);
+    const double floor_z = 0.12;
+    World world;
+    world.Add(test::Rectangle({0, 0, floor_z}, Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 0.3, 0.3));
+    world.Add(test::Box(lo, hi));
+    world.Build();
+    std::vector<LaserProjector> lasers = {laser};
+    auto centers = ComputeStripeCenters(*world.embree, cam, lasers, Pose::Identity(), ScanAxis::kRows);
+    // Faces: the floor and the box's six faces.
+    Eigen::Vector3d c = 0.5 * (lo + hi), h = 0.5 * (hi - lo);
+    Eigen::Vector3d X = Eigen::Vector3d::UnitX(), Y = Eigen::Vector3d::UnitY(), Z = Eigen::Vector3d::UnitZ();
+    std::vector<PlaneRect> faces = {{{0, 0, floor_z}, Y, X, 0.3, 0.3},
+                                    {c + h.x() * X, Y, Z, h.y(), h.z()},  {c - h.x() * X, Z, Y, h.z(), h.y()},
+                                    {c + h.y() * Y, Z, X, h.z(), h.x()},  {c - h.y() * Y, X, Z, h.x(), h.z()},
+                                    {c + h.z() * Z, X, Y, h.x(), h.y()},  {c - h.z() * Z, Y, X, h.y(), h.x()}};
+    const Eigen::Vector3d cam_o = Eigen::Vector3d::Zero(), laser_o = laser.origin_in_cam();
+    const double tol = 1e-7;  // metres: candidates this close to an edge or shadow boundary are ambiguous
+    std::map<int, std::vector<double>> expected;
+    std::set<int> ambiguous;
+    std::map<size_t, int> per_face;
+    for (int v = 0; v < cam.height(); ++v) {
+      for (size_t f = 0; f < faces.size(); ++f) {
+        const PlaneRect& r = faces[f];
+        auto [X0, L] = PlaneLine(laser.SheetPlane(0), r);
+        auto P = SolveOnLine(cam, X0, L, v, 0.5);
+        if (!P) continue;
+        double sa = (*P - r.c).dot(r.a), sb = (*P - r.c).dot(r.b);
+        if (std::abs(sa) > r.ha + tol || std::abs(sb) > r.hb + tol) continue;
+        if (std::abs(std::abs(sa) - r.ha) < tol || std::abs(std::abs(sb) - r.hb) < tol) {
+          ambiguous.insert(v);
+          continue;
+        }
+        double to_cam = r.n().dot(cam_o - *P), to_laser = r.n().dot(laser_o - *P);
+        if (to_cam <= 0 || to_laser <= 0) continue;
+        bool hidden = SegmentHitsBox(cam_o, *P, lo, hi, -tol), hidden_strict = SegmentHitsBox(cam_o, *P, lo, hi, tol);
+        bool shadow = SegmentHitsBox(*P, laser_o, lo, hi, -tol), shadow_strict = SegmentHitsBox(*P, laser_o, lo, hi, tol);
+        if (hidden != hidden_strict || shadow != shadow_strict) {
+          ambiguous.insert(v);
+          continue;
+        }
+        auto px = cam.Project(*P);
+        if (!hidden && !shadow && px && cam.InImage(*px)) {
+          expected[v].push_back(px->x());
+          ++per_face[f];
+        }
+      }
+    }
+    std::map<int, std::vector<double>> got;
+    for (const auto& ctr : centers) got[int(std::lround(ctr.v))].push_back(ctr.u);
+    int rows = 0;
+    for (int v = 0; v < cam.height(); ++v) {
+      if (ambiguous.count(v)) continue;
+      auto e = expected[v], g = got[v];
+      std::sort(e.begin(), e.end());
+      std::sort(g.begin(), g.end());
+      ASSERT_EQ(e.size(), g.size()) << "row " << v << (distorted ? " (distorted)" : "");
+      for (size_t i = 0; i < e.size(); ++i) EXPECT_NEAR(g[i], e[i], 1e-3) << "row " << v;
+      ++rows;
+    }
+    EXPECT_GT(rows, cam.height() * 9 / 10);
+    // The stripe runs over the floor and the box top (face 6, z = lo), with a jump
+    // and hidden floor rows between them.
+    EXPECT_GT(per_face[0], 10);
+    EXPECT_GT(per_face[6], 10);
+  }
+}
+
+TEST(StripeTruth, CsvHasTheDocumentedHeader) {
+  StripeCenter c;
+  c.u = 1.5;
+  c.v = 2;
+  std::string csv = StripeCentersCsv({c});
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "u,v,plane,x_cam,y_cam,z_cam,x_world,y_world,z_world");
+}
+
+}  // namespace
+}  // namespace lt
