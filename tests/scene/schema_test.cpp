@@ -55,7 +55,7 @@ Result Validate(const std::vector<fs::path>& files) {
 
 TEST(SceneSchema, ExamplesValidate) {
   Result r = Validate({kSource / "scenes/demo/scene.json", kSource / "tests/data/scenes/minimal.json",
-                       kSource / "tests/data/scenes/full.json"});
+                       kSource / "tests/data/scenes/full.json", kSource / "tests/data/scenes/warnings.json"});
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(r.output, "");
 }
