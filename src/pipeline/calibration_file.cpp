@@ -120,7 +120,9 @@ std::vector<Plane> ReadPlanes(const OpenCvYaml& y, const YamlEntry& e) {
     if (!(norm > 1e-12) || !std::isfinite(norm)) {
       throw InputError(y.Where(e), "laser_planes: plane " + std::to_string(r) + " has a zero normal");
     }
-    planes.push_back({n / norm, m.At(r, 3) / norm});
+    // Normals unit to rounding are kept as written, so that files round-trip exactly.
+    const double scale = std::abs(norm - 1.0) > 1e-12 ? norm : 1.0;
+    planes.push_back({n / scale, m.At(r, 3) / scale});
   }
   return planes;
 }

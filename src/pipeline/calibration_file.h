@@ -61,7 +61,7 @@ struct CalibrationFile {
 };
 
 // Reads a calibration file; errors are lt::InputError naming "file:line".
-// Plane normals are normalised (n and d divided by |n|).
+// Plane normals are normalised (n and d divided by |n|) unless already unit to 1e-12.
 CalibrationFile ReadCalibrationFile(const std::filesystem::path& path);
 // The file's text (what WriteCalibrationFile writes). Throws std::invalid_argument
 // on non-finite values.

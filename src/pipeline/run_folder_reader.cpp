@@ -121,7 +121,8 @@ RunRig ReadRigJson(const fs::path& path) {
         Eigen::Vector3d n = p.Vec3("n");
         const double norm = n.norm();
         if (!(std::abs(norm - 1.0) < 1e-6)) p.Get("n").Fail("must be a unit vector, got norm " + FormatNumber(norm));
-        rig.planes_in_cam.push_back({n / norm, p.Number("d") / norm});
+        const double scale = std::abs(norm - 1.0) > 1e-12 ? norm : 1.0;  // keep unit normals bit-exact
+        rig.planes_in_cam.push_back({n / scale, p.Number("d") / scale});
         p.Accept({"power_mw"});
         p.Finish();
       }
