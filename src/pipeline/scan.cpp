@@ -117,12 +117,23 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
   const SearchAxis planes_axis = StripeAxis(planes);
   std::map<int, std::vector<int>> image_order;  // by axis
 
+  // Missing images are reported before anything is written.
+  auto selected = [&](const RunFrame& f) {
+    return f.index >= options.frames_begin && (options.frames_end < 0 || f.index < options.frames_end);
+  };
+  for (const RunFrame& frame : frames) {
+    if (selected(frame) && frame.IsLaserFrame() && !fs::exists(frame.image)) {
+      throw InputError(frame.image.string(),
+                       "no such file (frame " + std::to_string(frame.index) + ", " + frame.where + ")");
+    }
+  }
+
   ExtractorCache extractors(options.extraction);
   std::vector<PendingPoint> pending;
   bool all_posed = true, any_posed = false;
   std::error_code ec;
   for (const RunFrame& frame : frames) {
-    if (frame.index < options.frames_begin || (options.frames_end >= 0 && frame.index >= options.frames_end)) continue;
+    if (!selected(frame)) continue;
     if (!frame.IsLaserFrame()) {
       ++summary.other_frames;
       continue;

@@ -1,7 +1,9 @@
 // Scanning a run folder (`lasertwin scan`, docs/pipeline.md): for every laser
 // frame of the run, extract the stripe centres, identify their laser planes and
 // triangulate them; write RUN/centers/NNNNNN.csv per frame and RUN/cloud.ply
-// (pipeline/scan_output.h).
+// (pipeline/scan_output.h). Every file is written atomically; cloud.ply is
+// written last, only when every frame was scanned, and missing images are
+// reported before anything is written.
 #pragma once
 
 #include <filesystem>
