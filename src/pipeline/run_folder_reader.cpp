@@ -29,9 +29,11 @@ RunFrame ParseLine(const fs::path& run_dir, const std::string& text, const std::
     nlohmann::json checked = nlohmann::json::parse(text);
     (void)checked;
   } catch (const nlohmann::json::parse_error& e) {
+    // "[json.exception.parse_error.101] parse error at line 1, column 23: syntax error ...": keep the reason.
     std::string msg = e.what();
-    auto pos = msg.find("error: ");
-    if (pos != std::string::npos) msg = msg.substr(pos + 7);
+    auto pos = msg.find(", column ");
+    pos = pos == std::string::npos ? msg.find("] ") : msg.find(": ", pos);
+    if (pos != std::string::npos) msg = msg.substr(pos + 2);
     throw InputError(where + ":" + std::to_string(e.byte > 0 ? e.byte : 1), "invalid JSON: " + msg);
   } catch (const nlohmann::json::exception& e) {
     throw InputError(where, std::string("invalid JSON: ") + e.what());
