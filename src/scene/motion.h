@@ -4,12 +4,16 @@
 // as new alternatives of the variant and new entries of the parser table.
 #pragma once
 
+#include <filesystem>
+#include <memory>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
 
 #include "core/json_reader.h"
 #include "core/pose.h"
+#include "scene/pose_list.h"
 
 namespace lt {
 
@@ -18,13 +22,28 @@ struct StaticMotion {
   Pose world_from_cam = Pose::Identity();
 };
 
-using Motion = std::variant<StaticMotion>;
+// The scanner follows poses read from a file (scene key "pose_list"; formats and
+// interpolation in scene/pose_list.h). The file's poses are world_from_cam, or
+// world_from_tool when tool_from_cam (the hand-eye pose) is given.
+struct PoseListMotion {
+  std::filesystem::path file;  // resolved against the scene file's folder
+  PoseFileFormat format = PoseFileFormat::kCsv;
+  // true ("time_origin": "first_pose"): sequence time 0 is the first pose's time
+  // stamp; false ("file"): the file's times are sequence times.
+  bool time_from_first_pose = true;
+  std::optional<Pose> tool_from_cam;
+  std::shared_ptr<const PoseTrajectory> trajectory;  // shared: motions are copied cheaply
+
+  Pose WorldFromCam(double time_s) const;
+};
+
+using Motion = std::variant<StaticMotion, PoseListMotion>;
 
 // Parses a "motion" object ({"type": "static", ...}); unknown types and keys are errors.
 Motion ParseMotion(const json::Value& value);
 // The motion when the scene has no "motion" section (static, identity pose).
 Motion DefaultMotion();
-// The type name as written in scene files ("static").
+// The type name as written in scene files ("static", "pose_list").
 std::string MotionTypeName(const Motion& motion);
 // All type names the parser knows, for messages and documentation.
 std::vector<std::string> MotionTypeNames();
