@@ -34,6 +34,7 @@ const std::map<std::string, MotionParser>& Parsers() {
   static const std::map<std::string, MotionParser> parsers = {
       {"static", [](const json::Object& o) -> Motion { return ParseStatic(o); }},
       {"pose_list", [](const json::Object& o) -> Motion { return ParsePoseListMotion(o); }},
+      {"gcode", [](const json::Object& o) -> Motion { return ParseGcodeMotion(o); }},
   };
   return parsers;
 }
@@ -76,7 +77,8 @@ Motion DefaultMotion() { return StaticMotion{}; }
 
 std::string MotionTypeName(const Motion& motion) {
   return std::visit(Overloaded{[](const StaticMotion&) { return std::string("static"); },
-                               [](const PoseListMotion&) { return std::string("pose_list"); }},
+                               [](const PoseListMotion&) { return std::string("pose_list"); },
+                               [](const GcodeMotion&) { return std::string("gcode"); }},
                     motion);
 }
 
@@ -88,7 +90,8 @@ std::vector<std::string> MotionTypeNames() {
 
 Pose WorldFromCamAt(const Motion& motion, double time_s) {
   return std::visit(Overloaded{[](const StaticMotion& m) { return m.world_from_cam; },
-                               [time_s](const PoseListMotion& m) { return m.WorldFromCam(time_s); }},
+                               [time_s](const PoseListMotion& m) { return m.WorldFromCam(time_s); },
+                               [time_s](const GcodeMotion& m) { return m.WorldFromCam(time_s); }},
                     motion);
 }
 
@@ -104,8 +107,14 @@ nlohmann::json MotionToJson(const Motion& motion) {
                                     {"time_origin", m.time_from_first_pose ? "first_pose" : "file"}};
                    if (m.tool_from_cam) j["tool_from_cam"] = PoseToJson(*m.tool_from_cam);
                    return j;
-                 }},
+                 },
+                 [](const GcodeMotion& m) { return GcodeMotionToJson(m); }},
       motion);
+}
+
+std::vector<std::string> MotionNotes(const Motion& motion) {
+  if (const auto* g = std::get_if<GcodeMotion>(&motion)) return GcodeMotionNotes(*g);
+  return {};
 }
 
 }  // namespace lt

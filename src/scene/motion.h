@@ -13,6 +13,7 @@
 
 #include "core/json_reader.h"
 #include "core/pose.h"
+#include "scene/motion_gcode.h"
 #include "scene/pose_list.h"
 
 namespace lt {
@@ -37,19 +38,26 @@ struct PoseListMotion {
   Pose WorldFromCam(double time_s) const;
 };
 
-using Motion = std::variant<StaticMotion, PoseListMotion>;
+// The scanner rides on a printer's nozzle, or on a robot arm that carries it, along
+// a G-code toolpath (scene key "gcode"; frames and keys in scene/motion_gcode.h).
+using Motion = std::variant<StaticMotion, PoseListMotion, GcodeMotion>;
 
 // Parses a "motion" object ({"type": "static", ...}); unknown types and keys are errors.
 Motion ParseMotion(const json::Value& value);
 // The motion when the scene has no "motion" section (static, identity pose).
 Motion DefaultMotion();
-// The type name as written in scene files ("static", "pose_list").
+// The type name as written in scene files ("static", "pose_list", "gcode").
 std::string MotionTypeName(const Motion& motion);
 // All type names the parser knows, for messages and documentation.
 std::vector<std::string> MotionTypeNames();
 // The camera pose at time t (seconds from the start of the sequence).
 Pose WorldFromCamAt(const Motion& motion, double time_s);
-// The motion written back as scene-file JSON (for the resolved scene.json).
+// The motion written back as scene-file JSON (for the resolved scene.json), with
+// every default written out and file paths absolute.
 nlohmann::json MotionToJson(const Motion& motion);
+// Facts about the motion a user should see before rendering (one line each): for
+// G-code, the toolpath's size and duration, the orientation's largest turn rate and
+// jumps, and a robot's joint speed limit violations. Empty for static and pose lists.
+std::vector<std::string> MotionNotes(const Motion& motion);
 
 }  // namespace lt
