@@ -384,7 +384,7 @@ CornerDetection DetectCheckerboard(const ImageView<T>& view, const CheckerboardS
   std::vector<char> tried(cands.size(), 0);
   int seeds = 0;
   bool complete = false;
-  int ni = 0, nj = 0, amin = 0, bmin = 0;
+  int ni = 0, amin = 0, bmin = 0;
   for (int seed : order) {
     if (seeds >= options.max_seeds) break;
     if (tried[size_t(seed)]) continue;
@@ -402,7 +402,7 @@ CornerDetection DetectCheckerboard(const ImageView<T>& view, const CheckerboardS
     if (full && ((da == board.rows && dc == board.cols) || (da == board.cols && dc == board.rows))) {
       best = g;
       complete = true;
-      ni = da, nj = dc, amin = a0, bmin = c0;
+      ni = da, amin = a0, bmin = c0;
       break;
     }
   }
