@@ -42,6 +42,32 @@ double GradientCosine(const Eigen::MatrixXd& j, const Eigen::VectorXd& r) {
   return worst;
 }
 
+// JᵀJ, row by row over each row's non-zero entries: calibration Jacobians are
+// block-sparse (a view's residuals depend on the shared parameters and its own
+// pose only), which makes this far cheaper than the dense product.
+Eigen::MatrixXd NormalMatrix(const Eigen::MatrixXd& j) {
+  const int m = int(j.rows()), n = int(j.cols());
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n, n);
+  std::vector<int> nz;
+  std::vector<double> val;
+  nz.reserve(size_t(n));
+  val.reserve(size_t(n));
+  for (int r = 0; r < m; ++r) {
+    nz.clear();
+    val.clear();
+    for (int c = 0; c < n; ++c) {
+      const double v = j(r, c);
+      if (v != 0) nz.push_back(c), val.push_back(v);
+    }
+    for (size_t p = 0; p < nz.size(); ++p) {
+      for (size_t q = p; q < nz.size(); ++q) a(nz[p], nz[q]) += val[p] * val[q];
+    }
+  }
+  for (int c = 0; c < n; ++c)
+    for (int r = c + 1; r < n; ++r) a(r, c) = a(c, r);
+  return a;
+}
+
 std::string ParamName(const std::vector<std::string>& names, int i) {
   return i < int(names.size()) ? names[size_t(i)] : "parameter " + std::to_string(i);
 }
@@ -80,7 +106,7 @@ LmSummary SolveLevenbergMarquardt(const LmProblem& p, const Eigen::VectorXd& x0,
   s.cost = s.initial_cost = s.residuals.squaredNorm();
   const int n = p.num_params;
   double lambda = options.initial_lambda, nu = 2.0;
-  Eigen::MatrixXd a = s.jacobian.transpose() * s.jacobian;
+  Eigen::MatrixXd a = NormalMatrix(s.jacobian);
   Eigen::VectorXd g = s.jacobian.transpose() * s.residuals;
   Eigen::VectorXd r_new;
   for (s.iterations = 0; s.iterations < options.max_iterations; ++s.iterations) {
@@ -118,7 +144,7 @@ LmSummary SolveLevenbergMarquardt(const LmProblem& p, const Eigen::VectorXd& x0,
           s.residuals = r_new;
           s.cost = cost_new;
           s.jacobian = std::move(j_new);
-          a = s.jacobian.transpose() * s.jacobian;
+          a = NormalMatrix(s.jacobian);
           g = s.jacobian.transpose() * s.residuals;
           lambda *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
           nu = 2.0;
@@ -151,7 +177,7 @@ LmCovariance EstimateCovariance(const LmSummary& solution, const std::vector<std
     return c;
   }
   c.sigma2 = solution.cost / c.dof;
-  const Eigen::MatrixXd a = j.transpose() * j;
+  const Eigen::MatrixXd a = NormalMatrix(j);
   Eigen::VectorXd scale(n);
   for (int i = 0; i < n; ++i) {
     if (!(a(i, i) > 0)) {
