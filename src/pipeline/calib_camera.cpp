@@ -100,6 +100,7 @@ bool ViewResiduals(const CameraParams& p, const Pose& cam_from_target, const Cal
                r21 = r(2, 1), r22 = r(2, 2), t0 = t.x(), t1 = t.y(), t2 = t.z();
   static_assert(sizeof(Eigen::Vector3d) == 3 * sizeof(double) && sizeof(Eigen::Vector2d) == 2 * sizeof(double));
   const size_t n = view.pixels.size();
+  if (n == 0) return true;
   const double* pts = view.target_points.data()->data();
   const double* obs = view.pixels.data()->data();
   for (size_t k = 0; k < n; ++k) {

@@ -16,7 +16,15 @@ Eigen::VectorXd Plus(const LmProblem& p, const Eigen::VectorXd& x, const Eigen::
   return p.plus ? p.plus(x, delta) : Eigen::VectorXd(x + delta);
 }
 
-bool AllFinite(const Eigen::VectorXd& v) { return v.allFinite(); }
+// Raw loops here and below: Eigen's element access is slow without optimisation
+// (the sanitizer builds), and these run on the whole Jacobian every iteration.
+bool AllFinite(const double* p, Eigen::Index n) {
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (!std::isfinite(p[i])) return false;
+  }
+  return true;
+}
+bool AllFinite(const Eigen::VectorXd& v) { return AllFinite(v.data(), v.size()); }
 
 bool Evaluate(const LmProblem& p, const Eigen::VectorXd& x, Eigen::VectorXd* r) {
   r->resize(p.num_residuals);
@@ -25,7 +33,7 @@ bool Evaluate(const LmProblem& p, const Eigen::VectorXd& x, Eigen::VectorXd* r) 
 
 bool Jacobian(const LmProblem& p, const Eigen::VectorXd& x, Eigen::MatrixXd* j) {
   bool ok = p.jacobian ? p.jacobian(x, j) : NumericJacobian(p, x, j);
-  return ok && j->rows() == p.num_residuals && j->cols() == p.num_params && j->allFinite();
+  return ok && j->rows() == p.num_residuals && j->cols() == p.num_params && AllFinite(j->data(), j->size());
 }
 
 // max_i |J_iᵀ r| / (|J_i| |r|): the cosine between the residual and the
@@ -34,10 +42,14 @@ double GradientCosine(const Eigen::MatrixXd& j, const Eigen::VectorXd& r) {
   const double rn = r.norm();
   if (rn == 0) return 0;
   double worst = 0;
-  for (int i = 0; i < j.cols(); ++i) {
-    const double cn = j.col(i).norm();
-    if (cn == 0) continue;
-    worst = std::max(worst, std::abs(j.col(i).dot(r)) / (cn * rn));
+  const Eigen::Index m = j.rows();
+  const double* rp = r.data();
+  for (Eigen::Index i = 0; i < j.cols(); ++i) {
+    const double* c = j.data() + i * m;
+    double cn2 = 0, dot = 0;
+    for (Eigen::Index k = 0; k < m; ++k) cn2 += c[k] * c[k], dot += c[k] * rp[k];
+    if (cn2 == 0) continue;
+    worst = std::max(worst, std::abs(dot) / (std::sqrt(cn2) * rn));
   }
   return worst;
 }
@@ -46,25 +58,25 @@ double GradientCosine(const Eigen::MatrixXd& j, const Eigen::VectorXd& r) {
 // block-sparse (a view's residuals depend on the shared parameters and its own
 // pose only), which makes this far cheaper than the dense product.
 Eigen::MatrixXd NormalMatrix(const Eigen::MatrixXd& j) {
-  const int m = int(j.rows()), n = int(j.cols());
+  const Eigen::Index m = j.rows(), n = j.cols();
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n, n);
-  std::vector<int> nz;
-  std::vector<double> val;
-  nz.reserve(size_t(n));
-  val.reserve(size_t(n));
-  for (int r = 0; r < m; ++r) {
-    nz.clear();
-    val.clear();
-    for (int c = 0; c < n; ++c) {
-      const double v = j(r, c);
-      if (v != 0) nz.push_back(c), val.push_back(v);
+  std::vector<Eigen::Index> nz(static_cast<size_t>(n));
+  std::vector<double> val(static_cast<size_t>(n));
+  const double* jd = j.data();  // column-major
+  double* ad = a.data();
+  for (Eigen::Index r = 0; r < m; ++r) {
+    size_t cnt = 0;
+    for (Eigen::Index c = 0; c < n; ++c) {
+      const double v = jd[c * m + r];
+      if (v != 0) nz[cnt] = c, val[cnt] = v, ++cnt;
     }
-    for (size_t p = 0; p < nz.size(); ++p) {
-      for (size_t q = p; q < nz.size(); ++q) a(nz[p], nz[q]) += val[p] * val[q];
+    for (size_t p = 0; p < cnt; ++p) {
+      double* col = ad + nz[p] * n;  // a(nz[q], nz[p]) for q >= p: the lower triangle
+      for (size_t q = p; q < cnt; ++q) col[nz[q]] += val[p] * val[q];
     }
   }
-  for (int c = 0; c < n; ++c)
-    for (int r = c + 1; r < n; ++r) a(r, c) = a(c, r);
+  for (Eigen::Index c = 0; c < n; ++c)
+    for (Eigen::Index r = c + 1; r < n; ++r) ad[r * n + c] = ad[c * n + r];
   return a;
 }
 
