@@ -140,17 +140,20 @@ TEST(CalibCorners, BlurredUnevenlyLitBoard) {
   o.noise_sigma = 0;
   const Image<float> sharp = RenderCheckerboard(cam, pose, Board(), o);
   const GaussianKernels k(1.2);
-  Image<float> img(sharp.width, sharp.height, 1);
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x) {
+  const int w = sharp.width, h = sharp.height;
+  Image<float> rows(w, h, 1), img(w, h, 1);  // separable: along rows, then columns
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
       double v = 0;
-      for (int dy = -k.radius; dy <= k.radius; ++dy)
-        for (int dx = -k.radius; dx <= k.radius; ++dx) {
-          v += k.k0[size_t(dx + k.radius)] * k.k0[size_t(dy + k.radius)] *
-               sharp.At(MirrorIndex(x + dx, img.width), MirrorIndex(y + dy, img.height));
-        }
-      const double light = 1.0 - 0.5 * double(x) / img.width;
-      img.At(x, y) = float(light * v + 0.01 * 0.8 * Rng::For(4, 0, uint64_t(y * img.width + x), 0).NextGaussian());
+      for (int d = -k.radius; d <= k.radius; ++d) v += k.k0[size_t(d + k.radius)] * sharp.At(MirrorIndex(x + d, w), y);
+      rows.At(x, y) = float(v);
+    }
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      double v = 0;
+      for (int d = -k.radius; d <= k.radius; ++d) v += k.k0[size_t(d + k.radius)] * rows.At(x, MirrorIndex(y + d, h));
+      const double light = 1.0 - 0.5 * double(x) / w;
+      img.At(x, y) = float(light * v + 0.01 * 0.8 * Rng::For(4, 0, uint64_t(y * w + x), 0).NextGaussian());
     }
   const CornerDetection d = DetectCheckerboard(img.View(), Board());
   ASSERT_TRUE(d.ok) << d.reason;
