@@ -17,9 +17,10 @@
 //    same material is an entry point, with the axis-MIS area density;
 //  - emitter rays: the laser's light is confined to thin sheets, which probe
 //    rays rarely meet, so entry points are also drawn along the sheet from the
-//    projector, over the fan angles within r_max of x_o (uniform) and across the
-//    sheet from its Gaussian (a cone of directions for a pattern projector); the
-//    first surface hit is the lit entry point.
+//    projector, over the fan angles within r_max of x_o (with a density that
+//    follows the profile's 1/d fall-off, see EmitterWindow) and across the
+//    sheet from its Gaussian (a cone of directions for a pattern projector);
+//    the first surface hit is the lit entry point.
 #include <cmath>
 
 #include "render/path_tracer.h"
@@ -41,6 +42,11 @@ struct EmitterWindow {
   // fan angle of x_o, the window half-width and the sampling sigma across.
   Eigen::Vector3d c, x, n;
   double phi0 = 0, dphi = 0, sigma = 0;
+  // Along the sheet, the offset delta = phi - phi0 has density
+  // 1 / (2 V sqrt(delta^2 + dh^2)) on |delta| < dphi, V = asinh(dphi / dh): it
+  // follows the profile's 1/d fall-off seen from a point at angular distance dh
+  // from the sheet (delta = dh sinh(v), v uniform on (-V, V)).
+  double dh = 1e-3, V = 1;
   // Pattern: a cone around the direction of x_o.
   Eigen::Vector3d axis;
   double cos_max = 1;
@@ -53,7 +59,8 @@ struct EmitterWindow {
     double dp = std::remainder(phi - phi0, 2 * M_PI);
     if (std::abs(dp) > dphi || std::abs(psi) >= 0.5 * M_PI) return 0.0;
     double g = std::exp(-0.5 * psi * psi / (sigma * sigma)) / (sigma * std::sqrt(2 * M_PI));
-    return g / (2 * dphi * std::cos(psi));
+    double p_delta = 1.0 / (2 * V * std::sqrt(dp * dp + dh * dh));
+    return p_delta * g / std::cos(psi);
   }
   // Draws a unit direction (projector frame); false when the draw falls outside.
   bool Sample(Rng& rng, Eigen::Vector3d* w) const {
@@ -64,7 +71,7 @@ struct EmitterWindow {
       *w = cos_t * axis + sin_t * (std::cos(a) * t + std::sin(a) * b);
       return true;
     }
-    double phi = phi0 + (2 * rng.NextDouble() - 1) * dphi;
+    double phi = phi0 + dh * std::sinh((2 * rng.NextDouble() - 1) * V);
     double psi = sigma * rng.NextGaussian();
     if (std::abs(psi) >= 0.5 * M_PI) return false;
     *w = std::cos(psi) * (std::cos(phi) * c + std::sin(phi) * x) + std::sin(psi) * n;
@@ -129,6 +136,8 @@ void PathTracer::AddSubsurfaceEmitter(const Vertex& v, const PointEmitter& e, fl
       w.dphi = std::min(M_PI, r_max / dist);
       w.sigma = e.laser->SheetSigma(dist);
       double psi = std::asin(std::clamp(u.dot(w.n), -1.0, 1.0));
+      w.dh = std::max({std::abs(psi), 2 * w.sigma, 1e-3 * w.dphi});
+      w.V = std::asinh(w.dphi / w.dh);
       active[size_t(k)] = std::abs(psi) <= w.dphi + 8 * w.sigma;  // the sheet passes within reach
     } else {
       w.sheet = false;

@@ -88,6 +88,17 @@ TEST(InfoCommand, TextOutputNamesEverySection) {
   }
 }
 
+TEST(InfoCommand, ListsWarnings) {
+  // warnings.gltf: a triangle, a collinear (degenerate) triangle and a points primitive.
+  Result r = RunLasertwin("info " + Quoted(kData / "scenes/warnings.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string gltf = (kData / "gltf/warnings.gltf").string();
+  EXPECT_THAT(r.out, HasSubstr("geometry: 1 triangles (1 unique in 1 meshes), 1 instances, 1 degenerate triangles dropped"));
+  EXPECT_THAT(r.out, HasSubstr("warnings: 2\n  " + gltf +
+                               ": mesh \"bracket\" primitive 1: points skipped (only triangles are rendered)\n  " + gltf +
+                               ": 1 degenerate triangles dropped\n"));
+}
+
 TEST(InfoCommand, MissingSceneFile) {
   const fs::path p = kData / "scenes/does_not_exist.json";
   Result r = RunLasertwin("info " + Quoted(p));
@@ -143,7 +154,7 @@ std::vector<BadScene> BadScenes() {
       {"camera_resolution_zero.json", "/sensor/camera/resolution/0: must be in [1, 65536], got 0"},
       {"shutter_negative_exposure.json", "/sensor/shutter/alternating/dim_exposure_us: must be > 0, got -0.5"},
       {"laser_power_negative.json", "/sensor/lasers/0/power_mw: must be > 0, got -5"},
-      {"motion_unknown_type.json", "/motion/type: must be one of \"static\", got \"robot\""},
+      {"motion_unknown_type.json", "/motion/type: must be one of \"gcode\", \"pose_list\", \"static\", got \"robot\""},
       {"motion_unknown_key.json",
        "/motion/world_from_camera: unknown key \"world_from_camera\" (known keys: type, world_from_cam)"},
       {"render_spp_zero.json", "/render/spp: must be in [1, 65536], got 0"},

@@ -146,7 +146,7 @@ TEST(SceneFile, ErrorsNameTheFileAndPointer) {
 }
 
 TEST(SceneFile, MotionTypes) {
-  EXPECT_EQ(MotionTypeNames(), std::vector<std::string>{"static"});
+  EXPECT_EQ(MotionTypeNames(), (std::vector<std::string>{"gcode", "pose_list", "static"}));
   auto doc = json::Document::Parse(R"({"type": "static", "world_from_cam": {"translation_m": [1, 2, 3]}})", "m.json", ".");
   Motion m = ParseMotion(doc.Root());
   EXPECT_EQ(WorldFromCamAt(m, 0).translation(), Eigen::Vector3d(1, 2, 3));

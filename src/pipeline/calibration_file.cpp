@@ -1,0 +1,245 @@
+#include "pipeline/calibration_file.h"
+
+#include <cmath>
+#include <set>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "pipeline/opencv_yaml.h"
+#include "sensor/param_error.h"
+
+namespace lt {
+
+namespace {
+
+const std::set<std::string>& KnownKeys() {
+  static const std::set<std::string> keys = {"image_width",    "image_height",           "camera_matrix",
+                                             "distortion_model", "distortion_coefficients", "laser_planes",
+                                             "tool_from_cam"};
+  return keys;
+}
+
+// The values of a 1xN or Nx1 matrix.
+std::vector<double> VectorValues(const OpenCvYaml& y, const YamlEntry& e) {
+  const YamlMatrix& m = y.Matrix(e);
+  if (m.rows != 1 && m.cols != 1) {
+    throw InputError(y.Where(e), e.key + " must be a 1xN or Nx1 matrix, got " + std::to_string(m.rows) + "x" +
+                                     std::to_string(m.cols));
+  }
+  return m.data;
+}
+
+CalibratedCamera ReadCamera(const OpenCvYaml& y) {
+  const YamlEntry* k = y.Find("camera_matrix");
+  const YamlEntry* w = y.Find("image_width");
+  const YamlEntry* h = y.Find("image_height");
+  std::string missing;
+  for (auto [entry, name] : {std::pair{k, "camera_matrix"}, std::pair{w, "image_width"}, std::pair{h, "image_height"}}) {
+    if (!entry) missing += std::string(missing.empty() ? "" : ", ") + name;
+  }
+  if (!missing.empty()) {
+    throw InputError(y.file(), "the camera part needs camera_matrix, image_width and image_height (missing " +
+                                   missing + ")");
+  }
+  CalibratedCamera c;
+  c.width = int(y.Integer(*w, 1, 1 << 16));
+  c.height = int(y.Integer(*h, 1, 1 << 16));
+  const YamlMatrix& m = y.Matrix(*k);
+  if (m.rows != 3 || m.cols != 3) {
+    throw InputError(y.Where(*k), "camera_matrix must be 3x3, got " + std::to_string(m.rows) + "x" +
+                                      std::to_string(m.cols));
+  }
+  c.fx = m.At(0, 0);
+  c.fy = m.At(1, 1);
+  c.cx = m.At(0, 2);
+  c.cy = m.At(1, 2);
+  if (!(c.fx > 0 && c.fy > 0)) {
+    throw InputError(y.Where(*k), "camera_matrix: fx and fy must be > 0, got " + FormatNumber(c.fx) + " and " +
+                                      FormatNumber(c.fy));
+  }
+  if (std::abs(m.At(0, 1)) > 1e-9 * c.fx) {
+    throw InputError(y.Where(*k), "camera_matrix: skew (row 0, column 1) is not supported, got " +
+                                      FormatNumber(m.At(0, 1)));
+  }
+  if (m.At(1, 0) != 0 || m.At(2, 0) != 0 || m.At(2, 1) != 0 || m.At(2, 2) != 1) {
+    throw InputError(y.Where(*k), "camera_matrix must have the form [fx 0 cx; 0 fy cy; 0 0 1]");
+  }
+  std::string model = "brown_conrady";
+  if (const YamlEntry* dm = y.Find("distortion_model")) {
+    model = y.String(*dm);
+    // plumb_bob / equidistant: the names ROS camera_info files use.
+    if (model == "plumb_bob") model = "brown_conrady";
+    if (model == "equidistant") model = "fisheye";
+    if (model != "brown_conrady" && model != "fisheye") {
+      throw InputError(y.Where(*dm), "distortion_model must be brown_conrady or fisheye, got '" + model + "'");
+    }
+  }
+  const YamlEntry* dc = y.Find("distortion_coefficients");
+  if (!dc) {
+    if (model == "fisheye") {
+      throw InputError(y.file(), "distortion_model fisheye needs distortion_coefficients (k1 k2 k3 k4)");
+    }
+    return c;  // no distortion
+  }
+  std::vector<double> d = VectorValues(y, *dc);
+  if (model == "fisheye") {
+    if (d.size() != 4) {
+      throw InputError(y.Where(*dc), "fisheye distortion_coefficients must have 4 values (k1 k2 k3 k4), got " +
+                                         std::to_string(d.size()));
+    }
+    c.distortion = DistortionModel::kFisheye;
+    c.fisheye = {d[0], d[1], d[2], d[3]};  // all zero is still the fisheye projection (θ_d = θ)
+    return c;
+  }
+  if (d.size() < 4 || d.size() > 14) {
+    throw InputError(y.Where(*dc), "distortion_coefficients must have 4 to 14 values (k1 k2 p1 p2 [k3 ...]), got " +
+                                       std::to_string(d.size()));
+  }
+  for (size_t i = 5; i < d.size(); ++i) {
+    if (d[i] != 0) {
+      throw InputError(y.Where(*dc), "distortion coefficient " + std::to_string(i + 1) +
+                                         " (beyond k1 k2 p1 p2 k3) must be 0: rational, thin-prism and tilt terms "
+                                         "are not supported, got " + FormatNumber(d[i]));
+    }
+  }
+  c.brown_conrady = {d[0], d[1], d[2], d[3], d.size() > 4 ? d[4] : 0.0};
+  c.distortion = c.brown_conrady.IsZero() ? DistortionModel::kNone : DistortionModel::kBrownConrady;
+  return c;
+}
+
+std::vector<Plane> ReadPlanes(const OpenCvYaml& y, const YamlEntry& e) {
+  const YamlMatrix& m = y.Matrix(e);
+  if (m.cols != 4) {
+    throw InputError(y.Where(e), "laser_planes must be N x 4 (nx, ny, nz, d per row), got " + std::to_string(m.rows) +
+                                     "x" + std::to_string(m.cols));
+  }
+  std::vector<Plane> planes;
+  for (int r = 0; r < m.rows; ++r) {
+    Eigen::Vector3d n(m.At(r, 0), m.At(r, 1), m.At(r, 2));
+    const double norm = n.norm();
+    if (!(norm > 1e-12) || !std::isfinite(norm)) {
+      throw InputError(y.Where(e), "laser_planes: plane " + std::to_string(r) + " has a zero normal");
+    }
+    // Normals unit to rounding are kept as written, so that files round-trip exactly.
+    const double scale = std::abs(norm - 1.0) > 1e-12 ? norm : 1.0;
+    planes.push_back({n / scale, m.At(r, 3) / scale});
+  }
+  return planes;
+}
+
+Pose ReadRigid(const OpenCvYaml& y, const YamlEntry& e) {
+  const YamlMatrix& m = y.Matrix(e);
+  if (m.rows != 4 || m.cols != 4) {
+    throw InputError(y.Where(e), e.key + " must be 4x4, got " + std::to_string(m.rows) + "x" + std::to_string(m.cols));
+  }
+  Eigen::Matrix4d t;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) t(r, c) = m.At(r, c);
+  if (t(3, 0) != 0 || t(3, 1) != 0 || t(3, 2) != 0 || t(3, 3) != 1) {
+    throw InputError(y.Where(e), e.key + ": the last row must be 0 0 0 1");
+  }
+  Eigen::Matrix3d r = t.topLeftCorner<3, 3>();
+  const double err = (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  if (err > 1e-6 || r.determinant() < 0) {
+    throw InputError(y.Where(e), e.key + ": the upper-left 3x3 block must be a rotation (orthonormal to 1e-6, "
+                                         "determinant +1)");
+  }
+  Pose p = Pose::Identity();
+  p.linear() = r;  // as written, so that files round-trip exactly
+  p.translation() = t.topRightCorner<3, 1>();
+  return p;
+}
+
+}  // namespace
+
+CalibratedCamera CalibratedCamera::From(const Camera& camera) {
+  CalibratedCamera c;
+  const CameraParams& p = camera.params();
+  c.width = p.width;
+  c.height = p.height;
+  c.fx = p.fx;
+  c.fy = p.fy;
+  c.cx = p.cx;
+  c.cy = p.cy;
+  c.distortion = p.distortion;
+  c.brown_conrady = p.brown_conrady;
+  c.fisheye = p.fisheye;
+  return c;
+}
+
+CameraParams CalibratedCamera::ApplyTo(CameraParams base) const {
+  base.width = width;
+  base.height = height;
+  base.fx = fx;
+  base.fy = fy;
+  base.cx = cx;
+  base.cy = cy;
+  base.distortion = distortion;
+  base.brown_conrady = brown_conrady;
+  base.fisheye = fisheye;
+  return base;
+}
+
+Camera CalibrationFile::MakeCamera(const CameraParams& base, const std::string& file) const {
+  CameraParams p = camera ? camera->ApplyTo(base) : base;
+  try {
+    return Camera(p);
+  } catch (const ParamError& e) {
+    throw InputError(file, "camera: " + std::string(e.what()));
+  }
+}
+
+CalibrationFile ReadCalibrationFile(const std::filesystem::path& path) {
+  OpenCvYaml y = OpenCvYaml::Read(path);
+  CalibrationFile c;
+  for (const auto& e : y.entries()) {
+    if (!KnownKeys().count(e.key)) c.ignored_keys.push_back(e.key);
+  }
+  if (y.Find("camera_matrix") || y.Find("image_width") || y.Find("image_height") ||
+      y.Find("distortion_coefficients") || y.Find("distortion_model")) {
+    c.camera = ReadCamera(y);
+    // Check that the camera can be built (a distortion that folds inside the image).
+    c.MakeCamera(CameraParams{}, path.string());
+  }
+  if (const YamlEntry* e = y.Find("laser_planes")) c.laser_planes = ReadPlanes(y, *e);
+  if (const YamlEntry* e = y.Find("tool_from_cam")) c.tool_from_cam = ReadRigid(y, *e);
+  return c;
+}
+
+std::string FormatCalibrationFile(const CalibrationFile& c) {
+  OpenCvYamlWriter w;
+  if (c.camera) {
+    const CalibratedCamera& cam = *c.camera;
+    w.Integer("image_width", cam.width);
+    w.Integer("image_height", cam.height);
+    w.Matrix("camera_matrix", 3, 3, {cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1});
+    if (cam.distortion == DistortionModel::kFisheye) {
+      w.String("distortion_model", "fisheye");
+      w.Matrix("distortion_coefficients", 1, 4, {cam.fisheye.k1, cam.fisheye.k2, cam.fisheye.k3, cam.fisheye.k4});
+    } else {
+      const BrownConradyCoeffs b =
+          cam.distortion == DistortionModel::kBrownConrady ? cam.brown_conrady : BrownConradyCoeffs{};
+      w.String("distortion_model", "brown_conrady");
+      w.Matrix("distortion_coefficients", 1, 5, {b.k1, b.k2, b.p1, b.p2, b.k3});
+    }
+  }
+  if (!c.laser_planes.empty()) {
+    std::vector<double> data;
+    for (const Plane& p : c.laser_planes) data.insert(data.end(), {p.n.x(), p.n.y(), p.n.z(), p.d});
+    w.Matrix("laser_planes", int(c.laser_planes.size()), 4, data);
+  }
+  if (c.tool_from_cam) {
+    Eigen::Matrix4d t = c.tool_from_cam->matrix();
+    std::vector<double> data;
+    for (int r = 0; r < 4; ++r)
+      for (int k = 0; k < 4; ++k) data.push_back(t(r, k));
+    w.Matrix("tool_from_cam", 4, 4, data);
+  }
+  return w.text();
+}
+
+void WriteCalibrationFile(const std::filesystem::path& path, const CalibrationFile& calibration) {
+  WriteFileAtomically(path, FormatCalibrationFile(calibration));
+}
+
+}  // namespace lt

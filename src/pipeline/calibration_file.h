@@ -1,0 +1,72 @@
+// Calibration files: OpenCV FileStorage YAML (pipeline/opencv_yaml.h), so a
+// camera calibrated with OpenCV loads directly and ours load in OpenCV.
+// docs/pipeline.md ("Calibration file") documents the keys:
+//
+//   %YAML:1.0
+//   ---
+//   image_width: 1280                     camera part (all or none of these four)
+//   image_height: 1024
+//   camera_matrix: !!opencv-matrix        3x3 [fx 0 cx; 0 fy cy; 0 0 1], pixels
+//   distortion_model: brown_conrady       or fisheye (default brown_conrady)
+//   distortion_coefficients: !!opencv-matrix
+//                                         brown_conrady: k1 k2 p1 p2 [k3 [k4 k5 k6 ...]]
+//                                         (4 to 14 values, those after k3 must be 0);
+//                                         fisheye: k1 k2 k3 k4; 1xN or Nx1
+//   laser_planes: !!opencv-matrix         N x 4, row k = (nx, ny, nz, d) of plane k:
+//                                         camera frame, n·p + d = 0, metres
+//   tool_from_cam: !!opencv-matrix        4x4 rigid transform (hand-eye), metres
+//
+// Pixel coordinates follow OpenCV (centre of pixel (0,0) at (0,0)). Plane k is
+// global plane number k: the sheets of laser 0 first, then laser 1, ... Keys
+// other than these are ignored and listed in `ignored_keys` (so the caller can
+// warn about a misspelt key), so files OpenCV's calibration tools write, with
+// their extra entries, load.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/pose.h"
+#include "sensor/camera.h"
+#include "sensor/plane.h"
+
+namespace lt {
+
+// The camera part of a calibration file: intrinsics and distortion.
+struct CalibratedCamera {
+  int width = 0, height = 0;
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+  DistortionModel distortion = DistortionModel::kNone;
+  BrownConradyCoeffs brown_conrady;
+  KannalaBrandtCoeffs fisheye;
+
+  // From a camera (for writing its calibration).
+  static CalibratedCamera From(const Camera& camera);
+  // `base` with these intrinsics and this distortion (pixel pitch, f-number and
+  // focus stay from base: triangulation does not need them).
+  CameraParams ApplyTo(CameraParams base) const;
+};
+
+struct CalibrationFile {
+  std::optional<CalibratedCamera> camera;
+  std::vector<Plane> laser_planes;  // camera frame, unit normals
+  std::optional<Pose> tool_from_cam;
+  std::vector<std::string> ignored_keys;  // read only
+
+  // Builds the camera (base supplies the non-geometric parameters). Throws
+  // lt::InputError naming `file` when the distortion folds inside the image.
+  Camera MakeCamera(const CameraParams& base, const std::string& file) const;
+};
+
+// Reads a calibration file; errors are lt::InputError naming "file:line".
+// Plane normals are normalised (n and d divided by |n|) unless already unit to 1e-12.
+CalibrationFile ReadCalibrationFile(const std::filesystem::path& path);
+// The file's text (what WriteCalibrationFile writes). Throws std::invalid_argument
+// on non-finite values.
+std::string FormatCalibrationFile(const CalibrationFile& calibration);
+// Written atomically.
+void WriteCalibrationFile(const std::filesystem::path& path, const CalibrationFile& calibration);
+
+}  // namespace lt

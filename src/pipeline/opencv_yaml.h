@@ -1,0 +1,85 @@
+// The subset of OpenCV's FileStorage YAML format that calibration files use
+// (docs/pipeline.md, "Calibration file"): a "%YAML:1.0" header line, an
+// optional "---", then top-level entries
+//
+//   key: scalar                      number or string (plain, "double" or 'single' quoted)
+//   key: !!opencv-matrix             a matrix, with the indented block
+//      rows: R                       R >= 1
+//      cols: C                       C >= 1
+//      dt: d                         one channel: d, f (floating), i, u, s, w, c (integer)
+//      data: [ v0, v1, ... ]         R x C values, row-major; may span lines
+//
+// Comments (#) and blank lines are skipped. Other top-level values (nested
+// mappings, sequences, other tags) are recognised and skipped as "other", so a
+// file written by OpenCV's calibration samples with extra entries still reads;
+// the consumer decides what to do with keys it does not know. Errors are
+// lt::InputError naming "file:line".
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace lt {
+
+struct YamlMatrix {
+  int rows = 0, cols = 0;
+  std::string dt = "d";
+  std::vector<double> data;  // row-major, finite
+  double At(int r, int c) const { return data[size_t(r) * size_t(cols) + size_t(c)]; }
+};
+
+struct YamlEntry {
+  enum class Kind { kScalar, kMatrix, kOther };
+  std::string key;
+  int line = 0;  // 1-based line of the key
+  Kind kind = Kind::kScalar;
+  std::string scalar;  // kScalar: the value, unquoted
+  bool quoted = false;  // kScalar: the value was quoted (a string, not a number)
+  YamlMatrix matrix;   // kMatrix
+};
+
+class OpenCvYaml {
+ public:
+  // Parses text; `file` names it in errors.
+  static OpenCvYaml Parse(const std::string& text, const std::string& file);
+  static OpenCvYaml Read(const std::filesystem::path& path);  // errors name the path
+
+  const std::string& file() const { return file_; }
+  const std::vector<YamlEntry>& entries() const { return entries_; }
+  const YamlEntry* Find(const std::string& key) const;
+  // "file:line" of an entry, for errors.
+  std::string Where(const YamlEntry& e) const { return file_ + ":" + std::to_string(e.line); }
+
+  // Typed access; each throws lt::InputError at the entry's line when the
+  // value has the wrong kind or range.
+  double Number(const YamlEntry& e) const;
+  long long Integer(const YamlEntry& e, long long lo, long long hi) const;
+  std::string String(const YamlEntry& e) const;
+  const YamlMatrix& Matrix(const YamlEntry& e) const;
+
+ private:
+  std::string file_;
+  std::vector<YamlEntry> entries_;
+};
+
+// Writes the same subset, formatted as OpenCV writes it (numbers round-trip exactly).
+class OpenCvYamlWriter {
+ public:
+  OpenCvYamlWriter();
+  void Integer(const std::string& key, long long value);
+  void Number(const std::string& key, double value);
+  void String(const std::string& key, const std::string& value);
+  // rows x cols values, row-major, dt "d".
+  void Matrix(const std::string& key, int rows, int cols, const std::vector<double>& data);
+  const std::string& text() const { return text_; }
+
+ private:
+  std::string text_;
+};
+
+// A number as OpenCV writes reals: shortest round-trip form, with a decimal
+// point ("1." rather than "1") so it reads back as a real.
+std::string FormatYamlReal(double v);
+
+}  // namespace lt

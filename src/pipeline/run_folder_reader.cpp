@@ -1,0 +1,169 @@
+#include "pipeline/run_folder_reader.h"
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "core/json_reader.h"
+#include "sensor/rig.h"
+
+namespace lt {
+
+namespace fs = std::filesystem;
+using json::Object;
+using json::Range;
+using json::Value;
+
+namespace {
+
+void RequireRunFolder(const fs::path& run_dir) {
+  if (!fs::exists(run_dir)) throw InputError(run_dir.string(), "run folder not found");
+  if (!fs::is_directory(run_dir)) throw InputError(run_dir.string(), "is not a folder (expected a run folder)");
+}
+
+RunFrame ParseLine(const fs::path& run_dir, const std::string& text, const std::string& where) {
+  // A syntax error names the line and column; errors inside the object name the line and JSON pointer.
+  try {
+    nlohmann::json checked = nlohmann::json::parse(text);
+    (void)checked;
+  } catch (const nlohmann::json::parse_error& e) {
+    // "[json.exception.parse_error.101] parse error at line 1, column 23: syntax error ...": keep the reason.
+    std::string msg = e.what();
+    auto pos = msg.find(", column ");
+    pos = pos == std::string::npos ? msg.find("] ") : msg.find(": ", pos);
+    if (pos != std::string::npos) msg = msg.substr(pos + 2);
+    throw InputError(where + ":" + std::to_string(e.byte > 0 ? e.byte : 1), "invalid JSON: " + msg);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(where, std::string("invalid JSON: ") + e.what());
+  }
+  json::Document doc = json::Document::Parse(text, where, run_dir);
+  Object o = doc.Root().AsObject();
+  RunFrame f;
+  f.where = where;
+  f.index = int(o.Integer("index", Range::Closed(0, 1e9)));
+  f.label = o.String("label", "");
+  Object files = o.GetObject("files");
+  const std::string image = files.String("image");
+  if (image.empty()) files.Get("image").Fail("must name the frame's image file");
+  f.image = run_dir / image;
+  if (files.Has("centers")) f.gt_centers = run_dir / files.String("centers");
+  if (auto s = o.FindObject("shutter")) {
+    if (s->Has("laser_on")) {
+      f.laser_on = s->Bool("laser_on", false);
+      f.shutter_known = true;
+    }
+  }
+  if (auto l = o.FindObject("lit_fraction")) {
+    if (l->Has("laser")) {
+      f.laser_fraction = l->Number("laser", Range::Closed(0, 1));
+      f.shutter_known = true;
+    }
+  }
+  if (auto p = o.Find("world_from_cam")) f.world_from_cam = ReadPose(*p);
+  if (o.Has("gt_axis")) f.gt_axis = o.Enum("gt_axis", {"rows", "cols"}) == "rows" ? SearchAxis::kRows : SearchAxis::kCols;
+  f.bit_depth = int(o.Integer("bit_depth", 0, Range::Closed(1, 16)));
+  if (o.Has("png_bit_depth")) {
+    f.png_bit_depth = int(o.Integer("png_bit_depth", Range::Closed(8, 16)));
+    if (f.png_bit_depth != 8 && f.png_bit_depth != 16) o.Get("png_bit_depth").Fail("must be 8 or 16");
+  }
+  f.t_start_s = o.Number("t_start_s", 0.0);
+  f.t_end_s = o.Number("t_end_s", f.t_start_s);
+  // Other keys (render statistics, seeds, ...) are the writer's business: not checked.
+  return f;
+}
+
+}  // namespace
+
+double RunFrame::FullScale(double type_full_scale) const {
+  if (type_full_scale == 65535.0 && bit_depth > 0 && png_bit_depth != 8) return std::ldexp(1.0, bit_depth) - 1.0;
+  return type_full_scale;
+}
+
+std::vector<RunFrame> ReadRunManifest(const fs::path& run_dir) {
+  RequireRunFolder(run_dir);
+  const fs::path path = run_dir / "manifest.jsonl";
+  if (!fs::exists(path)) throw InputError(path.string(), "run manifest not found");
+  std::ifstream in(path);
+  if (!in) throw InputError(path.string(), "cannot open run manifest");
+  std::map<int, RunFrame> frames;
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    const std::string where = path.string() + ":" + std::to_string(line_no);
+    RunFrame f = ParseLine(run_dir, line, where);
+    auto [it, inserted] = frames.emplace(f.index, f);
+    if (!inserted) {
+      throw InputError(where, "frame " + std::to_string(f.index) + " appears twice (first at " + it->second.where + ")");
+    }
+  }
+  if (in.bad()) throw InputError(path.string(), "cannot read run manifest");
+  std::vector<RunFrame> out;
+  for (auto& [index, f] : frames) out.push_back(std::move(f));
+  return out;
+}
+
+namespace {
+
+RunRig ReadRigJson(const fs::path& path) {
+  json::Document doc = json::Document::Load(path);
+  Object root = doc.Root().AsObject();
+  RunRig rig;
+  rig.source = path;
+  rig.camera = ParseCamera(root.GetObject("camera"));
+  if (auto lasers = root.Find("lasers")) {
+    for (const Value& lv : lasers->Array()) {
+      Object l = lv.AsObject();
+      l.Accept({"power_mw", "wavelength_nm", "cam_from_projector"});
+      for (const Value& pv : l.Get("sheet_planes_in_cam").Array(1)) {
+        Object p = pv.AsObject();
+        Eigen::Vector3d n = p.Vec3("n");
+        const double norm = n.norm();
+        if (!(std::abs(norm - 1.0) < 1e-6)) p.Get("n").Fail("must be a unit vector, got norm " + FormatNumber(norm));
+        const double scale = std::abs(norm - 1.0) > 1e-12 ? norm : 1.0;  // keep unit normals bit-exact
+        rig.planes_in_cam.push_back({n / scale, p.Number("d") / scale});
+        p.Accept({"power_mw"});
+        p.Finish();
+      }
+      l.Finish();
+    }
+  }
+  if (auto s = root.FindObject("image_sensor")) {
+    rig.bit_depth = int(s->Integer("bit_depth", 0, Range::Closed(1, 16)));
+    rig.black_level_dn = s->Number("black_level_dn", 0.0, Range::NonNegative());
+    s->Accept({"full_well_e", "system_gain_dn_per_e", "dark_noise_e"});
+    s->Finish();
+  }
+  root.Finish();
+  return rig;
+}
+
+RunRig ReadSceneSensor(const fs::path& path) {
+  json::Document doc = json::Document::Load(path);
+  Object root = doc.Root().AsObject();
+  SensorRig sensor = ParseSensorRig(root.GetObject("sensor"));
+  // The rest of the scene (objects, materials, ...) is the renderer's: not read here.
+  RunRig rig;
+  rig.source = path;
+  rig.camera = sensor.camera;
+  for (const LaserProjector& l : sensor.lasers) {
+    for (int k = 0; k < l.sheet_count(); ++k) rig.planes_in_cam.push_back(l.SheetPlane(k));
+  }
+  rig.bit_depth = sensor.image_sensor.bit_depth();
+  rig.black_level_dn = sensor.image_sensor.params().black_level_dn;
+  return rig;
+}
+
+}  // namespace
+
+RunRig ReadRunRig(const fs::path& run_dir) {
+  RequireRunFolder(run_dir);
+  if (fs::exists(run_dir / "rig.json")) return ReadRigJson(run_dir / "rig.json");
+  if (fs::exists(run_dir / "scene.json")) return ReadSceneSensor(run_dir / "scene.json");
+  throw InputError(run_dir.string(), "holds neither rig.json nor scene.json: the camera and laser planes are unknown");
+}
+
+}  // namespace lt

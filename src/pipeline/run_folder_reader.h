@@ -1,0 +1,77 @@
+// Reading a run folder for the measurement pipeline: the frame list
+// (manifest.jsonl) and the scanner's geometry (rig.json, or scene.json's
+// "sensor" section). This reads what `lasertwin render` writes (see
+// docs/pipeline.md, "Run folder") but does not depend on the renderer, so a
+// capture tool for a real scanner can write the same files.
+//
+// manifest.jsonl: one JSON object per line. Keys read (others are ignored, so
+// the renderer may record more, e.g. render statistics):
+//   index            integer >= 0, unique                               required
+//   files.image      image file, relative to the run folder             required
+//   shutter.laser_on, lit_fraction.laser
+//                    a frame is a laser (dim) frame when laser_on is true
+//                    or the laser lit part of its exposure; a line with
+//                    neither key counts as a laser frame
+//   files.centers    ground-truth stripe centres (CSV)                   optional
+//   world_from_cam   camera pose at mid-exposure (core/pose.h forms)     optional
+//   gt_axis          "rows" | "cols": how the ground truth was scanned    optional
+//   bit_depth        the sensor's ADC bits (1..16)                       optional
+//   png_bit_depth    8 | 16                                              optional
+//   label, t_start_s, t_end_s                                            optional
+// Errors are lt::InputError naming "manifest.jsonl:LINE" (and the JSON pointer).
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/pose.h"
+#include "pipeline/extraction_options.h"
+#include "sensor/camera.h"
+#include "sensor/plane.h"
+
+namespace lt {
+
+struct RunFrame {
+  int index = 0;
+  std::string where;  // "RUN/manifest.jsonl:LINE", for messages about this frame
+  std::string label;
+  bool laser_on = false;
+  double laser_fraction = 0;
+  bool shutter_known = false;  // the line has shutter.laser_on or lit_fraction.laser
+  std::filesystem::path image;                    // run folder / files.image
+  std::optional<std::filesystem::path> gt_centers;  // run folder / files.centers
+  std::optional<Pose> world_from_cam;
+  std::optional<SearchAxis> gt_axis;
+  int bit_depth = 0;      // 0: unknown
+  int png_bit_depth = 0;  // 0: unknown
+  double t_start_s = 0, t_end_s = 0;
+
+  // A frame the laser lit: the frames to triangulate.
+  bool IsLaserFrame() const { return !shutter_known || laser_on || laser_fraction > 0; }
+  // Largest sample value of the frame's image for a sample type whose own full
+  // scale is type_full_scale: 2^bit_depth - 1 for a 16-bit image holding raw DN
+  // (LSB-aligned), otherwise the type's full scale.
+  double FullScale(double type_full_scale) const;
+};
+
+// Frames sorted by index. Throws lt::InputError for a missing run folder or
+// manifest, an invalid line, a duplicate index.
+std::vector<RunFrame> ReadRunManifest(const std::filesystem::path& run_dir);
+
+// The scanner geometry of a run.
+struct RunRig {
+  Camera camera;
+  std::vector<Plane> planes_in_cam;  // global plane numbers: sheets of laser 0 first, then laser 1, ...
+  int bit_depth = 0;                 // image sensor ADC bits, 0 when unknown
+  double black_level_dn = 0;
+  std::filesystem::path source;      // the file read
+};
+
+// Reads rig.json (render/rig JSON: "camera" in scene-file form, "lasers" with
+// "sheet_planes_in_cam", "image_sensor"); without it, the "sensor" section of
+// scene.json. Throws lt::InputError naming the file and JSON pointer.
+RunRig ReadRunRig(const std::filesystem::path& run_dir);
+
+}  // namespace lt

@@ -1,0 +1,249 @@
+#include "pipeline/scan.h"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <type_traits>
+#include <map>
+#include <memory>
+#include <tuple>
+
+#include "core/error.h"
+#include "core/image_io.h"
+#include "pipeline/calibration_file.h"
+#include "pipeline/run_folder_reader.h"
+#include "pipeline/scan_output.h"
+#include "pipeline/stripe_extractor.h"
+
+namespace lt {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// What a cloud point needs until the cloud's frame (world or camera) is known.
+struct PendingPoint {
+  Eigen::Vector3d p_cam, p_world;
+  bool has_world;
+  int frame, plane;
+};
+
+template <typename T>
+constexpr double TypeFullScale() {
+  if constexpr (std::is_floating_point_v<T>) {
+    return 1.0;
+  } else {
+    return double(std::numeric_limits<T>::max());
+  }
+}
+
+// Extractors by (threshold, background, axis): a run normally needs one.
+class ExtractorCache {
+ public:
+  explicit ExtractorCache(const ExtractionOptions& base) : base_(base) {}
+  StripeExtractor& Get(double threshold, double background, SearchAxis axis) {
+    auto key = std::make_tuple(threshold, background, int(axis));
+    auto it = cache_.find(key);
+    if (it != cache_.end()) return *it->second;
+    ExtractionOptions o = base_;
+    o.threshold = threshold;
+    o.background = background;
+    o.axis = axis;
+    return *cache_.emplace(key, std::make_unique<StripeExtractor>(o)).first->second;
+  }
+
+ private:
+  ExtractionOptions base_;
+  std::map<std::tuple<double, double, int>, std::unique_ptr<StripeExtractor>> cache_;
+};
+
+std::string Size(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
+
+}  // namespace
+
+std::string ScanCentersName(int index) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "centers/%06d.csv", index);
+  return buf;
+}
+
+void ScanOptions::Check() const {
+  ExtractionOptions e = extraction;
+  if (std::isnan(e.background)) e.background = 0;
+  e.Check();
+  plane_id.Check();
+  triangulation.Check();
+  if (frames_begin < 0) throw InputError("option frames", "the first frame must be >= 0");
+  if (frames_end >= 0 && frames_end <= frames_begin) throw InputError("option frames", "the frame range is empty");
+}
+
+ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
+                    const std::function<void(const std::string&)>& warn_fn) {
+  options.Check();
+  auto warn = [&](const std::string& message) {
+    if (warn_fn) warn_fn(message);
+  };
+  const std::vector<RunFrame> frames = ReadRunManifest(run_dir);
+  RunRig rig = ReadRunRig(run_dir);
+  ScanSummary summary;
+  Camera camera = rig.camera;
+  std::vector<Plane> planes = rig.planes_in_cam;
+  summary.plane_source = rig.source;
+  if (options.calibration) {
+    const fs::path& path = *options.calibration;
+    CalibrationFile cal = ReadCalibrationFile(path);
+    if (!cal.ignored_keys.empty()) {
+      std::string keys;
+      for (const auto& k : cal.ignored_keys) keys += (keys.empty() ? "" : ", ") + k;
+      warn(path.string() + ": ignored keys: " + keys);
+    }
+    if (cal.laser_planes.empty()) throw InputError(path.string(), "holds no laser_planes (needed to triangulate)");
+    if (cal.camera && (cal.camera->width != camera.width() || cal.camera->height != camera.height())) {
+      throw InputError(path.string(), "the calibrated camera is " + Size(cal.camera->width, cal.camera->height) +
+                                          " but the run's camera (" + rig.source.string() + ") is " +
+                                          Size(camera.width(), camera.height()));
+    }
+    camera = cal.MakeCamera(camera.params(), path.string());
+    if (int(cal.laser_planes.size()) != int(planes.size())) {
+      warn(path.string() + ": holds " + std::to_string(cal.laser_planes.size()) + " laser plane(s), the run's rig " +
+           std::to_string(planes.size()));
+    }
+    planes = cal.laser_planes;
+    summary.plane_source = path;
+  }
+  if (planes.empty()) throw InputError(rig.source.string(), "the rig has no laser plane: nothing to triangulate");
+  summary.planes = int(planes.size());
+  const Triangulator triangulator(camera, planes, options.triangulation);
+  const SearchAxis planes_axis = StripeAxis(planes);
+  std::map<int, std::vector<int>> image_order;  // by axis
+
+  // Missing images are reported before anything is written.
+  auto selected = [&](const RunFrame& f) {
+    return f.index >= options.frames_begin && (options.frames_end < 0 || f.index < options.frames_end);
+  };
+  for (const RunFrame& frame : frames) {
+    if (selected(frame) && frame.IsLaserFrame() && !fs::exists(frame.image)) {
+      throw InputError(frame.image.string(),
+                       "no such file (frame " + std::to_string(frame.index) + ", " + frame.where + ")");
+    }
+  }
+
+  ExtractorCache extractors(options.extraction);
+  std::vector<PendingPoint> pending;
+  bool all_posed = true, any_posed = false;
+  std::error_code ec;
+  for (const RunFrame& frame : frames) {
+    if (!selected(frame)) continue;
+    if (!frame.IsLaserFrame()) {
+      ++summary.other_frames;
+      continue;
+    }
+    const std::string context = " (frame " + std::to_string(frame.index) + ", " + frame.where + ")";
+    AnyImage image;
+    try {
+      image = ReadImage(frame.image);
+    } catch (const InputError& e) {
+      throw InputError(e.where(), e.message() + context);
+    }
+    int width = 0, height = 0;
+    double type_full_scale = 1;
+    std::visit(
+        [&](const auto& im) {
+          using T = std::decay_t<decltype(im.pixels[0])>;
+          width = im.width;
+          height = im.height;
+          type_full_scale = TypeFullScale<T>();
+        },
+        image);
+    if (width != camera.width() || height != camera.height()) {
+      throw InputError(frame.image.string(), "the image is " + Size(width, height) + " but the camera (" +
+                                                 summary.plane_source.string() + ") is " +
+                                                 Size(camera.width(), camera.height()) + context);
+    }
+    // Thresholds relative to the frame's real range of values.
+    const double full_scale = frame.FullScale(type_full_scale);
+    const double threshold =
+        std::isnan(options.extraction.threshold) ? 0.1 * full_scale : options.extraction.threshold;
+    double background = options.extraction.background;
+    if (std::isnan(background)) {
+      // The black level in DN; an 8-bit image holds the top 8 bits.
+      background = rig.black_level_dn;
+      if (type_full_scale == 255.0 && rig.bit_depth > 8) background = std::ldexp(background, 8 - rig.bit_depth);
+    }
+    const SearchAxis axis = options.axis ? *options.axis : frame.gt_axis ? *frame.gt_axis : planes_axis;
+    std::vector<StripePoint> points;
+    try {
+      points = extractors.Get(threshold, background, axis).Extract(image);
+    } catch (const InputError& e) {
+      throw InputError(e.where().empty() ? frame.image.string() : e.where(), e.message() + context);
+    }
+
+    ScanFrameSummary fs_summary;
+    fs_summary.index = frame.index;
+    if (planes.size() == 1) {
+      for (auto& p : points) p.plane = 0;  // one sheet: every stripe point is on it
+    } else {
+      PlaneIdOptions id_options = options.plane_id;
+      id_options.axis = axis;
+      ExtractionOptions eo = options.extraction;
+      eo.axis = axis;
+      id_options.edge_margin = std::max(id_options.edge_margin, eo.EdgeLinesWithoutPoints() + 2);
+      const PixelRect region = eo.roi ? *eo.roi : PixelRect{0, 0, width, height};
+      PlaneIdentification id = IdentifyPlanes(points, region, int(planes.size()), id_options);
+      if (!image_order.count(int(axis))) image_order[int(axis)] = PlanesInImageOrder(planes, axis);
+      const std::vector<int>& order = image_order[int(axis)];
+      points = std::move(id.points);
+      for (auto& p : points) {
+        if (p.plane >= 0) p.plane = order[size_t(p.plane)];
+      }
+      if (!id.ok) {
+        fs_summary.identified = false;
+        fs_summary.identification_error = id.error;
+        warn(frame.image.string() + ": plane identification failed, its points are not triangulated: " + id.error);
+      }
+    }
+    std::vector<ScanPoint> scan = TriangulatePoints(triangulator, points, frame.world_from_cam, &fs_summary.stats);
+    fs::create_directories(run_dir / "centers", ec);
+    if (!fs::is_directory(run_dir / "centers")) {
+      throw InputError((run_dir / "centers").string(), "cannot create the folder" + (ec ? ": " + ec.message() : ""));
+    }
+    WriteScanCsv(run_dir / ScanCentersName(frame.index), scan);
+
+    all_posed &= frame.world_from_cam.has_value();
+    any_posed |= frame.world_from_cam.has_value();
+    for (const ScanPoint& s : scan) {
+      if (!s.p_in_cam) continue;
+      pending.push_back({*s.p_in_cam, s.p_in_world.value_or(Eigen::Vector3d::Zero()), s.p_in_world.has_value(),
+                         frame.index, s.pixel.plane});
+    }
+    const TriangulationStats& st = fs_summary.stats;
+    summary.stats.points += st.points;
+    summary.stats.triangulated += st.triangulated;
+    summary.stats.no_plane += st.no_plane;
+    summary.stats.no_ray += st.no_ray;
+    summary.stats.grazing += st.grazing;
+    summary.stats.behind += st.behind;
+    summary.frames.push_back(fs_summary);
+    ++summary.laser_frames;
+  }
+  if (summary.laser_frames == 0) {
+    throw InputError((run_dir / "manifest.jsonl").string(),
+                     "no laser frame to scan" + std::string(summary.other_frames > 0 ? " (only frames without laser light)"
+                                                                                      : " in the selected range"));
+  }
+  PointCloud cloud;
+  cloud.world_frame = all_posed;
+  if (!all_posed && any_posed) warn("some frames have no pose (world_from_cam): cloud.ply is in the camera frame");
+  cloud.points.reserve(pending.size());
+  for (const PendingPoint& p : pending) {
+    if (all_posed && !p.has_world) continue;  // cannot happen: a posed frame's points all have world coordinates
+    cloud.points.push_back({all_posed ? p.p_world : p.p_cam, p.frame, p.plane, {0, 0, 0}});
+  }
+  WritePly(run_dir / "cloud.ply", cloud);
+  summary.world_frame = all_posed;
+  summary.points = summary.stats.points;
+  summary.triangulated = int(cloud.points.size());
+  return summary;
+}
+
+}  // namespace lt

@@ -1,0 +1,80 @@
+// Scanning a run folder (`lasertwin scan`, docs/pipeline.md): for every laser
+// frame of the run, extract the stripe centres, identify their laser planes and
+// triangulate them; write RUN/centers/NNNNNN.csv per frame and RUN/cloud.ply
+// (pipeline/scan_output.h). Every file is written atomically; cloud.ply is
+// written last, only when every frame was scanned, and missing images are
+// reported before anything is written.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pipeline/extraction_options.h"
+#include "pipeline/plane_identification.h"
+#include "pipeline/triangulation.h"
+
+namespace lt {
+
+struct ScanOptions {
+  // Extraction as in `lasertwin extract`, with two run-aware defaults:
+  //   threshold kAuto: 10% of the frame's full scale, from its bit depth (a
+  //     16-bit PNG holding 10-bit raw DN has full scale 1023, not 65535);
+  //   background kAuto (NaN here): the image sensor's black level (rig.json).
+  // `axis` is ignored: see `axis` below.
+  ExtractionOptions extraction = DefaultExtraction();
+  // Search axis; unset: the manifest's gt_axis of each frame, else the axis
+  // the laser planes' stripes call for (StripeAxis).
+  std::optional<SearchAxis> axis;
+  // Plane identification (multi-line projectors); `axis` and a too-small
+  // edge_margin are set per frame.
+  PlaneIdOptions plane_id;
+  TriangulationOptions triangulation;
+  // Calibration file (pipeline/calibration_file.h): its laser planes replace
+  // the run's ground-truth planes, its camera (when present) the run's camera.
+  std::optional<std::filesystem::path> calibration;
+  // Frames [frames_begin, frames_end) of the manifest (by index); -1: to the end.
+  int frames_begin = 0;
+  int frames_end = -1;
+
+  static ExtractionOptions DefaultExtraction() {
+    ExtractionOptions o;
+    o.background = ExtractionOptions::kAuto;
+    return o;
+  }
+  void Check() const;  // throws lt::InputError naming the option
+};
+
+struct ScanFrameSummary {
+  int index = 0;
+  TriangulationStats stats;
+  bool identified = true;  // plane identification succeeded (always with one plane)
+  std::string identification_error;
+};
+
+struct ScanSummary {
+  int laser_frames = 0;    // frames scanned
+  int other_frames = 0;    // frames in range without laser light (bright frames), skipped
+  int points = 0;          // stripe points
+  int triangulated = 0;    // points in the cloud
+  TriangulationStats stats;  // summed over frames
+  bool world_frame = true;   // cloud.ply is in the world frame (every frame had a pose)
+  int planes = 0;
+  std::filesystem::path plane_source;  // rig.json, scene.json or the calibration file
+  std::vector<ScanFrameSummary> frames;
+};
+
+// Scans a run folder. Warnings (plane identification failed on a frame,
+// ignored calibration keys, missing poses) go to `warn`. Bad input throws
+// lt::InputError naming the file and place: missing run folder or manifest, a
+// corrupt manifest line, a missing or unreadable image, an image whose size is
+// not the camera's, an unreadable calibration file, a run without laser frames.
+ScanSummary ScanRun(const std::filesystem::path& run_dir, const ScanOptions& options,
+                    const std::function<void(const std::string&)>& warn = {});
+
+// "centers/000012.csv"
+std::string ScanCentersName(int index);
+
+}  // namespace lt

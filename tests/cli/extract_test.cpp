@@ -1,0 +1,166 @@
+// `lasertwin extract` end to end on bad input: missing, empty, corrupt,
+// truncated and zero-size images, a folder, wrong channel choices, an ROI
+// outside the image, NaN in a float image and an unknown method. Each gives
+// exit code 2, nothing on stdout and an error naming the file (or option).
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "core/image.h"
+#include "core/image_io.h"
+#include "run_lasertwin.h"
+
+namespace lt::clitest {
+namespace {
+
+using ::testing::HasSubstr;
+
+void WriteBytes(const fs::path& p, const std::string& bytes) { std::ofstream(p, std::ios::binary) << bytes; }
+
+// CRC-32 (ISO 3309), as PNG chunks use it.
+uint32_t Crc32(const std::string& bytes) {
+  uint32_t c = 0xffffffffu;
+  for (unsigned char b : bytes) {
+    c ^= b;
+    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+  }
+  return c ^ 0xffffffffu;
+}
+
+// A PNG chunk with its CRC.
+std::string Chunk(const std::string& type, const std::string& data) {
+  auto be32 = [](uint32_t v) {
+    return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
+  };
+  const std::string td = type + data;
+  return be32(uint32_t(data.size())) + td + be32(Crc32(td));
+}
+
+// An 8-bit grey PNG whose header says width x height (0 is invalid, but a file can say so).
+std::string PngWithHeader(uint32_t width, uint32_t height) {
+  std::string ihdr = {char(width >> 24), char(width >> 16), char(width >> 8), char(width),
+                      char(height >> 24), char(height >> 16), char(height >> 8), char(height),
+                      8, 0, 0, 0, 0};
+  return std::string("\x89PNG\r\n\x1a\n", 8) + Chunk("IHDR", ihdr) + Chunk("IDAT", std::string("\x78\x9c\x03\x00\x00\x00\x00\x01", 8)) +
+         Chunk("IEND", "");
+}
+
+// A mono 8-bit frame with a vertical stripe at column 20.
+Image<uint8_t> StripeImage() {
+  Image<uint8_t> img(64, 48, 1, 0);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) img.At(x, y) = uint8_t(200 * std::exp(-0.5 * (x - 20) * (x - 20) / 4.0));
+  return img;
+}
+
+class ExtractCommand : public ::testing::Test {
+ protected:
+  void SetUp() override { dir_ = TempDir("extract_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name())); }
+
+  // Queues `extract ARGS`, expected to fail on bad input with `message`.
+  void ExpectInputError(const std::string& args, const std::string& message) { cases_.push_back({args, message}); }
+
+  // Runs the queued cases (in parallel) and checks the common part of every
+  // bad-input outcome: exit code 2, nothing on stdout, the message on stderr.
+  void TearDown() override {
+    std::vector<std::string> args;
+    for (const auto& c : cases_) args.push_back("extract " + c.first);
+    std::vector<Result> results = RunMany(args);
+    for (size_t i = 0; i < cases_.size(); ++i) {
+      const Result& r = results[i];
+      EXPECT_EQ(r.exit_code, 2) << args[i] << "\n" << r.err;
+      EXPECT_EQ(r.out, "") << args[i];
+      EXPECT_THAT(r.err, HasSubstr("lasertwin: error: " + cases_[i].second)) << args[i];
+    }
+  }
+
+  fs::path dir_;
+  std::vector<std::pair<std::string, std::string>> cases_;
+};
+
+TEST_F(ExtractCommand, GoodImageWorks) {
+  const fs::path p = dir_ / "stripe.png";
+  WriteImage(p, StripeImage());
+  Result r = RunLasertwin("extract " + Quoted(p));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("u,v,width,strength\n20.0000,0.0000,"));
+}
+
+TEST_F(ExtractCommand, MissingEmptyCorruptAndTruncatedFiles) {
+  const fs::path missing = dir_ / "missing.png";
+  ExpectInputError(Quoted(missing), missing.string() + ": no such file");
+
+  const fs::path empty = dir_ / "empty.png";
+  WriteBytes(empty, "");
+  ExpectInputError(Quoted(empty), empty.string() + ": cannot read image");
+
+  const fs::path garbage = dir_ / "garbage.png";
+  WriteBytes(garbage, std::string(200, 'x'));
+  ExpectInputError(Quoted(garbage), garbage.string() + ": cannot read image");
+
+  const fs::path good = dir_ / "good.png";
+  WriteImage(good, StripeImage());
+  const std::string bytes = ReadAll(good);
+  const fs::path truncated = dir_ / "truncated.png";
+  WriteBytes(truncated, bytes.substr(0, bytes.size() / 2));
+  ExpectInputError(Quoted(truncated), truncated.string() + ": ");
+
+  const fs::path folder = dir_ / "folder.png";
+  fs::create_directories(folder);
+  ExpectInputError(Quoted(folder), folder.string() + ": is a folder, not an image");
+}
+
+TEST_F(ExtractCommand, ZeroSizeImages) {
+  // PNG forbids a zero width or height; the decoder refuses such a header.
+  const fs::path p = dir_ / "zero_width.png";
+  WriteBytes(p, PngWithHeader(0, 10));
+  ExpectInputError(Quoted(p), p.string() + ": cannot read image");
+}
+
+TEST_F(ExtractCommand, WrongChannelChoices) {
+  Image<uint8_t> rgb(64, 48, 3, 0);
+  for (int y = 0; y < 48; ++y) rgb.At(20, y, 0) = 200;
+  const fs::path colour = dir_ / "colour.png";
+  WriteImage(colour, rgb);
+  ExpectInputError(Quoted(colour),
+                   colour.string() + ": the image has 3 channels: choose the laser's channel or give channel weights");
+  ExpectInputError(Quoted(colour) + " --channel 3", colour.string() + ": channel 3 requested but the image has 3 channels");
+  ExpectInputError(Quoted(colour) + " --weights 1,0", colour.string() + ": 2 channel weights given but the image has 3 channels");
+  const fs::path mono = dir_ / "mono.png";
+  WriteImage(mono, StripeImage());
+  ExpectInputError(Quoted(mono) + " --weights 1,0,0", mono.string() + ": 3 channel weights given but the image has 1 channel");
+  // The right choice works.
+  Result r = RunLasertwin("extract " + Quoted(colour) + " --channel 0");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
+TEST_F(ExtractCommand, RoiOutsideTheImage) {
+  const fs::path p = dir_ / "mono.png";
+  WriteImage(p, StripeImage());
+  ExpectInputError(Quoted(p) + " --roi 40,0,30,10", p.string() + ": ROI 40,0,30,10 is not inside the 64x48 image");
+  ExpectInputError(Quoted(p) + " --roi -1,0,10,10", "option roi: must start inside the image");
+}
+
+TEST_F(ExtractCommand, NaNInFloatImage) {
+  Image<float> img(16, 8, 1, 0.0f);
+  img.At(3, 5) = std::nanf("");
+  const fs::path p = dir_ / "nan.exr";
+  WriteImage(p, img);
+  ExpectInputError(Quoted(p), p.string() + ": image row 5 holds NaN or infinite values");
+}
+
+TEST_F(ExtractCommand, UnknownMethodAndSeveralImages) {
+  const fs::path p = dir_ / "mono.png";
+  WriteImage(p, StripeImage());
+  ExpectInputError(Quoted(p) + " --method fastest",
+                   "--method: unknown extraction method 'fastest' (expected max, com, multicom or steger)");
+  // With several images, the bad one is named.
+  const fs::path bad = dir_ / "bad.png";
+  WriteBytes(bad, "nope");
+  ExpectInputError(Quoted(p) + " " + Quoted(bad) + " --out " + Quoted(dir_ / "csv"), bad.string() + ": cannot read image");
+}
+
+}  // namespace
+}  // namespace lt::clitest

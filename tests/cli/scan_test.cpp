@@ -1,0 +1,307 @@
+// `lasertwin scan` end to end: render a tiny run (tests/data/scenes/scan_tiny.json:
+// a 160x120 camera with Brown-Conrady distortion, 80 mm above the demo's slot
+// test part, one laser sheet; frame 0 laser, frame 1 bright), scan it, and
+// compare the triangulated points with the renderer's exact stripe centres.
+// The PLY is read back with a small reader here. Bad input gives exit code 2
+// and a message naming the file and place.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "run_lasertwin.h"
+
+namespace lt::clitest {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::StartsWith;
+
+const fs::path kSource = LT_SOURCE_DIR;
+
+struct Vec3 {
+  double x = 0, y = 0, z = 0;
+};
+double Distance(const Vec3& a, const Vec3& b) { return std::hypot(a.x - b.x, a.y - b.y, a.z - b.z); }
+
+std::vector<std::vector<std::string>> ReadCsv(const fs::path& p, const std::string& header) {
+  std::stringstream in(ReadAll(p));
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, header) << p;
+  std::vector<std::vector<std::string>> rows;
+  while (std::getline(in, line)) {
+    std::vector<std::string> f;
+    size_t start = 0;
+    for (size_t i = 0; i <= line.size(); ++i) {
+      if (i == line.size() || line[i] == ',') {
+        f.push_back(line.substr(start, i - start));
+        start = i + 1;
+      }
+    }
+    rows.push_back(f);
+  }
+  return rows;
+}
+
+Vec3 At(const std::vector<std::string>& f, size_t k) { return {std::stod(f[k]), std::stod(f[k + 1]), std::stod(f[k + 2])}; }
+
+const char* kCentersHeader = "u,v,width,strength,plane,x_cam,y_cam,z_cam,x_world,y_world,z_world";
+const char* kTruthHeader = "u,v,plane,x_cam,y_cam,z_cam,x_world,y_world,z_world";
+
+// A tiny reader for the PLY that scan writes: binary little-endian, double
+// x y z, int frame, int plane.
+struct PlyVertex {
+  Vec3 p;
+  int32_t frame = 0, plane = 0;
+};
+std::vector<PlyVertex> ReadPly(const fs::path& path, std::string* header_out = nullptr) {
+  const std::string bytes = ReadAll(path);
+  const std::string end = "end_header\n";
+  const size_t body = bytes.find(end);
+  if (body == std::string::npos) {
+    ADD_FAILURE() << "no end_header in " << path;
+    return {};
+  }
+  const std::string header = bytes.substr(0, body + end.size());
+  if (header_out) *header_out = header;
+  EXPECT_THAT(header, StartsWith("ply\nformat binary_little_endian 1.0\n"));
+  EXPECT_THAT(header, HasSubstr("property double x\nproperty double y\nproperty double z\nproperty int frame\n"
+                                "property int plane\nend_header\n"));
+  const size_t pos = header.find("element vertex ");
+  const size_t count = std::stoul(header.substr(pos + 15));
+  const size_t record = 3 * 8 + 2 * 4;
+  EXPECT_EQ(bytes.size(), body + end.size() + count * record);
+  std::vector<PlyVertex> out;
+  const char* p = bytes.data() + body + end.size();
+  for (size_t i = 0; i < count && p + record <= bytes.data() + bytes.size(); ++i, p += record) {
+    PlyVertex v;  // the test machine is little-endian, like the file
+    std::memcpy(&v.p.x, p, 8);
+    std::memcpy(&v.p.y, p + 8, 8);
+    std::memcpy(&v.p.z, p + 16, 8);
+    std::memcpy(&v.frame, p + 24, 4);
+    std::memcpy(&v.plane, p + 28, 4);
+    out.push_back(v);
+  }
+  return out;
+}
+
+class ScanCommand : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    rendered_ = new fs::path(TempDir("scan_rendered"));
+    Result r = RunLasertwin("render " + Quoted(kSource / "tests/data/scenes/scan_tiny.json") + " --out " +
+                            Quoted(*rendered_ / "run") + " --quiet");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  static void TearDownTestSuite() {
+    delete rendered_;
+    rendered_ = nullptr;
+  }
+  // A private copy of the rendered run (each test writes its own outputs).
+  static fs::path CopyRun(const std::string& name) {
+    fs::path dir = TempDir("scan_" + name) / "run";
+    fs::copy(*rendered_ / "run", dir, fs::copy_options::recursive);
+    return dir;
+  }
+
+  static fs::path* rendered_;
+};
+fs::path* ScanCommand::rendered_ = nullptr;
+
+// Ground-truth centres by column; `clean` is false where the column's pixels
+// straddle a depth step of the part (the truth jumps between it and a
+// neighbour). There the stripe is split over two surfaces and any centre of
+// the mixture lies between them: no method can give either surface.
+struct Truth {
+  std::map<int, std::vector<std::string>> by_column;
+  bool Clean(int u) const {
+    for (int a : {u - 1, u}) {
+      auto i = by_column.find(a), j = by_column.find(a + 1);
+      if (i == by_column.end() || j == by_column.end()) return false;
+      if (std::abs(std::stod(i->second[1]) - std::stod(j->second[1])) > 0.5) return false;
+      if (Distance(At(i->second, 3), At(j->second, 3)) > 0.5e-3) return false;
+    }
+    return true;
+  }
+};
+
+Truth ReadTruth(const fs::path& run) {
+  Truth t;
+  for (auto& f : ReadCsv(run / "gt/000000_centers.csv", kTruthHeader)) t.by_column[int(std::lround(std::stod(f[0])))] = f;
+  return t;
+}
+
+// Largest 3D distance (camera and world frames) between scanned points and the
+// truth over clean columns; counts the clean columns compared.
+double WorstError(const fs::path& run, const Truth& truth, int* compared) {
+  double worst = 0;
+  *compared = 0;
+  for (const auto& f : ReadCsv(run / "centers/000000.csv", kCentersHeader)) {
+    const int u = int(std::lround(std::stod(f[0])));
+    if (!truth.Clean(u)) continue;
+    EXPECT_EQ(f[4], "0");
+    EXPECT_NE(f[5], "") << "clean column " << u << " has no 3D point";
+    if (f[5].empty() || f[8].empty()) continue;
+    const auto& g = truth.by_column.at(u);
+    worst = std::max({worst, Distance(At(f, 5), At(g, 3)), Distance(At(f, 8), At(g, 6))});
+    ++*compared;
+  }
+  return worst;
+}
+
+TEST_F(ScanCommand, PointsMatchTheGroundTruth) {
+  const fs::path run = CopyRun("truth");
+  Result r = RunLasertwin("scan " + Quoted(run));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("scanned 1 laser frame (1 without laser light skipped): "));
+  EXPECT_THAT(r.err, HasSubstr("(world frame)"));
+  EXPECT_TRUE(fs::exists(run / "centers/000000.csv"));
+  EXPECT_FALSE(fs::exists(run / "centers/000001.csv"));  // the bright frame
+  const Truth truth = ReadTruth(run);
+  ASSERT_EQ(truth.by_column.size(), 160u);
+  int compared = 0;
+  const double worst = WorstError(run, truth, &compared);
+  // About 40 of the 160 columns straddle one of the part's 1 mm steps.
+  EXPECT_GE(compared, 100);
+  // Tolerance 0.1 mm at the ~80 mm working distance. Along a column, one pixel
+  // of stripe position is ~0.4 mm in 3D here (0.17 mm pixel footprint, 26.6
+  // degree triangulation angle). Com on this 4-spp render with shot and dark
+  // noise errs by up to ~0.1 px (~0.04 mm); 0.1 mm = 0.25 px leaves margin for
+  // noise, while a wrong laser plane or pose moves points by millimetres.
+  EXPECT_LT(worst, 0.1e-3);
+}
+
+TEST_F(ScanCommand, PlyHoldsTheTriangulatedPoints) {
+  const fs::path run = CopyRun("ply");
+  Result r = RunLasertwin("scan " + Quoted(run) + " --method multicom --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  std::vector<Vec3> csv_world;
+  for (const auto& f : ReadCsv(run / "centers/000000.csv", kCentersHeader)) {
+    if (!f[8].empty()) csv_world.push_back(At(f, 8));
+  }
+  std::string header;
+  std::vector<PlyVertex> ply = ReadPly(run / "cloud.ply", &header);
+  EXPECT_THAT(header, HasSubstr("world frame"));
+  EXPECT_THAT(header, ::testing::Not(HasSubstr("property uchar red")));  // no colour yet
+  ASSERT_EQ(ply.size(), csv_world.size());
+  ASSERT_GT(ply.size(), 140u);
+  for (size_t i = 0; i < ply.size(); ++i) {
+    EXPECT_EQ(ply[i].frame, 0);
+    EXPECT_EQ(ply[i].plane, 0);
+    // The CSV has 12 significant digits (1e-14 m at these coordinates).
+    EXPECT_LT(Distance(ply[i].p, csv_world[i]), 1e-12) << i;
+  }
+}
+
+// Calibration files with the rig's own camera and plane, as the calibrate
+// command will write them (OpenCV YAML, numbers with 17 digits).
+std::string CalibrationYaml(const fs::path& run, bool with_distortion) {
+  nlohmann::json rig = nlohmann::json::parse(ReadAll(run / "rig.json"));
+  const auto& cam = rig["camera"];
+  const auto& plane = rig["lasers"][0]["sheet_planes_in_cam"][0];
+  auto num = [](double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    return std::string(buf);
+  };
+  const auto& d = cam["distortion"]["coefficients"];
+  std::string text = "%YAML:1.0\n---\nimage_width: 160\nimage_height: 120\ncamera_matrix: !!opencv-matrix\n"
+                     "   rows: 3\n   cols: 3\n   dt: d\n   data: [ " +
+                     num(cam["fx"]) + ", 0., " + num(cam["cx"]) + ", 0., " + num(cam["fy"]) + ", " + num(cam["cy"]) +
+                     ", 0., 0., 1. ]\n";
+  if (with_distortion) {
+    text += "distortion_coefficients: !!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n   data: [ " + num(d[0]) +
+            ", " + num(d[1]) + ", " + num(d[2]) + ", " + num(d[3]) + ", " + num(d[4]) + " ]\n";
+  }
+  text += "laser_planes: !!opencv-matrix\n   rows: 1\n   cols: 4\n   dt: d\n   data: [ " + num(plane["n"][0]) + ", " +
+          num(plane["n"][1]) + ", " + num(plane["n"][2]) + ", " + num(plane["d"]) + " ]\n";
+  return text;
+}
+
+TEST_F(ScanCommand, CalibrationFileWithTheTrueGeometryGivesTheSameResult) {
+  const fs::path run = CopyRun("calib_true");
+  ASSERT_EQ(RunLasertwin("scan " + Quoted(run) + " --quiet").exit_code, 0);
+  const std::string reference = ReadAll(run / "centers/000000.csv");
+  std::ofstream(run / "calib.yml") << CalibrationYaml(run, true);
+  Result r = RunLasertwin("scan " + Quoted(run) + " --calib " + Quoted(run / "calib.yml"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("1 laser plane from " + (run / "calib.yml").string()));
+  EXPECT_EQ(ReadAll(run / "centers/000000.csv"), reference);
+}
+
+TEST_F(ScanCommand, LensDistortionIsApplied) {
+  // The same camera matrix and plane without the lens distortion: the stripe
+  // runs near the centre row, so the barrel distortion (k1 = -0.2) mostly moves
+  // points along it, by about k1 r^2 |x| = 0.2 x 0.03 x 14 mm = 0.08 mm at the
+  // image's left and right ends. Points must move by more than 0.05 mm there.
+  const fs::path run = CopyRun("calib_nodist");
+  ASSERT_EQ(RunLasertwin("scan " + Quoted(run) + " --quiet").exit_code, 0);
+  const auto with = ReadCsv(run / "centers/000000.csv", kCentersHeader);
+  std::ofstream(run / "calib.yml") << CalibrationYaml(run, false);
+  Result r = RunLasertwin("scan " + Quoted(run) + " --quiet --calib " + Quoted(run / "calib.yml"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto without = ReadCsv(run / "centers/000000.csv", kCentersHeader);
+  ASSERT_EQ(with.size(), without.size());
+  double largest = 0;
+  for (size_t i = 0; i < with.size(); ++i) {
+    if (with[i][5].empty() || without[i][5].empty()) continue;
+    largest = std::max(largest, Distance(At(with[i], 5), At(without[i], 5)));
+  }
+  EXPECT_GT(largest, 0.05e-3);
+  EXPECT_LT(largest, 0.15e-3);
+}
+
+TEST_F(ScanCommand, BadInputExitsWithTwo) {
+  const fs::path base = TempDir("scan_bad");
+  const fs::path rig = *rendered_ / "run/rig.json";
+  auto make_run = [&](const std::string& name, const std::string& manifest) {
+    fs::path dir = base / name;
+    fs::create_directories(dir / "frames");
+    fs::copy_file(rig, dir / "rig.json");
+    if (!manifest.empty()) std::ofstream(dir / "manifest.jsonl") << manifest;
+    return dir;
+  };
+  const std::string line0 = R"({"index":0,"shutter":{"laser_on":true},"files":{"image":"frames/000000.png"},"bit_depth":10})";
+  const fs::path no_manifest = make_run("no_manifest", "");
+  const fs::path corrupt = make_run("corrupt", line0 + "\n{\"index\": 1, \"files\": \n");
+  const fs::path no_image = make_run("no_image", line0 + "\n");
+  const fs::path good = CopyRun("bad_calib");
+  std::ofstream(good / "garbage.yml") << "camera_matrix: [1, 2, 3]\n";
+
+  struct Case {
+    std::string args, message;
+  };
+  const std::vector<Case> cases = {
+      {Quoted(base / "nowhere"), (base / "nowhere").string() + ": run folder not found"},
+      {Quoted(no_manifest), (no_manifest / "manifest.jsonl").string() + ": run manifest not found"},
+      {Quoted(corrupt), (corrupt / "manifest.jsonl").string() + ":2:"},
+      {Quoted(no_image), (no_image / "frames/000000.png").string() + ": no such file (frame 0, " +
+                             (no_image / "manifest.jsonl").string() + ":1)"},
+      {Quoted(good) + " --method fastest", "--method: unknown extraction method 'fastest'"},
+      {Quoted(good) + " --calib " + Quoted(good / "missing.yml"), (good / "missing.yml").string() + ": cannot open file"},
+      {Quoted(good) + " --calib " + Quoted(good / "garbage.yml"),
+       (good / "garbage.yml").string() + ":1: not an OpenCV FileStorage YAML file"},
+      {Quoted(good) + " --frames 1", (good / "manifest.jsonl").string() + ": no laser frame to scan"},
+      {Quoted(good) + " --min-ray-angle-deg 95", "option min_ray_angle_deg: must be in [0, 90) degrees, got 95"},
+  };
+  std::vector<std::string> args;
+  for (const auto& c : cases) args.push_back("scan " + c.args);
+  std::vector<Result> results = RunMany(args);
+  for (size_t i = 0; i < cases.size(); ++i) {
+    EXPECT_EQ(results[i].exit_code, 2) << args[i] << "\n" << results[i].err;
+    EXPECT_EQ(results[i].out, "") << args[i];
+    EXPECT_THAT(results[i].err, StartsWith("lasertwin: error: " + cases[i].message)) << args[i];
+  }
+  // Nothing was written for the failed scans.
+  EXPECT_FALSE(fs::exists(good / "cloud.ply"));
+  EXPECT_FALSE(fs::exists(no_image / "cloud.ply"));
+}
+
+}  // namespace
+}  // namespace lt::clitest

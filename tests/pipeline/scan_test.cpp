@@ -1,0 +1,381 @@
+// ScanRun on synthetic run folders whose stripes are known in closed form: a
+// distorted camera looks at a tilted plane lit by one or three laser sheets;
+// for every image column the exact row where each sheet's stripe crosses it is
+// found by bisection on the real camera model, and the frame is drawn as a
+// pixel-integrated Gaussian around it. The triangulated points must match the
+// exact surface points; plane numbers must match the sheet each stripe came
+// from; outputs and errors are checked.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "core/error.h"
+#include "core/image_io.h"
+#include "pipeline/calibration_file.h"
+#include "pipeline/run_folder_reader.h"
+#include "pipeline/scan.h"
+#include "pipeline/scan_output.h"
+#include "sensor/rig.h"
+
+namespace lt {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+constexpr double kDeg = M_PI / 180.0;
+
+Camera TestCamera() {
+  CameraParams p;
+  p.width = 160;
+  p.height = 120;
+  p.pixel_pitch_m = 19.2e-6;
+  p.fx = p.fy = 462.97;
+  p.cx = 79.5;
+  p.cy = 59.5;
+  p.distortion = DistortionModel::kBrownConrady;
+  p.brown_conrady = {-0.2, 0.05, 0.001, -0.0005, 0};
+  return Camera(p);
+}
+
+// A projector 40 mm beside the camera (+y), aimed at the optical axis 80 mm
+// away. Mounted upside down (turned 180 degrees about its beam), its sheet
+// numbers run bottom to top in the image instead of top to bottom.
+LaserProjector TestLaser(int sheets, bool upside_down = false) {
+  LaserParams lp;
+  lp.sheet_angles_rad = EvenSheetAngles(sheets, 3 * kDeg);
+  lp.sheet_power.assign(size_t(sheets), 1.0);
+  lp.cam_from_projector = Pose::Identity();
+  lp.cam_from_projector.translation() = Eigen::Vector3d(0, 0.04, 0);
+  lp.cam_from_projector.linear() =
+      upside_down ? (Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()) *
+                     Eigen::AngleAxisd(-26.565 * kDeg, Eigen::Vector3d::UnitX())).toRotationMatrix()
+                  : Eigen::AngleAxisd(26.565 * kDeg, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  return LaserProjector(lp);
+}
+
+// The object: a plane about 80 mm in front, tilted about both axes.
+const Plane kObject = Plane::FromPointNormal({0, 0, 0.08}, {0.15, -0.1, 1});
+
+std::optional<Eigen::Vector3d> SurfacePoint(const Camera& cam, double u, double v) {
+  auto ray = cam.Unproject({u, v});
+  if (!ray) return std::nullopt;
+  return (-kObject.d / kObject.n.dot(*ray)) * *ray;
+}
+
+// The row where the sheet's stripe crosses column u (NaN if it does not).
+double ExactRow(const Camera& cam, const Plane& sheet, double u) {
+  auto g = [&](double v) { return sheet.SignedDistance(*SurfacePoint(cam, u, v)); };
+  double a = -0.5, b = cam.height() - 0.5;
+  double ga = g(a), gb = g(b);
+  if (ga * gb > 0) return std::nan("");
+  for (int i = 0; i < 200 && b - a > 1e-12; ++i) {
+    double m = 0.5 * (a + b), gm = g(m);
+    if ((gm > 0) == (ga > 0)) {
+      a = m;
+      ga = gm;
+    } else {
+      b = m;
+    }
+  }
+  return 0.5 * (a + b);
+}
+
+double Phi(double x) { return 0.5 * std::erfc(-x / std::sqrt(2.0)); }
+
+struct SyntheticRun {
+  fs::path dir;
+  Camera camera = TestCamera();
+  std::vector<Plane> sheets;
+  Pose world_from_cam = Pose::Identity();
+};
+
+// Writes a run folder: frame 0 lit by the laser (10-bit DN in a 16-bit PNG),
+// frame 1 a bright frame whose image does not exist (a scan must not read it).
+SyntheticRun MakeRun(const std::string& name, int n_sheets, bool with_bit_depth = true, bool upside_down = false) {
+  SyntheticRun run;
+  run.dir = fs::temp_directory_path() / ("lt_scan_test_" + std::to_string(::getpid())) / name;
+  fs::remove_all(run.dir);
+  fs::create_directories(run.dir / "frames");
+  SensorRig rig;
+  rig.camera = run.camera;
+  rig.lasers.push_back(TestLaser(n_sheets, upside_down));
+  for (int k = 0; k < n_sheets; ++k) run.sheets.push_back(rig.lasers[0].SheetPlane(k));
+  std::ofstream(run.dir / "rig.json") << SensorRigToJson(rig).dump(2);
+  run.world_from_cam.linear() = Eigen::AngleAxisd(3.0, Eigen::Vector3d(0.1, 1, 0.05).normalized()).toRotationMatrix();
+  run.world_from_cam.translation() = Eigen::Vector3d(0.3, -0.1, 0.5);
+
+  // Stripe: Gaussian across it with sigma 1.2 px and peak 1000 DN, integrated
+  // over each pixel along the column, on a black background.
+  const double sigma = 1.2, peak = 1000, background = 0;
+  Image<float> img(run.camera.width(), run.camera.height(), 1, float(background));
+  for (const Plane& sheet : run.sheets) {
+    for (int u = 0; u < img.width; ++u) {
+      const double vc = ExactRow(run.camera, sheet, u);
+      if (std::isnan(vc)) continue;
+      for (int y = 0; y < img.height; ++y) {
+        const double mass = Phi((y + 0.5 - vc) / sigma) - Phi((y - 0.5 - vc) / sigma);
+        img.At(u, y) += float(peak * sigma * std::sqrt(2 * M_PI) * mass);
+      }
+    }
+  }
+  Image<uint16_t> dn(img.width, img.height, 1);
+  for (size_t i = 0; i < img.pixels.size(); ++i) dn.pixels[i] = uint16_t(std::lround(std::min(img.pixels[i], 1023.0f)));
+  WriteImage(run.dir / "frames/000000.png", dn);
+
+  nlohmann::json dim = {{"index", 0},
+                        {"shutter", {{"laser_on", true}}},
+                        {"files", {{"image", "frames/000000.png"}}},
+                        {"world_from_cam", PoseToJson(run.world_from_cam)},
+                        {"gt_axis", "cols"},
+                        {"png_bit_depth", 16}};
+  if (with_bit_depth) dim["bit_depth"] = 10;
+  nlohmann::json bright = {{"index", 1}, {"shutter", {{"laser_on", false}}}, {"files", {{"image", "frames/000001.png"}}}};
+  std::ofstream(run.dir / "manifest.jsonl") << dim.dump() << "\n" << bright.dump() << "\n";
+  return run;
+}
+
+// Distance from the triangulated point to the exact one, in units of the
+// surface's displacement per pixel along the column (so the tolerance reads in pixels).
+double ErrorInPixels(const SyntheticRun& run, const Plane& sheet, const ScanPoint& p) {
+  const double vc = ExactRow(run.camera, sheet, p.pixel.u);
+  const Eigen::Vector3d exact = *SurfacePoint(run.camera, p.pixel.u, vc);
+  const double per_px = (*SurfacePoint(run.camera, p.pixel.u, vc + 0.5) - *SurfacePoint(run.camera, p.pixel.u, vc - 0.5)).norm();
+  return (*p.p_in_cam - exact).norm() / per_px;
+}
+
+TEST(Scan, SingleSheetPointsLieOnTheSurface) {
+  SyntheticRun run = MakeRun("single", 1);
+  std::vector<std::string> warnings;
+  ScanOptions o;
+  o.extraction.method = ExtractionMethod::kCom;
+  ScanSummary s = ScanRun(run.dir, o, [&](const std::string& w) { warnings.push_back(w); });
+  EXPECT_TRUE(warnings.empty());
+  EXPECT_EQ(s.laser_frames, 1);
+  EXPECT_EQ(s.other_frames, 1);
+  EXPECT_TRUE(s.world_frame);
+  EXPECT_EQ(s.plane_source, run.dir / "rig.json");
+  ASSERT_TRUE(fs::exists(run.dir / "centers/000000.csv"));
+  EXPECT_FALSE(fs::exists(run.dir / "centers/000001.csv"));
+  std::vector<ScanPoint> points = ReadScanCsv(run.dir / "centers/000000.csv");
+  // One point per column except the first and last (com's window must stay inside).
+  EXPECT_GE(int(points.size()), 150);
+  EXPECT_EQ(s.points, int(points.size()));
+  EXPECT_EQ(s.triangulated, int(points.size()));
+  double worst = 0;
+  for (const ScanPoint& p : points) {
+    ASSERT_EQ(p.pixel.plane, 0);
+    ASSERT_TRUE(p.p_in_cam && p.p_in_world);
+    // On the laser plane exactly (it is a ray-plane intersection; the CSV's 10
+    // significant digits allow ~1e-11 m).
+    EXPECT_NEAR(run.sheets[0].SignedDistance(*p.p_in_cam), 0.0, 1e-10);
+    EXPECT_LT((*p.p_in_world - run.world_from_cam * *p.p_in_cam).norm(), 1e-10);
+    worst = std::max(worst, ErrorInPixels(run, run.sheets[0], p));
+  }
+  // Noise-free com on a pixel-integrated Gaussian of sigma 1.2 px: the window
+  // truncation bias is at most 0.012 px (docs/extraction.md), and rounding to
+  // whole DN moves the centroid by well under 0.002 px at a peak of 1000 DN;
+  // so the point is within 0.015 px (along the column) of the exact one.
+  EXPECT_LT(worst, 0.015);
+  // The cloud holds every triangulated point.
+  std::ifstream ply(run.dir / "cloud.ply", std::ios::binary);
+  std::string header;
+  for (std::string line; std::getline(ply, line) && line != "end_header";) header += line + "\n";
+  EXPECT_THAT(header, HasSubstr("element vertex " + std::to_string(points.size()) + "\n"));
+  EXPECT_THAT(header, HasSubstr("world frame"));
+  EXPECT_THAT(header, ::testing::Not(HasSubstr("red")));
+}
+
+TEST(Scan, ThresholdFollowsTheFramesBitDepth) {
+  // 10-bit DN (peak 1000) in a 16-bit PNG: 10% of 65535 would find nothing.
+  SyntheticRun with = MakeRun("bits10", 1, true);
+  SyntheticRun without = MakeRun("bits_unknown", 1, false);
+  ScanOptions o;
+  EXPECT_GT(ScanRun(with.dir, o).points, 150);
+  EXPECT_EQ(ScanRun(without.dir, o).points, 0);
+  o.extraction.threshold = 100;  // explicit DN threshold
+  EXPECT_GT(ScanRun(without.dir, o).points, 150);
+}
+
+TEST(Scan, ThreeSheetsAreIdentifiedAndTriangulated) {
+  // Upside down: sheet 2 is the top stripe, so plane identification's top to
+  // bottom numbering must be mapped to the sheet numbers.
+  SyntheticRun run = MakeRun("three", 3, true, true);
+  std::vector<std::pair<double, int>> rows;
+  for (int k = 0; k < 3; ++k) rows.push_back({ExactRow(run.camera, run.sheets[size_t(k)], 80), k});
+  std::sort(rows.begin(), rows.end());
+  ASSERT_EQ(rows[0].second, 2);
+  ASSERT_EQ(rows[2].second, 0);
+  ASSERT_GT(rows[1].first - rows[0].first, 8);  // well separated stripes
+  ASSERT_GT(rows[2].first - rows[1].first, 8);
+  // Largest error along the column, pixels: multicom's centroid of the profile
+  // clipped at the threshold (10% of the peak) is biased by up to ~0.04 px at
+  // sigma 1.2 px (docs/extraction.md: 0.028 px at sigma 1 on straight lines);
+  // steger's Newton-refined centre only by rounding to whole DN.
+  for (auto [method, tolerance] : {std::pair{ExtractionMethod::kMultiCom, 0.05}, std::pair{ExtractionMethod::kSteger, 0.01}}) {
+    ScanOptions o;
+    o.extraction.method = method;
+    o.extraction.expected_width = 2.83;  // FWHM of sigma 1.2
+    std::vector<std::string> warnings;
+    ScanSummary s = ScanRun(run.dir, o, [&](const std::string& w) { warnings.push_back(w); });
+    EXPECT_TRUE(warnings.empty()) << (warnings.empty() ? "" : warnings[0]);
+    ASSERT_EQ(s.frames.size(), 1u);
+    EXPECT_TRUE(s.frames[0].identified) << s.frames[0].identification_error;
+    std::vector<ScanPoint> points = ReadScanCsv(run.dir / "centers/000000.csv");
+    EXPECT_GT(int(points.size()), 3 * 130) << MethodName(method);
+    double worst = 0;
+    for (const ScanPoint& p : points) {
+      ASSERT_GE(p.pixel.plane, 0);
+      // The global sheet number is the sheet whose exact stripe is nearest.
+      int nearest = -1;
+      double best = 1e9;
+      for (int k = 0; k < 3; ++k) {
+        double d = std::abs(ExactRow(run.camera, run.sheets[size_t(k)], p.pixel.u) - p.pixel.v);
+        if (d < best) best = d, nearest = k;
+      }
+      ASSERT_EQ(p.pixel.plane, nearest) << p.pixel.u << "," << p.pixel.v;
+      ASSERT_TRUE(p.p_in_cam);
+      worst = std::max(worst, ErrorInPixels(run, run.sheets[size_t(nearest)], p));
+    }
+    EXPECT_LT(worst, tolerance) << MethodName(method);
+  }
+}
+
+TEST(Scan, CalibrationFileReplacesThePlanes) {
+  SyntheticRun run = MakeRun("calib", 1);
+  CalibrationFile cal;
+  Plane shifted = run.sheets[0];
+  shifted.d += 0.0005;  // half a millimetre
+  cal.laser_planes = {shifted};
+  cal.camera = CalibratedCamera::From(run.camera);
+  const fs::path file = run.dir / "calib.yml";
+  WriteCalibrationFile(file, cal);
+  ScanOptions o;
+  o.calibration = file;
+  ScanSummary s = ScanRun(run.dir, o);
+  EXPECT_EQ(s.plane_source, file);
+  std::vector<ScanPoint> points = ReadScanCsv(run.dir / "centers/000000.csv");
+  ASSERT_GT(points.size(), 100u);
+  for (const ScanPoint& p : points) {
+    ASSERT_TRUE(p.p_in_cam);
+    EXPECT_NEAR(shifted.SignedDistance(*p.p_in_cam), 0.0, 1e-10);
+    EXPECT_GT(std::abs(run.sheets[0].SignedDistance(*p.p_in_cam)), 4e-4);
+  }
+  // A calibrated camera of another size does not fit the run.
+  cal.camera->width = 320;
+  WriteCalibrationFile(file, cal);
+  try {
+    ScanRun(run.dir, o);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where(), file.string());
+    EXPECT_THAT(e.message(), HasSubstr("the calibrated camera is 320x120 but the run's camera"));
+  }
+  // A file without planes cannot replace them; a missing file is named.
+  cal.camera->width = 160;
+  cal.laser_planes.clear();
+  WriteCalibrationFile(file, cal);
+  EXPECT_THROW(ScanRun(run.dir, o), InputError);
+  o.calibration = run.dir / "missing.yml";
+  try {
+    ScanRun(run.dir, o);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), (run.dir / "missing.yml").string() + ": cannot open file");
+  }
+}
+
+TEST(Scan, BadRunsGiveInputErrors) {
+  SyntheticRun run = MakeRun("bad", 1);
+  ScanOptions o;
+  // The laser frame's image is missing: the error names it and the manifest line.
+  fs::rename(run.dir / "frames/000000.png", run.dir / "frames/moved.png");
+  try {
+    ScanRun(run.dir, o);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where(), (run.dir / "frames/000000.png").string());
+    EXPECT_THAT(e.message(), HasSubstr("(frame 0, " + (run.dir / "manifest.jsonl").string() + ":1)"));
+  }
+  // An image of the wrong size.
+  WriteImage(run.dir / "frames/000000.png", Image<uint16_t>(80, 60, 1));
+  try {
+    ScanRun(run.dir, o);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("the image is 80x60 but the camera"));
+  }
+  // Only frames without laser light.
+  o.frames_begin = 1;
+  try {
+    ScanRun(run.dir, o);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              (run.dir / "manifest.jsonl").string() + ": no laser frame to scan (only frames without laser light)");
+  }
+  o.frames_begin = 0;
+  o.frames_end = 0;
+  EXPECT_THROW(ScanRun(run.dir, o), InputError);
+  EXPECT_THROW(ScanRun(run.dir / "nowhere", ScanOptions{}), InputError);
+}
+
+TEST(Scan, CameraFrameCloudWithoutPoses) {
+  SyntheticRun run = MakeRun("nopose", 1);
+  // Rewrite the manifest without poses.
+  std::ofstream(run.dir / "manifest.jsonl")
+      << R"({"index":0,"shutter":{"laser_on":true},"files":{"image":"frames/000000.png"},"bit_depth":10})" << "\n";
+  ScanSummary s = ScanRun(run.dir, ScanOptions{});
+  EXPECT_FALSE(s.world_frame);
+  std::vector<ScanPoint> points = ReadScanCsv(run.dir / "centers/000000.csv");
+  ASSERT_FALSE(points.empty());
+  EXPECT_TRUE(points[0].p_in_cam);
+  EXPECT_FALSE(points[0].p_in_world);
+  std::ifstream ply(run.dir / "cloud.ply", std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(ply)), {});
+  EXPECT_THAT(text, HasSubstr("camera frame"));
+}
+
+TEST(ScanOutput, CsvRoundTripAndPlyLayout) {
+  std::vector<ScanPoint> pts(3);
+  pts[0].pixel = {10.25, 3, 4.5, 800, 0};
+  pts[0].p_in_cam = Eigen::Vector3d(0.001, -0.002, 0.0812345678);
+  pts[0].p_in_world = Eigen::Vector3d(1.5, 2.25, -0.125);
+  pts[1].pixel = {11, 3.5, 4, 700, -1};
+  pts[2].pixel = {12, 3.75, 4, 700, 1};
+  pts[2].p_in_cam = Eigen::Vector3d(0, 0, 0.1);
+  const std::string csv = FormatScanCsv(pts);
+  EXPECT_THAT(csv, HasSubstr("\n11.00000,3.50000,4.000,700,-1,,,,,,\n"));
+  EXPECT_THAT(csv, HasSubstr("\n12.00000,3.75000,4.000,700,1,0,0,0.1,,,\n"));
+  fs::path p = fs::temp_directory_path() / ("lt_scan_csv_" + std::to_string(::getpid()) + ".csv");
+  WriteScanCsv(p, pts);
+  auto back = ReadScanCsv(p);
+  ASSERT_EQ(back.size(), 3u);
+  EXPECT_EQ(back[0].pixel.u, 10.25);
+  EXPECT_EQ(*back[0].p_in_cam, *pts[0].p_in_cam);
+  EXPECT_EQ(*back[0].p_in_world, *pts[0].p_in_world);
+  EXPECT_FALSE(back[1].p_in_cam || back[1].p_in_world);
+  EXPECT_TRUE(back[2].p_in_cam && !back[2].p_in_world);
+  fs::remove(p);
+
+  PointCloud cloud;
+  cloud.points.push_back({{1, 2, 3}, 7, 1, {10, 20, 30}});
+  std::string ply = FormatPly(cloud);
+  const std::string end = "end_header\n";
+  ASSERT_NE(ply.find(end), std::string::npos);
+  EXPECT_EQ(ply.size() - (ply.find(end) + end.size()), 3 * 8 + 2 * 4u);
+  cloud.has_colour = true;
+  ply = FormatPly(cloud);
+  EXPECT_THAT(ply, HasSubstr("property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n"));
+  EXPECT_EQ(ply.size() - (ply.find(end) + end.size()), 3 * 8 + 2 * 4 + 3u);
+  EXPECT_EQ(ply.substr(ply.size() - 3), std::string("\x0a\x14\x1e"));
+  cloud.points[0].p.x() = std::nan("");
+  EXPECT_THROW(FormatPly(cloud), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace lt

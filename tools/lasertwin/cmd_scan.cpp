@@ -1,0 +1,140 @@
+// `lasertwin scan RUN_DIR [--method ...] [--calib FILE] [--axis rows|cols]
+// [--frames A:B] ...`: extracts, identifies and triangulates the stripe points
+// of every laser frame of a run folder; writes RUN_DIR/centers/NNNNNN.csv and
+// RUN_DIR/cloud.ply (docs/pipeline.md).
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "core/error.h"
+#include "pipeline/scan.h"
+#include "tools/lasertwin/command.h"
+
+namespace lt::cli {
+namespace {
+
+struct ScanArgs {
+  std::string run_dir;
+  std::string method = "com";
+  std::string axis;
+  std::string roi;
+  std::string weights;
+  std::string calib;
+  std::string frames;
+  double background = ExtractionOptions::kAuto;
+  bool quiet = false;
+  ScanOptions options;
+};
+
+int ParseInt(const std::string& s, const std::string& option, const std::string& text) {
+  if (s.empty() || s.size() > 9 || s.find_first_not_of("0123456789") != std::string::npos) {
+    throw InputError(option, "expected whole numbers, got '" + text + "'");
+  }
+  return std::stoi(s);
+}
+
+std::vector<double> ParseNumbers(const std::string& text, const std::string& option) {
+  std::vector<double> values;
+  std::stringstream ss(text);
+  for (std::string f; std::getline(ss, f, ',');) {
+    char* end = nullptr;
+    double v = std::strtod(f.c_str(), &end);
+    if (f.empty() || *end != '\0' || !std::isfinite(v)) throw InputError(option, "'" + f + "' is not a number");
+    values.push_back(v);
+  }
+  return values;
+}
+
+void Run(ScanArgs& a) {
+  ScanOptions& o = a.options;
+  o.extraction.method = ParseMethod(a.method, "--method");
+  if (!a.axis.empty()) o.axis = ParseAxis(a.axis, "--axis");
+  o.extraction.background = a.background;
+  if (!a.roi.empty()) {
+    std::vector<double> v = ParseNumbers(a.roi, "--roi");
+    if (v.size() != 4) throw InputError("--roi", "expected X,Y,W,H, got '" + a.roi + "'");
+    for (double x : v) {
+      if (x != std::floor(x) || std::abs(x) > 1e9) throw InputError("--roi", "expected whole pixel numbers, got '" + a.roi + "'");
+    }
+    o.extraction.roi = PixelRect{int(v[0]), int(v[1]), int(v[2]), int(v[3])};
+  }
+  if (!a.weights.empty()) o.extraction.channel_weights = ParseNumbers(a.weights, "--weights");
+  if (!a.calib.empty()) o.calibration = a.calib;
+  if (!a.frames.empty()) {
+    auto colon = a.frames.find(':');
+    if (colon == std::string::npos) {
+      o.frames_begin = ParseInt(a.frames, "--frames", a.frames);
+      o.frames_end = o.frames_begin + 1;
+    } else {
+      std::string b = a.frames.substr(0, colon), e = a.frames.substr(colon + 1);
+      if (!b.empty()) o.frames_begin = ParseInt(b, "--frames", a.frames);
+      if (!e.empty()) o.frames_end = ParseInt(e, "--frames", a.frames);
+      if (o.frames_end >= 0 && o.frames_end <= o.frames_begin) throw InputError("--frames", "empty range '" + a.frames + "'");
+    }
+  }
+  ScanSummary s = ScanRun(a.run_dir, o, [](const std::string& w) { std::cerr << "lasertwin: warning: " << w << "\n"; });
+  if (a.quiet) return;
+  const TriangulationStats& st = s.stats;
+  std::cerr << "scanned " << s.laser_frames << " laser frame" << (s.laser_frames == 1 ? "" : "s");
+  if (s.other_frames > 0) std::cerr << " (" << s.other_frames << " without laser light skipped)";
+  std::cerr << ": " << st.points << " stripe points, " << s.triangulated << " triangulated";
+  std::string rejected;
+  auto add = [&](int n, const char* what) {
+    if (n > 0) rejected += (rejected.empty() ? "" : ", ") + std::to_string(n) + " " + what;
+  };
+  add(st.no_plane, "without plane");
+  add(st.no_ray, "without camera ray");
+  add(st.grazing, "grazing");
+  add(st.behind, "behind the camera");
+  if (!rejected.empty()) std::cerr << " (" << rejected << ")";
+  std::cerr << "; " << s.planes << " laser plane" << (s.planes == 1 ? "" : "s") << " from " << s.plane_source.string()
+            << "\nwrote " << a.run_dir << "/centers/ and " << a.run_dir << "/cloud.ply ("
+            << (s.world_frame ? "world" : "camera") << " frame)\n";
+}
+
+void Add(CLI::App& app) {
+  auto args = std::make_shared<ScanArgs>();
+  auto* cmd = app.add_subcommand(
+      "scan", "Extract, identify and triangulate the laser frames of a run folder (centers/*.csv, cloud.ply)");
+  cmd->add_option("RUN_DIR", args->run_dir, "Run folder (from lasertwin render, or a capture with the same layout)")
+      ->required();
+  cmd->add_option("--method", args->method, "max | com | multicom | steger")->capture_default_str();
+  cmd->add_option("--calib", args->calib,
+                  "Calibration file (OpenCV YAML): its laser planes (and camera) replace the run's ground truth");
+  cmd->add_option("--axis", args->axis, "rows | cols (default: the manifest's gt_axis, else from the laser planes)");
+  cmd->add_option("--frames", args->frames, "Frames to scan: A:B (A inclusive, B exclusive), A:, :B or N");
+  cmd->add_option("--roi", args->roi, "Search only in X,Y,W,H (pixels)");
+  auto& e = args->options.extraction;
+  cmd->add_option("--threshold", e.threshold,
+                  "Minimum stripe peak in image DN (default: 10% of the frame's full scale, 2^bit_depth - 1)");
+  cmd->add_option("--high-threshold", e.high_threshold, "steger: high hysteresis threshold (default: 2 x threshold)");
+  cmd->add_option("--background", args->background, "Level subtracted before centroid and width (default: black level)");
+  cmd->add_option("--window", e.window, "com: half window in pixels (0: from the peak width)")->capture_default_str();
+  cmd->add_option("--min-width", e.min_width, "Minimum peak FWHM in pixels")->capture_default_str();
+  cmd->add_option("--max-width", e.max_width, "Maximum peak FWHM in pixels (0: none)")->capture_default_str();
+  cmd->add_option("--width", e.expected_width, "steger: expected stripe FWHM in pixels")->capture_default_str();
+  cmd->add_option("--sigma", e.sigma, "steger: filter sigma in pixels (0: from --width)")->capture_default_str();
+  cmd->add_option("--max-angle-deg", e.max_angle_deg, "steger: largest stripe angle from the search normal")
+      ->capture_default_str();
+  cmd->add_option("--channel", e.channel, "Colour images: channel holding the laser (0-based)");
+  cmd->add_option("--weights", args->weights, "Colour images: channel weights, e.g. 1,0,0");
+  cmd->add_option("--threads", e.threads, "Worker threads (0: all)")->capture_default_str();
+  auto& id = args->options.plane_id;
+  cmd->add_option("--link-distance", id.link_distance, "Plane identification: max step across between lines (px)")
+      ->capture_default_str();
+  cmd->add_option("--edge-margin", id.edge_margin, "Plane identification: edge connectivity distance (px)")
+      ->capture_default_str();
+  cmd->add_option("--min-segment-points", id.min_segment_points, "Plane identification: smaller segments are noise")
+      ->capture_default_str();
+  cmd->add_option("--min-ray-angle-deg", args->options.triangulation.min_ray_angle_deg,
+                  "Reject rays closer than this to the laser plane (degrees)")
+      ->capture_default_str();
+  cmd->add_flag("--quiet", args->quiet, "No summary on stderr");
+  cmd->callback([args] { Run(*args); });
+}
+
+}  // namespace
+
+LT_REGISTER_COMMAND("scan", Add);
+
+}  // namespace lt::cli
