@@ -167,10 +167,13 @@ LmSummary SolveLevenbergMarquardt(const LmProblem& p, const Eigen::VectorXd& x0,
       }
     }
     if (lambda > 1e20) {
-      // No step along the (damped) gradient lowers the cost: the cost is at its
-      // floating-point floor around a minimum.
-      s.converged = true;
-      s.message = "no further decrease possible (cost at its numerical floor)";
+      // No step along the (damped) gradient lowers the cost. Near a minimum
+      // that is the cost's floating-point floor; elsewhere the solver stalled.
+      const double cosine = GradientCosine(s.jacobian, s.residuals);
+      s.converged = cosine < 1e-6;
+      s.message = s.converged ? "no further decrease possible (cost at its numerical floor)"
+                              : "stalled: no step lowers the cost, but the gradient is not zero (cosine " +
+                                    FormatNumber(cosine) + ")";
       return s;
     }
   }
