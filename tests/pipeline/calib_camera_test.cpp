@@ -141,8 +141,10 @@ TEST(CalibCamera, NoisyCornersWithinToleranceAndHonestUncertainty) {
 TEST(CalibCamera, ReportedStdMatchesScatter) {
   const Camera cam(TrueCamera());
   std::vector<double> fx, std_fx, cx, std_cx;
+  auto poses = StandardPoses();
+  poses.resize(6);  // six views keep the 24 calibrations quick
   for (uint64_t seed = 1; seed <= 24; ++seed) {
-    const auto res = CalibrateCamera(Observe(cam, StandardPoses(), 0.2, seed), 1280, 1024);
+    const auto res = CalibrateCamera(Observe(cam, poses, 0.2, seed), 1280, 1024);
     ASSERT_TRUE(res.ok) << res.reason;
     fx.push_back(res.camera.fx);
     std_fx.push_back(res.param_std[0]);
