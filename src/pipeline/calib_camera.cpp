@@ -18,6 +18,37 @@ void Require(bool ok, const char* option, const std::string& message) {
   if (!ok) throw InputError(std::string("option ") + option, message);
 }
 
+// The pixel of camera-frame point (X, Y, Z) under the model (formulas of
+// sensor/distortion.h).
+bool ProjectScalar(const CameraParams& p, double X, double Y, double Z, double* u, double* v) {
+  double tx, ty;
+  if (p.distortion == DistortionModel::kFisheye) {
+    const double r = std::sqrt(X * X + Y * Y);
+    if (r == 0 && !(Z > 0)) return false;
+    if (r < 1e-12 * std::abs(Z)) {
+      tx = X / Z, ty = Y / Z;  // θ_d/θ → 1 on the axis
+    } else {
+      const double s = p.fisheye.ThetaD(std::atan2(r, Z)) / r;
+      tx = s * X, ty = s * Y;
+    }
+  } else {
+    if (!(Z > 0)) return false;
+    const double x = X / Z, y = Y / Z;
+    if (p.distortion == DistortionModel::kBrownConrady) {
+      const BrownConradyCoeffs& c = p.brown_conrady;
+      const double r2 = x * x + y * y;
+      const double radial = 1.0 + r2 * (c.k1 + r2 * (c.k2 + r2 * c.k3));
+      tx = x * radial + 2.0 * c.p1 * x * y + c.p2 * (r2 + 2.0 * x * x);
+      ty = y * radial + c.p1 * (r2 + 2.0 * y * y) + 2.0 * c.p2 * x * y;
+    } else {
+      tx = x, ty = y;
+    }
+  }
+  *u = p.fx * tx + p.cx;
+  *v = p.fy * ty + p.cy;
+  return std::isfinite(*u) && std::isfinite(*v);
+}
+
 int DistortionCount(DistortionModel m) {
   switch (m) {
     case DistortionModel::kNone: return 0;
@@ -61,12 +92,26 @@ CameraParams ParamsFromState(const Layout& l, const Eigen::VectorXd& x, int widt
 }
 
 // Residuals (projection − detection, pixels) of one view into out[0 .. 2n).
+// Scalar arithmetic: this is the inner loop of the refinement.
 bool ViewResiduals(const CameraParams& p, const Pose& cam_from_target, const CalibrationView& view, double* out) {
-  for (size_t k = 0; k < view.pixels.size(); ++k) {
-    Eigen::Vector2d px;
-    if (!ProjectWithModel(p, cam_from_target * view.target_points[k], &px)) return false;
-    out[2 * k] = px.x() - view.pixels[k].x();
-    out[2 * k + 1] = px.y() - view.pixels[k].y();
+  const Eigen::Matrix3d r = cam_from_target.linear();
+  const Eigen::Vector3d t = cam_from_target.translation();
+  const double r00 = r(0, 0), r01 = r(0, 1), r02 = r(0, 2), r10 = r(1, 0), r11 = r(1, 1), r12 = r(1, 2), r20 = r(2, 0),
+               r21 = r(2, 1), r22 = r(2, 2), t0 = t.x(), t1 = t.y(), t2 = t.z();
+  static_assert(sizeof(Eigen::Vector3d) == 3 * sizeof(double) && sizeof(Eigen::Vector2d) == 2 * sizeof(double));
+  const size_t n = view.pixels.size();
+  if (n == 0) return true;
+  const double* pts = view.target_points.data()->data();
+  const double* obs = view.pixels.data()->data();
+  for (size_t k = 0; k < n; ++k) {
+    const double x = pts[3 * k], y = pts[3 * k + 1], z = pts[3 * k + 2];
+    double u, v;
+    if (!ProjectScalar(p, r00 * x + r01 * y + r02 * z + t0, r10 * x + r11 * y + r12 * z + t1,
+                       r20 * x + r21 * y + r22 * z + t2, &u, &v)) {
+      return false;
+    }
+    out[2 * k] = u - obs[2 * k];
+    out[2 * k + 1] = v - obs[2 * k + 1];
   }
   return true;
 }
@@ -154,23 +199,10 @@ void CameraCalibrationOptions::Check() const {
 }
 
 bool ProjectWithModel(const CameraParams& p, const Eigen::Vector3d& q, Eigen::Vector2d* pixel) {
-  Eigen::Vector2d t;
-  if (p.distortion == DistortionModel::kFisheye) {
-    const double r = q.head<2>().norm();
-    if (r == 0 && !(q.z() > 0)) return false;
-    const double theta = std::atan2(r, q.z());
-    if (r < 1e-12 * std::abs(q.z())) {
-      t = q.head<2>() / q.z();  // θ_d/θ → 1 on the axis
-    } else {
-      t = p.fisheye.ThetaD(theta) / r * q.head<2>();
-    }
-  } else {
-    if (!(q.z() > 0)) return false;
-    const Eigen::Vector2d x = q.head<2>() / q.z();
-    t = p.distortion == DistortionModel::kBrownConrady ? p.brown_conrady.Distort(x) : x;
-  }
-  *pixel = {p.fx * t.x() + p.cx, p.fy * t.y() + p.cy};
-  return pixel->allFinite();
+  double u, v;
+  if (!ProjectScalar(p, q.x(), q.y(), q.z(), &u, &v)) return false;
+  *pixel = {u, v};
+  return true;
 }
 
 bool EstimateHomography(const std::vector<Eigen::Vector2d>& from, const std::vector<Eigen::Vector2d>& to,

@@ -16,7 +16,15 @@ Eigen::VectorXd Plus(const LmProblem& p, const Eigen::VectorXd& x, const Eigen::
   return p.plus ? p.plus(x, delta) : Eigen::VectorXd(x + delta);
 }
 
-bool AllFinite(const Eigen::VectorXd& v) { return v.allFinite(); }
+// Raw loops here and below: Eigen's element access is slow without optimisation
+// (the sanitizer builds), and these run on the whole Jacobian every iteration.
+bool AllFinite(const double* p, Eigen::Index n) {
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (!std::isfinite(p[i])) return false;
+  }
+  return true;
+}
+bool AllFinite(const Eigen::VectorXd& v) { return AllFinite(v.data(), v.size()); }
 
 bool Evaluate(const LmProblem& p, const Eigen::VectorXd& x, Eigen::VectorXd* r) {
   r->resize(p.num_residuals);
@@ -25,7 +33,7 @@ bool Evaluate(const LmProblem& p, const Eigen::VectorXd& x, Eigen::VectorXd* r) 
 
 bool Jacobian(const LmProblem& p, const Eigen::VectorXd& x, Eigen::MatrixXd* j) {
   bool ok = p.jacobian ? p.jacobian(x, j) : NumericJacobian(p, x, j);
-  return ok && j->rows() == p.num_residuals && j->cols() == p.num_params && j->allFinite();
+  return ok && j->rows() == p.num_residuals && j->cols() == p.num_params && AllFinite(j->data(), j->size());
 }
 
 // max_i |J_iᵀ r| / (|J_i| |r|): the cosine between the residual and the
@@ -34,12 +42,42 @@ double GradientCosine(const Eigen::MatrixXd& j, const Eigen::VectorXd& r) {
   const double rn = r.norm();
   if (rn == 0) return 0;
   double worst = 0;
-  for (int i = 0; i < j.cols(); ++i) {
-    const double cn = j.col(i).norm();
-    if (cn == 0) continue;
-    worst = std::max(worst, std::abs(j.col(i).dot(r)) / (cn * rn));
+  const Eigen::Index m = j.rows();
+  const double* rp = r.data();
+  for (Eigen::Index i = 0; i < j.cols(); ++i) {
+    const double* c = j.data() + i * m;
+    double cn2 = 0, dot = 0;
+    for (Eigen::Index k = 0; k < m; ++k) cn2 += c[k] * c[k], dot += c[k] * rp[k];
+    if (cn2 == 0) continue;
+    worst = std::max(worst, std::abs(dot) / (std::sqrt(cn2) * rn));
   }
   return worst;
+}
+
+// JᵀJ, row by row over each row's non-zero entries: calibration Jacobians are
+// block-sparse (a view's residuals depend on the shared parameters and its own
+// pose only), which makes this far cheaper than the dense product.
+Eigen::MatrixXd NormalMatrix(const Eigen::MatrixXd& j) {
+  const Eigen::Index m = j.rows(), n = j.cols();
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n, n);
+  std::vector<Eigen::Index> nz(static_cast<size_t>(n));
+  std::vector<double> val(static_cast<size_t>(n));
+  const double* jd = j.data();  // column-major
+  double* ad = a.data();
+  for (Eigen::Index r = 0; r < m; ++r) {
+    size_t cnt = 0;
+    for (Eigen::Index c = 0; c < n; ++c) {
+      const double v = jd[c * m + r];
+      if (v != 0) nz[cnt] = c, val[cnt] = v, ++cnt;
+    }
+    for (size_t p = 0; p < cnt; ++p) {
+      double* col = ad + nz[p] * n;  // a(nz[q], nz[p]) for q >= p: the lower triangle
+      for (size_t q = p; q < cnt; ++q) col[nz[q]] += val[p] * val[q];
+    }
+  }
+  for (Eigen::Index c = 0; c < n; ++c)
+    for (Eigen::Index r = c + 1; r < n; ++r) ad[r * n + c] = ad[c * n + r];
+  return a;
 }
 
 std::string ParamName(const std::vector<std::string>& names, int i) {
@@ -80,7 +118,7 @@ LmSummary SolveLevenbergMarquardt(const LmProblem& p, const Eigen::VectorXd& x0,
   s.cost = s.initial_cost = s.residuals.squaredNorm();
   const int n = p.num_params;
   double lambda = options.initial_lambda, nu = 2.0;
-  Eigen::MatrixXd a = s.jacobian.transpose() * s.jacobian;
+  Eigen::MatrixXd a = NormalMatrix(s.jacobian);
   Eigen::VectorXd g = s.jacobian.transpose() * s.residuals;
   Eigen::VectorXd r_new;
   for (s.iterations = 0; s.iterations < options.max_iterations; ++s.iterations) {
@@ -118,7 +156,7 @@ LmSummary SolveLevenbergMarquardt(const LmProblem& p, const Eigen::VectorXd& x0,
           s.residuals = r_new;
           s.cost = cost_new;
           s.jacobian = std::move(j_new);
-          a = s.jacobian.transpose() * s.jacobian;
+          a = NormalMatrix(s.jacobian);
           g = s.jacobian.transpose() * s.residuals;
           lambda *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
           nu = 2.0;
@@ -129,10 +167,13 @@ LmSummary SolveLevenbergMarquardt(const LmProblem& p, const Eigen::VectorXd& x0,
       }
     }
     if (lambda > 1e20) {
-      // No step along the (damped) gradient lowers the cost: the cost is at its
-      // floating-point floor around a minimum.
-      s.converged = true;
-      s.message = "no further decrease possible (cost at its numerical floor)";
+      // No step along the (damped) gradient lowers the cost. Near a minimum
+      // that is the cost's floating-point floor; elsewhere the solver stalled.
+      const double cosine = GradientCosine(s.jacobian, s.residuals);
+      s.converged = cosine < 1e-6;
+      s.message = s.converged ? "no further decrease possible (cost at its numerical floor)"
+                              : "stalled: no step lowers the cost, but the gradient is not zero (cosine " +
+                                    FormatNumber(cosine) + ")";
       return s;
     }
   }
@@ -151,7 +192,7 @@ LmCovariance EstimateCovariance(const LmSummary& solution, const std::vector<std
     return c;
   }
   c.sigma2 = solution.cost / c.dof;
-  const Eigen::MatrixXd a = j.transpose() * j;
+  const Eigen::MatrixXd a = NormalMatrix(j);
   Eigen::VectorXd scale(n);
   for (int i = 0; i < n; ++i) {
     if (!(a(i, i) > 0)) {

@@ -11,8 +11,9 @@
 // parameters' units) with Nielsen's update of λ. It stops when the gradient is
 // orthogonal to the residual to 1e-10 (max_i |J_iᵀ r| / (|J_i| |r|)), when the
 // predicted decrease falls below 1e-14 of the cost, when the cost is exactly
-// zero, or when no step along the gradient lowers the cost any more (the cost
-// has reached its floating-point floor: reported as converged, with a message).
+// zero, or when no step along the gradient lowers the cost any more: converged
+// (the cost's floating-point floor) if the gradient cosine is below 1e-6 there,
+// otherwise not converged ("stalled").
 #pragma once
 
 #include <Eigen/Core>

@@ -1,0 +1,490 @@
+#include "pipeline/calib_corners.h"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <type_traits>
+#include <utility>
+#include <variant>
+
+#include "core/error.h"
+#include "pipeline/gaussian_filter.h"
+
+namespace lt {
+
+namespace {
+
+void Require(bool ok, const char* option, const std::string& message) {
+  if (!ok) throw InputError(std::string("option ") + option, message);
+}
+
+std::string Fmt(double v, int digits = 3) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
+template <typename T>
+Image<float> ToFloat(const ImageView<T>& v) {
+  Image<float> out(v.width, v.height, 1);
+  for (int y = 0; y < v.height; ++y) {
+    for (int x = 0; x < v.width; ++x) {
+      double s = 0;
+      for (int c = 0; c < v.channels; ++c) s += double(v.At(x, y, c));
+      out.At(x, y) = float(s / v.channels);
+    }
+  }
+  return out;
+}
+
+// Image noise σ: Immerkær's mask [1 −2 1; −2 4 −2; 1 −2 1] responds to white
+// noise with standard deviation 6σ and hardly to smooth image content; the
+// median of its magnitude (/0.6745 for a normal distribution) ignores edges.
+double NoiseSigma(const Image<float>& img) {
+  std::vector<float> a;
+  const int stride = img.width * img.height > 2000000 ? 2 : 1;
+  for (int y = 1; y + 1 < img.height; y += stride) {
+    for (int x = 1; x + 1 < img.width; x += stride) {
+      auto p = [&](int dx, int dy) { return double(img.At(x + dx, y + dy)); };
+      const double r = p(-1, -1) + p(1, -1) + p(-1, 1) + p(1, 1) - 2 * (p(0, -1) + p(0, 1) + p(-1, 0) + p(1, 0)) +
+                       4 * p(0, 0);
+      a.push_back(float(std::abs(r)));
+    }
+  }
+  if (a.empty()) return 0;
+  std::nth_element(a.begin(), a.begin() + a.size() / 2, a.end());
+  return a[a.size() / 2] / 0.6745 / 6.0;
+}
+
+double Percentile(std::vector<float> v, double q) {
+  if (v.empty()) return 0;
+  const size_t k = std::min(v.size() - 1, size_t(q * double(v.size() - 1) + 0.5));
+  std::nth_element(v.begin(), v.begin() + ptrdiff_t(k), v.end());
+  return v[k];
+}
+
+// The smoothed image and its second derivatives, whole image (borders mirrored).
+struct Smoothed {
+  int w = 0, h = 0;
+  std::vector<float> r, rxx, rxy, ryy;
+  float At(const std::vector<float>& v, int x, int y) const { return v[size_t(y) * size_t(w) + size_t(x)]; }
+  // Bilinear sample of r (clamped to the image).
+  double Sample(double x, double y) const {
+    x = std::clamp(x, 0.0, w - 1.0);
+    y = std::clamp(y, 0.0, h - 1.0);
+    const int x0 = std::min(int(x), w - 2 < 0 ? 0 : w - 2), y0 = std::min(int(y), h - 2 < 0 ? 0 : h - 2);
+    const int x1 = std::min(x0 + 1, w - 1), y1 = std::min(y0 + 1, h - 1);
+    const double fx = x - x0, fy = y - y0;
+    return (1 - fy) * ((1 - fx) * At(r, x0, y0) + fx * At(r, x1, y0)) + fy * ((1 - fx) * At(r, x0, y1) + fx * At(r, x1, y1));
+  }
+};
+
+Smoothed Smooth(const Image<float>& img, const GaussianKernels& k) {
+  Smoothed s;
+  s.w = img.width, s.h = img.height;
+  const int w = s.w, h = s.h, R = k.radius;
+  const size_t n = size_t(w) * size_t(h);
+  std::vector<float> h0(n), h1(n), h2(n), row(size_t(w + 2 * R));
+  for (int y = 0; y < h; ++y) {
+    for (int x = -R; x < w + R; ++x) row[size_t(x + R)] = img.At(MirrorIndex(x, w), y);
+    float* o0 = &h0[size_t(y) * size_t(w)];
+    float* o1 = &h1[size_t(y) * size_t(w)];
+    float* o2 = &h2[size_t(y) * size_t(w)];
+    for (int x = 0; x < w; ++x) o0[x] = o1[x] = o2[x] = 0;
+    // out[x] = Σ_o in[x − o] K(o): derivatives of Σ_m in[m] K0(x − m).
+    for (int o = -R; o <= R; ++o) {
+      const float c0 = k.k0[size_t(o + R)], c1 = k.k1[size_t(o + R)], c2 = k.k2[size_t(o + R)];
+      const float* in = &row[size_t(R - o)];
+      for (int x = 0; x < w; ++x) {
+        o0[x] += in[x] * c0;
+        o1[x] += in[x] * c1;
+        o2[x] += in[x] * c2;
+      }
+    }
+  }
+  s.r.assign(n, 0);
+  s.rxx.assign(n, 0);
+  s.rxy.assign(n, 0);
+  s.ryy.assign(n, 0);
+  for (int y = 0; y < h; ++y) {
+    float* r = &s.r[size_t(y) * size_t(w)];
+    float* rxx = &s.rxx[size_t(y) * size_t(w)];
+    float* rxy = &s.rxy[size_t(y) * size_t(w)];
+    float* ryy = &s.ryy[size_t(y) * size_t(w)];
+    for (int o = -R; o <= R; ++o) {
+      const size_t src = size_t(MirrorIndex(y - o, h)) * size_t(w);
+      const float c0 = k.k0[size_t(o + R)], c1 = k.k1[size_t(o + R)], c2 = k.k2[size_t(o + R)];
+      const float *a0 = &h0[src], *a1 = &h1[src], *a2 = &h2[src];
+      for (int x = 0; x < w; ++x) {
+        r[x] += a0[x] * c0;
+        rxx[x] += a2[x] * c0;
+        rxy[x] += a1[x] * c1;
+        ryy[x] += a0[x] * c2;
+      }
+    }
+  }
+  return s;
+}
+
+struct Candidate {
+  Eigen::Vector2d p;
+  double strength = 0;
+  Eigen::Vector2d e1, e2;  // unit directions of the two edges through the corner
+  Eigen::Matrix2d hessian;
+};
+
+// Newton's method on the gradient of the smoothed image: the saddle point.
+bool RefineSaddle(const ImageView<float>& img, double sigma, int radius, double border, Eigen::Vector2d* p,
+                  Eigen::Matrix2d* hessian) {
+  const Eigen::Vector2d start = *p;
+  for (int it = 0; it < 30; ++it) {
+    const SmoothedDerivatives d = SmoothedDerivativesAt(img, p->x(), p->y(), sigma, radius);
+    Eigen::Matrix2d hm;
+    hm << d.rxx, d.rxy, d.rxy, d.ryy;
+    if (!(hm.determinant() < 0)) return false;
+    Eigen::Vector2d step = -hm.inverse() * Eigen::Vector2d(d.rx, d.ry);
+    if (step.norm() > 0.5) step *= 0.5 / step.norm();
+    *p += step;
+    if ((*p - start).norm() > 2.0) return false;
+    if (p->x() < border || p->y() < border || p->x() > img.width - 1 - border || p->y() > img.height - 1 - border) {
+      return false;
+    }
+    if (step.norm() < 1e-6) {
+      *hessian = hm;
+      return true;
+    }
+  }
+  return false;
+}
+
+// Four dark/bright changes on a circle around the corner, at two pairs of
+// nearly opposite angles: the two edges.
+bool EdgeDirections(const Smoothed& s, const Eigen::Vector2d& p, double radius, double min_range, Candidate* c) {
+  constexpr int kSamples = 48;
+  double v[kSamples];
+  double lo = HUGE_VAL, hi = -HUGE_VAL;
+  for (int k = 0; k < kSamples; ++k) {
+    const double a = 2 * M_PI * k / kSamples;
+    v[k] = s.Sample(p.x() + radius * std::cos(a), p.y() + radius * std::sin(a));
+    lo = std::min(lo, v[k]);
+    hi = std::max(hi, v[k]);
+  }
+  if (!(hi - lo >= min_range)) return false;
+  const double mid = 0.5 * (lo + hi);
+  std::vector<double> t;
+  for (int k = 0; k < kSamples; ++k) {
+    const double a = v[k] - mid, b = v[(k + 1) % kSamples] - mid;
+    if ((a > 0) != (b > 0)) t.push_back(2 * M_PI * (k + a / (a - b)) / kSamples);
+  }
+  if (t.size() != 4) return false;
+  auto off_pi = [](double d) { return std::abs(std::remainder(d - M_PI, 2 * M_PI)); };
+  constexpr double kTol = 30 * M_PI / 180;
+  if (off_pi(t[2] - t[0]) > kTol || off_pi(t[3] - t[1]) > kTol) return false;
+  // Average each pair as lines (doubled angles).
+  auto line = [](double a, double b) {
+    const double x = std::cos(2 * a) + std::cos(2 * b), y = std::sin(2 * a) + std::sin(2 * b);
+    const double ang = 0.5 * std::atan2(y, x);
+    return Eigen::Vector2d(std::cos(ang), std::sin(ang));
+  };
+  c->e1 = line(t[0], t[2]);
+  c->e2 = line(t[1], t[3]);
+  return std::abs(c->e1.dot(c->e2)) < std::cos(15 * M_PI / 180);
+}
+
+using Cell = std::pair<int, int>;
+
+struct Grid {
+  std::map<Cell, int> cells;  // (a, b) -> candidate
+};
+
+// Whether direction d (unit) runs along one of the candidate's edges (within 20 degrees).
+bool AlongEdge(const Candidate& c, const Eigen::Vector2d& d) {
+  const double cmin = std::cos(20 * M_PI / 180);
+  return std::abs(c.e1.dot(d)) > cmin || std::abs(c.e2.dot(d)) > cmin;
+}
+
+Grid GrowGrid(const std::vector<Candidate>& cands, int seed, double tolerance) {
+  Grid g;
+  const Candidate& s = cands[size_t(seed)];
+  std::vector<char> used(cands.size(), 0);
+  auto nearest_along = [&](const Eigen::Vector2d& dir) {
+    int best = -1;
+    double best_d = HUGE_VAL;
+    for (size_t k = 0; k < cands.size(); ++k) {
+      if (int(k) == seed) continue;
+      const Eigen::Vector2d d = cands[k].p - s.p;
+      const double len = d.norm();
+      if (len < 3 || len >= best_d) continue;
+      if (d.dot(dir) < len * std::cos(15 * M_PI / 180)) continue;
+      best = int(k), best_d = len;
+    }
+    return best;
+  };
+  g.cells[{0, 0}] = seed;
+  used[size_t(seed)] = 1;
+  const int n[4] = {nearest_along(s.e1), nearest_along(-s.e1), nearest_along(s.e2), nearest_along(-s.e2)};
+  const Cell at[4] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+  if ((n[0] < 0 && n[1] < 0) || (n[2] < 0 && n[3] < 0)) return g;
+  for (int k = 0; k < 4; ++k) {
+    if (n[k] >= 0 && !used[size_t(n[k])]) {
+      g.cells[at[k]] = n[k];
+      used[size_t(n[k])] = 1;
+    }
+  }
+  auto pos = [&](const Cell& c) -> const Eigen::Vector2d* {
+    auto it = g.cells.find(c);
+    return it == g.cells.end() ? nullptr : &cands[size_t(it->second)].p;
+  };
+  const Cell dirs[4] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+  for (bool changed = true; changed;) {
+    changed = false;
+    const std::vector<std::pair<Cell, int>> snapshot(g.cells.begin(), g.cells.end());
+    for (const auto& [cell, idx] : snapshot) {
+      for (const Cell& d : dirs) {
+        const Cell target{cell.first + d.first, cell.second + d.second};
+        if (g.cells.count(target)) continue;
+        const Eigen::Vector2d& p = cands[size_t(idx)].p;
+        Eigen::Vector2d pred;
+        double step = 0;
+        if (const auto* back = pos({cell.first - d.first, cell.second - d.second})) {
+          pred = 2 * p - *back;
+          step = (p - *back).norm();
+        } else {
+          bool found = false;
+          for (int sgn : {1, -1}) {
+            const Cell perp{d.second * sgn, d.first * sgn};
+            const auto* tp = pos({target.first + perp.first, target.second + perp.second});
+            const auto* cp = pos({cell.first + perp.first, cell.second + perp.second});
+            if (tp && cp) {
+              pred = p + (*tp - *cp);
+              step = (*tp - *cp).norm();
+              found = true;
+              break;
+            }
+          }
+          if (!found) continue;
+        }
+        int best = -1;
+        double best_d = tolerance * step;
+        for (size_t k = 0; k < cands.size(); ++k) {
+          if (used[k]) continue;
+          const double dist = (cands[k].p - pred).norm();
+          if (dist < best_d) best = int(k), best_d = dist;
+        }
+        if (best < 0) continue;
+        const Eigen::Vector2d along = (cands[size_t(best)].p - p).normalized();
+        if (!AlongEdge(cands[size_t(best)], along) || !AlongEdge(cands[size_t(idx)], along)) continue;
+        g.cells[target] = best;
+        used[size_t(best)] = 1;
+        changed = true;
+      }
+    }
+  }
+  return g;
+}
+
+}  // namespace
+
+void CornerDetectionOptions::Check() const {
+  Require(std::isfinite(sigma_px) && sigma_px >= 0.7 && sigma_px <= 5, "sigma_px",
+          "must be in [0.7, 5] pixels, got " + FormatNumber(sigma_px));
+  Require(min_response > 0 && min_response < 1, "min_response", "must be in (0, 1), got " + FormatNumber(min_response));
+  Require(neighbour_tolerance > 0 && neighbour_tolerance < 0.5, "neighbour_tolerance",
+          "must be in (0, 0.5), got " + FormatNumber(neighbour_tolerance));
+  Require(max_seeds >= 1, "max_seeds", "must be >= 1, got " + std::to_string(max_seeds));
+}
+
+template <typename T>
+CornerDetection DetectCheckerboard(const ImageView<T>& view, const CheckerboardSpec& board,
+                                   const CornerDetectionOptions& options) {
+  options.Check();
+  board.Check();
+  if (view.empty() || view.data == nullptr || view.channels < 1) throw InputError("", "empty image");
+  CornerDetection det;
+  auto refuse = [&](std::string reason) {
+    det.ok = false;
+    det.reason = std::move(reason);
+    det.corners.clear();
+    det.corner_std_px.clear();
+    return det;
+  };
+  const Image<float> img = ToFloat(view);
+  const ImageView<float> iv = img.View();
+  const int w = img.width, h = img.height;
+  const double sigma = options.sigma_px;
+
+  // ---- noise and contrast
+  double noise = NoiseSigma(img);
+  if (std::is_integral_v<T>) noise = std::sqrt(noise * noise + 1.0 / 12.0);  // quantisation
+  det.noise_sigma = noise;
+  {
+    std::vector<float> values;
+    const size_t step = std::max<size_t>(1, img.pixels.size() / 1000000);
+    for (size_t k = 0; k < img.pixels.size(); k += step) values.push_back(img.pixels[k]);
+    det.contrast = Percentile(values, 0.99) - Percentile(values, 0.01);
+  }
+  if (!(det.contrast > 5 * noise) || !(det.contrast > 0)) {
+    return refuse("no checkerboard found: the image has no contrast above its noise (contrast " + Fmt(det.contrast) +
+                  ", noise " + Fmt(noise) + ")");
+  }
+
+  // ---- saddle candidates
+  const GaussianKernels kernels(sigma);
+  const Smoothed sm = Smooth(img, kernels);
+  const double sigma_eff2 = sigma * sigma + 1.0 / 6.0;  // Gaussian, the kernel's pixel box and the pixel's own
+  const double ideal = det.contrast / (M_PI * sigma_eff2);
+  const double threshold = std::pow(options.min_response * ideal, 2);
+  const double border = 2 * sigma + 2;
+  const int nms = std::max(1, int(std::lround(sigma)));
+  std::vector<float> strength(size_t(w) * size_t(h), 0.0f);
+  for (size_t k = 0; k < strength.size(); ++k) {
+    strength[k] = sm.rxy[k] * sm.rxy[k] - sm.rxx[k] * sm.ryy[k];
+  }
+  std::vector<Candidate> cands;
+  const int b0 = int(std::ceil(border));
+  for (int y = b0; y < h - b0; ++y) {
+    for (int x = b0; x < w - b0; ++x) {
+      const float s = strength[size_t(y) * size_t(w) + size_t(x)];
+      if (!(s > threshold)) continue;
+      bool is_max = true;
+      for (int dy = -nms; dy <= nms && is_max; ++dy) {
+        for (int dx = -nms; dx <= nms; ++dx) {
+          if (dx == 0 && dy == 0) continue;
+          const float o = strength[size_t(y + dy) * size_t(w) + size_t(x + dx)];
+          // Ties: the first in scan order wins.
+          if (o > s || (o == s && (dy < 0 || (dy == 0 && dx < 0)))) {
+            is_max = false;
+            break;
+          }
+        }
+      }
+      if (!is_max) continue;
+      Candidate c;
+      c.p = Eigen::Vector2d(x, y);
+      c.strength = s;
+      if (!RefineSaddle(iv, sigma, kernels.radius, border, &c.p, &c.hessian)) continue;
+      if (!EdgeDirections(sm, c.p, 2.5 * sigma + 1, 0.25 * det.contrast, &c)) continue;
+      bool duplicate = false;
+      for (const auto& o : cands) duplicate = duplicate || (o.p - c.p).norm() < 1.0;
+      if (!duplicate) cands.push_back(c);
+    }
+  }
+  det.candidates = int(cands.size());
+  if (cands.size() < 4) {
+    return refuse("no checkerboard found: " + std::to_string(cands.size()) + " corner-like points in the image");
+  }
+
+  // ---- grid, from the strongest seeds
+  std::vector<int> order(cands.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = int(k);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return cands[size_t(a)].strength > cands[size_t(b)].strength; });
+  Grid best;
+  std::vector<char> tried(cands.size(), 0);
+  int seeds = 0;
+  bool complete = false;
+  int ni = 0, amin = 0, bmin = 0;
+  for (int seed : order) {
+    if (seeds >= options.max_seeds) break;
+    if (tried[size_t(seed)]) continue;
+    ++seeds;
+    Grid g = GrowGrid(cands, seed, options.neighbour_tolerance);
+    for (const auto& [cell, idx] : g.cells) tried[size_t(idx)] = 1;
+    if (g.cells.size() > best.cells.size()) best = g;
+    int a0 = 1 << 30, a1 = -(1 << 30), c0 = 1 << 30, c1 = -(1 << 30);
+    for (const auto& [cell, idx] : g.cells) {
+      a0 = std::min(a0, cell.first), a1 = std::max(a1, cell.first);
+      c0 = std::min(c0, cell.second), c1 = std::max(c1, cell.second);
+    }
+    const int da = a1 - a0 + 1, dc = c1 - c0 + 1;
+    const bool full = int(g.cells.size()) == da * dc;
+    if (full && ((da == board.rows && dc == board.cols) || (da == board.cols && dc == board.rows))) {
+      best = g;
+      complete = true;
+      ni = da, amin = a0, bmin = c0;
+      break;
+    }
+  }
+  for (const auto& [cell, idx] : best.cells) det.grid.push_back({cands[size_t(idx)].p, cell.first, cell.second});
+  if (!complete) {
+    if (best.cells.size() < 4) return refuse("no checkerboard found: no grid of corners");
+    return refuse("found a grid of " + std::to_string(best.cells.size()) + " corners, not the complete " +
+                  std::to_string(board.rows) + " x " + std::to_string(board.cols) +
+                  " board: the board is partly outside the image, occluded, or too small or blurred for sigma_px = " +
+                  Fmt(sigma));
+  }
+
+  // ---- board order: rows/cols by count, handedness, then colour
+  auto local = [&](int i, int j) -> const Candidate& {
+    // Board (i, j) before flips -> the grid's own cell.
+    const Cell c = ni == board.rows ? Cell{amin + i, bmin + j} : Cell{amin + j, bmin + i};
+    return cands[size_t(best.cells.at(c))];
+  };
+  const int R = board.rows, C = board.cols;
+  bool flip_j = false, flip_both = false;
+  auto at = [&](int i, int j) -> const Candidate& {
+    if (flip_both) i = R - 1 - i, j = C - 1 - j;
+    if (flip_j) j = C - 1 - j;
+    return local(i, j);
+  };
+  Eigen::Vector2d along_row = Eigen::Vector2d::Zero(), along_col = Eigen::Vector2d::Zero();
+  for (int i = 0; i < R; ++i)
+    for (int j = 0; j + 1 < C; ++j) along_row += at(i, j + 1).p - at(i, j).p;
+  for (int i = 0; i + 1 < R; ++i)
+    for (int j = 0; j < C; ++j) along_col += at(i + 1, j).p - at(i, j).p;
+  // Seen from the front, board x (along a row) then y (down a column) turn
+  // clockwise in the image (y down): a positive cross product.
+  if (along_row.x() * along_col.y() - along_row.y() * along_col.x() < 0) flip_j = true;
+  double dark = 0, bright = 0;
+  int nd = 0, nb = 0;
+  for (int i = 0; i + 1 < R; ++i) {
+    for (int j = 0; j + 1 < C; ++j) {
+      const Eigen::Vector2d centre = 0.25 * (at(i, j).p + at(i + 1, j).p + at(i, j + 1).p + at(i + 1, j + 1).p);
+      const double v = sm.Sample(centre.x(), centre.y());
+      if ((i + j) % 2 == 0) {
+        dark += v, ++nd;
+      } else {
+        bright += v, ++nb;
+      }
+    }
+  }
+  dark /= nd, bright /= nb;
+  if (!(std::abs(bright - dark) > 0.25 * det.contrast)) {
+    return refuse("the squares' colours do not tell the board's orientation (mean levels " + Fmt(dark) + " and " +
+                  Fmt(bright) + ")");
+  }
+  if (dark > bright) flip_both = true;
+
+  // ---- output, with the predicted standard deviations
+  double kg = 0, k0 = 0;
+  for (float v : kernels.k1) kg += double(v) * v;
+  for (float v : kernels.k0) k0 += double(v) * v;
+  const double gradient_var = noise * noise * kg * k0;
+  det.grid.clear();
+  for (int i = 0; i < R; ++i) {
+    for (int j = 0; j < C; ++j) {
+      const Candidate& c = at(i, j);
+      det.corners.push_back(c.p);
+      const Eigen::Matrix2d hinv = c.hessian.inverse();
+      det.corner_std_px.push_back(std::sqrt(gradient_var * (hinv * hinv.transpose()).trace() / 2));
+      det.grid.push_back({c.p, i, j});
+    }
+  }
+  det.ok = true;
+  return det;
+}
+
+template CornerDetection DetectCheckerboard<uint8_t>(const ImageView<uint8_t>&, const CheckerboardSpec&,
+                                                     const CornerDetectionOptions&);
+template CornerDetection DetectCheckerboard<uint16_t>(const ImageView<uint16_t>&, const CheckerboardSpec&,
+                                                      const CornerDetectionOptions&);
+template CornerDetection DetectCheckerboard<float>(const ImageView<float>&, const CheckerboardSpec&,
+                                                   const CornerDetectionOptions&);
+
+CornerDetection DetectCheckerboard(const AnyImage& image, const CheckerboardSpec& board,
+                                   const CornerDetectionOptions& options) {
+  return std::visit([&](const auto& img) { return DetectCheckerboard(img.View(), board, options); }, image);
+}
+
+}  // namespace lt

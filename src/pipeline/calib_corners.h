@@ -1,0 +1,82 @@
+// Checkerboard corner detection with subpixel refinement (docs/calibration.md).
+//
+//  1. Saddle response: the image smoothed by a Gaussian of sigma_px (kernels
+//     integrated over each pixel, pipeline/gaussian_filter.h) has a saddle at
+//     each X-junction of the board; S = r_xy² − r_xx·r_yy (the negated Hessian
+//     determinant) peaks there. Local maxima of S above min_response of an
+//     ideal corner of the image's contrast are candidates.
+//  2. Subpixel: Newton's method on the gradient of the smoothed image,
+//     evaluated exactly at subpixel positions, converges to its saddle point
+//     (the local quadratic model of the smoothed image is fitted afresh at
+//     each step). An X-junction of two straight edges is point-symmetric about
+//     the corner, so the saddle of its smoothed image is the corner itself,
+//     whatever the angle between the edges (perspective).
+//  3. Validation: on a circle around the saddle the smoothed image must change
+//     between dark and bright exactly four times, at two pairs of nearly
+//     opposite angles (the two edges through the corner).
+//  4. Grid: from a seed corner, neighbours are found along its two edge
+//     directions, then the grid grows by predicting each next corner from the
+//     two before it (or from a parallelogram of three) and taking the nearest
+//     candidate within neighbour_tolerance of the local spacing.
+//  5. Order: the grid must be complete and rows x cols (or cols x rows); the
+//     board's orientation follows from the colour convention of
+//     pipeline/calib_checkerboard.h (rows + cols odd).
+//
+// Refusals (ok = false, with the reason): no contrast, no grid, a grid other
+// than rows x cols (a partly visible or occluded board: `grid` then holds the
+// corners found, in the grid's own indices), or colours that do not tell the
+// board's orientation. Corners are required at least 2·sigma_px + 2 pixels
+// inside the image (the smoothing kernel needs the image around them), so a
+// board that touches the image border is refused as partly visible.
+//
+// Each corner comes with its predicted standard deviation from the image
+// noise (estimated from the image, Immerkær's operator with a median) through
+// the refinement: Cov = σ_n² c H⁻¹H⁻ᵀ, with H the Hessian at the saddle and
+// c the squared norm of the derivative kernel.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "core/image.h"
+#include "pipeline/calib_checkerboard.h"
+
+namespace lt {
+
+struct CornerDetectionOptions {
+  double sigma_px = 1.5;             // Gaussian smoothing (pixels), in [0.7, 5]
+  double min_response = 0.15;        // candidate threshold, fraction of an ideal corner's response, in (0, 1)
+  double neighbour_tolerance = 0.3;  // fraction of the local corner spacing, in (0, 0.5)
+  int max_seeds = 20;                // seed corners tried before giving up
+
+  // Throws lt::InputError ("option <name>: ...").
+  void Check() const;
+};
+
+struct GridCorner {
+  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
+  int i = 0, j = 0;  // board row and column when ok; the grid's own indices otherwise
+};
+
+struct CornerDetection {
+  bool ok = false;
+  std::string reason;  // why the board was not found (empty when ok)
+  // When ok: rows·cols corners, row-major in board order (index i·cols + j).
+  std::vector<Eigen::Vector2d> corners;
+  std::vector<double> corner_std_px;  // predicted standard deviation per axis of each corner
+  std::vector<GridCorner> grid;       // the corners of the largest grid found
+  double noise_sigma = 0;             // image noise estimate (image units)
+  double contrast = 0;                // 99th − 1st percentile of the image (image units)
+  int candidates = 0;                 // validated saddle points
+};
+
+// One-channel images, or several channels averaged. Throws lt::InputError for
+// invalid options or board, or an empty image.
+template <typename T>
+CornerDetection DetectCheckerboard(const ImageView<T>& image, const CheckerboardSpec& board,
+                                   const CornerDetectionOptions& options = {});
+CornerDetection DetectCheckerboard(const AnyImage& image, const CheckerboardSpec& board,
+                                   const CornerDetectionOptions& options = {});
+
+}  // namespace lt
