@@ -286,10 +286,11 @@ Document Document::Parse(const std::string& text, std::string display_name,
     ctx->root = nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
     auto [line, col] = LineColumn(text, e.byte > 0 ? e.byte - 1 : 0);
+    // nlohmann's message reads "[json.exception.parse_error.101] parse error at
+    // line 3, column 8: syntax error while parsing ..."; keep the reason only.
     std::string msg = e.what();
-    // nlohmann's message starts with "[json.exception.parse_error.101] parse error at line..": keep the part after "error: " when present.
-    auto pos = msg.find("error: ");
-    if (pos != std::string::npos) msg = msg.substr(pos + 7);
+    auto pos = msg.find(": ");
+    if (msg.find("parse error") != std::string::npos && pos != std::string::npos) msg = msg.substr(pos + 2);
     throw InputError(ctx->file + ":" + std::to_string(line) + ":" + std::to_string(col),
                      "invalid JSON: " + msg);
   } catch (const nlohmann::json::exception& e) {  // e.g. a number too large for a double

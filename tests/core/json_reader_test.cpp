@@ -61,6 +61,8 @@ TEST(JsonReader, NumberOverflowIsAnInputError) {
 TEST(JsonReader, SyntaxErrorNamesLineAndColumn) {
   std::string msg = ErrorOf([] { Doc("{\n  \"a\": 1,\n  \"b\": ]\n}"); });
   EXPECT_EQ(msg.rfind("scene.json:3:", 0), 0u) << msg;
+  EXPECT_EQ(msg.find("json.exception"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("invalid JSON: syntax error"), std::string::npos) << msg;
 }
 
 TEST(JsonReader, PointerEscapesAndArrayIndices) {
