@@ -82,7 +82,8 @@ FrameRenderer::FrameRenderer(const SceneFile& scene, const EmbreeScene& embree, 
 
 FrameRenderer::~FrameRenderer() = default;
 
-void FrameRenderer::GroundTruthPass(const Pose& world_from_cam, const FrameLights& lights, RenderedFrame* out) const {
+void FrameRenderer::GroundTruthPass(const Pose& world_from_cam, const FrameLights& lights, RenderedFrame* out,
+                                    std::vector<ChiefHit>* hits) const {
   const Camera& cam = scene_.sensor.camera;
   const int w = cam.width(), h = cam.height();
   GroundTruthBuffers& gt = out->gt;
@@ -91,6 +92,7 @@ void FrameRenderer::GroundTruthPass(const Pose& world_from_cam, const FrameLight
   gt.instance = Image<float>(w, h, 1, -1.0f);
   gt.material = Image<float>(w, h, 1, -1.0f);
   Image<uint8_t> near(w, h, 1, 0);
+  hits->assign(size_t(w) * size_t(h), ChiefHit{});
   const Pose cam_from_world = world_from_cam.inverse();
   const double footprint_per_m = cam.pixel_pitch_m() / cam.image_distance_m();  // metres per pixel per metre depth
   tbb::enumerable_thread_specific<uint64_t> rays(0);
@@ -105,6 +107,11 @@ void FrameRenderer::GroundTruthPass(const Pose& world_from_cam, const FrameLight
       ++ray_count;
       auto hit = embree_.Intersect(ray);
       if (!hit) continue;
+      ChiefHit& chief = (*hits)[size_t(y) * size_t(w) + size_t(x)];
+      chief.valid = true;
+      chief.p_world = hit->position;
+      chief.normal = hit->geometric_normal;
+      chief.depth = hit->t * ray.direction.norm();
       Eigen::Vector3d p_cam = cam_from_world * hit->position;
       Eigen::Vector3d n = cam_from_world.linear() * hit->shading_normal;
       if (n.dot(p_cam) > 0) n = -n;
@@ -236,8 +243,9 @@ RenderedFrame FrameRenderer::Render(int64_t frame_index) const {
   film_options.height = h;
   film_options.laser_sheets = layout_.channels;
   Film film(film_options);
+  std::vector<ChiefHit> chief_hits;
   InArena(threads_, [&] {
-    GroundTruthPass(out.world_from_cam, lights, &out);
+    GroundTruthPass(out.world_from_cam, lights, &out, &chief_hits);
     SamplePass(out, broadband || !scene_.render.adaptive_sampling, &film, &out.stats);
   });
   for (float v : out.near_mask.pixels) out.stats.near_pixels += v > 0;
@@ -293,6 +301,7 @@ RenderedFrame FrameRenderer::Render(int64_t frame_index) const {
   exposure.width = w;
   exposure.height = h;
   exposure.exposure_s = sf.exposure_s;
+  exposure.analog_gain_db = sf.analog_gain_db;
   const double joules_per_radiance = cam.pixel_area_m2() * sf.exposure_s;
   for (int g = 0; g < layout_.groups; ++g) {
     MonochromaticEnergy m;
@@ -332,7 +341,7 @@ RenderedFrame FrameRenderer::Render(int64_t frame_index) const {
   out.axis = ChooseScanAxis(rig.lasers);
   if (sf.laser_fraction > 0 && !rig.lasers.empty()) {
     InArena(threads_, [&] {
-      out.centers = ComputeStripeCenters(embree_, cam, rig.lasers, out.world_from_cam, out.axis);
+      out.centers = ComputeStripeCenters(embree_, cam, rig.lasers, out.world_from_cam, out.axis, {}, &chief_hits);
     });
   }
   out.stats.ground_truth_ms = Ms(t1, std::chrono::steady_clock::now());

@@ -79,7 +79,8 @@ class FrameRenderer {
 
  private:
   struct Impl;
-  void GroundTruthPass(const Pose& world_from_cam, const FrameLights& lights, RenderedFrame* out) const;
+  void GroundTruthPass(const Pose& world_from_cam, const FrameLights& lights, RenderedFrame* out,
+                       std::vector<ChiefHit>* hits) const;
   void SamplePass(const RenderedFrame& frame, bool all_pixels, Film* film, FrameStats* stats) const;
 
   const SceneFile& scene_;

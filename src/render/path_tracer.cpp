@@ -1,4 +1,5 @@
 #include "render/path_tracer.h"
+#include "render/path_vertex.h"
 
 #include <algorithm>
 #include <array>
@@ -14,10 +15,8 @@ namespace lt {
 
 namespace {
 
-constexpr int kMaxGroups = 8;             // monochromatic emitters per rig
-constexpr int kMaxChannels = 64;          // film laser channels (sheets) per rig
-constexpr int kMaxProbeHits = 8;          // subsurface probe-ray intersections
-constexpr double kProfileTruncation = 0.999;  // fraction of the profile sampled
+constexpr int kMaxGroups = PathTracer::kMaxGroups;
+constexpr int kMaxChannels = PathTracer::kMaxChannels;
 
 Eigen::Vector3f F(const Eigen::Vector3d& v) { return v.cast<float>(); }
 Eigen::Vector3d D(const Eigen::Vector3f& v) { return v.cast<double>(); }
@@ -53,21 +52,6 @@ Eigen::Vector3f LedRadiance(const LedLight& led, const Eigen::Vector3d& dir_from
 
 }  // namespace
 
-struct PathTracer::Vertex {
-  Eigen::Vector3d p;        // world
-  Eigen::Vector3d n_geo;    // unit, on the side the path arrived from
-  Eigen::Vector3d n_shade;  // unit, same side as n_geo
-  Frame frame;              // shading frame (float)
-  Eigen::Vector3f wo;       // local, toward where the path came from
-  const Material* material = nullptr;
-  uint32_t material_id = 0;
-  Eigen::Vector3f base_color;
-  float alpha = 1;  // GGX alpha (clamped)
-  std::array<float, kMaxGroups> albedo_mono{};  // base colour at each emitter's wavelength
-  bool subsurface = false;
-
-  Eigen::Vector3f ToLocal(const Eigen::Vector3d& w) const { return frame.ToLocal(F(w)); }
-};
 
 PathTracer::PathTracer(const EmbreeScene& scene, const Environment& environment,
                        const Image<float>* environment_map, const PathTracerOptions& options, int channels)
@@ -163,73 +147,6 @@ void PathTracer::AddEmitterLight(const Vertex& v, const FrameLights& lights, std
   }
 }
 
-void PathTracer::AddSubsurfaceLight(const Vertex& v, const FrameLights& lights, std::span<const float> beta_mono,
-                                    Rng& rng, std::span<float> mono, TraceStats* stats) const {
-  const Subsurface& sss = *v.material->subsurface;
-  float cos_o = std::clamp(v.wo.z(), 0.0f, 1.0f);
-  float e_avg = DielectricSpecularAlbedoAverage(v.alpha);
-  // Exit coupling of the diffuse base (as the BSDF's diffuse lobe): (1 - E(cos_o)) / (pi (1 - E_avg)).
-  double exit = (1.0 - DielectricSpecularAlbedo(cos_o, v.alpha)) / (M_PI * (1.0 - e_avg));
-  Frame axes = Frame::FromNormal(F(v.n_geo));
-  const std::array<Eigen::Vector3d, 3> axis = {D(axes.n), D(axes.t), D(axes.b)};
-  const std::array<double, 3> axis_prob = {0.5, 0.25, 0.25};
-  std::array<double, kMaxChannels> irr{};
-  for (const PointEmitter& e : lights.emitters) {
-    float beta = beta_mono[size_t(e.group)];
-    double albedo = (1.0 - v.material->metallic) * v.albedo_mono[size_t(e.group)];
-    if (beta <= 0 || albedo <= 0) continue;
-    DiffusionProfileParams profile_params;
-    profile_params.albedo = albedo;
-    profile_params.mean_free_path = sss.mean_free_path_laser_m;
-    BurleyProfile profile(profile_params);
-    double r_max = profile.SampleRadius(kProfileTruncation);
-    // Sample a radius on the truncated profile, an angle, and a projection axis.
-    double r = profile.SampleRadius(kProfileTruncation * rng.NextDouble());
-    double phi = 2 * M_PI * rng.NextDouble();
-    float ua = rng.NextFloat();
-    int a = ua < 0.5f ? 0 : (ua < 0.75f ? 1 : 2);
-    const Eigen::Vector3d& w = axis[size_t(a)];
-    const Eigen::Vector3d& s = axis[size_t((a + 1) % 3)];
-    const Eigen::Vector3d& t = axis[size_t((a + 2) % 3)];
-    double h = std::sqrt(std::max(0.0, r_max * r_max - r * r));
-    Ray probe;
-    probe.origin = v.p + r * (std::cos(phi) * s + std::sin(phi) * t) + h * w;
-    probe.direction = -w;
-    probe.t_min = 0;
-    probe.t_max = 2 * h;
-    for (int found = 0; found < kMaxProbeHits && probe.t_min < probe.t_max; ++found) {
-      ++stats->rays;
-      auto hit = scene_.Intersect(probe);
-      if (!hit) break;
-      probe.t_min = hit->t + 1e-6 * std::max(h, 1e-9);
-      if (hit->material_id != v.material_id) continue;
-      Eigen::Vector3d xi = hit->position;
-      Eigen::Vector3d ni = hit->shading_normal, ngi = hit->geometric_normal;
-      // Orient the entry point's normals to the side facing the shading point's normal.
-      if (ngi.dot(v.n_geo) < 0) ngi = -ngi;
-      if (ni.dot(ngi) < 0) ni = -ni;
-      // Density of finding xi with any of the three axes (MIS over axes).
-      Eigen::Vector3d d = xi - v.p;
-      double pdf = 0;
-      for (int k = 0; k < 3; ++k) {
-        Eigen::Vector3d in_plane = d - d.dot(axis[size_t(k)]) * axis[size_t(k)];
-        double rk = in_plane.norm();
-        if (rk >= r_max) continue;
-        double area_density = profile.Evaluate(rk) / (albedo * kProfileTruncation);  // R(r)/A over the disk
-        pdf += axis_prob[size_t(k)] * area_density * std::abs(ngi.dot(axis[size_t(k)]));
-      }
-      if (!(pdf > 0)) continue;
-      Eigen::Vector3d wi;
-      double cos_i = 0;
-      std::span<double> ch(irr.data(), size_t(e.channels));
-      if (!EmitterIrradiance(e, xi, ngi, ni, &wi, &cos_i, ch, stats)) continue;
-      double entry = 1.0 - DielectricSpecularAlbedo(float(std::min(cos_i, 1.0)), v.alpha);
-      double weight = double(beta) * exit * profile.Evaluate(d.norm()) * entry * cos_i / pdf;
-      for (int k = 0; k < e.channels; ++k) mono[size_t(e.first_channel + k)] += float(weight * ch[size_t(k)]);
-    }
-  }
-}
-
 void PathTracer::AddLedLight(const Vertex& v, const LedLight& led, const Eigen::Vector3f& beta, Rng& rng,
                              Eigen::Vector3f* rgb, TraceStats* stats) const {
   Eigen::Vector2d u(rng.NextDouble(), rng.NextDouble());
@@ -310,7 +227,9 @@ void PathTracer::Trace(const Ray& camera_ray, const FrameLights& lights, Rng& rn
     if (v.material->emissive.maxCoeff() > 0) *rgb += beta.cwiseProduct(v.material->emissive);
     if (!lights.emitters.empty()) {
       AddEmitterLight(v, lights, beta_mono_span, mono, stats);
-      if (v.subsurface) AddSubsurfaceLight(v, lights, beta_mono_span, rng, mono, stats);
+      if (v.subsurface) {
+        for (const PointEmitter& e : lights.emitters) AddSubsurfaceEmitter(v, e, beta_mono[size_t(e.group)], rng, mono, stats);
+      }
     }
     if (lights.led) AddLedLight(v, *lights.led, beta, rng, rgb, stats);
 

@@ -50,6 +50,9 @@ struct TraceStats {
 
 class PathTracer {
  public:
+  static constexpr int kMaxGroups = 8;     // monochromatic emitters per rig
+  static constexpr int kMaxChannels = 64;  // film laser channels (sheets) per rig
+
   // `environment_map` is the lat-long map (3 channels) when the environment is a
   // map, else null. The scene, materials and map must outlive the tracer.
   PathTracer(const EmbreeScene& scene, const Environment& environment, const Image<float>* environment_map,
@@ -73,10 +76,11 @@ class PathTracer {
   struct Vertex;
   void AddEmitterLight(const Vertex& v, const FrameLights& lights, std::span<const float> beta_mono,
                        std::span<float> mono, TraceStats* stats) const;
-  void AddSubsurfaceLight(const Vertex& v, const FrameLights& lights, std::span<const float> beta_mono, Rng& rng,
-                          std::span<float> mono, TraceStats* stats) const;
   void AddLedLight(const Vertex& v, const LedLight& led, const Eigen::Vector3f& beta, Rng& rng,
                    Eigen::Vector3f* rgb, TraceStats* stats) const;
+  // Subsurface light of one emitter (render/path_tracer_subsurface.cpp).
+  void AddSubsurfaceEmitter(const Vertex& v, const PointEmitter& e, float beta, Rng& rng, std::span<float> mono,
+                            TraceStats* stats) const;
   // Irradiance factor I_k cos/r² at p for each channel of emitter e (written to
   // per_channel), or false when p is unlit (shadowed, outside the beam, facing away).
   bool EmitterIrradiance(const PointEmitter& e, const Eigen::Vector3d& p, const Eigen::Vector3d& n_geo,

@@ -97,7 +97,9 @@ void TriangleRule(int panels, std::vector<double>* x, std::vector<double>* w) {
 
 void SpeckleOptions::Check(const std::string& where) const {
   auto positive = [&](double v, const char* name) {
-    if (!(v > 0.0) || !std::isfinite(v)) throw InputError(where, std::string(name) + " must be > 0, got " + FormatNumber(v));
+    if (!(v > 0.0) || !std::isfinite(v)) {
+      throw InputError(where, std::string(name) + " must be > 0, got " + FormatNumber(v));
+    }
   };
   positive(wavelength, "wavelength");
   positive(f_number, "f_number");

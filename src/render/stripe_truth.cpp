@@ -22,12 +22,7 @@ struct WorldSheet {
   Pose projector_from_world;
 };
 
-struct Sample {
-  bool valid = false;
-  Eigen::Vector3d p_world;
-  Eigen::Vector3d normal;  // geometric, world
-  double depth = 0;        // distance along the ray, metres
-};
+using Sample = ChiefHit;
 
 class LineScanner {
  public:
@@ -159,8 +154,12 @@ int PlaneCount(const std::vector<LaserProjector>& lasers) {
 std::vector<StripeCenter> ComputeStripeCenters(const EmbreeScene& scene, const Camera& camera,
                                                const std::vector<LaserProjector>& lasers,
                                                const Pose& world_from_cam, ScanAxis axis,
-                                               const StripeTruthOptions& options) {
+                                               const StripeTruthOptions& options,
+                                               const std::vector<ChiefHit>* pixel_hits) {
   options.Check();
+  if (pixel_hits && pixel_hits->size() != size_t(camera.width()) * size_t(camera.height())) {
+    throw std::invalid_argument("pixel_hits must hold one hit per pixel");
+  }
   std::vector<WorldSheet> sheets;
   for (size_t l = 0; l < lasers.size(); ++l) {
     const LaserProjector& laser = lasers[l];
@@ -185,7 +184,17 @@ std::vector<StripeCenter> ComputeStripeCenters(const EmbreeScene& scene, const C
     for (int i = 0; i < length; ++i) pos.push_back(i);
     pos.push_back(length - 0.5);
     std::vector<Sample> samples(pos.size());
-    for (size_t i = 0; i < pos.size(); ++i) samples[i] = scanner.Cast(line, pos[i]);
+    for (size_t i = 0; i < pos.size(); ++i) {
+      bool centre = i > 0 && i + 1 < pos.size();
+      if (pixel_hits && centre) {
+        int along = int(i) - 1;
+        size_t index = axis == ScanAxis::kRows ? size_t(line) * size_t(camera.width()) + size_t(along)
+                                               : size_t(along) * size_t(camera.width()) + size_t(line);
+        samples[i] = (*pixel_hits)[index];
+      } else {
+        samples[i] = scanner.Cast(line, pos[i]);
+      }
+    }
     auto& out = per_line[size_t(line)];
     for (const WorldSheet& ws : sheets) {
       for (size_t i = 0; i + 1 < pos.size(); ++i) {

@@ -36,6 +36,15 @@ struct StripeCenter {
   Eigen::Vector3d p_world = Eigen::Vector3d::Zero();
 };
 
+// The first hit of the chief ray through a pixel centre (world frame), as the
+// renderer's ground-truth pass finds it; lets the search reuse those casts.
+struct ChiefHit {
+  bool valid = false;
+  Eigen::Vector3d p_world = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // geometric, world
+  double depth = 0;                                  // distance along the ray, metres
+};
+
 struct StripeTruthOptions {
   double tolerance_px = 1e-6;   // bracket width at which refinement stops
   double fan_threshold = 0.01;  // minimum relative fan intensity to count as lit
@@ -53,10 +62,13 @@ int PlaneCount(const std::vector<LaserProjector>& lasers);
 
 // All stripe centres of a frame, sorted by (scan line, plane, position). Rays
 // start at the camera centre (chief rays; a thin lens focuses them unchanged).
+// `pixel_hits` (optional, width x height, row-major) holds the chief-ray hits
+// of the pixel centres for the same pose, which then are not cast again.
 std::vector<StripeCenter> ComputeStripeCenters(const EmbreeScene& scene, const Camera& camera,
                                                const std::vector<LaserProjector>& lasers,
                                                const Pose& world_from_cam, ScanAxis axis,
-                                               const StripeTruthOptions& options = {});
+                                               const StripeTruthOptions& options = {},
+                                               const std::vector<ChiefHit>* pixel_hits = nullptr);
 
 // CSV with header u,v,plane,x_cam,y_cam,z_cam,x_world,y_world,z_world.
 std::string StripeCentersCsv(const std::vector<StripeCenter>& centers);

@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <mutex>
@@ -93,8 +94,16 @@ EmbreeScene::EmbreeScene(std::shared_ptr<const SceneGeometry> geometry)
   rtcSetDeviceErrorFunction(device_, &DeviceErrors::Callback, errors_.get());
 
   try {
-    // One scene per mesh, holding its triangles in object space.
+    // One scene per mesh, holding its triangles in object space, re-centred:
+    // Embree gets positions minus the mesh's bounds centre c (rounded to float,
+    // so the subtraction is exact) and the instance transform gains T(c). Float
+    // arithmetic inside Embree then works on small numbers even for meshes whose
+    // vertices lie far from their origin (georeferenced exports).
+    std::vector<Eigen::Vector3d> mesh_center;
     for (const Mesh& mesh : g.meshes) {
+      Eigen::AlignedBox3d b = mesh.Bounds();
+      Eigen::Vector3f c = b.isEmpty() ? Eigen::Vector3f::Zero() : Eigen::Vector3f(b.center().cast<float>());
+      mesh_center.push_back(c.cast<double>());
       RTCScene ms = rtcNewScene(device_);
       mesh_scenes_.push_back(ms);
       rtcSetSceneBuildQuality(ms, RTC_BUILD_QUALITY_MEDIUM);
@@ -103,8 +112,10 @@ EmbreeScene::EmbreeScene(std::shared_ptr<const SceneGeometry> geometry)
       // index buffer is shared in place.
       auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                                    3 * sizeof(float), mesh.VertexCount()));
-      if (vertices && !mesh.positions.empty()) {
-        std::memcpy(vertices, mesh.positions.data(), mesh.VertexCount() * 3 * sizeof(float));
+      if (vertices) {
+        for (size_t v = 0; v < mesh.VertexCount(); ++v) {
+          for (int k = 0; k < 3; ++k) vertices[3 * v + size_t(k)] = mesh.positions[v][k] - c[k];
+        }
       }
       rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.indices.data(), 0,
                                  3 * sizeof(uint32_t), mesh.TriangleCount());
@@ -121,7 +132,8 @@ EmbreeScene::EmbreeScene(std::shared_ptr<const SceneGeometry> geometry)
     const Eigen::Translation3d render_from_world(-render_origin_);
     for (size_t i = 0; i < g.instances.size(); ++i) {
       const SceneInstance& inst = g.instances[i];
-      const Eigen::Affine3d render_from_mesh = render_from_world * inst.world_from_mesh;  // in double
+      const Eigen::Affine3d render_from_mesh =
+          render_from_world * inst.world_from_mesh * Eigen::Translation3d(mesh_center[inst.mesh]);  // in double
       const Eigen::Matrix<float, 3, 4> m = render_from_mesh.matrix().topRows<3>().cast<float>();
       float xfm[12];
       std::memcpy(xfm, m.data(), sizeof xfm);  // Eigen is column-major
@@ -155,7 +167,6 @@ Hit EmbreeScene::MakeHit(const Ray& ray, uint32_t instance_id, uint32_t primitiv
   const SceneInstance& inst = g.instances.at(instance_id);
   const Mesh& mesh = g.meshes[inst.mesh];
   const uint32_t* tri = &mesh.indices.at(3 * size_t(primitive_id));
-  const double w_float = 1.0 - double(u) - double(v);
   Hit hit;
   hit.instance_id = instance_id;
   hit.primitive_id = primitive_id;
@@ -163,46 +174,42 @@ Hit EmbreeScene::MakeHit(const Ray& ray, uint32_t instance_id, uint32_t primitiv
 
   const Eigen::Vector3d p0 = mesh.positions[tri[0]].cast<double>(), p1 = mesh.positions[tri[1]].cast<double>(),
                         p2 = mesh.positions[tri[2]].cast<double>();
-  // Embree found the triangle in float; the hit itself is recomputed in double
-  // as the exact intersection of the double ray with the triangle's plane (world
-  // frame), so it lies on the ray and on the surface to double precision.
-  // Barycentrics follow from it; Embree's float ones are the fallback for rays
-  // grazing the plane.
-  double w = w_float, bu = double(u), bv = double(v);
-  bool exact = false;
-  {
-    const Eigen::Vector3d a = inst.world_from_mesh * p0, b = inst.world_from_mesh * p1, c = inst.world_from_mesh * p2;
-    const Eigen::Vector3d e1 = b - a, e2 = c - a, n = e1.cross(e2);
-    const double denom = n.dot(ray.direction), n2 = n.squaredNorm();
-    if (n2 > 0 && std::abs(denom) > 1e-9 * std::sqrt(n2) * ray.direction.norm()) {
-      const double t = n.dot(a - ray.origin) / denom;
-      const Eigen::Vector3d q = ray.origin + t * ray.direction - a;
-      const double d00 = e1.dot(e1), d01 = e1.dot(e2), d11 = e2.dot(e2), d20 = q.dot(e1), d21 = q.dot(e2);
-      const double det = d00 * d11 - d01 * d01;
-      if (det > 0) {
-        bu = (d11 * d20 - d01 * d21) / det;
-        bv = (d00 * d21 - d01 * d20) / det;
-        w = 1.0 - bu - bv;
-        hit.position = ray.origin + t * ray.direction;
-        hit.t = t;
-        exact = true;
-      }
-    }
-  }
-  if (!exact) {
-    hit.position = inst.world_from_mesh * (w * p0 + bu * p1 + bv * p2);
+  // Refine the hit in double: intersect the ray with the triangle's plane in the
+  // world frame. Embree found the triangle; its float barycentrics are only
+  // accurate to ~1e-7 of the distances involved, the refined point to ~1e-16.
+  const Eigen::Vector3d w0 = inst.world_from_mesh * p0, w1 = inst.world_from_mesh * p1, w2 = inst.world_from_mesh * p2;
+  const Eigen::Vector3d e1 = w1 - w0, e2 = w2 - w0;
+  const Eigen::Vector3d pvec = ray.direction.cross(e2);
+  const double det = e1.dot(pvec);
+  double bu = u, bv = v;
+  if (std::abs(det) > 1e-9 * e1.norm() * e2.norm() * ray.direction.norm()) {  // not grazing
+    const Eigen::Vector3d tvec = ray.origin - w0;
+    const Eigen::Vector3d qvec = tvec.cross(e1);
+    bu = tvec.dot(pvec) / det;
+    bv = ray.direction.dot(qvec) / det;
+    hit.t = e2.dot(qvec) / det;
+    hit.position = ray.origin + hit.t * ray.direction;
+  } else {
+    hit.position = (1.0 - bu - bv) * w0 + bu * w1 + bv * w2;
     hit.t = (hit.position - ray.origin).dot(ray.direction) / ray.direction.squaredNorm();
   }
+  // Barycentrics for interpolation, kept inside the triangle (the refined point
+  // can lie a rounding error outside an edge Embree decided it was inside of).
+  bu = std::clamp(bu, 0.0, 1.0);
+  bv = std::clamp(bv, 0.0, 1.0 - bu);
+  const double bw = 1.0 - bu - bv;
   hit.barycentric = {float(bu), float(bv)};
 
   const Eigen::Matrix3d& nm = normal_from_mesh_[instance_id];
   hit.geometric_normal = (nm * (p1 - p0).cross(p2 - p0)).normalized();
-  const Eigen::Vector3d n_obj = w * mesh.normals[tri[0]].cast<double>() + bu * mesh.normals[tri[1]].cast<double>() +
+  const Eigen::Vector3d n_obj = bw * mesh.normals[tri[0]].cast<double>() + bu * mesh.normals[tri[1]].cast<double>() +
                                 bv * mesh.normals[tri[2]].cast<double>();
   Eigen::Vector3d ns = nm * n_obj;
   hit.shading_normal = ns.norm() > 1e-12 ? Eigen::Vector3d(ns.normalized()) : hit.geometric_normal;
   if (!mesh.texcoords.empty()) {
-    hit.uv = float(w) * mesh.texcoords[tri[0]] + float(bu) * mesh.texcoords[tri[1]] + float(bv) * mesh.texcoords[tri[2]];
+    hit.uv = (bw * mesh.texcoords[tri[0]].cast<double>() + bu * mesh.texcoords[tri[1]].cast<double>() +
+              bv * mesh.texcoords[tri[2]].cast<double>())
+                 .cast<float>();
   }
   hit.front_face = ray.direction.dot(hit.geometric_normal) < 0;
   return hit;

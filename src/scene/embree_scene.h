@@ -6,8 +6,9 @@
 // translated by a double offset `render_origin()` (the centre of the scene
 // bounds). Instance transforms are composed in double (render_from_world *
 // world_from_mesh) and only then cast to float. Hits are reported in the world
-// frame, recomputed in double from the object-space triangle and the instance's
-// double transform, so their accuracy does not depend on the distance from the origin.
+// frame, refined in double (the ray intersected with the hit triangle, its
+// corners transformed by the instance's double transform), so their accuracy
+// does not depend on the distance from the origin or on Embree's float arithmetic.
 //
 // Embree device errors become exceptions (std::runtime_error), never ignored.
 #pragma once
@@ -42,7 +43,7 @@ struct Hit {
   Eigen::Vector3d geometric_normal;       // world, unit, front side (counter-clockwise winding)
   Eigen::Vector3d shading_normal;         // world, unit, interpolated vertex normal
   Eigen::Vector2f uv = Eigen::Vector2f::Zero();  // interpolated TEXCOORD_0 (0 when the mesh has none)
-  Eigen::Vector2f barycentric;            // (u, v): position = (1-u-v) p0 + u p1 + v p2
+  Eigen::Vector2f barycentric;            // (u, v): position = (1-u-v) p0 + u p1 + v p2 (refined in double)
   uint32_t material_id = 0;               // index into SceneGeometry::materials
   uint32_t instance_id = 0;               // index into SceneGeometry::instances
   uint32_t primitive_id = 0;              // triangle index within the instance's mesh

@@ -12,6 +12,8 @@ namespace lt {
 
 namespace {
 
+constexpr size_t kMaxElementsWithoutView = size_t(1) << 28;
+
 int ComponentSize(int component_type) {
   switch (component_type) {
     case TINYGLTF_COMPONENT_TYPE_BYTE:
@@ -69,9 +71,12 @@ ByteRange BufferViewBytes(const GltfSource& src, int bv_index, const std::string
   }
   const tinygltf::Buffer& buf = m.buffers[size_t(bv.buffer)];
   if (!FitsIn(bv.byteOffset, bv.byteLength, buf.data.size())) {
+    const bool overflow = bv.byteLength > UINT64_MAX - bv.byteOffset;
+    const std::string end = overflow ? std::to_string(bv.byteOffset) + " + " + std::to_string(bv.byteLength)
+                                     : std::to_string(uint64_t(bv.byteOffset) + bv.byteLength);
     Fail(src, "bufferViews", bv_index,
-         "byte range [" + std::to_string(bv.byteOffset) + ", " + std::to_string(uint64_t(bv.byteOffset) + bv.byteLength) +
-             ") is outside buffer " + std::to_string(bv.buffer) + " (" + std::to_string(buf.data.size()) + " bytes)");
+         "byte range [" + std::to_string(bv.byteOffset) + ", " + end + ") is outside buffer " +
+             std::to_string(bv.buffer) + " (" + std::to_string(buf.data.size()) + " bytes)");
   }
   return {buf.data.data() + bv.byteOffset, bv.byteLength};
 }
@@ -150,6 +155,11 @@ Layout CheckAccessor(const GltfSource& src, int index) {
   uint64_t elem = uint64_t(csize) * uint64_t(l.components);
   if (a.bufferView < 0) {
     if (!a.sparse.isSparse) throw InputError(where, "has neither a bufferView nor sparse values");
+    // Without a buffer view nothing in the file bounds the count: cap it.
+    if (a.count > kMaxElementsWithoutView) {
+      throw InputError(where, "count " + std::to_string(a.count) + " is implausibly large for an accessor without a bufferView (at most " +
+                                  std::to_string(kMaxElementsWithoutView) + ")");
+    }
     return l;  // zeros, then sparse substitution
   }
   l.bytes = BufferViewBytes(src, a.bufferView, where);

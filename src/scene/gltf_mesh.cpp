@@ -23,9 +23,14 @@ const char* ModeName(int mode) {
   }
 }
 
-int FindAttribute(const tinygltf::Primitive& p, const char* name) {
+// The accessor of an attribute, or -1 when the primitive has none.
+int FindAttribute(const tinygltf::Primitive& p, const char* name, const std::string& where) {
   auto it = p.attributes.find(name);
-  return it == p.attributes.end() ? -1 : it->second;
+  if (it == p.attributes.end()) return -1;
+  if (it->second < 0) {
+    throw InputError(where + "/attributes/" + name, "accessor " + std::to_string(it->second) + " does not exist");
+  }
+  return it->second;
 }
 
 // Fails when any value is not finite.
@@ -75,7 +80,9 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, uint32_t default_material
   mesh.name = gm.name.empty() ? "mesh " + std::to_string(index) : gm.name;
 
   bool any_texcoords = false;
-  for (const auto& p : gm.primitives) any_texcoords |= FindAttribute(p, "TEXCOORD_0") >= 0;
+  for (size_t pi = 0; pi < gm.primitives.size(); ++pi) {
+    any_texcoords |= FindAttribute(gm.primitives[pi], "TEXCOORD_0", mesh_where + "/primitives/" + std::to_string(pi)) >= 0;
+  }
 
   for (size_t pi = 0; pi < gm.primitives.size(); ++pi) {
     const tinygltf::Primitive& prim = gm.primitives[pi];
@@ -107,7 +114,7 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, uint32_t default_material
       stats->uses_default_material = true;
     }
 
-    const int pos_acc = FindAttribute(prim, "POSITION");
+    const int pos_acc = FindAttribute(prim, "POSITION", where);
     if (pos_acc < 0) throw InputError(where + "/attributes", "missing required attribute POSITION");
     std::vector<float> pos = ReadFloatAccessor(src, pos_acc, 3);
     CheckFinite(src, pos_acc, pos, 3, "position");
@@ -115,7 +122,7 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, uint32_t default_material
     if (nverts > size_t(UINT32_MAX)) throw InputError(where, "too many vertices");
 
     std::vector<float> nrm;
-    if (int acc = FindAttribute(prim, "NORMAL"); acc >= 0) {
+    if (int acc = FindAttribute(prim, "NORMAL", where); acc >= 0) {
       nrm = ReadFloatAccessor(src, acc, 3);
       CheckFinite(src, acc, nrm, 3, "normal");
       if (nrm.size() != pos.size()) {
@@ -124,7 +131,7 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, uint32_t default_material
       }
     }
     std::vector<float> uv;
-    if (int acc = FindAttribute(prim, "TEXCOORD_0"); acc >= 0) {
+    if (int acc = FindAttribute(prim, "TEXCOORD_0", where); acc >= 0) {
       uv = ReadFloatAccessor(src, acc, 2);
       CheckFinite(src, acc, uv, 2, "texture coordinate");
       if (uv.size() / 2 != nverts) {

@@ -15,6 +15,17 @@ StaticMotion ParseStatic(const json::Object& o) {
   return m;
 }
 
+PoseListMotion ParsePoseListMotion(const json::Object& o) {
+  PoseListMotion m;
+  json::Value file = o.Get("file");
+  m.file = file.Path();
+  m.format = o.Enum("format", "csv", {"csv", "tum"}) == "csv" ? PoseFileFormat::kCsv : PoseFileFormat::kTum;
+  m.time_from_first_pose = o.Enum("time_origin", "first_pose", {"first_pose", "file"}) == "first_pose";
+  if (auto pose = o.Find("tool_from_cam")) m.tool_from_cam = ReadPose(*pose);
+  m.trajectory = std::make_shared<const PoseTrajectory>(ReadPoseList(m.file, m.format, m.file.string()));
+  return m;
+}
+
 using MotionParser = std::function<Motion(const json::Object&)>;
 
 // One entry per motion type: its parser. Adding a type = one line here, one
@@ -22,6 +33,8 @@ using MotionParser = std::function<Motion(const json::Object&)>;
 const std::map<std::string, MotionParser>& Parsers() {
   static const std::map<std::string, MotionParser> parsers = {
       {"static", [](const json::Object& o) -> Motion { return ParseStatic(o); }},
+      {"pose_list", [](const json::Object& o) -> Motion { return ParsePoseListMotion(o); }},
+      {"gcode", [](const json::Object& o) -> Motion { return ParseGcodeMotion(o); }},
   };
   return parsers;
 }
@@ -33,7 +46,17 @@ struct Overloaded : Ts... {
 template <class... Ts>
 Overloaded(Ts...) -> Overloaded<Ts...>;
 
+std::string AbsolutePath(const std::filesystem::path& p) {
+  return std::filesystem::absolute(p).lexically_normal().string();
+}
+
 }  // namespace
+
+Pose PoseListMotion::WorldFromCam(double time_s) const {
+  double t = time_from_first_pose ? time_s + trajectory->StartTime() : time_s;
+  Pose world_from = trajectory->At(t);
+  return tool_from_cam ? Pose(world_from * *tool_from_cam) : world_from;
+}
 
 Motion ParseMotion(const json::Value& value) {
   json::Object o(value);
@@ -53,7 +76,10 @@ Motion ParseMotion(const json::Value& value) {
 Motion DefaultMotion() { return StaticMotion{}; }
 
 std::string MotionTypeName(const Motion& motion) {
-  return std::visit(Overloaded{[](const StaticMotion&) { return std::string("static"); }}, motion);
+  return std::visit(Overloaded{[](const StaticMotion&) { return std::string("static"); },
+                               [](const PoseListMotion&) { return std::string("pose_list"); },
+                               [](const GcodeMotion&) { return std::string("gcode"); }},
+                    motion);
 }
 
 std::vector<std::string> MotionTypeNames() {
@@ -62,15 +88,33 @@ std::vector<std::string> MotionTypeNames() {
   return names;
 }
 
-Pose WorldFromCamAt(const Motion& motion, double /*time_s*/) {
-  return std::visit(Overloaded{[](const StaticMotion& m) { return m.world_from_cam; }}, motion);
+Pose WorldFromCamAt(const Motion& motion, double time_s) {
+  return std::visit(Overloaded{[](const StaticMotion& m) { return m.world_from_cam; },
+                               [time_s](const PoseListMotion& m) { return m.WorldFromCam(time_s); },
+                               [time_s](const GcodeMotion& m) { return m.WorldFromCam(time_s); }},
+                    motion);
 }
 
 nlohmann::json MotionToJson(const Motion& motion) {
-  return std::visit(Overloaded{[](const StaticMotion& m) {
-                      return nlohmann::json{{"type", "static"}, {"world_from_cam", PoseToJson(m.world_from_cam)}};
-                    }},
-                    motion);
+  return std::visit(
+      Overloaded{[](const StaticMotion& m) {
+                   return nlohmann::json{{"type", "static"}, {"world_from_cam", PoseToJson(m.world_from_cam)}};
+                 },
+                 [](const PoseListMotion& m) {
+                   nlohmann::json j{{"type", "pose_list"},
+                                    {"file", AbsolutePath(m.file)},
+                                    {"format", PoseFileFormatName(m.format)},
+                                    {"time_origin", m.time_from_first_pose ? "first_pose" : "file"}};
+                   if (m.tool_from_cam) j["tool_from_cam"] = PoseToJson(*m.tool_from_cam);
+                   return j;
+                 },
+                 [](const GcodeMotion& m) { return GcodeMotionToJson(m); }},
+      motion);
+}
+
+std::vector<std::string> MotionNotes(const Motion& motion) {
+  if (const auto* g = std::get_if<GcodeMotion>(&motion)) return GcodeMotionNotes(*g);
+  return {};
 }
 
 }  // namespace lt

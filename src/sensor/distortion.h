@@ -12,10 +12,11 @@
 //                  inverse works in angle, so rays with Z <= 0 come back as such.)
 //
 // Valid domain. A distortion is only invertible where it does not fold. For
-// Brown–Conrady the domain is star-shaped around the axis: along each of 1024
-// radial directions it reaches from 0 to the first radius where det(∂t/∂x) <= 0
-// (a fold), or to where the image of the ray lies 4 image half-diagonals from the
-// principal point (beyond that the model is not examined). For the fisheye it is
+// Brown–Conrady the domain is star-shaped around the axis: along each of 512
+// radial directions (interpolated between them) it reaches from 0 to the first
+// radius where det(∂t/∂x) <= 0 (a fold), or to where the image of the ray lies 4
+// times as far from the principal point as the farthest image corner (beyond
+// that the model is not examined); a point must also have det(∂t/∂x) > 0 itself. For the fisheye it is
 // θ up to the first zero of dθ_d/dθ, or up to π. Construction rejects a
 // distortion whose fold lies inside the image (ParamError on "distortion").
 #pragma once

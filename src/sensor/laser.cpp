@@ -55,7 +55,7 @@ void LaserParams::Check() const {
     throw ParamError("divergence_deg", "must be in (0, 40], got " + FormatNumber(divergence_rad / kDeg));
   }
   if (sheet_angles_rad.empty()) throw ParamError("sheet_count", "must be >= 1, got 0");
-  if (sheet_power.size() != sheet_angles_rad.size()) {
+  if (!sheet_power.empty() && sheet_power.size() != sheet_angles_rad.size()) {
     throw ParamError("sheet_power", "must have one value per sheet (" + std::to_string(sheet_angles_rad.size()) +
                                         "), got " + std::to_string(sheet_power.size()));
   }
@@ -66,7 +66,7 @@ void LaserParams::Check() const {
     }
     sum += sheet_power[k];
   }
-  if (!(sum > 0)) throw ParamError("sheet_power", "must not be all zero");
+  if (!sheet_power.empty() && !(sum > 0)) throw ParamError("sheet_power", "must not be all zero");
   for (size_t k = 0; k < sheet_angles_rad.size(); ++k) {
     double a = sheet_angles_rad[k];
     if (!(std::abs(a) < 0.5 * M_PI)) {
@@ -80,6 +80,7 @@ void LaserParams::Check() const {
 
 LaserProjector::LaserProjector(const LaserParams& params) : params_(params) {
   params_.Check();
+  if (params_.sheet_power.empty()) params_.sheet_power.assign(params_.sheet_angles_rad.size(), 1.0);
   double sum = std::accumulate(params_.sheet_power.begin(), params_.sheet_power.end(), 0.0);
   for (size_t k = 0; k < params_.sheet_angles_rad.size(); ++k) {
     double a = params_.sheet_angles_rad[k];

@@ -47,7 +47,7 @@ struct LaserParams {
   double divergence_rad = 2e-3;               // 1/e² full angle across the sheet, (0, 40°]
   std::optional<GaussianBeam> gaussian_beam;  // when set, replaces divergence_rad
   std::vector<double> sheet_angles_rad = {0.0};  // one per sheet, in (-90°, 90°), increasing
-  std::vector<double> sheet_power = {1.0};       // relative power per sheet (normalised to sum 1)
+  std::vector<double> sheet_power;  // relative power per sheet (normalised to sum 1); empty: equal
 
   // Throws ParamError naming the key.
   void Check() const;

@@ -127,6 +127,7 @@ ImageSensor ParseImageSensor(const Object& o) {
   const bool mono = p.color_filter == ColorFilter::kMono;
   if (auto q = o.Find("quantum_efficiency")) {
     if (q->IsNumber()) {
+      if (!mono) q->Fail("a Bayer sensor needs per-channel tables: {\"wavelength_nm\": [...], \"r\": [...], \"g\": [...], \"b\": [...]}");
       double v = q->Number(Range::Closed(0, 1));
       p.qe_wavelength_m = {550e-9};
       p.qe = {{{v}, {v}, {v}}};
@@ -210,7 +211,6 @@ LaserProjector ParseLaser(const Object& o) {
     }
     p.sheet_angles_rad = EvenSheetAngles(n, spacing);
   }
-  p.sheet_power.assign(p.sheet_angles_rad.size(), 1.0);
   if (auto sp = o.Find("sheet_power")) {
     p.sheet_power = NumberList(*sp, 1, Range::NonNegative());
   }
@@ -288,6 +288,7 @@ ShutterSchedule ParseShutter(const Object& o) {
       f.laser = e.Bool("laser", false);
       f.pattern = e.Bool("pattern", false);
       f.led = e.Bool("led", false);
+      if (e.Has("analog_gain_db")) f.analog_gain_db = e.Number("analog_gain_db", Range::Closed(-40, 60));
       e.Finish();
       p.cycle.push_back(f);
     }

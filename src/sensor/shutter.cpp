@@ -16,8 +16,8 @@ constexpr double kJitterClamp = 5.0;
 ShutterParams AlternatingShutter(double bright_exposure_s, double dim_exposure_s, double frame_period_s,
                                  bool led_in_bright) {
   ShutterParams p;
-  p.cycle = {ShutterFrameSpec{"bright", bright_exposure_s, false, false, led_in_bright},
-             ShutterFrameSpec{"dim", dim_exposure_s, true, false, false}};
+  p.cycle = {ShutterFrameSpec{"bright", bright_exposure_s, false, false, led_in_bright, std::nullopt},
+             ShutterFrameSpec{"dim", dim_exposure_s, true, false, false, std::nullopt}};
   p.frame_period_s = frame_period_s;
   return p;
 }
@@ -27,6 +27,9 @@ void ShutterParams::Check() const {
   for (size_t c = 0; c < cycle.size(); ++c) {
     if (!(cycle[c].exposure_s > 0 && std::isfinite(cycle[c].exposure_s))) {
       throw ParamError("cycle/" + std::to_string(c) + "/exposure_us", "must be > 0");
+    }
+    if (cycle[c].analog_gain_db && !(std::abs(*cycle[c].analog_gain_db) <= 60)) {
+      throw ParamError("cycle/" + std::to_string(c) + "/analog_gain_db", "must be in [-40, 60]");
     }
   }
   if (!(frame_period_s > 0 && std::isfinite(frame_period_s))) throw ParamError("frame_period_ms", "must be > 0");
@@ -78,18 +81,23 @@ double ShutterSchedule::SwitchTime(int64_t index, uint64_t seed) const {
   return FrameStart(index) + params_.sync_offset_s + jitter;
 }
 
-// Time during [a, b] that light (0 laser, 1 pattern, 2 led) is lit, around frame `index`.
-double ShutterSchedule::LitTime(int light, int64_t index, double a, double b, uint64_t seed) const {
+// Time during frame `index`'s exposure that light (0 laser, 1 pattern, 2 led) is
+// lit. Times are taken relative to the frame's start so that perfect
+// synchronisation gives exactly 0 or the full exposure.
+double ShutterSchedule::LitTime(int light, int64_t index, double exposure, uint64_t seed) const {
+  const double t0 = FrameStart(index);
+  auto switch_rel = [&](int64_t j) { return (FrameStart(j) - t0) + (SwitchTime(j, seed) - FrameStart(j)); };
   double lit = 0;
   int64_t n = int64_t(params_.cycle.size());
   for (int64_t j = std::max<int64_t>(0, index - 2); j <= index + 1; ++j) {
     const auto& spec = params_.cycle[size_t(j % n)];
     bool on = light == 0 ? spec.laser : light == 1 ? spec.pattern : spec.led;
     if (!on) continue;
-    double s0 = SwitchTime(j, seed), s1 = SwitchTime(j + 1, seed);
-    lit += std::max(0.0, std::min(b, s1) - std::max(a, s0));
+    double s0 = j == index ? SwitchTime(j, seed) - t0 : switch_rel(j);
+    double s1 = switch_rel(j + 1);
+    lit += std::max(0.0, std::min(exposure, s1) - std::max(0.0, s0));
   }
-  return lit;
+  return std::min(lit, exposure);
 }
 
 ShutterFrame ShutterSchedule::Frame(int64_t index, uint64_t seed) const {
@@ -106,10 +114,11 @@ ShutterFrame ShutterSchedule::Frame(int64_t index, uint64_t seed) const {
   f.laser_on = spec.laser;
   f.pattern_on = spec.pattern;
   f.led_on = spec.led;
+  f.analog_gain_db = spec.analog_gain_db;
   f.switch_time_s = SwitchTime(index, seed);
-  f.laser_fraction = LitTime(0, index, f.t_start_s, f.t_end_s, seed) / spec.exposure_s;
-  f.pattern_fraction = LitTime(1, index, f.t_start_s, f.t_end_s, seed) / spec.exposure_s;
-  f.led_fraction = LitTime(2, index, f.t_start_s, f.t_end_s, seed) / spec.exposure_s;
+  f.laser_fraction = LitTime(0, index, spec.exposure_s, seed) / spec.exposure_s;
+  f.pattern_fraction = LitTime(1, index, spec.exposure_s, seed) / spec.exposure_s;
+  f.led_fraction = LitTime(2, index, spec.exposure_s, seed) / spec.exposure_s;
   return f;
 }
 

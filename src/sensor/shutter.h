@@ -24,6 +24,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,7 @@ struct ShutterFrameSpec {
   bool laser = true;    // all laser projectors
   bool pattern = false;  // the pattern projector
   bool led = false;     // the LED flood light
+  std::optional<double> analog_gain_db;  // overrides the image sensor's gain in this frame
 };
 
 struct ShutterParams {
@@ -62,6 +64,7 @@ struct ShutterFrame {
   std::string label;
   double t_start_s = 0, t_end_s = 0, exposure_s = 0;
   bool laser_on = false, pattern_on = false, led_on = false;  // commanded for this frame
+  std::optional<double> analog_gain_db;  // this frame's gain when the cycle sets one
   double switch_time_s = 0;  // when the lights were switched to this frame's state
   // Fraction of [t_start, t_end] during which each light was lit (0..1). The
   // renderer multiplies each light's irradiance by exposure_s · fraction.
@@ -89,7 +92,7 @@ class ShutterSchedule {
 
  private:
   double SwitchTime(int64_t index, uint64_t seed) const;
-  double LitTime(int light, int64_t index, double a, double b, uint64_t seed) const;
+  double LitTime(int light, int64_t index, double exposure, uint64_t seed) const;
 
   ShutterParams params_;
   std::vector<double> gap_;     // per cycle entry: time to the next frame start

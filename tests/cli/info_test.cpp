@@ -88,6 +88,17 @@ TEST(InfoCommand, TextOutputNamesEverySection) {
   }
 }
 
+TEST(InfoCommand, ListsWarnings) {
+  // warnings.gltf: a triangle, a collinear (degenerate) triangle and a points primitive.
+  Result r = RunLasertwin("info " + Quoted(kData / "scenes/warnings.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string gltf = (kData / "gltf/warnings.gltf").string();
+  EXPECT_THAT(r.out, HasSubstr("geometry: 1 triangles (1 unique in 1 meshes), 1 instances, 1 degenerate triangles dropped"));
+  EXPECT_THAT(r.out, HasSubstr("warnings: 2\n  " + gltf +
+                               ": mesh \"bracket\" primitive 1: points skipped (only triangles are rendered)\n  " + gltf +
+                               ": 1 degenerate triangles dropped\n"));
+}
+
 TEST(InfoCommand, MissingSceneFile) {
   const fs::path p = kData / "scenes/does_not_exist.json";
   Result r = RunLasertwin("info " + Quoted(p));

@@ -63,7 +63,7 @@ Estimate SampledAlbedo(const Bsdf& bsdf, const Vector3f& wo, int n, uint64_t see
 
 // The table holds what the quadrature computes: recompute a spread of entries.
 TEST(SpecularAlbedo, TableMatchesQuadrature) {
-  for (int k = 0; k < 12; ++k) {
+  for (int k = 0; k < 6; ++k) {
     const int i = (k * 37 + 5) % kSpecularAlbedoNodes, j = (k * 23 + 3) % kSpecularAlbedoNodes;
     const double e = GgxDirectionalAlbedo(SpecularAlbedoNodeMu(i), SpecularAlbedoNodeAlpha(j), kDielectricF0,
                                           kSpecularAlbedoQuadrature);
@@ -72,21 +72,18 @@ TEST(SpecularAlbedo, TableMatchesQuadrature) {
   }
 }
 
-// Between the nodes the bilinear interpolant stays within 4e-3 of a 256 x 256
-// quadrature (measured worst case over 300 points 2.3e-3, at alpha near its
-// floor and grazing view, cos_o ~ 1e-3); elsewhere it is far closer.
+// Between the nodes the bilinear interpolant stays within 4e-3 of a 160 x 160
+// quadrature (measured worst case over 300 random points 2.3e-3, at alpha near
+// its floor and grazing view, cos_o ~ 1e-3; elsewhere far closer). Points off
+// the nodes, crowded where E changes fastest.
 TEST(SpecularAlbedo, InterpolationAccuracy) {
-  Rng rng(17);
-  double worst = 0;
-  for (int k = 0; k < 30; ++k) {
-    const float roughness = float(rng.NextDouble()), mu = float(std::pow(rng.NextDouble(), 3.0));
+  const std::pair<float, float> points[] = {{1e-3f, 0.03f}, {2.2e-3f, 0.06f}, {0.011f, 0.1f}, {0.05f, 0.21f},
+                                            {0.31f, 0.45f}, {0.72f, 0.81f},   {0.97f, 0.99f},  {0.5f, 0.05f}};
+  for (auto [mu, roughness] : points) {
     const float alpha = std::max(roughness * roughness, kMinGgxAlpha);
-    const double ref = GgxDirectionalAlbedo(mu, alpha, kDielectricF0, 200);
-    const double err = std::abs(DielectricSpecularAlbedo(mu, alpha) - ref);
-    worst = std::max(worst, err);
-    EXPECT_LT(err, 4e-3) << "roughness " << roughness << " mu " << mu;
+    const double ref = GgxDirectionalAlbedo(mu, alpha, kDielectricF0, 160);
+    EXPECT_NEAR(DielectricSpecularAlbedo(mu, alpha), ref, 4e-3) << "roughness " << roughness << " mu " << mu;
   }
-  RecordProperty("worst_interpolation_error", std::to_string(worst));
 }
 
 // E_avg = 2 integral E mu dmu of the interpolated table (midpoint rule, 20000
@@ -104,9 +101,10 @@ TEST(SpecularAlbedo, AverageIsCosineWeightedIntegral) {
 }
 
 // White furnace: the sampled albedo never exceeds 1, and is exactly 1 (up to
-// the table error) for a white dielectric base, whose Lambert lobe takes
-// all the energy the specular lobe does not reflect. 96 x 96 stratified
-// samples per case; bound = 1 + 5 standard errors + 4e-3 (table accuracy).
+// the table error) for a white dielectric base, whose Lambert lobe takes all
+// the energy the specular lobe does not reflect. 64 x 64 stratified samples
+// per case; bound = 1 + 5 standard errors (i.i.d. estimate, which overstates
+// the error of stratified samples) + 4e-3 (table accuracy).
 TEST(Bsdf, WhiteFurnace) {
   struct Material {
     Vector3f base;
@@ -115,15 +113,14 @@ TEST(Bsdf, WhiteFurnace) {
   };
   const Material materials[] = {{Vector3f::Ones(), 0.0f, true},
                                 {Vector3f::Ones(), 1.0f, false},
-                                {Vector3f(0.9f, 0.5f, 0.1f), 0.5f, false},
-                                {Vector3f(0.2f, 0.6f, 1.0f), 0.0f, false}};
+                                {Vector3f(0.9f, 0.5f, 0.1f), 0.5f, false}};
   for (const Material& m : materials) {
-    for (float roughness : {0.0f, 0.1f, 0.3f, 0.6f, 1.0f}) {
+    for (float roughness : {0.0f, 0.1f, 0.4f, 1.0f}) {
       const Bsdf bsdf(Params(m.base, m.metallic, roughness));
-      for (float theta : {0.0f, 45.0f, 75.0f, 85.0f, 89.5f}) {
+      for (float theta : {0.0f, 60.0f, 85.0f, 89.5f}) {
         SCOPED_TRACE(testing::Message() << "metallic " << m.metallic << " roughness " << roughness << " theta "
                                         << theta);
-        const Estimate e = SampledAlbedo(bsdf, Dir(theta, 20), 96, 100 + int(theta));
+        const Estimate e = SampledAlbedo(bsdf, Dir(theta, 20), 64, 100 + int(theta));
         for (int c = 0; c < 3; ++c) {
           const double bound = 5 * e.stderr_[c] + 4e-3;
           EXPECT_LE(e.mean[c], 1.0 + bound);
@@ -162,7 +159,8 @@ TEST(Bsdf, MatchesGltfSpecularFormula) {
   for (float roughness : {0.2f, 0.5f, 1.0f}) {
     const Bsdf bsdf(Params(base, 1.0f, roughness));  // metal: no diffuse lobe
     const double a = double(roughness) * roughness, a2 = a * a;
-    for (auto [to, po, ti, pi] : {std::tuple{10.f, 0.f, 20.f, 180.f}, {50.f, 30.f, 40.f, 250.f}, {80.f, 0.f, 5.f, 90.f}}) {
+    for (auto [to, po, ti, pi] :
+         {std::tuple{10.f, 0.f, 20.f, 180.f}, {50.f, 30.f, 40.f, 250.f}, {80.f, 0.f, 5.f, 90.f}}) {
       const Vector3d v = Dir(to, po).cast<double>(), l = Dir(ti, pi).cast<double>();
       const Vector3d h = (v + l).normalized();
       const double nh = h.z(), nv = v.z(), nl = l.z(), vh = v.dot(h);
@@ -224,17 +222,17 @@ TEST(Bsdf, SamplePdfMatchesPdf) {
 // The albedo by importance sampling equals the albedo by uniform sampling of
 // the hemisphere (pdf 1/(2 pi)), and the pdf integrates to the fraction of
 // valid samples (the specular lobe loses the reflections that fall below the
-// horizon). Uniform sampling is only efficient for rough lobes; 100k uniform
-// and 128 x 128 importance samples; tolerance 5 combined standard errors.
+// horizon). Uniform sampling is only efficient for rough lobes; 50k uniform
+// and 96 x 96 importance samples; tolerance 5 combined standard errors.
 TEST(Bsdf, SampledAlbedoEqualsUniformIntegration) {
-  for (float roughness : {0.3f, 0.6f, 1.0f}) {
-    for (float theta : {0.0f, 50.0f, 80.0f}) {
+  for (float roughness : {0.3f, 1.0f}) {
+    for (float theta : {0.0f, 70.0f}) {
       SCOPED_TRACE(testing::Message() << "roughness " << roughness << " theta " << theta);
       const Bsdf bsdf(Params(Vector3f(0.9f, 0.6f, 0.3f), 0.3f, roughness));
       const Vector3f wo = Dir(theta, 10);
-      const Estimate sampled = SampledAlbedo(bsdf, wo, 128, 7);
+      const Estimate sampled = SampledAlbedo(bsdf, wo, 96, 7);
       Rng rng(8);
-      const int n = 100000;
+      const int n = 50000;
       Vector3d sum = Vector3d::Zero(), sum2 = Vector3d::Zero();
       double pdf_sum = 0, pdf_sum2 = 0;
       for (int k = 0; k < n; ++k) {
@@ -253,8 +251,8 @@ TEST(Bsdf, SampledAlbedoEqualsUniformIntegration) {
         EXPECT_NEAR(sampled.mean[c], mean[c], tol);
       }
       const double pdf_mean = pdf_sum / n, pdf_se = std::sqrt((pdf_sum2 / n - pdf_mean * pdf_mean) / n);
-      // The valid fraction is a binomial proportion over 16384 draws.
-      const double frac_se = std::sqrt(sampled.valid_fraction * (1 - sampled.valid_fraction) / 16384.0);
+      // The valid fraction is a binomial proportion over 9216 draws.
+      const double frac_se = std::sqrt(sampled.valid_fraction * (1 - sampled.valid_fraction) / 9216.0);
       EXPECT_NEAR(pdf_mean, sampled.valid_fraction, 5 * std::hypot(pdf_se, frac_se) + 1e-6);
       EXPECT_LE(pdf_mean, 1.0 + 5 * pdf_se);
     }

@@ -54,8 +54,8 @@ TEST(EmbreeScene, HitsTheSquareWhereItIs) {
 
   auto hit = scene.Intersect(Down(0.25, 0.5, 2));
   ASSERT_TRUE(hit);
-  EXPECT_NEAR(hit->t, 2.0, 1e-6);
-  EXPECT_TRUE(hit->position.isApprox(Eigen::Vector3d(0.25, 0.5, 0), 1e-7));
+  EXPECT_NEAR(hit->t, 2.0, 1e-15);
+  EXPECT_LT((hit->position - Eigen::Vector3d(0.25, 0.5, 0)).norm(), 1e-15);
   EXPECT_TRUE(hit->geometric_normal.isApprox(Eigen::Vector3d(0, 0, 1)));
   EXPECT_TRUE(hit->shading_normal.isApprox(Eigen::Vector3d(0, 0, 1)));
   EXPECT_TRUE(hit->front_face);
@@ -163,8 +163,8 @@ TEST(EmbreeScene, MillimetreGeometryOneKilometreAway) {
     }
     auto hit = scene.Intersect({in + Eigen::Vector3d(0, 0, 0.1), {0, 0, -1}});
     ASSERT_TRUE(hit) << edge;
-    EXPECT_LT((hit->position - in).norm(), 1e-9) << edge;
-    EXPECT_NEAR(hit->t, 0.1, 1e-9);
+    EXPECT_LT((hit->position - in).norm(), 1e-12) << edge;  // double precision near 1 km: 1e-13
+    EXPECT_NEAR(hit->t, 0.1, 1e-12);
     EXPECT_FALSE(scene.Intersect({out + Eigen::Vector3d(0, 0, 0.1), {0, 0, -1}})) << edge;
   }
 }

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 
 #include "test_util.h"
 
@@ -105,6 +107,53 @@ TEST(Rig, InvalidParametersNameThePointer) {
     std::string msg = ErrorOf([&] { ParseSensorRig(doc.Root().AsObject().GetObject("sensor")); });
     EXPECT_EQ(msg.rfind(c.expected, 0), 0u) << "got: " << msg << "\nexpected prefix: " << c.expected;
   }
+}
+
+// The example in docs/scene-format.md parses and means what the text says.
+TEST(Rig, DocumentedExampleParses) {
+  std::ifstream in(std::string(LT_SOURCE_DIR) + "/docs/scene-format.md");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string md = ss.str();
+  size_t section = md.find("## sensor");
+  ASSERT_NE(section, std::string::npos);
+  size_t start = md.find("```json\n", section);
+  ASSERT_NE(start, std::string::npos);
+  start += 8;
+  size_t end = md.find("```", start);
+  std::string text = "{";
+  text.append(md, start, end - start);
+  text += "}";
+  auto doc = Doc(text);
+  SensorRig rig = ParseSensorRig(doc.Root().AsObject().GetObject("sensor"));
+  EXPECT_EQ(rig.camera.width(), 1000);
+  EXPECT_EQ(rig.lasers.size(), 1u);
+  EXPECT_TRUE(rig.led.has_value());
+  EXPECT_EQ(rig.shutter.Frame(0).label, "bright");
+  EXPECT_TRUE(rig.shutter.Frame(1).laser_on);
+}
+
+TEST(Rig, DefaultsWhenOptionalPartsAreAbsent) {
+  auto doc = Doc(R"({"camera": {"resolution": [64, 48], "focal_length_mm": 4, "pixel_pitch_um": 3, "f_number": 2}})");
+  SensorRig rig = ParseSensorRig(doc.Root().AsObject());
+  EXPECT_TRUE(rig.camera.is_pinhole());
+  EXPECT_NEAR(rig.camera.cx(), 31.5, 1e-12);
+  EXPECT_EQ(rig.image_sensor.color_filter(), ColorFilter::kMono);
+  EXPECT_EQ(rig.image_sensor.bit_depth(), 12);
+  EXPECT_TRUE(rig.lasers.empty());
+  EXPECT_FALSE(rig.led);
+  EXPECT_TRUE(rig.shutter.Frame(0).laser_on);
+}
+
+TEST(Rig, BayerNeedsPerChannelQuantumEfficiency) {
+  auto doc = Doc(R"({"camera": {"resolution": [64, 48], "focal_length_mm": 4, "pixel_pitch_um": 3, "f_number": 2},
+                    "image_sensor": {"color_filter": "rggb", "quantum_efficiency": 0.5}})");
+  EXPECT_EQ(ErrorOf([&] { ParseSensorRig(doc.Root().AsObject()); })
+                .rfind("scene.json: /image_sensor/quantum_efficiency: a Bayer sensor needs per-channel tables", 0),
+            0u);
+  auto doc2 = Doc(R"({"camera": {"resolution": [64, 48], "focal_length_mm": 4, "pixel_pitch_um": 3, "f_number": 2,
+                                "distortion": {"model": "none", "k1": 0.1}}})");
+  EXPECT_EQ(ErrorOf([&] { ParseSensorRig(doc2.Root().AsObject()); }).rfind("scene.json: /camera/distortion/k1: unknown key", 0), 0u);
 }
 
 }  // namespace

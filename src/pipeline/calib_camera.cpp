@@ -1,0 +1,404 @@
+#include "pipeline/calib_camera.h"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <Eigen/SVD>
+#include <cmath>
+#include <cstdio>
+
+#include "core/error.h"
+#include "pipeline/calib_lm.h"
+#include "sensor/param_error.h"
+
+namespace lt {
+
+namespace {
+
+void Require(bool ok, const char* option, const std::string& message) {
+  if (!ok) throw InputError(std::string("option ") + option, message);
+}
+
+int DistortionCount(DistortionModel m) {
+  switch (m) {
+    case DistortionModel::kNone: return 0;
+    case DistortionModel::kBrownConrady: return 5;
+    case DistortionModel::kFisheye: return 4;
+  }
+  return 0;
+}
+
+std::vector<std::string> ParamNames(DistortionModel m) {
+  std::vector<std::string> n = {"fx", "fy", "cx", "cy"};
+  if (m == DistortionModel::kBrownConrady) n.insert(n.end(), {"k1", "k2", "p1", "p2", "k3"});
+  if (m == DistortionModel::kFisheye) n.insert(n.end(), {"k1", "k2", "k3", "k4"});
+  return n;
+}
+
+// State layout: [fx fy cx cy | distortion | pose_0 (rvec, t) | pose_1 | ...].
+struct Layout {
+  DistortionModel model;
+  int intrinsic_count;            // 4 + distortion count
+  std::vector<int> free_intrinsics;  // state indices of the free intrinsics
+  int views;
+  int PoseOffset(int v) const { return intrinsic_count + 6 * v; }
+  int StateSize() const { return intrinsic_count + 6 * views; }
+  int TangentSize() const { return int(free_intrinsics.size()) + 6 * views; }
+  int TangentPose(int v) const { return int(free_intrinsics.size()) + 6 * v; }
+};
+
+CameraParams ParamsFromState(const Layout& l, const Eigen::VectorXd& x, int width, int height) {
+  CameraParams p;
+  p.width = width;
+  p.height = height;
+  p.fx = x[0], p.fy = x[1], p.cx = x[2], p.cy = x[3];
+  p.distortion = l.model;
+  if (l.model == DistortionModel::kBrownConrady) {
+    p.brown_conrady = {x[4], x[5], x[6], x[7], x[8]};
+  } else if (l.model == DistortionModel::kFisheye) {
+    p.fisheye = {x[4], x[5], x[6], x[7]};
+  }
+  return p;
+}
+
+// Residuals (projection − detection, pixels) of one view into out[0 .. 2n).
+bool ViewResiduals(const CameraParams& p, const Pose& cam_from_target, const CalibrationView& view, double* out) {
+  for (size_t k = 0; k < view.pixels.size(); ++k) {
+    Eigen::Vector2d px;
+    if (!ProjectWithModel(p, cam_from_target * view.target_points[k], &px)) return false;
+    out[2 * k] = px.x() - view.pixels[k].x();
+    out[2 * k + 1] = px.y() - view.pixels[k].y();
+  }
+  return true;
+}
+
+// Nearest rotation matrix (SVD, determinant +1).
+Eigen::Matrix3d NearestRotation(const Eigen::Matrix3d& m) {
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(m, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
+  d(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
+  return svd.matrixU() * d * svd.matrixV().transpose();
+}
+
+Eigen::Matrix<double, 1, 6> ZhangRow(const Eigen::Matrix3d& h, int i, int j) {
+  Eigen::Matrix<double, 1, 6> v;
+  v << h(0, i) * h(0, j), h(0, i) * h(1, j) + h(1, i) * h(0, j), h(1, i) * h(1, j),
+      h(2, i) * h(0, j) + h(0, i) * h(2, j), h(2, i) * h(1, j) + h(1, i) * h(2, j), h(2, i) * h(2, j);
+  return v;
+}
+
+// Zhang's closed form with zero skew. Homographies are first expressed in
+// normalised pixels (centre of the image at 0, half-size 1) for conditioning.
+bool ClosedFormIntrinsics(const std::vector<Eigen::Matrix3d>& homographies, int width, int height,
+                          Eigen::Matrix3d* k) {
+  const double s = 0.5 * (width + height) * 0.5;
+  Eigen::Matrix3d t;
+  t << 1 / s, 0, -0.5 * (width - 1) / s, 0, 1 / s, -0.5 * (height - 1) / s, 0, 0, 1;
+  Eigen::MatrixXd v(2 * homographies.size() + 1, 6);
+  for (size_t i = 0; i < homographies.size(); ++i) {
+    Eigen::Matrix3d h = t * homographies[i];
+    h /= h.norm();
+    v.row(2 * i) = ZhangRow(h, 0, 1);
+    v.row(2 * i + 1) = ZhangRow(h, 0, 0) - ZhangRow(h, 1, 1);
+  }
+  v.row(v.rows() - 1) << 0, 1, 0, 0, 0, 0;  // zero skew: B12 = 0
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(v, Eigen::ComputeFullV);
+  const Eigen::VectorXd sv = svd.singularValues();
+  if (!(sv[4] > 1e-12 * sv[0])) return false;  // the null space is not one-dimensional
+  const Eigen::VectorXd b = svd.matrixV().col(5);
+  const double b11 = b[0], b12 = b[1], b22 = b[2], b13 = b[3], b23 = b[4], b33 = b[5];
+  const double den = b11 * b22 - b12 * b12;
+  if (!(den > 0)) return false;
+  const double v0 = (b12 * b13 - b11 * b23) / den;
+  const double lambda = b33 - (b13 * b13 + v0 * (b12 * b13 - b11 * b23)) / b11;
+  const double a2 = lambda / b11, b2 = lambda * b11 / den;
+  if (!(a2 > 0 && b2 > 0)) return false;
+  const double alpha = std::sqrt(a2), beta = std::sqrt(b2);
+  const double gamma = -b12 * alpha * alpha * beta / lambda;
+  const double u0 = gamma * v0 / beta - b13 * alpha * alpha / lambda;
+  Eigen::Matrix3d kn;
+  kn << alpha, 0, u0, 0, beta, v0, 0, 0, 1;
+  *k = t.inverse() * kn;
+  return k->allFinite();
+}
+
+Pose ClosedFormExtrinsics(const Eigen::Matrix3d& k, const Eigen::Matrix3d& h) {
+  Eigen::Matrix3d a = k.inverse() * h;
+  double scale = 1.0 / a.col(0).norm();
+  if (a(2, 2) * scale < 0) scale = -scale;  // the target lies in front of the camera
+  Eigen::Matrix3d r;
+  r.col(0) = scale * a.col(0);
+  r.col(1) = scale * a.col(1);
+  r.col(2) = r.col(0).cross(r.col(1));
+  Pose pose = Pose::Identity();
+  pose.linear() = NearestRotation(r);
+  pose.translation() = scale * a.col(2);
+  return pose;
+}
+
+std::string ViewName(size_t v) { return "view " + std::to_string(v); }
+
+std::string Fmt(double v, int digits = 4) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
+}  // namespace
+
+void CameraCalibrationOptions::Check() const {
+  Require(min_views >= 3, "min_views", "must be >= 3, got " + std::to_string(min_views));
+  Require(min_points_per_view >= 4, "min_points_per_view", "must be >= 4, got " + std::to_string(min_points_per_view));
+  Require(std::isfinite(max_relative_focal_std) && max_relative_focal_std > 0, "max_relative_focal_std",
+          "must be > 0, got " + FormatNumber(max_relative_focal_std));
+  Require(max_iterations >= 1, "max_iterations", "must be >= 1, got " + std::to_string(max_iterations));
+}
+
+bool ProjectWithModel(const CameraParams& p, const Eigen::Vector3d& q, Eigen::Vector2d* pixel) {
+  Eigen::Vector2d t;
+  if (p.distortion == DistortionModel::kFisheye) {
+    const double r = q.head<2>().norm();
+    if (r == 0 && !(q.z() > 0)) return false;
+    const double theta = std::atan2(r, q.z());
+    if (r < 1e-12 * std::abs(q.z())) {
+      t = q.head<2>() / q.z();  // θ_d/θ → 1 on the axis
+    } else {
+      t = p.fisheye.ThetaD(theta) / r * q.head<2>();
+    }
+  } else {
+    if (!(q.z() > 0)) return false;
+    const Eigen::Vector2d x = q.head<2>() / q.z();
+    t = p.distortion == DistortionModel::kBrownConrady ? p.brown_conrady.Distort(x) : x;
+  }
+  *pixel = {p.fx * t.x() + p.cx, p.fy * t.y() + p.cy};
+  return pixel->allFinite();
+}
+
+bool EstimateHomography(const std::vector<Eigen::Vector2d>& from, const std::vector<Eigen::Vector2d>& to,
+                        Eigen::Matrix3d* homography) {
+  const size_t n = from.size();
+  if (n < 4 || to.size() != n) return false;
+  auto normaliser = [](const std::vector<Eigen::Vector2d>& pts) {
+    Eigen::Vector2d c = Eigen::Vector2d::Zero();
+    for (const auto& p : pts) c += p;
+    c /= double(pts.size());
+    double d = 0;
+    for (const auto& p : pts) d += (p - c).norm();
+    d /= double(pts.size());
+    const double s = d > 0 ? std::sqrt(2.0) / d : 1.0;
+    Eigen::Matrix3d t;
+    t << s, 0, -s * c.x(), 0, s, -s * c.y(), 0, 0, 1;
+    return t;
+  };
+  const Eigen::Matrix3d tf = normaliser(from), tt = normaliser(to);
+  Eigen::MatrixXd a(2 * n, 9);
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d p = tf * from[i].homogeneous();
+    const Eigen::Vector3d q = tt * to[i].homogeneous();
+    const double x = p.x(), y = p.y(), u = q.x(), v = q.y();
+    a.row(2 * i) << -x, -y, -1, 0, 0, 0, u * x, u * y, u;
+    a.row(2 * i + 1) << 0, 0, 0, -x, -y, -1, v * x, v * y, v;
+  }
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeFullV);
+  const Eigen::VectorXd sv = svd.singularValues();
+  if (!(sv[7] > 1e-10 * sv[0])) return false;
+  const Eigen::VectorXd h = svd.matrixV().col(8);
+  Eigen::Matrix3d hn;
+  hn << h[0], h[1], h[2], h[3], h[4], h[5], h[6], h[7], h[8];
+  Eigen::Matrix3d out = tt.inverse() * hn * tf;
+  if (!(std::abs(out(2, 2)) > 1e-300)) return false;
+  *homography = out / out(2, 2);
+  return homography->allFinite();
+}
+
+CameraCalibrationResult CalibrateCamera(const std::vector<CalibrationView>& views, int width, int height,
+                                        const CameraCalibrationOptions& options) {
+  options.Check();
+  if (width <= 0 || height <= 0) throw InputError("", "image size must be positive");
+  for (size_t v = 0; v < views.size(); ++v) {
+    if (views[v].target_points.size() != views[v].pixels.size()) {
+      throw InputError("", ViewName(v) + ": " + std::to_string(views[v].target_points.size()) + " target points but " +
+                               std::to_string(views[v].pixels.size()) + " pixels");
+    }
+  }
+  CameraCalibrationResult res;
+  res.param_names = ParamNames(options.model);
+  auto refuse = [&](std::string reason) {
+    res.ok = false;
+    res.reason = std::move(reason);
+    return res;
+  };
+  if (int(views.size()) < options.min_views) {
+    return refuse("too few views: " + std::to_string(views.size()) + " (at least " + std::to_string(options.min_views) +
+                  " are needed)");
+  }
+
+  // ---- per view: planarity, corner count, spread, homography
+  std::vector<Eigen::Matrix3d> homographies;
+  size_t total_points = 0;
+  for (size_t v = 0; v < views.size(); ++v) {
+    const auto& view = views[v];
+    if (int(view.pixels.size()) < options.min_points_per_view) {
+      return refuse(ViewName(v) + " has too few corners: " + std::to_string(view.pixels.size()) + " (at least " +
+                    std::to_string(options.min_points_per_view) + ")");
+    }
+    std::vector<Eigen::Vector2d> xy;
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    double extent = 0;
+    for (size_t k = 0; k < view.pixels.size(); ++k) {
+      const Eigen::Vector3d& p = view.target_points[k];
+      if (!p.allFinite() || !view.pixels[k].allFinite()) return refuse(ViewName(v) + " has a non-finite coordinate");
+      xy.push_back(p.head<2>());
+      mean += p.head<2>();
+      extent = std::max(extent, p.head<2>().cwiseAbs().maxCoeff());
+    }
+    for (const auto& p : view.target_points) {
+      if (std::abs(p.z()) > 1e-9 * std::max(extent, 1e-3)) {
+        return refuse(ViewName(v) + ": the target points are not planar (z must be 0 in the target frame)");
+      }
+    }
+    mean /= double(xy.size());
+    Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+    for (const auto& p : xy) scatter += (p - mean) * (p - mean).transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> se(scatter);
+    if (!(se.eigenvalues()[0] > 1e-6 * se.eigenvalues()[1])) {
+      return refuse(ViewName(v) + ": the corners are collinear");
+    }
+    Eigen::Matrix3d h;
+    if (!EstimateHomography(xy, view.pixels, &h)) return refuse(ViewName(v) + ": no homography fits the corners");
+    homographies.push_back(h);
+    total_points += view.pixels.size();
+  }
+
+  // ---- closed form
+  Eigen::Matrix3d k;
+  if (!ClosedFormIntrinsics(homographies, width, height, &k)) {
+    return refuse(
+        "closed-form intrinsics do not exist for these views (the image of the absolute conic is not positive "
+        "definite): the views are too close to parallel to the image plane, or too few");
+  }
+  res.closed_form_fx = k(0, 0), res.closed_form_fy = k(1, 1), res.closed_form_cx = k(0, 2), res.closed_form_cy = k(1, 2);
+  for (const auto& h : homographies) res.closed_form_cam_from_target.push_back(ClosedFormExtrinsics(k, h));
+
+  // ---- refinement
+  Layout layout;
+  layout.model = options.model;
+  layout.intrinsic_count = 4 + DistortionCount(options.model);
+  layout.views = int(views.size());
+  for (int i = 0; i < layout.intrinsic_count; ++i) {
+    const bool tangential = options.model == DistortionModel::kBrownConrady && (i == 6 || i == 7);
+    const bool k3 = options.model == DistortionModel::kBrownConrady && i == 8;
+    if ((tangential && options.fix_tangential) || (k3 && options.fix_k3)) continue;
+    layout.free_intrinsics.push_back(i);
+  }
+  Eigen::VectorXd x0 = Eigen::VectorXd::Zero(layout.StateSize());
+  x0[0] = k(0, 0), x0[1] = k(1, 1), x0[2] = k(0, 2), x0[3] = k(1, 2);
+  for (int v = 0; v < layout.views; ++v) {
+    x0.segment<6>(layout.PoseOffset(v)) = PoseToVector(res.closed_form_cam_from_target[size_t(v)]);
+  }
+  std::vector<int> row_offset(views.size() + 1, 0);
+  for (size_t v = 0; v < views.size(); ++v) row_offset[v + 1] = row_offset[v] + 2 * int(views[v].pixels.size());
+
+  LmProblem problem;
+  problem.num_params = layout.TangentSize();
+  problem.num_residuals = row_offset.back();
+  problem.residuals = [&](const Eigen::VectorXd& x, Eigen::VectorXd* r) {
+    const CameraParams p = ParamsFromState(layout, x, width, height);
+    for (int v = 0; v < layout.views; ++v) {
+      const Pose pose = PoseFromVector(x.segment<6>(layout.PoseOffset(v)));
+      if (!ViewResiduals(p, pose, views[size_t(v)], r->data() + row_offset[size_t(v)])) return false;
+    }
+    return true;
+  };
+  problem.plus = [&](const Eigen::VectorXd& x, const Eigen::VectorXd& d) {
+    Eigen::VectorXd y = x;
+    for (size_t i = 0; i < layout.free_intrinsics.size(); ++i) y[layout.free_intrinsics[i]] += d[int(i)];
+    for (int v = 0; v < layout.views; ++v) {
+      const Pose pose = PoseFromVector(x.segment<6>(layout.PoseOffset(v)));
+      y.segment<6>(layout.PoseOffset(v)) = PoseToVector(PosePlus(pose, d.segment<6>(layout.TangentPose(v))));
+    }
+    return y;
+  };
+  // Central differences, view by view: a pose moves only its own view's residuals.
+  problem.jacobian = [&](const Eigen::VectorXd& x, Eigen::MatrixXd* j) {
+    j->setZero(problem.num_residuals, problem.num_params);
+    Eigen::VectorXd rp(problem.num_residuals), rm(problem.num_residuals);
+    for (size_t i = 0; i < layout.free_intrinsics.size(); ++i) {
+      const int si = layout.free_intrinsics[i];
+      const double h = si < 4 ? 1e-6 * x[0] : 1e-7;
+      Eigen::VectorXd xp = x, xm = x;
+      xp[si] += h;
+      xm[si] -= h;
+      if (!problem.residuals(xp, &rp) || !problem.residuals(xm, &rm)) return false;
+      j->col(int(i)) = (rp - rm) / (2 * h);
+    }
+    const CameraParams p = ParamsFromState(layout, x, width, height);
+    for (int v = 0; v < layout.views; ++v) {
+      const Pose pose = PoseFromVector(x.segment<6>(layout.PoseOffset(v)));
+      const int rows = row_offset[size_t(v) + 1] - row_offset[size_t(v)];
+      Eigen::VectorXd vp(rows), vm(rows);
+      for (int d = 0; d < 6; ++d) {
+        const double h = d < 3 ? 1e-6 : 1e-6 * std::max(pose.translation().norm(), 1e-3);
+        Vector6d delta = Vector6d::Zero();
+        delta[d] = h;
+        if (!ViewResiduals(p, PosePlus(pose, delta), views[size_t(v)], vp.data())) return false;
+        delta[d] = -h;
+        if (!ViewResiduals(p, PosePlus(pose, delta), views[size_t(v)], vm.data())) return false;
+        j->block(row_offset[size_t(v)], layout.TangentPose(v) + d, rows, 1) = (vp - vm) / (2 * h);
+      }
+    }
+    return true;
+  };
+  LmOptions lm;
+  lm.max_iterations = options.max_iterations;
+  const LmSummary sol = SolveLevenbergMarquardt(problem, x0, lm);
+  res.iterations = sol.iterations;
+  res.solver_message = sol.message;
+  if (!sol.ok) return refuse("refinement failed: " + sol.message);
+  if (!sol.converged) return refuse("refinement did not converge: " + sol.message);
+
+  // ---- results and uncertainty
+  const Eigen::VectorXd& x = sol.x;
+  res.camera = ParamsFromState(layout, x, width, height);
+  res.params = x.head(layout.intrinsic_count);
+  res.rms_px = std::sqrt(sol.cost / double(problem.num_residuals));
+  for (size_t v = 0; v < views.size(); ++v) {
+    const int rows = row_offset[v + 1] - row_offset[v];
+    res.view_rms_px.push_back(std::sqrt(sol.residuals.segment(row_offset[v], rows).squaredNorm() / rows));
+    res.cam_from_target.push_back(PoseFromVector(x.segment<6>(layout.PoseOffset(int(v)))));
+  }
+  std::vector<std::string> tangent_names;
+  for (int i : layout.free_intrinsics) tangent_names.push_back(res.param_names[size_t(i)]);
+  for (size_t v = 0; v < views.size(); ++v) {
+    for (const char* n : {"rx", "ry", "rz", "tx", "ty", "tz"}) tangent_names.push_back(ViewName(v) + " " + n);
+  }
+  const LmCovariance cov = EstimateCovariance(sol, tangent_names);
+  if (!cov.ok) return refuse(cov.reason);
+  res.sigma_px = std::sqrt(cov.sigma2);
+  const int nf = int(layout.free_intrinsics.size());
+  res.param_std = Eigen::VectorXd::Zero(layout.intrinsic_count);
+  res.param_covariance = Eigen::MatrixXd::Zero(layout.intrinsic_count, layout.intrinsic_count);
+  for (int a = 0; a < nf; ++a) {
+    res.param_std[layout.free_intrinsics[size_t(a)]] = cov.stddev[a];
+    for (int b = 0; b < nf; ++b) {
+      res.param_covariance(layout.free_intrinsics[size_t(a)], layout.free_intrinsics[size_t(b)]) = cov.covariance(a, b);
+    }
+  }
+  for (int v = 0; v < layout.views; ++v) res.pose_std.push_back(cov.stddev.segment<6>(layout.TangentPose(v)));
+  for (int i : {0, 1}) {
+    const double rel = res.param_std[i] / res.params[i];
+    if (!(res.params[i] > 0) || !(rel <= options.max_relative_focal_std)) {
+      return refuse("the focal length is poorly determined (" + res.param_names[size_t(i)] + " = " +
+                    Fmt(res.params[i], 6) + " ± " + Fmt(res.param_std[i], 2) +
+                    " px): the views are too close to parallel to the image plane or too few");
+    }
+  }
+  try {
+    Camera check(res.camera);
+  } catch (const ParamError& e) {
+    return refuse(std::string("the estimated camera is not valid: ") + e.what());
+  }
+  res.ok = true;
+  return res;
+}
+
+}  // namespace lt

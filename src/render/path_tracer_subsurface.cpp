@@ -1,0 +1,219 @@
+// Subsurface light from the scanner's point emitters (see path_tracer.h).
+//
+// Light leaving the shading point x_o of a subsurface material is
+//   L_o = C_o * integral over the surface of R(|x_i - x_o|) (1 - E(cos_i)) E_i(x_i) dA_i,
+//   C_o = (1 - E(cos_o)) / (pi (1 - E_avg)),
+// with R Burley's normalized diffusion profile at the emitter's wavelength, E the
+// dielectric specular albedo (the same coupling as the BSDF's diffuse lobe, so a
+// vanishing mean free path gives back the diffuse lobe) and E_i the emitter's
+// irradiance at the entry point x_i. The profile is truncated at the radius
+// r_max holding 99.9% of its energy.
+//
+// Two strategies find entry points, combined by the balance heuristic
+// (Veach 1997), one sample each per emitter channel:
+//  - probe rays around x_o (Christensen & Burley 2015; King et al. 2013): a
+//    radius from the profile, an angle, and an axis (normal 1/2, tangents 1/4
+//    each), then a ray through the disc point along the axis; every hit on the
+//    same material is an entry point, with the axis-MIS area density;
+//  - emitter rays: the laser's light is confined to thin sheets, which probe
+//    rays rarely meet, so entry points are also drawn along the sheet from the
+//    projector, over the fan angles within r_max of x_o (with a density that
+//    follows the profile's 1/d fall-off, see EmitterWindow) and across the
+//    sheet from its Gaussian (a cone of directions for a pattern projector);
+//    the first surface hit is the lit entry point.
+#include <cmath>
+
+#include "render/path_tracer.h"
+#include "render/path_vertex.h"
+#include "render/specular_albedo.h"
+#include "render/subsurface_profile.h"
+
+namespace lt {
+
+namespace {
+
+constexpr int kMaxProbeHits = 8;
+constexpr double kProfileTruncation = 0.999;
+
+// The emitter-ray strategy for one channel: a window of directions around x_o.
+struct EmitterWindow {
+  bool sheet = true;
+  // Sheet: projector-frame axes (central ray c, fan direction x, normal n), the
+  // fan angle of x_o, the window half-width and the sampling sigma across.
+  Eigen::Vector3d c, x, n;
+  double phi0 = 0, dphi = 0, sigma = 0;
+  // Along the sheet, the offset delta = phi - phi0 has density
+  // 1 / (2 V sqrt(delta^2 + dh^2)) on |delta| < dphi, V = asinh(dphi / dh): it
+  // follows the profile's 1/d fall-off seen from a point at angular distance dh
+  // from the sheet (delta = dh sinh(v), v uniform on (-V, V)).
+  double dh = 1e-3, V = 1;
+  // Pattern: a cone around the direction of x_o.
+  Eigen::Vector3d axis;
+  double cos_max = 1;
+
+  // Density (per steradian, projector frame) of drawing unit direction w.
+  double Pdf(const Eigen::Vector3d& w) const {
+    if (!sheet) return w.dot(axis) >= cos_max ? 1.0 / (2 * M_PI * (1 - cos_max)) : 0.0;
+    double psi = std::asin(std::clamp(w.dot(n), -1.0, 1.0));
+    double phi = std::atan2(w.dot(x), w.dot(c));
+    double dp = std::remainder(phi - phi0, 2 * M_PI);
+    if (std::abs(dp) > dphi || std::abs(psi) >= 0.5 * M_PI) return 0.0;
+    double g = std::exp(-0.5 * psi * psi / (sigma * sigma)) / (sigma * std::sqrt(2 * M_PI));
+    double p_delta = 1.0 / (2 * V * std::sqrt(dp * dp + dh * dh));
+    return p_delta * g / std::cos(psi);
+  }
+  // Draws a unit direction (projector frame); false when the draw falls outside.
+  bool Sample(Rng& rng, Eigen::Vector3d* w) const {
+    if (!sheet) {
+      double cos_t = 1 - rng.NextDouble() * (1 - cos_max), sin_t = std::sqrt(std::max(0.0, 1 - cos_t * cos_t));
+      double a = 2 * M_PI * rng.NextDouble();
+      Eigen::Vector3d t = axis.unitOrthogonal(), b = axis.cross(t);
+      *w = cos_t * axis + sin_t * (std::cos(a) * t + std::sin(a) * b);
+      return true;
+    }
+    double phi = phi0 + dh * std::sinh((2 * rng.NextDouble() - 1) * V);
+    double psi = sigma * rng.NextGaussian();
+    if (std::abs(psi) >= 0.5 * M_PI) return false;
+    *w = std::cos(psi) * (std::cos(phi) * c + std::sin(phi) * x) + std::sin(psi) * n;
+    return true;
+  }
+};
+
+}  // namespace
+
+void PathTracer::AddSubsurfaceEmitter(const Vertex& v, const PointEmitter& e, float beta, Rng& rng,
+                                      std::span<float> mono, TraceStats* stats) const {
+  const Subsurface& sss = *v.material->subsurface;
+  double albedo = (1.0 - v.material->metallic) * v.albedo_mono[size_t(e.group)];
+  if (beta <= 0 || albedo <= 0) return;
+  DiffusionProfileParams pp;
+  pp.albedo = albedo;
+  pp.mean_free_path = sss.mean_free_path_laser_m;
+  const BurleyProfile profile(pp);
+  const double r_max = profile.SampleRadius(kProfileTruncation);
+  const float cos_o = std::clamp(v.wo.z(), 0.0f, 1.0f);
+  const double exit = (1.0 - DielectricSpecularAlbedo(cos_o, v.alpha)) /
+                      (M_PI * (1.0 - DielectricSpecularAlbedoAverage(v.alpha)));
+  const Frame axes = Frame::FromNormal(v.n_geo.cast<float>());
+  const std::array<Eigen::Vector3d, 3> axis = {axes.n.cast<double>(), axes.t.cast<double>(), axes.b.cast<double>()};
+  const std::array<double, 3> axis_prob = {0.5, 0.25, 0.25};
+
+  // Area density of reaching x (normal n) by a probe ray.
+  auto probe_pdf = [&](const Eigen::Vector3d& x, const Eigen::Vector3d& n) {
+    Eigen::Vector3d d = x - v.p;
+    double pdf = 0;
+    for (int k = 0; k < 3; ++k) {
+      Eigen::Vector3d in_plane = d - d.dot(axis[size_t(k)]) * axis[size_t(k)];
+      double rk = in_plane.norm();
+      if (rk >= r_max) continue;
+      pdf += axis_prob[size_t(k)] * profile.Evaluate(rk) / (albedo * kProfileTruncation) *
+             std::abs(n.dot(axis[size_t(k)]));
+    }
+    return pdf;
+  };
+  // Entry-point weight without the emitter: R(d) (1 - E(cos_i)), 0 beyond r_max.
+  auto entry = [&](const Eigen::Vector3d& x, double cos_i) {
+    double d = (x - v.p).norm();
+    if (d >= r_max || cos_i <= 0) return 0.0;
+    return profile.Evaluate(d) * (1.0 - DielectricSpecularAlbedo(float(std::min(cos_i, 1.0)), v.alpha));
+  };
+
+  // Windows of the emitter-ray strategy, one per channel.
+  const Eigen::Vector3d p_proj = e.projector_from_world * v.p;
+  const double dist = p_proj.norm();
+  if (!(dist > 0)) return;
+  std::array<EmitterWindow, kMaxChannels> windows;
+  std::array<bool, kMaxChannels> active{};
+  for (int k = 0; k < e.channels; ++k) {
+    EmitterWindow& w = windows[size_t(k)];
+    if (e.laser) {
+      w.c = e.laser->SheetDirection(k).normalized();
+      w.n = e.laser->SheetPlaneInProjector(k).n;
+      w.x = w.n.cross(w.c).normalized();
+      if (w.x.dot(Eigen::Vector3d::UnitX()) < 0) w.x = -w.x;
+      Eigen::Vector3d u = p_proj / dist;
+      w.phi0 = std::atan2(u.dot(w.x), u.dot(w.c));
+      w.dphi = std::min(M_PI, r_max / dist);
+      w.sigma = e.laser->SheetSigma(dist);
+      double psi = std::asin(std::clamp(u.dot(w.n), -1.0, 1.0));
+      w.dh = std::max({std::abs(psi), 2 * w.sigma, 1e-3 * w.dphi});
+      w.V = std::asinh(w.dphi / w.dh);
+      active[size_t(k)] = std::abs(psi) <= w.dphi + 8 * w.sigma;  // the sheet passes within reach
+    } else {
+      w.sheet = false;
+      w.axis = p_proj / dist;
+      w.cos_max = std::cos(std::min(0.5 * M_PI, std::atan(r_max / dist)));
+      active[size_t(k)] = true;
+    }
+  }
+  bool any = false;
+  for (int k = 0; k < e.channels; ++k) any = any || active[size_t(k)];
+  if (!any) return;
+  const Eigen::Matrix3d world_from_projector = e.projector_from_world.linear().transpose();
+  // Emitter-ray density of x as an area density: p_w * cos_i / r^2.
+  auto emitter_pdf = [&](int k, const Eigen::Vector3d& x, const Eigen::Vector3d& n) {
+    if (!active[size_t(k)]) return 0.0;
+    Eigen::Vector3d to = e.origin_world - x;
+    double r2 = to.squaredNorm(), cos_i = n.dot(to) / std::sqrt(r2);
+    if (cos_i <= 0) return 0.0;
+    Eigen::Vector3d w_proj = (e.projector_from_world * x).normalized();
+    return windows[size_t(k)].Pdf(w_proj) * cos_i / r2;
+  };
+  const double scale = double(beta) * exit;
+
+  // Strategy 1: a probe ray.
+  {
+    double r = profile.SampleRadius(kProfileTruncation * rng.NextDouble());
+    double phi = 2 * M_PI * rng.NextDouble();
+    float ua = rng.NextFloat();
+    int a = ua < 0.5f ? 0 : (ua < 0.75f ? 1 : 2);
+    const Eigen::Vector3d &w = axis[size_t(a)], &s = axis[size_t((a + 1) % 3)], &t = axis[size_t((a + 2) % 3)];
+    double h = std::sqrt(std::max(0.0, r_max * r_max - r * r));
+    Ray probe{v.p + r * (std::cos(phi) * s + std::sin(phi) * t) + h * w, -w, 0, 2 * h};
+    std::array<double, kMaxChannels> irr{};
+    for (int found = 0; found < kMaxProbeHits && probe.t_min < probe.t_max; ++found) {
+      ++stats->rays;
+      auto hit = scene_.Intersect(probe);
+      if (!hit) break;
+      probe.t_min = hit->t + 1e-6 * std::max(h, 1e-9);
+      if (hit->material_id != v.material_id) continue;
+      Eigen::Vector3d ni = hit->geometric_normal;
+      if (ni.dot(v.n_geo) < 0) ni = -ni;
+      Eigen::Vector3d wi;
+      double cos_i = 0;
+      std::span<double> ch(irr.data(), size_t(e.channels));
+      if (!EmitterIrradiance(e, hit->position, ni, ni, &wi, &cos_i, ch, stats)) continue;
+      double g = entry(hit->position, cos_i);
+      double pp = probe_pdf(hit->position, ni);
+      if (g <= 0 || !(pp > 0)) continue;
+      for (int k = 0; k < e.channels; ++k) {
+        double f = g * ch[size_t(k)] * cos_i;  // ch: I_k / r^2 times the lit fraction
+        mono[size_t(e.first_channel + k)] += float(scale * f / (pp + emitter_pdf(k, hit->position, ni)));
+      }
+    }
+  }
+  // Strategy 2: one emitter ray per channel within reach.
+  for (int k = 0; k < e.channels; ++k) {
+    if (!active[size_t(k)]) continue;
+    Eigen::Vector3d w_proj;
+    if (!windows[size_t(k)].Sample(rng, &w_proj)) continue;
+    Ray ray{e.origin_world, world_from_projector * w_proj, 0, std::numeric_limits<double>::infinity()};
+    ++stats->rays;
+    auto hit = scene_.Intersect(ray);
+    if (!hit || hit->material_id != v.material_id) continue;
+    Eigen::Vector3d ni = hit->geometric_normal;
+    if (ni.dot(v.n_geo) < 0) ni = -ni;
+    Eigen::Vector3d to = e.origin_world - hit->position;
+    double r2 = to.squaredNorm(), cos_i = ni.dot(to) / std::sqrt(r2);
+    double g = entry(hit->position, cos_i);
+    if (g <= 0) continue;
+    Eigen::Vector3d p_hit_proj = e.projector_from_world * hit->position;
+    double I = e.laser ? e.laser->SheetIntensityAt(k, p_hit_proj) : e.pattern->RadiantIntensityAt(p_hit_proj);
+    double f = g * I * e.weight * cos_i / r2;
+    double pl = emitter_pdf(k, hit->position, ni);
+    if (!(pl > 0)) continue;
+    mono[size_t(e.first_channel + k)] += float(scale * f / (probe_pdf(hit->position, ni) + pl));
+  }
+}
+
+}  // namespace lt

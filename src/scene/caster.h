@@ -1,0 +1,104 @@
+// How the scanner turns about the nozzle while it follows a toolpath: a heading
+// angle in the bed plane over time, by one of three rules.
+//
+//   fixed    the heading stays 0 (the G-code +x axis).
+//   heading  the direction of the current move (its tangent on arcs). At a corner
+//            between two straight moves the heading jumps: an end effector would
+//            have to turn infinitely fast there.
+//   caster   the "virtual caster": like a caster wheel trailing behind its pivot, the
+//            heading is the mean of the unit direction vectors of the path over a
+//            window of path length w behind the nozzle. Averaging unit vectors (not
+//            angles) is safe across the +-180 degree wrap. The mean of the unit
+//            tangent over path length is the chord from the point w behind to the
+//            nozzle divided by w, so the caster heading is the direction of that chord,
+//            computed exactly. Near the start (less than w travelled) the window is
+//            the path so far.
+//
+// Path length here is measured in the bed plane: moves without motion in that plane
+// (z only, extruder only, dwells) keep the heading. Travel moves count like printing
+// moves: the scanner turns with the nozzle whatever it does. Before any motion in the
+// bed plane the heading is that of the first such move; a path without any has
+// heading 0.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "scene/toolpath.h"
+
+namespace lt {
+
+enum class OrientationMode { kFixed, kHeading, kCaster };
+
+struct OrientationOptions {
+  OrientationMode mode = OrientationMode::kCaster;
+  double caster_window_m = 0.010;  // path length behind the nozzle averaged by the caster
+  // Throws std::invalid_argument unless the window is finite and > 0.
+  void Check() const;
+};
+
+// "fixed", "heading", "caster" and back (ParseOrientationMode throws
+// std::invalid_argument on any other name).
+std::string OrientationModeName(OrientationMode mode);
+OrientationMode ParseOrientationMode(const std::string& name);
+
+// How fast the heading turns along a path.
+struct TurnRates {
+  // Largest |d heading / dt| where the heading changes continuously, and when.
+  double max_rate_rad_s = 0;
+  double max_rate_time_s = 0;
+  // Instantaneous changes of heading (corners in heading mode): how many exceed
+  // 1e-9 rad, the largest, when and at which G-code line the new move starts.
+  size_t jumps = 0;
+  double max_jump_rad = 0;
+  double max_jump_time_s = 0;
+  int max_jump_line = 0;
+
+  double MaxRateDegS() const;
+  double MaxJumpDeg() const;
+};
+
+class ToolpathOrientation {
+ public:
+  // Throws std::invalid_argument when the options fail Check().
+  ToolpathOrientation(std::shared_ptr<const Toolpath> path, OrientationOptions options);
+
+  const OrientationOptions& options() const { return options_; }
+  const Toolpath& path() const { return *path_; }
+
+  // The heading at time t (clamped to the path's duration): the unit direction in
+  // the bed plane, and its angle counter-clockwise from +x in (-pi, pi].
+  Eigen::Vector2d DirectionAt(double t_s) const;
+  double HeadingAt(double t_s) const;
+
+  // The turn rates along the whole path. Exact on pieces where the nozzle and the
+  // window's tail are both on straight moves (the caster's rate then peaks where
+  // the chord is shortest, a closed form); sampled at 17 points on pieces with arcs.
+  TurnRates ComputeTurnRates() const;
+
+  // Path length in the bed plane travelled by time t, and the point in that plane at
+  // path length s (clamped to the path).
+  double PathLengthAt(double t_s) const;
+  Eigen::Vector2d PointAtLength(double s_m) const;
+  double TotalLength() const { return total_xy_m_; }
+
+ private:
+  // Index (into path_->segments) of the segment with motion in the bed plane that
+  // holds path length s; the first such segment for s <= 0.
+  size_t SegmentAtLength(double s_m) const;
+  // The heading of the move at time t (heading mode).
+  Eigen::Vector2d MoveDirectionAt(double t_s) const;
+  Eigen::Vector2d CasterDirectionAt(double s_m, size_t segment) const;
+
+  TurnRates HeadingTurnRates() const;
+  TurnRates CasterTurnRates() const;
+
+  std::shared_ptr<const Toolpath> path_;
+  OrientationOptions options_;
+  std::vector<double> s_start_m_;   // bed-plane path length at the start of each segment
+  std::vector<size_t> xy_segments_; // indices of segments with motion in the bed plane
+  double total_xy_m_ = 0;
+};
+
+}  // namespace lt

@@ -1,0 +1,461 @@
+#include "scene/gcode.h"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+
+#include "core/error.h"
+#include "scene/motion_text.h"
+
+namespace lt {
+
+namespace {
+
+constexpr double kMetresPerMm = 1e-3;
+constexpr double kHomingFeedMmS = 50.0;  // Marlin's default homing speed
+// An arc's end may lie off its circle by this much (rounding of I/J and X/Y).
+constexpr double kArcRadiusToleranceMm = 0.01;
+constexpr double kArcRadiusToleranceRel = 1e-3;
+// End points closer than this (mm) are the same point (full circles).
+constexpr double kSamePointMm = 1e-9;
+
+bool IsLetter(char c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'); }
+char Upper(char c) { return (c >= 'a' && c <= 'z') ? char(c - 'a' + 'A') : c; }
+bool IsNumberChar(char c) { return (c >= '0' && c <= '9') || c == '.' || c == '-' || c == '+'; }
+bool IsBlank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+
+// Angle wrapped into (0, 2 pi].
+double WrapPositive(double a) {
+  a = std::fmod(a, 2 * M_PI);
+  if (a <= 0) a += 2 * M_PI;
+  return a;
+}
+
+// "G1", "M83" (built by appending: GCC 12 warns falsely on "G" + std::string).
+std::string CommandName(char letter, int n) {
+  std::string name(1, letter);
+  name.append(std::to_string(n));
+  return name;
+}
+
+// Lengths in messages: up to 6 significant digits ("10", "0.0005").
+std::string FormatLength(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+bool StartsWith(std::string_view s, std::string_view prefix) { return s.substr(0, prefix.size()) == prefix; }
+
+// One parameter word: a letter and (for most commands, required) a number.
+struct Word {
+  char letter = 0;
+  std::optional<double> value;
+};
+
+class GcodeReader {
+ public:
+  explicit GcodeReader(const std::string& name) : name_(name) {}
+
+  void ReadLine(std::string_view line, int line_no);
+  Toolpath Finish() { return std::move(path_); }
+
+ private:
+  [[noreturn]] void Fail(const std::string& message) const {
+    throw InputError(name_ + ":" + std::to_string(line_no_), message);
+  }
+
+  void Comment(std::string_view comment);
+  std::optional<double> CommentNumber(std::string_view text, const char* what) const;
+  // Splits the words after the command. `numbers_required`: every letter needs a number.
+  void ReadWords(std::string_view code, size_t pos, bool numbers_required);
+  const Word* Find(char letter) const;
+  void Expect(std::string_view allowed, const std::string& command) const;
+
+  void Move(int gcode);
+  void Arc(int gcode);
+  void Dwell();
+  void Home();
+  void SetPosition();
+  void SetFeed();
+  // Appends a segment from the current position to `end` (machine mm) and advances
+  // the state; `geometry` completes arc fields. Returns nothing when nothing moves.
+  void AddSegment(int gcode, const Eigen::Vector3d& end_mm, double extruded_mm, double length_mm,
+                  double xy_length_mm, const ToolpathSegment* arc, double feed_mm_s);
+  bool ERelative() const { return e_mode_ == EMode::kFollow ? xyz_relative_ : e_mode_ == EMode::kRelative; }
+  // Target machine position from X/Y/Z words (absolute or relative).
+  Eigen::Vector3d Target() const;
+  double ExtrudedFrom(const Word* e);
+
+  std::string name_;
+  int line_no_ = 0;
+  Toolpath path_;
+  std::vector<Word> words_;
+
+  Eigen::Vector3d pos_mm_ = Eigen::Vector3d::Zero();     // machine position
+  Eigen::Vector3d offset_mm_ = Eigen::Vector3d::Zero();  // machine = logical + offset (G92)
+  double e_logical_mm_ = 0;
+  double feed_mm_s_ = 0;  // 0: none given yet
+  double unit_mm_ = 1;    // 25.4 under G20
+  bool xyz_relative_ = false;
+  enum class EMode { kFollow, kAbsolute, kRelative } e_mode_ = EMode::kFollow;
+  bool xy_plane_ = true;
+  int layer_ = ToolpathSegment::kNoLayer;
+  int type_ = -1;
+  double t_s_ = 0;
+};
+
+std::optional<double> GcodeReader::CommentNumber(std::string_view text, const char* what) const {
+  auto v = ParseFiniteNumber(TrimBlanks(text));
+  if (!v) Fail(std::string(what) + " comment without a number: \"" + std::string(text) + "\"");
+  return v;
+}
+
+void GcodeReader::Comment(std::string_view comment) {
+  std::string_view c = TrimBlanks(comment);
+  if (StartsWith(c, "LAYER:")) {
+    auto v = CommentNumber(c.substr(6), "LAYER");
+    if (*v != std::floor(*v) || std::abs(*v) > 1e9) Fail("LAYER comment needs an integer, got " + FormatNumber(*v));
+    layer_ = int(*v);
+  } else if (c == "LAYER_CHANGE") {
+    layer_ = layer_ == ToolpathSegment::kNoLayer ? 0 : layer_ + 1;
+  } else if (StartsWith(c, "TYPE:")) {
+    std::string type(TrimBlanks(c.substr(5)));
+    int index = path_.TypeIndex(type);
+    if (index < 0) {
+      index = int(path_.type_names.size());
+      path_.type_names.push_back(type);
+    }
+    type_ = index;
+  } else if (StartsWith(c, "HEIGHT:")) {
+    double h = *CommentNumber(c.substr(7), "HEIGHT");
+    if (layer_ != ToolpathSegment::kNoLayer) path_.layer_height_m[layer_] = h * unit_mm_ * kMetresPerMm;
+  } else if (StartsWith(c, "Layer height:")) {
+    path_.header_layer_height_m = *CommentNumber(c.substr(13), "Layer height") * kMetresPerMm;
+  } else if (StartsWith(c, "layer_height =")) {
+    path_.header_layer_height_m = *CommentNumber(c.substr(14), "layer_height") * kMetresPerMm;
+  } else if (StartsWith(c, "filament_diameter =")) {
+    std::string_view list = c.substr(19);  // "1.75" or "1.75,1.75" (one per extruder)
+    path_.filament_diameter_m = *CommentNumber(list.substr(0, list.find(',')), "filament_diameter") * kMetresPerMm;
+  }
+}
+
+void GcodeReader::ReadWords(std::string_view code, size_t pos, bool numbers_required) {
+  words_.clear();
+  while (pos < code.size()) {
+    if (IsBlank(code[pos])) {
+      ++pos;
+      continue;
+    }
+    char letter = Upper(code[pos]);
+    if (!IsLetter(letter)) Fail("expected a parameter letter, got \"" + std::string(code.substr(pos)) + "\"");
+    ++pos;
+    size_t start = pos;
+    while (pos < code.size() && IsNumberChar(code[pos])) ++pos;
+    std::string_view number = code.substr(start, pos - start);
+    Word w;
+    w.letter = letter;
+    if (number.empty()) {
+      std::string rest(code.substr(start, 3));
+      for (char& ch : rest) ch = Upper(ch);
+      if (rest == "NAN" || rest == "INF") Fail(std::string(1, letter) + " is not a finite number");
+      if (numbers_required) Fail(std::string(1, letter) + " without a number");
+    } else {
+      w.value = ParseFiniteNumber(number);
+      if (!w.value) Fail(std::string(1, letter) + " has a malformed number \"" + std::string(number) + "\"");
+    }
+    if (letter == 'G' || letter == 'M' || letter == 'T') Fail("one command per line: found " + std::string(1, letter) + " after the command");
+    for (const Word& other : words_) {
+      if (other.letter == letter) Fail(std::string(1, letter) + " given twice");
+    }
+    words_.push_back(w);
+  }
+}
+
+const Word* GcodeReader::Find(char letter) const {
+  for (const Word& w : words_) {
+    if (w.letter == letter) return &w;
+  }
+  return nullptr;
+}
+
+void GcodeReader::Expect(std::string_view allowed, const std::string& command) const {
+  for (const Word& w : words_) {
+    if (allowed.find(w.letter) == std::string_view::npos) {
+      Fail(command + " takes no parameter " + std::string(1, w.letter));
+    }
+  }
+}
+
+void GcodeReader::SetFeed() {
+  if (const Word* f = Find('F')) {
+    if (!(*f->value > 0)) Fail("feed rate F must be > 0, got " + FormatNumber(*f->value));
+    feed_mm_s_ = *f->value * unit_mm_ / 60.0;
+  }
+}
+
+Eigen::Vector3d GcodeReader::Target() const {
+  Eigen::Vector3d target = pos_mm_;
+  const char axes[3] = {'X', 'Y', 'Z'};
+  for (int i = 0; i < 3; ++i) {
+    if (const Word* w = Find(axes[i])) {
+      double v = *w->value * unit_mm_;
+      target[i] = xyz_relative_ ? pos_mm_[i] + v : v + offset_mm_[i];
+    }
+  }
+  return target;
+}
+
+double GcodeReader::ExtrudedFrom(const Word* e) {
+  if (!e) return 0;
+  double v = *e->value * unit_mm_;
+  double delta = ERelative() ? v : v - e_logical_mm_;
+  e_logical_mm_ = ERelative() ? e_logical_mm_ + v : v;
+  return delta;
+}
+
+void GcodeReader::AddSegment(int gcode, const Eigen::Vector3d& end_mm, double extruded_mm, double length_mm,
+                             double xy_length_mm, const ToolpathSegment* arc, double feed_mm_s) {
+  double duration = 0;
+  if (length_mm > 0) {
+    duration = length_mm / feed_mm_s;
+  } else if (extruded_mm != 0) {
+    duration = std::abs(extruded_mm) / feed_mm_s;
+  }
+  if (duration > 0) {
+    ToolpathSegment s = arc ? *arc : ToolpathSegment{};
+    s.start_m = pos_mm_ * kMetresPerMm;
+    s.end_m = end_mm * kMetresPerMm;
+    s.extruded_m = extruded_mm * kMetresPerMm;
+    s.feed_m_s = feed_mm_s * kMetresPerMm;
+    s.t_start_s = t_s_;
+    s.t_end_s = t_s_ + duration;
+    s.length_m = length_mm * kMetresPerMm;
+    s.xy_length_m = xy_length_mm * kMetresPerMm;
+    s.layer = layer_;
+    s.type = type_;
+    s.gcode = gcode;
+    s.line = line_no_;
+    path_.segments.push_back(s);
+    t_s_ = s.t_end_s;
+  }
+  pos_mm_ = end_mm;
+}
+
+void GcodeReader::Move(int gcode) {
+  Expect("XYZEF", CommandName('G', gcode));
+  SetFeed();
+  Eigen::Vector3d end = Target();
+  double extruded = ExtrudedFrom(Find('E'));
+  double length = (end - pos_mm_).norm();
+  if ((length > 0 || extruded != 0) && feed_mm_s_ <= 0) Fail("move before any feed rate (F) was given");
+  AddSegment(gcode, end, extruded, length, (end - pos_mm_).head<2>().norm(), nullptr, feed_mm_s_);
+}
+
+void GcodeReader::Arc(int gcode) {
+  const std::string command = CommandName('G', gcode);
+  Expect("XYZEFIJR", command);
+  if (!xy_plane_) Fail(command + " outside the XY plane (G18/G19) is not supported");
+  const Word* i = Find('I');
+  const Word* j = Find('J');
+  const Word* r = Find('R');
+  if (!i && !j && !r) Fail(command + " needs I/J (centre offset) or R (radius)");
+  if ((i || j) && r) Fail(command + " takes I/J or R, not both");
+  SetFeed();
+  Eigen::Vector3d end = Target();
+  Eigen::Vector2d start2 = pos_mm_.head<2>(), end2 = end.head<2>();
+  const bool clockwise = gcode == 2;
+  Eigen::Vector2d centre;
+  bool full_circle = false;
+  if (r) {
+    double radius = *r->value * unit_mm_;
+    if (radius == 0) Fail(command + " with zero radius R");
+    Eigen::Vector2d chord = end2 - start2;
+    double d = chord.norm();
+    if (d <= kSamePointMm) Fail(command + " with R needs an end point away from the start (use I/J for a full circle)");
+    double half = d / 2;
+    double excess = half - std::abs(radius);
+    if (excess > std::max(kArcRadiusToleranceMm, kArcRadiusToleranceRel * half)) {
+      Fail(command + " radius " + FormatLength(std::abs(radius) / unit_mm_) + " is too small for a chord of " +
+           FormatLength(d / unit_mm_));
+    }
+    double h = std::sqrt(std::max(0.0, radius * radius - half * half));
+    Eigen::Vector2d left(-chord.y() / d, chord.x() / d);
+    // The shorter arc (R > 0) of a counter-clockwise move turns about a centre on
+    // the left of the chord; clockwise or R < 0 puts it on the right.
+    double side = (clockwise ? -1.0 : 1.0) * (radius > 0 ? 1.0 : -1.0);
+    centre = start2 + chord / 2 + side * h * left;
+  } else {
+    Eigen::Vector2d offset(i ? *i->value * unit_mm_ : 0.0, j ? *j->value * unit_mm_ : 0.0);
+    if (offset.norm() == 0) Fail(command + " with zero radius (I and J are 0)");
+    centre = start2 + offset;
+    full_circle = (end2 - start2).norm() <= kSamePointMm;
+  }
+  double r0 = (start2 - centre).norm();
+  double r1 = (end2 - centre).norm();
+  if (r0 == 0) Fail(command + " with zero radius");
+  if (std::abs(r1 - r0) > std::max(kArcRadiusToleranceMm, kArcRadiusToleranceRel * r0)) {
+    Fail(command + " end point is not on the arc: radius " + FormatLength(r0 / unit_mm_) + " at the start, " +
+         FormatLength(r1 / unit_mm_) + " at the end");
+  }
+  double a0 = std::atan2(start2.y() - centre.y(), start2.x() - centre.x());
+  double a1 = std::atan2(end2.y() - centre.y(), end2.x() - centre.x());
+  double sweep = full_circle ? 2 * M_PI : WrapPositive(clockwise ? a0 - a1 : a1 - a0);
+  if (clockwise) sweep = -sweep;
+  if (full_circle) r1 = r0;
+  ToolpathSegment arc;
+  arc.arc = true;
+  arc.centre_m = centre * kMetresPerMm;
+  arc.radius_start_m = r0 * kMetresPerMm;
+  arc.radius_end_m = r1 * kMetresPerMm;
+  arc.angle_start_rad = a0;
+  arc.sweep_rad = sweep;
+  double xy_length = 0.5 * (r0 + r1) * std::abs(sweep);
+  double length = std::hypot(xy_length, end.z() - pos_mm_.z());
+  double extruded = ExtrudedFrom(Find('E'));
+  if (feed_mm_s_ <= 0) Fail("move before any feed rate (F) was given");
+  AddSegment(gcode, end, extruded, length, xy_length, &arc, feed_mm_s_);
+}
+
+void GcodeReader::Dwell() {
+  Expect("PS", "G4");
+  double seconds = 0;
+  if (const Word* p = Find('P')) seconds += *p->value / 1000.0;
+  if (const Word* s = Find('S')) seconds += *s->value;
+  if (seconds < 0) Fail("G4 dwell time must be >= 0, got " + FormatNumber(seconds) + " s");
+  if (seconds > 0) {
+    ToolpathSegment s;
+    s.start_m = s.end_m = pos_mm_ * kMetresPerMm;
+    s.t_start_s = t_s_;
+    s.t_end_s = t_s_ + seconds;
+    s.layer = layer_;
+    s.type = type_;
+    s.gcode = 4;
+    s.line = line_no_;
+    path_.segments.push_back(s);
+    t_s_ = s.t_end_s;
+  }
+}
+
+void GcodeReader::Home() {
+  bool any = Find('X') || Find('Y') || Find('Z');
+  Eigen::Vector3d end = pos_mm_;
+  const char axes[3] = {'X', 'Y', 'Z'};
+  for (int k = 0; k < 3; ++k) {
+    if (!any || Find(axes[k])) {
+      end[k] = 0;
+      offset_mm_[k] = 0;
+    }
+  }
+  double feed = feed_mm_s_ > 0 ? feed_mm_s_ : kHomingFeedMmS;
+  AddSegment(28, end, 0, (end - pos_mm_).norm(), (end - pos_mm_).head<2>().norm(), nullptr, feed);
+}
+
+void GcodeReader::SetPosition() {
+  Expect("XYZE", "G92");
+  if (words_.empty()) {
+    offset_mm_ = pos_mm_;
+    e_logical_mm_ = 0;
+    return;
+  }
+  const char axes[3] = {'X', 'Y', 'Z'};
+  for (int k = 0; k < 3; ++k) {
+    if (const Word* w = Find(axes[k])) offset_mm_[k] = pos_mm_[k] - *w->value * unit_mm_;
+  }
+  if (const Word* e = Find('E')) e_logical_mm_ = *e->value * unit_mm_;
+}
+
+void GcodeReader::ReadLine(std::string_view line, int line_no) {
+  line_no_ = line_no;
+  size_t semicolon = line.find(';');
+  std::string_view code = line.substr(0, semicolon);
+  // Parenthesised comments, then a checksum.
+  std::string cleaned;
+  if (code.find('(') != std::string_view::npos) {
+    bool inside = false;
+    for (char c : code) {
+      if (c == '(') inside = true;
+      if (!inside) cleaned += c;
+      if (c == ')') inside = false;
+    }
+    code = cleaned;
+  }
+  code = code.substr(0, code.find('*'));
+  code = TrimBlanks(code);
+  if (code.empty()) {
+    if (semicolon != std::string_view::npos) Comment(line.substr(semicolon + 1));
+    return;
+  }
+  size_t pos = 0;
+  // A line number "N123" first.
+  if (Upper(code[0]) == 'N') {
+    ++pos;
+    while (pos < code.size() && IsNumberChar(code[pos])) ++pos;
+    while (pos < code.size() && IsBlank(code[pos])) ++pos;
+    if (pos == code.size()) return;
+  }
+  char letter = Upper(code[pos]);
+  if (letter != 'G' && letter != 'M' && letter != 'T') {
+    Fail("expected a command (G, M or T), got \"" + std::string(code.substr(pos)) + "\"");
+  }
+  size_t start = ++pos;
+  while (pos < code.size() && IsNumberChar(code[pos])) ++pos;
+  std::string_view number = code.substr(start, pos - start);
+  if (number.empty()) Fail(std::string(1, letter) + " without a number");
+  auto value = ParseFiniteNumber(number);
+  if (!value) Fail(std::string(1, letter) + " has a malformed number \"" + std::string(number) + "\"");
+  const bool integral = *value == std::floor(*value) && std::abs(*value) < 1e6;
+  const int n = integral ? int(*value) : -1;
+  if (letter == 'G' && integral) {
+    switch (n) {
+      case 0:
+      case 1: ReadWords(code, pos, true); Move(n); return;
+      case 2:
+      case 3: ReadWords(code, pos, true); Arc(n); return;
+      case 4: ReadWords(code, pos, true); Dwell(); return;
+      case 17:
+      case 18:
+      case 19: ReadWords(code, pos, true); Expect("", CommandName('G', n)); xy_plane_ = n == 17; return;
+      case 20:
+      case 21: ReadWords(code, pos, true); Expect("", CommandName('G', n)); unit_mm_ = n == 20 ? 25.4 : 1.0; return;
+      case 28: ReadWords(code, pos, false); Home(); return;
+      case 90:
+      case 91: ReadWords(code, pos, true); Expect("", CommandName('G', n)); xyz_relative_ = n == 91; return;
+      case 92: ReadWords(code, pos, true); SetPosition(); return;
+      default: break;
+    }
+  }
+  if (letter == 'M' && (n == 82 || n == 83)) {
+    ReadWords(code, pos, true);
+    Expect("", CommandName('M', n));
+    e_mode_ = n == 82 ? EMode::kAbsolute : EMode::kRelative;
+    return;
+  }
+  std::string name(1, letter);
+  name += integral ? std::to_string(n) : std::string(number);
+  ++path_.skipped_commands[name];
+}
+
+}  // namespace
+
+Toolpath ParseGcode(std::string_view text, const std::string& display_name) {
+  GcodeReader reader(display_name);
+  size_t pos = 0;
+  int line_no = 0;
+  while (pos < text.size()) {
+    size_t end = text.find('\n', pos);
+    if (end == std::string_view::npos) end = text.size();
+    reader.ReadLine(text.substr(pos, end - pos), ++line_no);
+    pos = end + 1;
+  }
+  return reader.Finish();
+}
+
+Toolpath ReadGcode(const std::filesystem::path& path, const std::string& display_name) {
+  std::string name = display_name.empty() ? path.string() : display_name;
+  return ParseGcode(ReadTextFile(path, name), name);
+}
+
+}  // namespace lt

@@ -1,0 +1,49 @@
+// Reading G-code as slicers write it (Cura and PrusaSlicer, Marlin flavour) into a
+// timed toolpath (scene/toolpath.h).
+//
+// Understood, everything else skipped and counted per command (Toolpath::
+// skipped_commands: temperatures, fans, accelerations, T tool changes, ...):
+//   G0, G1          straight moves (X Y Z E F)
+//   G2, G3          arcs clockwise / counter-clockwise in the XY plane, centre by I/J
+//                   offsets from the start, or radius R (R < 0: the arc over 180 degrees);
+//                   Z changing along the arc makes a helix; I/J with end = start is a
+//                   full circle
+//   G4              dwell (P milliseconds or S seconds)
+//   G17             XY plane (G18/G19 are accepted, but an arc outside XY is an error)
+//   G20, G21        inches / millimetres
+//   G28             home: a travel move to 0 on the named axes (all when none named)
+//   G90, G91        absolute / relative X Y Z (and E, unless M82/M83 set E's mode)
+//   G92             set the current position (no motion); no axes: all axes to 0
+//   M82, M83        absolute / relative E (overrides G90/G91 for E, as Marlin does)
+//   F               feed rate in mm/min (inch/min under G20), modal, shared by G0-G3
+// Comments: ;LAYER:n (Cura) sets the layer; ;LAYER_CHANGE (PrusaSlicer) starts the
+// next layer (0 first); ;TYPE:name names what follows (WALL-OUTER, External
+// perimeter, ...); ;HEIGHT:h (PrusaSlicer) the layer height; header ";Layer height:"
+// (Cura), "; layer_height =" and "; filament_diameter =" (PrusaSlicer). Structured
+// comments count only on lines holding nothing else. Line numbers (N) and checksums
+// (*) are dropped, parenthesised comments too; letters may be lower case.
+//
+// The machine starts at the origin with E = 0, absolute XYZ, E following G90/G91,
+// no feed rate (a move before any F is an error, except homing at 50 mm/s).
+//
+// Errors are lt::InputError naming "file:line": a letter without a number, a number
+// that is not finite or malformed, a parameter the command does not take or given
+// twice, a move before any feed rate, F <= 0, an arc without I/J or R, with both,
+// with zero radius, whose end is not on its circle (0.01 mm + 0.1 % of the radius),
+// or an R arc whose chord is longer than its diameter.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "scene/toolpath.h"
+
+namespace lt {
+
+// Parses G-code text; errors name `display_name`:line.
+Toolpath ParseGcode(std::string_view text, const std::string& display_name);
+// Reads a G-code file; errors name it as `display_name` (default: the path).
+Toolpath ReadGcode(const std::filesystem::path& path, const std::string& display_name = "");
+
+}  // namespace lt

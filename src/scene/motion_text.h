@@ -1,0 +1,30 @@
+// Reading numbers and lines from the text files that describe motion (pose lists,
+// G-code). Strict: a number is the whole field, finite, in the C locale.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace lt {
+
+// Parses the whole of `text` as a decimal number ("1", "-0.5", "+2.", ".5",
+// "1e-3"). Returns nullopt when anything else is there, or when the value is not
+// finite ("nan", "inf", "1e999").
+std::optional<double> ParseFiniteNumber(std::string_view text);
+
+// `text` without leading and trailing blanks (spaces, tabs, CR, LF).
+std::string_view TrimBlanks(std::string_view text);
+
+// Splits `text` at every `separator` (fields trimmed of blanks).
+std::vector<std::string_view> SplitFields(std::string_view text, char separator);
+// Splits `text` at runs of blanks (no empty fields).
+std::vector<std::string_view> SplitBlanks(std::string_view text);
+
+// The whole content of a text file. Throws lt::InputError naming `display_name`
+// when it cannot be read.
+std::string ReadTextFile(const std::filesystem::path& path, const std::string& display_name);
+
+}  // namespace lt

@@ -1,0 +1,65 @@
+#include "scene/toolpath.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace lt {
+
+Eigen::Vector3d ToolpathSegment::PointAt(double u) const {
+  if (!arc) return start_m + u * (end_m - start_m);
+  double r = radius_start_m + u * (radius_end_m - radius_start_m);
+  double a = angle_start_rad + u * sweep_rad;
+  return Eigen::Vector3d(centre_m.x() + r * std::cos(a), centre_m.y() + r * std::sin(a),
+                         start_m.z() + u * (end_m.z() - start_m.z()));
+}
+
+Eigen::Vector2d ToolpathSegment::TangentXy(double u) const {
+  if (!(xy_length_m > 0)) return Eigen::Vector2d::Zero();
+  Eigen::Vector2d d;
+  if (!arc) {
+    d = (end_m - start_m).head<2>();
+  } else {
+    double r = radius_start_m + u * (radius_end_m - radius_start_m);
+    double a = angle_start_rad + u * sweep_rad;
+    Eigen::Vector2d radial(std::cos(a), std::sin(a));
+    d = r * sweep_rad * Eigen::Vector2d(-radial.y(), radial.x()) + (radius_end_m - radius_start_m) * radial;
+  }
+  double n = d.norm();
+  return n > 0 ? Eigen::Vector2d(d / n) : Eigen::Vector2d::Zero();
+}
+
+size_t Toolpath::SegmentIndexAt(double t_s) const {
+  auto it = std::lower_bound(segments.begin(), segments.end(), t_s,
+                             [](const ToolpathSegment& s, double t) { return s.t_end_s < t; });
+  if (it == segments.end()) return segments.size() - 1;
+  return size_t(it - segments.begin());
+}
+
+Eigen::Vector3d Toolpath::PositionAt(double t_s) const {
+  if (segments.empty()) return Eigen::Vector3d::Zero();
+  if (!(t_s > segments.front().t_start_s)) return segments.front().start_m;  // also NaN
+  if (t_s >= segments.back().t_end_s) return segments.back().end_m;
+  const ToolpathSegment& s = segments[SegmentIndexAt(t_s)];
+  double d = s.Duration();
+  double u = d > 0 ? std::clamp((t_s - s.t_start_s) / d, 0.0, 1.0) : 1.0;
+  return s.PointAt(u);
+}
+
+double Toolpath::ExtrudedLength() const {
+  double sum = 0;
+  for (const auto& s : segments) sum += s.extruded_m;
+  return sum;
+}
+
+double Toolpath::PathLength() const {
+  double sum = 0;
+  for (const auto& s : segments) sum += s.length_m;
+  return sum;
+}
+
+int Toolpath::TypeIndex(const std::string& name) const {
+  auto it = std::find(type_names.begin(), type_names.end(), name);
+  return it == type_names.end() ? -1 : int(it - type_names.begin());
+}
+
+}  // namespace lt

@@ -1,0 +1,84 @@
+// A timed toolpath: the nozzle's moves in the order a printer executes them, each
+// with its geometry (straight line or arc), the filament it extrudes, its feed
+// rate and when it starts and ends. Made by the G-code reader (scene/gcode.h).
+//
+// Frame and units: the G-code frame (the printer's coordinates: origin and axes of
+// the print bed, z up), in metres; times in seconds from the start of the file.
+//
+// Time model: constant speed, no acceleration (trapezoid-free). A move's duration is
+// its path length divided by its feed rate; a move of the extruder alone (retract,
+// prime) lasts |filament length| / feed rate; a dwell (G4) lasts what it says.
+#pragma once
+
+#include <Eigen/Core>
+#include <climits>
+#include <cstddef>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace lt {
+
+struct ToolpathSegment {
+  static constexpr int kNoLayer = INT_MIN;  // before the first layer comment
+
+  Eigen::Vector3d start_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d end_m = Eigen::Vector3d::Zero();
+  double extruded_m = 0;  // filament length fed in (negative: retraction)
+  double feed_m_s = 0;    // the feed rate the move ran at (0 for a dwell)
+  double t_start_s = 0;
+  double t_end_s = 0;
+  double length_m = 0;     // path length in space (a helix for an arc that changes z)
+  double xy_length_m = 0;  // path length projected on the bed plane
+  int layer = kNoLayer;    // from ;LAYER:n (Cura) or counted ;LAYER_CHANGE (PrusaSlicer)
+  int type = -1;           // index into Toolpath::type_names (last ;TYPE: comment), -1 before any
+  int gcode = 1;           // the command that made it: 0, 1, 2, 3 (arcs), 4 (dwell), 28 (home)
+  int line = 0;            // 1-based line in the G-code file
+
+  // Arcs (gcode 2 or 3) in the bed plane: the point at parameter u in [0, 1] is
+  // centre + r(u) (cos a(u), sin a(u)) with r(u) = radius_start + u (radius_end -
+  // radius_start) and a(u) = angle_start + u sweep; z is linear in u. sweep > 0 is
+  // counter-clockwise seen from +z (G3), < 0 clockwise (G2).
+  bool arc = false;
+  Eigen::Vector2d centre_m = Eigen::Vector2d::Zero();
+  double radius_start_m = 0;
+  double radius_end_m = 0;
+  double angle_start_rad = 0;
+  double sweep_rad = 0;
+
+  double Duration() const { return t_end_s - t_start_s; }
+  bool Extrudes() const { return extruded_m > 0; }
+  // The point at parameter u in [0, 1] (linear in path length for lines and arcs of
+  // constant radius; u = 0 is start_m, u = 1 is end_m).
+  Eigen::Vector3d PointAt(double u) const;
+  // The unit direction of motion in the bed plane at u; zero when the move has no
+  // motion in the bed plane (z only, extruder only, dwell).
+  Eigen::Vector2d TangentXy(double u) const;
+};
+
+struct Toolpath {
+  std::vector<ToolpathSegment> segments;  // in time order, contiguous in time and space
+  std::vector<std::string> type_names;    // the distinct ;TYPE: names, in order of appearance
+  std::map<std::string, size_t> skipped_commands;  // commands without effect on motion: count each
+  // Layer heights stated in the file: ";HEIGHT:h" (PrusaSlicer) per layer, and the
+  // header's ";Layer height: h" (Cura) or "; layer_height = h" (PrusaSlicer); 0 when absent.
+  std::map<int, double> layer_height_m;
+  double header_layer_height_m = 0;
+  double filament_diameter_m = 0;  // "; filament_diameter = d" (PrusaSlicer), 0 when absent
+
+  double Duration() const { return segments.empty() ? 0.0 : segments.back().t_end_s; }
+  // The segment running at time t: the first whose end is >= t (clamped to the
+  // first and last). Requires a non-empty path.
+  size_t SegmentIndexAt(double t_s) const;
+  // The nozzle position at time t, clamped to the start and end of the path (the
+  // origin for an empty path).
+  Eigen::Vector3d PositionAt(double t_s) const;
+  // Sums over all segments: the net filament fed in (retractions subtract, so a
+  // retract and its re-prime cancel) and the distance travelled.
+  double ExtrudedLength() const;
+  double PathLength() const;
+  // Index of a type name in type_names, -1 when absent.
+  int TypeIndex(const std::string& name) const;
+};
+
+}  // namespace lt

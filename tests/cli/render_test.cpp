@@ -1,0 +1,85 @@
+// `lasertwin render` end to end on a tiny scene: the run folder's files, resume,
+// and clean errors (exit 2) for bad input.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_util.h"
+
+namespace lt::test {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+const fs::path kScene = fs::path(LT_SOURCE_DIR) / "tests/data/scenes/tiny_scan.json";
+
+std::vector<nlohmann::json> Manifest(const fs::path& dir) {
+  std::vector<nlohmann::json> lines;
+  std::istringstream in(ReadFile(dir / "manifest.jsonl"));
+  for (std::string line; std::getline(in, line);) lines.push_back(nlohmann::json::parse(line));
+  return lines;
+}
+
+TEST(RenderCommand, WritesTheRunFolderAndResumes) {
+  fs::path dir = TestFolder("render_resume");
+  CliResult r = RunCli("render " + Quoted(kScene) + " --out " + Quoted(dir) + " --frames 0:2 --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");  // --quiet
+  auto lines = Manifest(dir);
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines[0]["label"], "bright");
+  EXPECT_EQ(lines[1]["label"], "dim");
+  for (const auto& l : lines) {
+    for (auto& [k, v] : l["files"].items()) EXPECT_TRUE(fs::exists(dir / v.get<std::string>())) << v;
+  }
+  EXPECT_TRUE(fs::exists(dir / "scene.json"));
+  EXPECT_TRUE(fs::exists(dir / "rig.json"));
+  EXPECT_FALSE(lines[0]["files"].contains("centers"));  // the laser is off in the bright frame
+  EXPECT_GT(lines[1]["stripe_centers"].get<int>(), 40);
+  auto first_write = fs::last_write_time(dir / "frames/000001.png");
+
+  // Without --resume an existing run is refused; with it, only new frames render.
+  r = RunCli("render " + Quoted(kScene) + " --out " + Quoted(dir) + " --quiet");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("already holds a run"));
+  r = RunCli("render " + Quoted(kScene) + " --out " + Quoted(dir) + " --resume");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("rendered 2 frames"));
+  EXPECT_THAT(r.err, HasSubstr("2 already complete"));
+  EXPECT_EQ(Manifest(dir).size(), 4u);
+  EXPECT_EQ(fs::last_write_time(dir / "frames/000001.png"), first_write);
+  // A different seed is a different scene: resume refuses it.
+  r = RunCli("render " + Quoted(kScene) + " --out " + Quoted(dir) + " --resume --seed 9");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("different scene"));
+  // No temporary files are left behind.
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+  }
+  fs::remove_all(dir);
+}
+
+TEST(RenderCommand, BadInputIsExitCodeTwo) {
+  fs::path dir = TestFolder("render_bad");
+  struct Case {
+    std::string args, message;
+  } cases[] = {
+      {"render /no/such/scene.json --out " + Quoted(dir), "/no/such/scene.json"},
+      {"render " + Quoted(kScene) + " --out " + Quoted(dir) + " --frames 7:9", "selects no frame"},
+      {"render " + Quoted(kScene) + " --out " + Quoted(dir) + " --frames 3:1", "empty frame range"},
+      {"render " + Quoted(kScene) + " --out " + Quoted(dir) + " --frames x", "--frames"},
+      {"render " + Quoted(kScene) + " --out " + Quoted(dir) + " --spp 0", "spp"},
+      {"render " + Quoted(kScene), "--out"},
+  };
+  for (const auto& c : cases) {
+    CliResult r = RunCli(c.args);
+    EXPECT_EQ(r.exit_code, 2) << c.args;
+    EXPECT_THAT(r.err, HasSubstr(c.message)) << c.args;
+  }
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace lt::test

@@ -1,0 +1,97 @@
+// The laser stripe on a flat slab of subsurface material against the diffusion
+// profile's prediction. Camera straight above the slab at depth D; the sheet
+// from a projector at distance R0 of the stripe's line lays a Gaussian line of
+// irradiance E(x) = P_line N(x; sigma_x), P_line = (P / Phi) / R0,
+// sigma_x = sigma_psi R0^2 / D. The slab returns
+//   L(x) = f_spec(wo, wi) E(x) + C_o (1 - E_spec(cos_i)) P_line (LSF * N)(x),
+// the specular glint of the surface plus the line-spread function of Burley's
+// profile convolved with the stripe's Gaussian (BurleyProfile::LineSpreadGaussian),
+// C_o = (1 - E_spec(cos_o)) / (pi (1 - E_avg)) (path_tracer_subsurface.cpp).
+#include <gtest/gtest.h>
+
+#include "render/bsdf.h"
+#include "render/sampling.h"
+#include "render/frame_renderer.h"
+#include "render/spectrum.h"
+#include "render/specular_albedo.h"
+#include "render/subsurface_profile.h"
+#include "render_test_world.h"
+
+namespace lt {
+namespace {
+
+TEST(SubsurfaceStripe, ProfileOnAFlatSlabMatchesTheDiffusionPrediction) {
+  const double D = 0.1, b = 0.03, fx = 1000, P = 5e-3, fan = 60.0 * M_PI / 180.0, mfp = 0.5e-3;
+  test::World world;
+  world.Add(test::Rectangle({0, 0, D}, Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 0.2, 0.2));
+  Material pla = test::Plastic(0.8f, 0.5f);
+  pla.subsurface = Subsurface{Eigen::Vector3d::Constant(mfp), mfp};
+  world.geometry->materials = {pla};
+  world.Build();
+  SensorRig& rig = world.scene.sensor;
+  rig.camera = test::TestCamera(160, 40, fx);
+  rig.lasers = {test::TestLaser(b, D, P, 2e-3)};
+  ShutterParams sh;
+  sh.cycle = {ShutterFrameSpec{"dim", 1e-4, true, false, false}};
+  rig.shutter = ShutterSchedule(sh);
+  world.scene.render.spp = 64;
+  world.scene.render.max_bounces = 0;
+  RenderedFrame frame = FrameRenderer(world.scene, *world.embree).Render(0);
+
+  // Prediction.
+  const Camera& cam = rig.camera;
+  const LaserProjector& laser = rig.lasers[0];
+  const double R0 = std::hypot(b, D), cos_i = D / R0;
+  const double p_line = (P / fan) / R0, sigma_x = laser.SheetSigma(R0) * R0 * R0 / D;
+  const float alpha = std::max(pla.roughness * pla.roughness, kMinGgxAlpha);
+  const double c_o = (1.0 - DielectricSpecularAlbedo(1.0f, alpha)) / (M_PI * (1.0 - DielectricSpecularAlbedoAverage(alpha)));
+  const double entry = 1.0 - DielectricSpecularAlbedo(float(cos_i), alpha);
+  DiffusionProfileParams pp;
+  pp.albedo = ValueAtWavelength(pla.base_color, laser.wavelength_m());
+  pp.mean_free_path = mfp;
+  BurleyProfile profile(pp);
+  Frame frame_n = Frame::FromNormal(Eigen::Vector3f(0, 0, -1));
+  Eigen::Vector3d p0(0, 0, D);
+  float f_spec = Bsdf({Eigen::Vector3f::Zero(), 0.0f, pla.roughness})
+                     .Evaluate(frame_n.ToLocal((-p0).normalized().cast<float>()),
+                               frame_n.ToLocal((laser.origin_in_cam() - p0).normalized().cast<float>()))
+                     .x();
+  auto predicted = [&](double x) {
+    double gauss = std::exp(-0.5 * x * x / (sigma_x * sigma_x)) / (sigma_x * std::sqrt(2 * M_PI));
+    return f_spec * p_line * gauss + c_o * entry * p_line * profile.LineSpreadGaussian(x, sigma_x);
+  };
+  const double px = D / fx;  // pixel footprint on the slab
+  double sum_rendered = 0, sum_predicted = 0, peak = 0;
+  std::vector<double> rendered(size_t(cam.width())), expect(size_t(cam.width()));
+  for (int u = 0; u < cam.width(); ++u) {
+    double acc = 0;
+    for (int v = 10; v < 30; ++v) acc += frame.radiance.At(u, v, 3);
+    rendered[size_t(u)] = acc / 20;
+    double x = (u - cam.cx()) * px, integral = 0;
+    const int n = 64;  // midpoint rule over the pixel's footprint
+    for (int i = 0; i < n; ++i) integral += predicted(x + ((i + 0.5) / n - 0.5) * px);
+    expect[size_t(u)] = integral / n;
+    sum_rendered += rendered[size_t(u)];
+    sum_predicted += expect[size_t(u)];
+    peak = std::max(peak, expect[size_t(u)]);
+  }
+  // Total light: Monte Carlo noise of 64 samples x 20 rows and the profile's
+  // truncation at 99.9% of its energy keep this within 2%.
+  EXPECT_NEAR(sum_rendered / sum_predicted, 1.0, 0.02);
+  std::printf("subsurface stripe: rendered / predicted total %.4f\n", sum_rendered / sum_predicted);
+  // Shape, within 4 mm of the stripe: 5% of the local value plus 1% of the peak.
+  double worst = 0;
+  for (int u = 0; u < cam.width(); ++u) {
+    double x = (u - cam.cx()) * px;
+    if (std::abs(x) > 4e-3) continue;
+    double err = std::abs(rendered[size_t(u)] - expect[size_t(u)]);
+    EXPECT_LT(err, 0.05 * expect[size_t(u)] + 0.01 * peak) << "pixel " << u << " x = " << x * 1e3 << " mm";
+    worst = std::max(worst, err / peak);
+  }
+  std::printf("subsurface stripe: largest deviation %.4f of the peak\n", worst);
+  // The profile is much wider than the stripe: light 2 mm away is real.
+  EXPECT_GT(expect[size_t(cam.cx() + 20)], 0.005 * peak);
+}
+
+}  // namespace
+}  // namespace lt

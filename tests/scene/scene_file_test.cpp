@@ -1,0 +1,195 @@
+// Scene files: the examples parse, defaults apply, paths resolve against the
+// scene's folder, the resolved JSON is complete, and the loaded geometry places
+// every object where its pose says.
+#include "scene/scene_file.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "scene/embree_scene.h"
+#include "scene/scene_geometry.h"
+#include "test_util.h"
+
+namespace lt {
+namespace {
+
+namespace fs = std::filesystem;
+using test::ErrorOf;
+using ::testing::HasSubstr;
+
+const fs::path kScenes = fs::path(LT_SOURCE_DIR) / "tests/data/scenes";
+
+TEST(SceneFile, MinimalSceneGetsTheDefaults) {
+  SceneFile s = LoadSceneFile(kScenes / "minimal.json");
+  EXPECT_EQ(s.seed, 1u);
+  ASSERT_EQ(s.objects.size(), 1u);
+  EXPECT_EQ(s.objects[0].name, "square");
+  EXPECT_TRUE(s.objects[0].world_from_object.matrix().isIdentity());
+  EXPECT_EQ(s.objects[0].material, "");
+  // The glTF path resolves against the scene file's folder, not the working folder.
+  EXPECT_EQ(s.objects[0].gltf, (kScenes / "../gltf/square.gltf").lexically_normal());
+  EXPECT_TRUE(s.materials.empty());
+  EXPECT_EQ(s.environment.kind, Environment::Kind::kConstant);
+  EXPECT_EQ(s.environment.radiance, Eigen::Vector3d::Zero());
+  EXPECT_EQ(MotionTypeName(s.motion), "static");
+  EXPECT_TRUE(WorldFromCamAt(s.motion, 3.0).matrix().isIdentity());
+  EXPECT_EQ(s.render.spp, 16);
+  EXPECT_EQ(s.render.max_bounces, 2);
+  EXPECT_EQ(s.render.russian_roulette_depth, 3);
+  EXPECT_TRUE(s.render.adaptive_sampling);
+  EXPECT_TRUE(s.render.subsurface);
+  EXPECT_EQ(s.render.threads, 0);
+  EXPECT_EQ(s.output.png_bit_depth, 8);
+  EXPECT_TRUE(s.output.write_radiance);
+  EXPECT_TRUE(s.output.write_ground_truth);
+  EXPECT_EQ(s.sensor.camera.width(), 64);
+  EXPECT_NO_THROW(s.render.Check());
+  EXPECT_NO_THROW(s.output.Check());
+  EXPECT_NO_THROW(s.environment.Check());
+}
+
+TEST(SceneFile, FullSceneValuesLandWhereTheyShould) {
+  SceneFile s = LoadSceneFile(kScenes / "full.json");
+  EXPECT_EQ(s.seed, 42u);
+  ASSERT_EQ(s.objects.size(), 3u);
+  EXPECT_EQ(s.objects[0].material, "painted");
+  EXPECT_TRUE(s.objects[0].world_from_object.translation().isApprox(Eigen::Vector3d(0.1, 0, 0)));
+  EXPECT_TRUE((s.objects[0].world_from_object.linear() * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d::UnitY()));
+  ASSERT_EQ(s.materials.size(), 2u);  // sorted by name
+  EXPECT_EQ(s.materials[0].material.name, "lamp");
+  EXPECT_EQ(s.materials[1].material.name, "painted");
+  EXPECT_EQ(s.FindMaterial("painted"), 1);
+  EXPECT_EQ(s.FindMaterial("nope"), -1);
+  const Material& lamp = s.materials[0].material;
+  EXPECT_TRUE(lamp.base_color.isApprox(Eigen::Vector3f::Constant(0.8f)));  // default
+  EXPECT_EQ(lamp.roughness, 0.5f);
+  EXPECT_TRUE(lamp.emissive.isApprox(Eigen::Vector3f(2, 2, 1.5)));
+  ASSERT_TRUE(lamp.subsurface);
+  EXPECT_TRUE(lamp.subsurface->mean_free_path_m.isApprox(Eigen::Vector3d(0.3e-3, 0.2e-3, 0.1e-3)));
+  EXPECT_NEAR(lamp.subsurface->mean_free_path_laser_m, 0.3e-3, 1e-15);  // default: the red value
+  const Material& painted = s.materials[1].material;
+  EXPECT_FLOAT_EQ(painted.metallic, 0.1f);
+  EXPECT_TRUE(painted.double_sided);
+  EXPECT_NEAR(painted.subsurface->mean_free_path_laser_m, 0.5e-3, 1e-15);
+  EXPECT_TRUE(painted.subsurface->mean_free_path_m.isApprox(Eigen::Vector3d::Constant(0.4e-3)));
+  ASSERT_TRUE(painted.base_color_texture);
+  EXPECT_EQ(painted.base_color_texture->image.width, 4);
+  EXPECT_EQ(painted.base_color_texture->image.channels, 4);
+  EXPECT_EQ(s.materials[1].base_color_texture_path, kScenes / "checker.png");
+  EXPECT_NO_THROW(painted.Check());
+  EXPECT_EQ(s.environment.kind, Environment::Kind::kMap);
+  EXPECT_EQ(s.environment.exr, kScenes / "sky.exr");
+  EXPECT_EQ(s.environment.scale, 2.5);
+  EXPECT_TRUE(WorldFromCamAt(s.motion, 0).translation().isApprox(Eigen::Vector3d(0, 0, 0.1)));
+  EXPECT_EQ(s.render.spp, 4);
+  EXPECT_EQ(s.render.max_bounces, 0);
+  EXPECT_EQ(s.render.russian_roulette_depth, 5);
+  EXPECT_FALSE(s.render.adaptive_sampling);
+  EXPECT_FALSE(s.render.subsurface);
+  EXPECT_EQ(s.render.threads, 2);
+  EXPECT_EQ(s.output.png_bit_depth, 16);
+  EXPECT_FALSE(s.output.write_radiance);
+  ASSERT_EQ(s.sensor.lasers.size(), 1u);
+  EXPECT_DOUBLE_EQ(s.sensor.lasers[0].wavelength_m(), 450e-9);
+}
+
+TEST(SceneFile, ResolvedJsonHasAbsolutePathsAndDefaults) {
+  test::TempDir other;
+  const fs::path old = fs::current_path();
+  fs::current_path(other.path());  // paths must not depend on the working folder
+  SceneFile s = LoadSceneFile(kScenes / "minimal.json");
+  SceneFile full = LoadSceneFile(kScenes / "full.json");
+  fs::current_path(old);
+  const nlohmann::json& r = s.resolved;
+  EXPECT_EQ(r["objects"][0]["gltf"], (kScenes.parent_path() / "gltf/square.gltf").string());
+  EXPECT_EQ(r["seed"], 1);
+  EXPECT_EQ(r["render"]["spp"], 16);
+  EXPECT_EQ(r["render"]["threads"], 0);
+  EXPECT_EQ(r["output"]["png_bit_depth"], 8);
+  EXPECT_EQ(r["motion"]["type"], "static");
+  EXPECT_EQ(r["environment"]["radiance"], nlohmann::json({0.0, 0.0, 0.0}));
+  EXPECT_EQ(r["sensor"], s.resolved["sensor"]);
+  EXPECT_EQ(full.resolved["materials"]["painted"]["base_color_texture"], (kScenes / "checker.png").string());
+  EXPECT_EQ(full.resolved["environment"]["exr"], (kScenes / "sky.exr").string());
+  EXPECT_EQ(full.resolved["render"]["spp"], 4);  // given values are kept
+  // The resolved scene is itself a valid scene that loads the same way, from anywhere.
+  test::TempDir dir;
+  test::WriteText(dir / "scene.json", full.resolved.dump());
+  SceneFile again = LoadSceneFile(dir / "scene.json");
+  EXPECT_EQ(again.objects[1].gltf, full.objects[1].gltf);
+  EXPECT_EQ(again.resolved, full.resolved);
+}
+
+SceneFile Parse(const std::string& text) { return ParseSceneText(text, "scene.json", kScenes); }
+
+const char* kSensor = R"("sensor": {"camera": {"resolution": [64, 48], "pixel_pitch_um": 5, "focal_length_mm": 4, "f_number": 4}})";
+
+TEST(SceneFile, ErrorsNameTheFileAndPointer) {
+  const std::string obj = R"("objects": [{"name": "a", "gltf": "../gltf/square.gltf"}], )";
+  EXPECT_EQ(ErrorOf([&] { Parse("{" + obj + kSensor + R"(, "seed": -2})"); }), "scene.json: /seed: must be >= 0, got -2");
+  EXPECT_EQ(ErrorOf([&] { Parse("{" + obj + R"("sensor": {"camera": {"resolution": [64, 48], "pixel_pitch_um": 5, "focal_length_mm": 4, "f_number": 0}}})"); }),
+            "scene.json: /sensor/camera/f_number: must be > 0, got 0");
+  EXPECT_THAT(ErrorOf([&] { Parse("{" + obj + kSensor + R"(, "objects2": 1})"); }),
+              HasSubstr("scene.json: /objects2: unknown key \"objects2\""));
+  EXPECT_EQ(ErrorOf([&] { Parse("{" + obj + kSensor + R"(, "render": {"spp": 2.5}})"); }),
+            "scene.json: /render/spp: must be an integer, got 2.5");
+  EXPECT_EQ(ErrorOf([&] { Parse("{" + obj + kSensor + R"(, "materials": {"": {}}})"); }),
+            "scene.json: /materials/: material names must not be empty");
+  EXPECT_EQ(ErrorOf([&] { Parse("{" + obj + kSensor + R"(, "materials": {"m": {"subsurface": {"mean_free_path_mm": [1, 2]}}}})"); }),
+            "scene.json: /materials/m/subsurface/mean_free_path_mm: must have 3 elements, got 2");
+  EXPECT_EQ(ErrorOf([&] { Parse("{" + obj + kSensor + R"(, "materials": {"m": {"subsurface": {"mean_free_path_mm": "x"}}}})"); }),
+            "scene.json: /materials/m/subsurface/mean_free_path_mm: must be a number or an array of 3 numbers (red, green, blue)");
+  EXPECT_EQ(ErrorOf([&] { Parse("{" + obj + kSensor + R"(, "motion": {"world_from_cam": {}}})"); }),
+            "scene.json: /motion: missing required key \"type\"");
+  EXPECT_EQ(ErrorOf([&] { Parse(R"({"objects": [{"name": "", "gltf": "x.glb"}], )" + std::string(kSensor) + "}"); }),
+            "scene.json: /objects/0/name: must not be empty");
+}
+
+TEST(SceneFile, MotionTypes) {
+  EXPECT_EQ(MotionTypeNames(), (std::vector<std::string>{"gcode", "pose_list", "static"}));
+  auto doc = json::Document::Parse(R"({"type": "static", "world_from_cam": {"translation_m": [1, 2, 3]}})", "m.json", ".");
+  Motion m = ParseMotion(doc.Root());
+  EXPECT_EQ(WorldFromCamAt(m, 0).translation(), Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(WorldFromCamAt(m, 100).translation(), Eigen::Vector3d(1, 2, 3));  // static: any time
+  nlohmann::json j = MotionToJson(m);
+  EXPECT_EQ(j["type"], "static");
+  EXPECT_EQ(j["world_from_cam"]["translation_m"], nlohmann::json({1.0, 2.0, 3.0}));
+}
+
+TEST(SceneGeometry, ObjectsShareTheirGltfAndKeepTheirPoses) {
+  SceneFile s = LoadSceneFile(kScenes / "full.json");
+  auto g = std::make_shared<const SceneGeometry>(LoadSceneGeometry(s));
+  // Three objects use square.gltf: loaded once.
+  ASSERT_EQ(g->meshes.size(), 1u);
+  ASSERT_EQ(g->instances.size(), 3u);
+  EXPECT_EQ(g->object_names, (std::vector<std::string>{"tile", "tile_glowing", "tile_plain"}));
+  EXPECT_EQ(g->instances[0].name, "tile/square");
+  // Scene materials first (lamp, painted), then the file's default material.
+  ASSERT_EQ(g->materials.size(), 3u);
+  EXPECT_EQ(g->materials[2].name, "default");
+  EXPECT_EQ(g->instances[0].material_override, 1);
+  EXPECT_EQ(g->instances[1].material_override, 0);
+  EXPECT_EQ(g->instances[2].material_override, -1);
+  EXPECT_EQ(g->MaterialOf(g->instances[2], 0), 2u);
+  EXPECT_EQ(g->UniqueTriangleCount(), 2u);
+  EXPECT_EQ(g->InstancedTriangleCount(), 6u);
+  // square.gltf is a unit square scaled to 10 mm by its node; "tile" is turned
+  // 90 deg about z and moved 0.1 m along x, so mesh corner (1, 0, 0) is at
+  // (0.1, 0.01, 0).
+  EXPECT_TRUE((g->instances[0].world_from_mesh * Eigen::Vector3d(1, 0, 0)).isApprox(Eigen::Vector3d(0.1, 0.01, 0)));
+  EXPECT_TRUE((g->instances[1].world_from_mesh * Eigen::Vector3d(1, 1, 0)).isApprox(Eigen::Vector3d(0.01, 0.01, -0.01)));
+  // A ray down onto the turned tile hits it, with the painted material.
+  EmbreeScene scene(g);
+  auto hit = scene.Intersect({{0.095, 0.005, 1}, {0, 0, -1}});
+  ASSERT_TRUE(hit);
+  EXPECT_EQ(hit->instance_id, 0u);
+  EXPECT_EQ(hit->material_id, 1u);
+  EXPECT_LT((hit->position - Eigen::Vector3d(0.095, 0.005, 0)).norm(), 1e-15) << hit->position.transpose();
+  auto lower = scene.Intersect({{0.005, 0.005, -0.005}, {0, 0, -1}});
+  ASSERT_TRUE(lower);
+  EXPECT_EQ(lower->material_id, 0u);  // lamp
+  EXPECT_NEAR(lower->position.z(), -0.01, 1e-9);
+}
+
+}  // namespace
+}  // namespace lt

@@ -1,0 +1,158 @@
+// Renderer benchmarks on the demo scene (scenes/demo/scene.json):
+//  - DimFrame640/spp: a 640x480 dim (laser) frame at several sample counts, with
+//    the error of a centre-of-mass extraction on its laser radiance against a
+//    256-spp reference (counter com_rms_px): run time against error;
+//  - BrightFrame1280: the 1280x1024 bright frame (LED, 2 bounces, 16 spp);
+//  - EmbreePrimaryRays: a bare rtcIntersect1 loop over the 1280x1024 pinhole
+//    rays of the demo camera, the upper bound on rays per second; the renderer's
+//    own rays per second over it is its efficiency ratio.
+// Threads: all (2 here) unless LT_BENCH_THREADS is set.
+#include <benchmark/benchmark.h>
+
+#include <cstdlib>
+#include <map>
+
+#include "pipeline/stripe_extractor.h"
+#include "render/frame_renderer.h"
+#include "scene/embree_scene.h"
+#include "scene/scene_file.h"
+
+namespace lt {
+namespace {
+
+int BenchThreads() {
+  const char* t = std::getenv("LT_BENCH_THREADS");
+  return t ? std::atoi(t) : 0;
+}
+
+struct Demo {
+  SceneFile scene;
+  std::shared_ptr<SceneGeometry> geometry;
+  std::unique_ptr<EmbreeScene> embree;
+
+  explicit Demo(int width, int height) {
+    scene = LoadSceneFile(std::string(LT_SOURCE_DIR) + "/scenes/demo/scene.json");
+    CameraParams p = scene.sensor.camera.params();
+    double s = double(width) / p.width;  // bin the sensor: same field of view, larger pixels
+    p.fx *= s, p.fy *= s;
+    p.pixel_pitch_m /= s;
+    p.cx = (width - 1) / 2.0, p.cy = (height - 1) / 2.0;
+    p.width = width, p.height = height;
+    scene.sensor.camera = Camera(p);
+    geometry = std::make_shared<SceneGeometry>(LoadSceneGeometry(scene));
+    embree = std::make_unique<EmbreeScene>(geometry);
+  }
+};
+
+Demo& Demo640() {
+  static Demo d(640, 480);
+  return d;
+}
+
+std::vector<StripePoint> Com(const Image<float>& radiance) {
+  Image<float> laser(radiance.width, radiance.height, 1);
+  for (int y = 0; y < radiance.height; ++y)
+    for (int x = 0; x < radiance.width; ++x) laser.At(x, y) = radiance.At(x, y, 3);
+  float peak = 0;
+  for (float v : laser.pixels) peak = std::max(peak, v);
+  ExtractionOptions o;
+  o.method = ExtractionMethod::kCom;
+  o.axis = SearchAxis::kCols;  // the demo's stripe runs along the rows
+  o.threshold = 0.1 * peak;
+  o.threads = 1;
+  return StripeExtractor(o).Extract(laser.View());
+}
+
+double ComRms(const std::vector<StripePoint>& a, const std::vector<StripePoint>& ref) {
+  std::map<int, double> r;
+  for (const auto& p : ref) r[int(std::lround(p.u))] = p.v;
+  double s = 0;
+  int n = 0;
+  for (const auto& p : a) {
+    auto it = r.find(int(std::lround(p.u)));
+    if (it == r.end()) continue;
+    s += (p.v - it->second) * (p.v - it->second);
+    ++n;
+  }
+  return n ? std::sqrt(s / n) : -1;
+}
+
+const std::vector<StripePoint>& Reference() {
+  static std::vector<StripePoint> ref = [] {
+    Demo& d = Demo640();
+    RenderOverrides o;
+    o.spp = 256;
+    o.seed = 999;
+    return Com(FrameRenderer(d.scene, *d.embree, o).Render(1).radiance);
+  }();
+  return ref;
+}
+
+void BM_DimFrame640(benchmark::State& state) {
+  Demo& d = Demo640();
+  const auto& ref = Reference();
+  RenderOverrides o;
+  o.spp = int(state.range(0));
+  o.threads = BenchThreads();
+  FrameRenderer renderer(d.scene, *d.embree, o);
+  RenderedFrame frame;
+  for (auto _ : state) frame = renderer.Render(1);
+  state.counters["com_rms_px"] = ComRms(Com(frame.radiance), ref);
+  state.counters["rays_per_s"] = benchmark::Counter(double(frame.stats.rays), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["near_pixels"] = double(frame.stats.near_pixels);
+  state.counters["gt_ms"] = frame.stats.ground_truth_ms;
+}
+BENCHMARK(BM_DimFrame640)->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_BrightFrame1280(benchmark::State& state) {
+  static Demo d(1280, 1024);
+  RenderOverrides o;
+  o.spp = 16;
+  o.threads = BenchThreads();
+  FrameRenderer renderer(d.scene, *d.embree, o);
+  RenderedFrame frame;
+  for (auto _ : state) frame = renderer.Render(0);
+  state.counters["rays_per_s"] = benchmark::Counter(double(frame.stats.rays), benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_BrightFrame1280)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+
+void BM_EmbreePrimaryRays(benchmark::State& state) {
+  static Demo d(1280, 1024);
+  const Camera& cam = d.scene.sensor.camera;
+  const Pose world_from_cam = WorldFromCamAt(d.scene.motion, 0);
+  std::vector<RTCRay> rays;
+  for (int y = 0; y < cam.height(); ++y) {
+    for (int x = 0; x < cam.width(); ++x) {
+      Eigen::Vector3d dir = world_from_cam.linear() * *cam.Unproject(Eigen::Vector2d(x, y));
+      Eigen::Vector3d org = d.embree->RenderFromWorld(world_from_cam.translation());
+      RTCRay r{};
+      r.org_x = float(org.x()), r.org_y = float(org.y()), r.org_z = float(org.z());
+      r.dir_x = float(dir.x()), r.dir_y = float(dir.y()), r.dir_z = float(dir.z());
+      r.tnear = 0, r.tfar = 1e30f, r.mask = ~0u, r.flags = 0;
+      rays.push_back(r);
+    }
+  }
+  size_t hits = 0;
+  for (auto _ : state) {
+    hits = 0;
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    for (const RTCRay& r : rays) {
+      RTCRayHit rh;
+      rh.ray = r;
+      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+      rtcIntersect1(d.embree->handle(), &ctx, &rh);
+      hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+    }
+    benchmark::DoNotOptimize(hits);
+  }
+  state.counters["rays_per_s"] = benchmark::Counter(double(rays.size()), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["hit_fraction"] = double(hits) / double(rays.size());
+}
+BENCHMARK(BM_EmbreePrimaryRays)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+}  // namespace lt
+
+BENCHMARK_MAIN();
