@@ -42,7 +42,7 @@ struct Soup {
 
   // A planar quad a-b-c-d (counter-clockwise seen from the side `normal` points to).
   void Quad(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, const Eigen::Vector3d& d,
-            const Eigen::Vector3d& normal, const std::array<Eigen::Vector2d, 4>& uv = {}) {
+            const Eigen::Vector3d& normal, const std::array<Eigen::Vector2d, 4>* uv = nullptr) {
     if ((b - a).cross(c - a).dot(normal) <= 0) {
       std::cerr << "make_demo_scene: quad wound against its normal\n";
       std::exit(1);
@@ -54,8 +54,8 @@ struct Soup {
         positions.push_back(float(corners[k][i]));
         normals.push_back(float(normal[i]));
       }
-      texcoords.push_back(float(uv[size_t(k)].x()));
-      texcoords.push_back(float(uv[size_t(k)].y()));
+      texcoords.push_back(uv ? float((*uv)[size_t(k)].x()) : 0.0f);
+      texcoords.push_back(uv ? float((*uv)[size_t(k)].y()) : 0.0f);
     }
     indices.insert(indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
   }
@@ -147,8 +147,9 @@ Soup PrintBed() {
   const double h = kBedSize / 2, z0 = -kBedThickness;
   Soup s;
   // Top with texture coordinates: u along +x, v along -y (image top at +y).
-  s.Quad({-h, -h, 0}, {h, -h, 0}, {h, h, 0}, {-h, h, 0}, {0, 0, 1},
-         {Eigen::Vector2d(0, 1), Eigen::Vector2d(1, 1), Eigen::Vector2d(1, 0), Eigen::Vector2d(0, 0)});
+  const std::array<Eigen::Vector2d, 4> uv = {Eigen::Vector2d(0, 1), Eigen::Vector2d(1, 1), Eigen::Vector2d(1, 0),
+                                             Eigen::Vector2d(0, 0)};
+  s.Quad({-h, -h, 0}, {h, -h, 0}, {h, h, 0}, {-h, h, 0}, {0, 0, 1}, &uv);
   s.Rect(2, z0, {-h, -h}, {h, h}, -1);
   s.Rect(0, -h, {-h, z0}, {h, 0}, -1);
   s.Rect(0, h, {-h, z0}, {h, 0}, +1);

@@ -69,8 +69,15 @@ FrameRenderer::FrameRenderer(const SceneFile& scene, const EmbreeScene& embree, 
   for (int y = 0; y < cam.height(); ++y)
     for (int x = 0; x < cam.width(); ++x)
       radiance_to_irradiance_.At(x, y) = float(cam.RadianceToIrradiance(Eigen::Vector2d(x, y)));
+  if (scene_.environment.kind == Environment::Kind::kMap) {
+    for (float v : environment_map_.pixels) max_environment_radiance_ = std::max(max_environment_radiance_, double(v));
+    max_environment_radiance_ *= scene_.environment.scale;
+  } else {
+    max_environment_radiance_ = scene_.environment.radiance.maxCoeff();
+  }
   for (const Material& m : embree.geometry().materials) {
     if (m.emissive.maxCoeff() > 0) has_emission_ = true;
+    max_emission_ = std::max(max_emission_, double(m.emissive.maxCoeff()));
     if (m.subsurface && scene.render.subsurface) {
       DiffusionProfileParams p;
       p.albedo = 1.0;  // the widest profile for this mean free path
@@ -236,7 +243,24 @@ RenderedFrame FrameRenderer::Render(int64_t frame_index) const {
   out.world_from_cam = WorldFromCamAt(scene_.motion, 0.5 * (sf.t_start_s + sf.t_end_s));
   FrameLights lights =
       MakeFrameLights(rig, out.world_from_cam, sf.laser_fraction, sf.pattern_fraction, sf.led_fraction);
-  const bool broadband = (lights.led.has_value()) || tracer_->has_environment() || has_emission_;
+  // Broadband light needs every pixel sampled only when it can show in the image:
+  // an LED, or environment / emission whose brightest radiance would give at
+  // least half a digital number (a white surface cannot reflect more radiance
+  // than the brightest light it sees).
+  bool broadband = lights.led.has_value();
+  if (!broadband && (tracer_->has_environment() || has_emission_)) {
+    double l_max = std::max(max_environment_radiance_, max_emission_);
+    double rtoi = *std::max_element(radiance_to_irradiance_.pixels.begin(), radiance_to_irradiance_.pixels.end());
+    double energy = l_max * rtoi * cam.pixel_area_m2() * sf.exposure_s;
+    double electrons = 0;
+    for (int c = 0; c < 3; ++c) {
+      double lambda = rig.image_sensor.params().band_wavelength_m[size_t(c)];
+      double qe = 0;
+      for (int k = 0; k < 3; ++k) qe = std::max(qe, rig.image_sensor.QuantumEfficiency(k, lambda));
+      electrons = std::max(electrons, qe * PhotonsFromEnergy(energy, lambda));
+    }
+    broadband = electrons * rig.image_sensor.SystemGain(sf.analog_gain_db) >= 0.5;
+  }
 
   FilmOptions film_options;
   film_options.width = w;

@@ -8,8 +8,9 @@
 //     its surface point lies within 8 sigma of a sheet's plane (plus the pixel's
 //     footprint and the subsurface profile's reach), dilated by the defocus blur
 //     and by one pixel. Far pixels need one sample; near pixels get the budget.
-//     When broadband light is on (LED, environment, emission), every pixel is lit
-//     and gets the full budget.
+//     When broadband light shows in the image (the LED, or environment and
+//     emission bright enough for half a digital number), every pixel gets the
+//     full budget.
 //  2. Path samples (render/path_tracer.h), stratified over the pixel, the lens
 //     aperture (thin lens only) and the exposure time (moving scanner only),
 //     accumulated in the film. Every random number comes from
@@ -94,6 +95,8 @@ class FrameRenderer {
   Image<float> radiance_to_irradiance_;  // Camera::RadianceToIrradiance per pixel
   double subsurface_reach_m_ = 0;        // radius holding 99.9% of the widest subsurface profile
   bool has_emission_ = false;
+  double max_emission_ = 0;              // brightest emissive radiance, W/(m² sr)
+  double max_environment_radiance_ = 0;  // brightest environment radiance, W/(m² sr)
 };
 
 }  // namespace lt

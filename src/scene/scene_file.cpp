@@ -75,7 +75,8 @@ nlohmann::json Resolve(const nlohmann::json& raw, const SceneFile& s, const std:
     r["environment"]["exr"] = std::filesystem::absolute(s.environment.exr).lexically_normal().string();
     AddMissing(r["environment"], ToJson(s.environment));
   }
-  if (!r.contains("motion")) r["motion"] = MotionToJson(s.motion);
+  // The motion as parsed: every type writes its own complete form, file paths absolute.
+  r["motion"] = MotionToJson(s.motion);
   if (!r.contains("render")) r["render"] = nlohmann::json::object();
   AddMissing(r["render"], ToJson(s.render));
   if (!r.contains("output")) r["output"] = nlohmann::json::object();

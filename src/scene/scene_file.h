@@ -42,9 +42,9 @@ struct SceneFile {
   Motion motion = DefaultMotion();
   RenderSettings render;
   OutputSettings output;
-  // The scene as read, with every path of the sections above made absolute and
-  // the defaults of seed, environment, motion, render and output written out: what
-  // a run writes as its scene.json so it can be reproduced.
+  // The scene as read, with every path made absolute, the defaults of seed,
+  // environment, render and output written out and the motion in its complete
+  // parsed form: what a run writes as its scene.json so it can be reproduced.
   nlohmann::json resolved;
 
   // Index into `materials` of the named material, or -1.

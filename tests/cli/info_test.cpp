@@ -154,7 +154,7 @@ std::vector<BadScene> BadScenes() {
       {"camera_resolution_zero.json", "/sensor/camera/resolution/0: must be in [1, 65536], got 0"},
       {"shutter_negative_exposure.json", "/sensor/shutter/alternating/dim_exposure_us: must be > 0, got -0.5"},
       {"laser_power_negative.json", "/sensor/lasers/0/power_mw: must be > 0, got -5"},
-      {"motion_unknown_type.json", "/motion/type: must be one of \"static\", got \"robot\""},
+      {"motion_unknown_type.json", "/motion/type: must be one of \"gcode\", \"pose_list\", \"static\", got \"robot\""},
       {"motion_unknown_key.json",
        "/motion/world_from_camera: unknown key \"world_from_camera\" (known keys: type, world_from_cam)"},
       {"render_spp_zero.json", "/render/spp: must be in [1, 65536], got 0"},

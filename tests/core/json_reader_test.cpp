@@ -121,6 +121,9 @@ TEST(FormatNumber, ShortestRoundTrip) {
   EXPECT_EQ(FormatNumber(0.0), "0");
   EXPECT_EQ(FormatNumber(0.1), "0.1");
   EXPECT_EQ(FormatNumber(1e-9), "1e-09");
+  EXPECT_EQ(FormatNumber(10), "10");
+  EXPECT_EQ(FormatNumber(-2500), "-2500");
+  EXPECT_EQ(FormatNumber(1e20), "1e+20");
   EXPECT_EQ(FormatNumber(1.0 / 3.0), "0.3333333333333333");
 }
 

@@ -88,7 +88,7 @@ TEST(RunFolderReader, BadManifestsNameTheLine) {
   const std::vector<BadManifest> cases = {
       {std::string(kDimLine) + "\n{\"index\":1,\"files\":{\"image\":\"x.png\"}", ":2:37", "invalid JSON"},
       {std::string(kDimLine) + "\n" + kDimLine + "\n", ":2", "frame 0 appears twice (first at "},
-      {R"({"index":-1,"files":{"image":"x.png"}})", ":1: /index", "must be in [0, 1e+09], got -1"},
+      {R"({"index":-1,"files":{"image":"x.png"}})", ":1: /index", "must be in [0, 1000000000], got -1"},
       {R"({"files":{"image":"x.png"}})", ":1: /", "missing required key \"index\""},
       {R"({"index":0,"files":{}})", ":1: /files", "missing required key \"image\""},
       {R"({"index":0,"files":{"image":""}})", ":1: /files/image", "must name the frame's image file"},

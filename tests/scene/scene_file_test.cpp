@@ -120,6 +120,23 @@ TEST(SceneFile, ResolvedJsonHasAbsolutePathsAndDefaults) {
   EXPECT_EQ(again.resolved, full.resolved);
 }
 
+// Motions that read files (pose lists, G-code) keep working from the resolved scene.
+TEST(SceneFile, ResolvedMotionFilesAreAbsolute) {
+  const std::string head = R"({"objects": [{"name": "a", "gltf": "../gltf/square.gltf"}],
+    "sensor": {"camera": {"resolution": [64, 48], "pixel_pitch_um": 5, "focal_length_mm": 4, "f_number": 4}},)";
+  for (const std::string motion : {R"("motion": {"type": "pose_list", "file": "../poses/sweep.csv"}})",
+                                   R"("motion": {"type": "gcode", "file": "../gcode/cura_square.gcode"}})"}) {
+    SceneFile s = ParseSceneText(head + motion, "scene.json", kScenes);
+    test::TempDir dir;
+    test::WriteText(dir / "scene.json", s.resolved.dump());
+    SceneFile again = LoadSceneFile(dir / "scene.json");
+    EXPECT_EQ(MotionTypeName(again.motion), MotionTypeName(s.motion));
+    for (double t : {0.0, 0.37, 1.5}) {
+      EXPECT_TRUE(WorldFromCamAt(again.motion, t).isApprox(WorldFromCamAt(s.motion, t), 1e-12)) << motion << " " << t;
+    }
+  }
+}
+
 SceneFile Parse(const std::string& text) { return ParseSceneText(text, "scene.json", kScenes); }
 
 const char* kSensor = R"("sensor": {"camera": {"resolution": [64, 48], "pixel_pitch_um": 5, "focal_length_mm": 4, "f_number": 4}})";

@@ -78,7 +78,7 @@ TEST(SceneSchema, RejectsWhatTheParserRejects) {
       {"camera_f_number_zero", ": /sensor/camera/f_number: 0 is less than or equal to the minimum of 0"},
       {"camera_resolution_zero", ": /sensor/camera/resolution/0: 0 is less than the minimum of 1"},
       {"laser_power_negative", ": /sensor/lasers/0/power_mw: -5 is less than or equal to the minimum of 0"},
-      {"motion_unknown_type", ": /motion/type: 'robot' is not one of ['static']"},
+      {"motion_unknown_type", ": /motion/type: 'robot' is not one of ['static', 'pose_list', 'gcode']"},
       {"motion_unknown_key", ": /motion: "},
       {"render_spp_zero", ": /render/spp: 0 is less than the minimum of 1"},
       {"render_threads_negative", ": /render/threads: -1 is less than the minimum of 0"},
