@@ -1,4 +1,4 @@
-// `lasertwin scan` end to end: render a tiny run (tests/data/scenes/scan_tiny.json:
+// `lasertwin scan` end to end: render a tiny run (tests/data/scenes/scan_distorted.json:
 // a 160x120 camera with Brown-Conrady distortion, 80 mm above the demo's slot
 // test part, one laser sheet; frame 0 laser, frame 1 bright), scan it, and
 // compare the triangulated points with the renderer's exact stripe centres.
@@ -13,10 +13,12 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "run_lasertwin.h"
+#include "run_many.h"
 
-namespace lt::clitest {
+namespace lt::test {
 namespace {
+
+namespace fs = std::filesystem;
 
 using ::testing::HasSubstr;
 using ::testing::StartsWith;
@@ -29,7 +31,7 @@ struct Vec3 {
 double Distance(const Vec3& a, const Vec3& b) { return std::hypot(a.x - b.x, a.y - b.y, a.z - b.z); }
 
 std::vector<std::vector<std::string>> ReadCsv(const fs::path& p, const std::string& header) {
-  std::stringstream in(ReadAll(p));
+  std::stringstream in(ReadFile(p));
   std::string line;
   std::getline(in, line);
   EXPECT_EQ(line, header) << p;
@@ -60,7 +62,7 @@ struct PlyVertex {
   int32_t frame = 0, plane = 0;
 };
 std::vector<PlyVertex> ReadPly(const fs::path& path, std::string* header_out = nullptr) {
-  const std::string bytes = ReadAll(path);
+  const std::string bytes = ReadFile(path);
   const std::string end = "end_header\n";
   const size_t body = bytes.find(end);
   if (body == std::string::npos) {
@@ -93,8 +95,8 @@ std::vector<PlyVertex> ReadPly(const fs::path& path, std::string* header_out = n
 class ScanCommand : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    rendered_ = new fs::path(TempDir("scan_rendered"));
-    Result r = RunLasertwin("render " + Quoted(kSource / "tests/data/scenes/scan_tiny.json") + " --out " +
+    rendered_ = new fs::path(NewTestFolder("scan_rendered"));
+    CliResult r = RunCli("render " + Quoted(kSource / "tests/data/scenes/scan_distorted.json") + " --out " +
                             Quoted(*rendered_ / "run") + " --quiet");
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
@@ -104,7 +106,7 @@ class ScanCommand : public ::testing::Test {
   }
   // A private copy of the rendered run (each test writes its own outputs).
   static fs::path CopyRun(const std::string& name) {
-    fs::path dir = TempDir("scan_" + name) / "run";
+    fs::path dir = NewTestFolder("scan_" + name) / "run";
     fs::copy(*rendered_ / "run", dir, fs::copy_options::recursive);
     return dir;
   }
@@ -156,7 +158,7 @@ double WorstError(const fs::path& run, const Truth& truth, int* compared) {
 
 TEST_F(ScanCommand, PointsMatchTheGroundTruth) {
   const fs::path run = CopyRun("truth");
-  Result r = RunLasertwin("scan " + Quoted(run));
+  CliResult r = RunCli("scan " + Quoted(run));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.err, HasSubstr("scanned 1 laser frame (1 without laser light skipped): "));
   EXPECT_THAT(r.err, HasSubstr("(world frame)"));
@@ -178,7 +180,7 @@ TEST_F(ScanCommand, PointsMatchTheGroundTruth) {
 
 TEST_F(ScanCommand, PlyHoldsTheTriangulatedPoints) {
   const fs::path run = CopyRun("ply");
-  Result r = RunLasertwin("scan " + Quoted(run) + " --method multicom --quiet");
+  CliResult r = RunCli("scan " + Quoted(run) + " --method multicom --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.err, "");
   std::vector<Vec3> csv_world;
@@ -202,7 +204,7 @@ TEST_F(ScanCommand, PlyHoldsTheTriangulatedPoints) {
 // Calibration files with the rig's own camera and plane, as the calibrate
 // command will write them (OpenCV YAML, numbers with 17 digits).
 std::string CalibrationYaml(const fs::path& run, bool with_distortion) {
-  nlohmann::json rig = nlohmann::json::parse(ReadAll(run / "rig.json"));
+  nlohmann::json rig = nlohmann::json::parse(ReadFile(run / "rig.json"));
   const auto& cam = rig["camera"];
   const auto& plane = rig["lasers"][0]["sheet_planes_in_cam"][0];
   auto num = [](double v) {
@@ -226,13 +228,13 @@ std::string CalibrationYaml(const fs::path& run, bool with_distortion) {
 
 TEST_F(ScanCommand, CalibrationFileWithTheTrueGeometryGivesTheSameResult) {
   const fs::path run = CopyRun("calib_true");
-  ASSERT_EQ(RunLasertwin("scan " + Quoted(run) + " --quiet").exit_code, 0);
-  const std::string reference = ReadAll(run / "centers/000000.csv");
+  ASSERT_EQ(RunCli("scan " + Quoted(run) + " --quiet").exit_code, 0);
+  const std::string reference = ReadFile(run / "centers/000000.csv");
   std::ofstream(run / "calib.yml") << CalibrationYaml(run, true);
-  Result r = RunLasertwin("scan " + Quoted(run) + " --calib " + Quoted(run / "calib.yml"));
+  CliResult r = RunCli("scan " + Quoted(run) + " --calib " + Quoted(run / "calib.yml"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.err, HasSubstr("1 laser plane from " + (run / "calib.yml").string()));
-  EXPECT_EQ(ReadAll(run / "centers/000000.csv"), reference);
+  EXPECT_EQ(ReadFile(run / "centers/000000.csv"), reference);
 }
 
 TEST_F(ScanCommand, LensDistortionIsApplied) {
@@ -241,10 +243,10 @@ TEST_F(ScanCommand, LensDistortionIsApplied) {
   // points along it, by about k1 r^2 |x| = 0.2 x 0.03 x 14 mm = 0.08 mm at the
   // image's left and right ends. Points must move by more than 0.05 mm there.
   const fs::path run = CopyRun("calib_nodist");
-  ASSERT_EQ(RunLasertwin("scan " + Quoted(run) + " --quiet").exit_code, 0);
+  ASSERT_EQ(RunCli("scan " + Quoted(run) + " --quiet").exit_code, 0);
   const auto with = ReadCsv(run / "centers/000000.csv", kCentersHeader);
   std::ofstream(run / "calib.yml") << CalibrationYaml(run, false);
-  Result r = RunLasertwin("scan " + Quoted(run) + " --quiet --calib " + Quoted(run / "calib.yml"));
+  CliResult r = RunCli("scan " + Quoted(run) + " --quiet --calib " + Quoted(run / "calib.yml"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto without = ReadCsv(run / "centers/000000.csv", kCentersHeader);
   ASSERT_EQ(with.size(), without.size());
@@ -258,7 +260,7 @@ TEST_F(ScanCommand, LensDistortionIsApplied) {
 }
 
 TEST_F(ScanCommand, BadInputExitsWithTwo) {
-  const fs::path base = TempDir("scan_bad");
+  const fs::path base = NewTestFolder("scan_bad");
   const fs::path rig = *rendered_ / "run/rig.json";
   auto make_run = [&](const std::string& name, const std::string& manifest) {
     fs::path dir = base / name;
@@ -292,7 +294,7 @@ TEST_F(ScanCommand, BadInputExitsWithTwo) {
   };
   std::vector<std::string> args;
   for (const auto& c : cases) args.push_back("scan " + c.args);
-  std::vector<Result> results = RunMany(args);
+  std::vector<CliResult> results = RunMany(args);
   for (size_t i = 0; i < cases.size(); ++i) {
     EXPECT_EQ(results[i].exit_code, 2) << args[i] << "\n" << results[i].err;
     EXPECT_EQ(results[i].out, "") << args[i];
@@ -304,4 +306,4 @@ TEST_F(ScanCommand, BadInputExitsWithTwo) {
 }
 
 }  // namespace
-}  // namespace lt::clitest
+}  // namespace lt::test

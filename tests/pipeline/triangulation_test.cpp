@@ -17,7 +17,7 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
-Camera Pinhole() {
+CameraParams PinholeParams() {
   CameraParams p;
   p.width = 160;
   p.height = 120;
@@ -25,10 +25,10 @@ Camera Pinhole() {
   p.fy = 455;
   p.cx = 81.3;
   p.cy = 58.9;
-  return Camera(p);
+  return p;
 }
 
-Camera BrownConrady() {
+CameraParams BrownConradyParams() {
   CameraParams p;
   p.width = 160;
   p.height = 120;
@@ -37,10 +37,10 @@ Camera BrownConrady() {
   p.cy = 59.5;
   p.distortion = DistortionModel::kBrownConrady;
   p.brown_conrady = {-0.2, 0.05, 0.001, -0.0005, 0.01};
-  return Camera(p);
+  return p;
 }
 
-Camera Fisheye() {
+CameraParams FisheyeParams() {
   CameraParams p;
   p.width = 320;
   p.height = 240;
@@ -49,7 +49,22 @@ Camera Fisheye() {
   p.cy = 119.5;
   p.distortion = DistortionModel::kFisheye;
   p.fisheye = {0.05, -0.01, 0.002, 0};
-  return Camera(p);
+  return p;
+}
+
+// Each camera is built once: the distortion's domain analysis is costly in
+// sanitizer builds.
+const Camera& Pinhole() {
+  static const Camera camera(PinholeParams());
+  return camera;
+}
+const Camera& BrownConrady() {
+  static const Camera camera(BrownConradyParams());
+  return camera;
+}
+const Camera& Fisheye() {
+  static const Camera camera(FisheyeParams());
+  return camera;
 }
 
 TEST(Triangulation, PlaneAtKnownDepthPinhole) {
@@ -187,11 +202,11 @@ TEST(Triangulation, NeverNaNOrInfinite) {
   // Random pixels (far outside the image too), random planes (many nearly
   // through the camera or nearly parallel to the rays), every minimum angle:
   // whatever comes back is finite and on the plane.
-  const Camera cams[] = {Pinhole(), BrownConrady(), Fisheye()};
+  const Camera* cams[] = {&Pinhole(), &BrownConrady(), &Fisheye()};
   int points = 0;
   for (int i = 0; i < 20000; ++i) {
     Rng rng = Rng::For(11, 0, uint64_t(i), 0);
-    const Camera& cam = cams[i % 3];
+    const Camera& cam = *cams[i % 3];
     Eigen::Vector3d n(rng.NextGaussian(), rng.NextGaussian(), rng.NextGaussian());
     if (i % 4 == 0) n.z() *= 1e-12;  // planes containing the optical axis direction
     n.normalize();

@@ -76,14 +76,14 @@ void Register(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_Extract)->Apply(Register);
 
-// A 640x480 laser frame of tests/data/scenes/scan_tiny.json with the camera
+// A 640x480 laser frame of tests/data/scenes/scan_distorted.json with the camera
 // at 4x the resolution (4.8 um pixels, same field of view) and the projector
 // turned so that its sheet makes a vertical stripe (searched along rows, like
 // the synthetic frame); no environment light.
 const lt::Image<uint16_t>& RenderedFrame() {
   static std::unique_ptr<lt::Image<uint16_t>> frame;
   if (!frame) {
-    lt::SceneFile scene = lt::LoadSceneFile(std::string(LT_SOURCE_DIR) + "/tests/data/scenes/scan_tiny.json");
+    lt::SceneFile scene = lt::LoadSceneFile(std::string(LT_SOURCE_DIR) + "/tests/data/scenes/scan_distorted.json");
     lt::CameraParams cp = scene.sensor.camera.params();
     cp.width = 640;
     cp.height = 480;
