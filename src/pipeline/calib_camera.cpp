@@ -7,16 +7,13 @@
 #include <cstdio>
 
 #include "core/error.h"
+#include "pipeline/option_checks.h"
 #include "pipeline/calib_lm.h"
 #include "sensor/param_error.h"
 
 namespace lt {
 
 namespace {
-
-void Require(bool ok, const char* option, const std::string& message) {
-  if (!ok) throw InputError(std::string("option ") + option, message);
-}
 
 // The pixel of camera-frame point (X, Y, Z) under the model (formulas of
 // sensor/distortion.h).
@@ -181,12 +178,6 @@ Pose ClosedFormExtrinsics(const Eigen::Matrix3d& k, const Eigen::Matrix3d& h) {
 }
 
 std::string ViewName(size_t v) { return "view " + std::to_string(v); }
-
-std::string Fmt(double v, int digits = 4) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
-}
 
 }  // namespace
 

@@ -3,15 +3,12 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "pipeline/option_checks.h"
 #include "core/random.h"
 
 namespace lt {
 
 namespace {
-
-void Require(bool ok, const char* option, const std::string& message) {
-  if (!ok) throw InputError(std::string("option ") + option, message);
-}
 
 constexpr uint64_t kJitterPurpose = 0x6a6974ull;  // "jit"
 constexpr uint64_t kNoisePurpose = 0x6e6f6973ull;  // "nois"

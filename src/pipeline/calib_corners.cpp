@@ -10,21 +10,12 @@
 #include <variant>
 
 #include "core/error.h"
+#include "pipeline/option_checks.h"
 #include "pipeline/gaussian_filter.h"
 
 namespace lt {
 
 namespace {
-
-void Require(bool ok, const char* option, const std::string& message) {
-  if (!ok) throw InputError(std::string("option ") + option, message);
-}
-
-std::string Fmt(double v, int digits = 3) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
-}
 
 template <typename T>
 Image<float> ToFloat(const ImageView<T>& v) {

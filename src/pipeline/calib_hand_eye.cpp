@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "core/error.h"
+#include "pipeline/option_checks.h"
 #include "pipeline/calib_lm.h"
 
 namespace lt {
@@ -14,16 +15,6 @@ namespace lt {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
-
-void Require(bool ok, const char* option, const std::string& message) {
-  if (!ok) throw InputError(std::string("option ") + option, message);
-}
-
-std::string Fmt(double v, int digits = 3) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
-}
 
 Eigen::Matrix3d ProcrustesRotation(const Eigen::Matrix3d& m) {
   // argmax_R tr(Rᵀ M) over rotations.

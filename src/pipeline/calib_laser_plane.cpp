@@ -7,21 +7,12 @@
 #include <map>
 
 #include "core/error.h"
+#include "pipeline/option_checks.h"
 #include "core/random.h"
 
 namespace lt {
 
 namespace {
-
-void Require(bool ok, const char* option, const std::string& message) {
-  if (!ok) throw InputError(std::string("option ") + option, message);
-}
-
-std::string Fmt(double v, int digits = 3) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
-}
 
 // Total least squares: the plane through the centroid normal to the direction
 // of least spread. Eigenvalues of the scatter matrix ascending.

@@ -5,6 +5,8 @@
 
 #include "core/error.h"
 
+#include "pipeline/option_checks.h"
+
 namespace lt {
 
 const char* MethodName(ExtractionMethod method) {
@@ -33,9 +35,6 @@ SearchAxis ParseAxis(const std::string& text, const std::string& where) {
 }
 
 namespace {
-void Require(bool ok, const char* option, const std::string& message) {
-  if (!ok) throw InputError(std::string("option ") + option, message);
-}
 bool FiniteOrAuto(double v) { return std::isnan(v) || std::isfinite(v); }
 }  // namespace
 
