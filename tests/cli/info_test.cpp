@@ -3,6 +3,8 @@
 // file and the JSON pointer, with exit code 2.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include "cli_util.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -24,35 +26,11 @@ using ::testing::StartsWith;
 const fs::path kSource = LT_SOURCE_DIR;
 const fs::path kData = kSource / "tests" / "data";
 
-struct Result {
-  int exit_code = -1;
-  std::string out, err;
-};
+using Result = lt::test::CliResult;
+using lt::test::Quoted;
+using lt::test::ReadFile;
 
-std::string ReadAll(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-// Runs `lasertwin ARGS` with stdout and stderr captured.
-Result RunLasertwin(const std::string& args) {
-  static std::atomic<int> counter{0};
-  const fs::path tmp = fs::temp_directory_path() / ("lt_cli_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-  const std::string command = std::string(LT_LASERTWIN) + " " + args + " >" + (tmp.string() + ".out") + " 2>" +
-                              (tmp.string() + ".err");
-  int status = std::system(command.c_str());
-  Result r;
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = ReadAll(tmp.string() + ".out");
-  r.err = ReadAll(tmp.string() + ".err");
-  fs::remove(tmp.string() + ".out");
-  fs::remove(tmp.string() + ".err");
-  return r;
-}
-
-std::string Quoted(const fs::path& p) { return "'" + p.string() + "'"; }
+Result RunLasertwin(const std::string& args) { return lt::test::RunCli(args); }
 
 TEST(InfoCommand, DemoSceneLoads) {
   Result r = RunLasertwin("info --json " + Quoted(kSource / "scenes/demo/scene.json"));
