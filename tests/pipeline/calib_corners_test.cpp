@@ -2,6 +2,8 @@
 // pinhole + Brown–Conrady camera, each pixel the board's mean over its area.
 #include <gtest/gtest.h>
 
+#include "calib_test_util.h"
+
 #include <cmath>
 
 #include "core/error.h"
@@ -26,27 +28,6 @@ Camera TestCamera(bool distortion = true) {
     p.brown_conrady = {-0.15, 0.05, 2e-4, -1e-4, 0};
   }
   return Camera(p);
-}
-
-CheckerboardSpec Board() {
-  CheckerboardSpec b;
-  b.rows = 7;
-  b.cols = 10;
-  b.square_m = 6e-3;
-  return b;
-}
-
-// The board's centre at (ox, oy, z), tilted by `tilt` about an in-plane axis
-// at angle `axis`, turned by `spin` about its normal.
-Pose BoardPose(double ox, double oy, double z, double tilt, double axis, double spin) {
-  const CheckerboardSpec b = Board();
-  const Eigen::Vector3d centre(0.5 * (b.cols - 1) * b.square_m, 0.5 * (b.rows - 1) * b.square_m, 0);
-  Pose p = Pose::Identity();
-  p.linear() = (Eigen::AngleAxisd(tilt, Eigen::Vector3d(std::cos(axis), std::sin(axis), 0)) *
-                Eigen::AngleAxisd(spin, Eigen::Vector3d::UnitZ()))
-                   .toRotationMatrix();
-  p.translation() = Eigen::Vector3d(ox, oy, z) - p.linear() * centre;
-  return p;
 }
 
 std::vector<Eigen::Vector2d> TrueCorners(const Camera& cam, const Pose& pose) {

@@ -2,6 +2,8 @@
 // on a robot flange looking at a fixed checkerboard from about 0.2 m.
 #include <gtest/gtest.h>
 
+#include "calib_test_util.h"
+
 #include <cmath>
 
 #include "core/error.h"
@@ -12,19 +14,6 @@ namespace lt {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
-
-Camera RigCamera() {
-  CameraParams p;
-  p.width = 1280;
-  p.height = 1024;
-  p.fx = p.fy = 1851.9;
-  p.cx = 639.5;
-  p.cy = 511.5;
-  p.pixel_pitch_m = 4.8e-6;
-  p.distortion = DistortionModel::kBrownConrady;
-  p.brown_conrady = {-0.1, 0.05, 0, 0, 0};
-  return Camera(p);
-}
 
 Pose TrueToolFromCam() {
   Pose x = Pose::Identity();

@@ -3,6 +3,8 @@
 // plane from stripe pixels on the calibrated target poses.
 #include <gtest/gtest.h>
 
+#include "calib_test_util.h"
+
 #include <cmath>
 
 #include "core/random.h"
@@ -26,25 +28,6 @@ CameraParams TrueCamera() {
   p.cy = 236.8;
   p.distortion = DistortionModel::kBrownConrady;
   p.brown_conrady = {-0.18, 0.09, 3e-4, -2e-4, 0};
-  return p;
-}
-
-CheckerboardSpec Board() {
-  CheckerboardSpec b;
-  b.rows = 7;
-  b.cols = 10;
-  b.square_m = 6e-3;
-  return b;
-}
-
-Pose BoardPose(double ox, double oy, double z, double tilt, double axis, double spin) {
-  const CheckerboardSpec b = Board();
-  const Eigen::Vector3d centre(0.5 * (b.cols - 1) * b.square_m, 0.5 * (b.rows - 1) * b.square_m, 0);
-  Pose p = Pose::Identity();
-  p.linear() = (Eigen::AngleAxisd(tilt, Eigen::Vector3d(std::cos(axis), std::sin(axis), 0)) *
-                Eigen::AngleAxisd(spin, Eigen::Vector3d::UnitZ()))
-                   .toRotationMatrix();
-  p.translation() = Eigen::Vector3d(ox, oy, z) - p.linear() * centre;
   return p;
 }
 

@@ -1,0 +1,49 @@
+// Shared fixtures of the calibration tests: the default rig's camera and a
+// checkerboard with its poses.
+#pragma once
+
+#include <cmath>
+
+#include "core/pose.h"
+#include "pipeline/calib_checkerboard.h"
+#include "sensor/camera.h"
+
+namespace lt {
+
+// The demo rig's camera (1280x1024, 4.8 um pixels, 8.9 mm), with mild barrel distortion.
+inline Camera RigCamera() {
+  CameraParams p;
+  p.width = 1280;
+  p.height = 1024;
+  p.fx = p.fy = 1851.9;
+  p.cx = 639.5;
+  p.cy = 511.5;
+  p.pixel_pitch_m = 4.8e-6;
+  p.distortion = DistortionModel::kBrownConrady;
+  p.brown_conrady = {-0.1, 0.05, 0, 0, 0};
+  return Camera(p);
+}
+
+// A 7 x 10 inner-corner board of 6 mm squares.
+inline CheckerboardSpec Board() {
+  CheckerboardSpec b;
+  b.rows = 7;
+  b.cols = 10;
+  b.square_m = 6e-3;
+  return b;
+}
+
+// The board's centre at (ox, oy, z), tilted by `tilt` about an in-plane axis
+// at angle `axis`, turned by `spin` about its normal.
+inline Pose BoardPose(double ox, double oy, double z, double tilt, double axis, double spin) {
+  const CheckerboardSpec b = Board();
+  const Eigen::Vector3d centre(0.5 * (b.cols - 1) * b.square_m, 0.5 * (b.rows - 1) * b.square_m, 0);
+  Pose p = Pose::Identity();
+  p.linear() = (Eigen::AngleAxisd(tilt, Eigen::Vector3d(std::cos(axis), std::sin(axis), 0)) *
+                Eigen::AngleAxisd(spin, Eigen::Vector3d::UnitZ()))
+                   .toRotationMatrix();
+  p.translation() = Eigen::Vector3d(ox, oy, z) - p.linear() * centre;
+  return p;
+}
+
+}  // namespace lt
