@@ -64,8 +64,10 @@ std::string Stat(const ErrorStats& s, double ErrorStats::*field, int decimals) {
   return s.n > 0 ? Fixed(s.*field, decimals) : "–";
 }
 
-// The frame's camera image as PNG bytes, linearly scaled to 8 bits by its full
-// scale (raw 10-bit DN in a 16-bit PNG: 1023), first channel only unless RGB.
+// The frame's camera image as PNG bytes: scaled by its full scale (raw 10-bit
+// DN in a 16-bit PNG: 1023) and encoded with gamma 2.2 for display, so that a
+// dim laser frame's stripe and background stay visible; first channel only
+// unless RGB.
 std::optional<std::string> FramePng(const RunFrame& frame) {
   try {
     AnyImage any = ReadImage(frame.image);
@@ -90,7 +92,7 @@ std::optional<std::string> FramePng(const RunFrame& frame) {
       for (int x = 0; x < img.width; ++x) {
         for (int c = 0; c < channels; ++c) {
           const double v = img.At(x, y, c) / full;
-          out.At(x, y, c) = uint8_t(std::lround(std::clamp(std::isfinite(v) ? v : 0.0, 0.0, 1.0) * 255));
+          out.At(x, y, c) = uint8_t(std::lround(std::pow(std::clamp(std::isfinite(v) ? v : 0.0, 0.0, 1.0), 1 / 2.2) * 255));
         }
       }
     }
