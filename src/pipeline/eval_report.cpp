@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "core/atomic_file.h"
+#include "core/base64.h"
 #include "core/error.h"
 #include "core/image_io.h"
 #include "pipeline/option_checks.h"
@@ -30,26 +31,6 @@ namespace {
 
 const char* kPalette[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf"};
 const char* PlaneColor(int plane) { return plane < 0 ? "#7f7f7f" : kPalette[plane % 8]; }
-
-std::string Base64(const std::string& bytes) {
-  static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve((bytes.size() + 2) / 3 * 4);
-  size_t i = 0;
-  for (; i + 2 < bytes.size(); i += 3) {
-    const uint32_t v = uint32_t(uint8_t(bytes[i])) << 16 | uint32_t(uint8_t(bytes[i + 1])) << 8 | uint8_t(bytes[i + 2]);
-    for (int s = 18; s >= 0; s -= 6) out.push_back(t[(v >> s) & 63]);
-  }
-  if (i < bytes.size()) {
-    uint32_t v = uint32_t(uint8_t(bytes[i])) << 16;
-    if (i + 1 < bytes.size()) v |= uint32_t(uint8_t(bytes[i + 1])) << 8;
-    out.push_back(t[(v >> 18) & 63]);
-    out.push_back(t[(v >> 12) & 63]);
-    out.push_back(i + 1 < bytes.size() ? t[(v >> 6) & 63] : '=');
-    out.push_back('=');
-  }
-  return out;
-}
 
 std::string Fixed(double v, int decimals) {
   if (!std::isfinite(v)) return "–";
@@ -168,8 +149,9 @@ std::string FrameFigure(const RunFrame& frame, const RunMetrics& m, int width, i
   }
   std::string image;
   if (auto png = FramePng(frame)) {
+    const std::string data = Base64Encode(reinterpret_cast<const uint8_t*>(png->data()), png->size());
     image = "<image x=\"-0.5\" y=\"-0.5\" width=\"" + std::to_string(width) + "\" height=\"" + std::to_string(height) +
-            "\" style=\"image-rendering:pixelated\" href=\"data:image/png;base64," + Base64(*png) + "\"/>";
+            "\" style=\"image-rendering:pixelated\" href=\"data:image/png;base64," + data + "\"/>";
   } else {
     image = "<rect x=\"-0.5\" y=\"-0.5\" width=\"" + std::to_string(width) + "\" height=\"" + std::to_string(height) +
             "\" fill=\"#222\"/>";
