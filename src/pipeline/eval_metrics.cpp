@@ -129,7 +129,8 @@ nlohmann::json PlanesToJson(const std::map<int, EvalSummary>& planes) {
   return a;
 }
 
-bool IsWhole(double x, double tolerance) { return std::abs(x - std::round(x)) <= tolerance; }
+// A whole number within tolerance (and small enough to be a pixel index).
+bool IsWhole(double x, double tolerance) { return std::abs(x) < 1e8 && std::abs(x - std::round(x)) <= tolerance; }
 
 // The scan axis of a frame's ground truth: the manifest's gt_axis, else the
 // coordinate that is a whole number on every centre.

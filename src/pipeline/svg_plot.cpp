@@ -17,7 +17,7 @@ std::string F(double v) {
 
 std::string TickText(double v) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", v);
+  std::snprintf(buf, sizeof buf, "%.6g", v);
   return buf;
 }
 
@@ -156,8 +156,9 @@ std::string SvgPlot(const SvgPlotOptions& o, const std::vector<SvgSeries>& serie
       path += (path.empty() ? "M" : " L") + F(px) + " " + F(py);
       if (s.markers) marks += "<circle cx=\"" + F(px) + "\" cy=\"" + F(py) + "\" r=\"" + F(s.marker_radius) + "\"/>";
       if (i < s.labels.size() && !s.labels[i].empty()) {
-        marks += "<text x=\"" + F(px + 4) + "\" y=\"" + F(py - 4) + "\" font-size=\"9\" fill=\"#333\">" +
-                 SvgEscape(s.labels[i]) + "</text>";
+        const bool right_edge = px > f.x.p1 - 90;  // keep labels inside the plot
+        marks += "<text x=\"" + F(right_edge ? px - 4 : px + 4) + "\" y=\"" + F(py - 4) + "\" font-size=\"9\" fill=\"#333\"" +
+                 (right_edge ? " text-anchor=\"end\"" : "") + ">" + SvgEscape(s.labels[i]) + "</text>";
       }
     }
     if (s.line && !path.empty()) {
@@ -166,8 +167,8 @@ std::string SvgPlot(const SvgPlotOptions& o, const std::vector<SvgSeries>& serie
     if (!marks.empty()) f.svg += "<g fill=\"" + s.color + "\" fill-opacity=\"0.7\">" + marks + "</g>\n";
     if (!s.name.empty()) {
       const double ly = f.y.p1 + 14 + 14 * legend++;
-      f.svg += "<rect x=\"" + F(f.x.p1 - 150) + "\" y=\"" + F(ly - 8) + "\" width=\"10\" height=\"10\" fill=\"" +
-               s.color + "\"/><text x=\"" + F(f.x.p1 - 136) + "\" y=\"" + F(ly + 1) + "\">" + SvgEscape(s.name) +
+      f.svg += "<rect x=\"" + F(f.x.p1 - 190) + "\" y=\"" + F(ly - 8) + "\" width=\"10\" height=\"10\" fill=\"" +
+               s.color + "\"/><text x=\"" + F(f.x.p1 - 176) + "\" y=\"" + F(ly + 1) + "\">" + SvgEscape(s.name) +
                "</text>\n";
     }
   }

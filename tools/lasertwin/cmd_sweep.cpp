@@ -234,14 +234,22 @@ struct ParetoPoint {
   double time_ms = 0;   // CPU per frame, render + scan
   double error_mm = 0;  // point error rms
   double detection = 0;
+  bool physics_changed = false;  // max_bounces or subsurface differ from the scene: not on the front
 };
+
+// Configurations that change the light transport (fewer or more bounces,
+// subsurface scattering off) rather than how it is sampled: their error against
+// the geometric ground truth moves because they drop or add effects a real
+// scanner sees, so they are not candidates for the front.
+bool ChangesPhysics(const std::string& factor) { return factor == "max_bounces" || factor == "subsurface"; }
 
 std::vector<ParetoPoint> ParetoPoints(const std::vector<Row>& rows) {
   std::vector<ParetoPoint> out;
   for (const Row& r : rows) {
     if (r.eval.point_mm.n == 0) continue;
     out.push_back({r.config.name + (r.config.methods.size() > 1 ? std::string("/") + MethodName(r.method) : ""),
-                   r.render_cpu_ms + r.scan_cpu_ms, r.eval.point_mm.rms, r.eval.detection_rate.value_or(0)});
+                   r.render_cpu_ms + r.scan_cpu_ms, r.eval.point_mm.rms, r.eval.detection_rate.value_or(0),
+                   ChangesPhysics(r.config.factor)});
   }
   return out;
 }
@@ -269,7 +277,7 @@ std::vector<ParetoPoint> ReadParetoPoints(const fs::path& csv) {
     if (it == head.end()) throw InputError(csv.string() + ":1", "no column '" + name + "'");
     return size_t(it - head.begin());
   };
-  const size_t name = column("name"), method = column("method"), render = column("render_cpu_ms"),
+  const size_t name = column("name"), method = column("method"), factor = column("factor"), render = column("render_cpu_ms"),
                scan = column("scan_cpu_ms"), error = column("point_rms_mm"), detection = column("detection_rate");
   std::vector<std::pair<std::vector<std::string>, int>> rows;
   std::map<std::string, int> methods_per_run;
@@ -291,16 +299,19 @@ std::vector<ParetoPoint> ReadParetoPoints(const fs::path& csv) {
       return v;
     };
     out.push_back({f[name] + (methods_per_run[f[name]] > 1 ? "/" + f[method] : ""), number(f[render]) + number(f[scan]),
-                   number(f[error]), f[detection].empty() ? 0.0 : number(f[detection])});
+                   number(f[error]), f[detection].empty() ? 0.0 : number(f[detection]), ChangesPhysics(f[factor])});
   }
   return out;
 }
 
 // Error (point rms, mm) against time (render + scan CPU per frame), log x; the
 // Pareto front is taken over the configurations that detect at least
-// min_detection of the true centres (an error over few points is no bargain).
+// min_detection of the true centres (an error over few points is no bargain)
+// and keep the scene's light transport (ChangesPhysics).
 std::string ParetoSvg(const std::vector<ParetoPoint>& points, double min_detection, const std::string& title) {
-  SvgSeries kept, dropped, front;
+  SvgSeries kept, dropped, physics, front;
+  physics.name = "bounces / subsurface changed";
+  physics.color = "#ff7f0e";
   char buf[64];
   std::snprintf(buf, sizeof buf, "detection >= %g%%", min_detection * 100);
   kept.name = buf;
@@ -314,11 +325,12 @@ std::string ParetoSvg(const std::vector<ParetoPoint>& points, double min_detecti
   front.marker_radius = 4;
   std::vector<ParetoPoint> candidates;
   for (const ParetoPoint& p : points) {
-    SvgSeries& s = p.detection >= min_detection ? kept : dropped;
+    const bool detected = p.detection >= min_detection;
+    SvgSeries& s = !detected ? dropped : p.physics_changed ? physics : kept;
     s.x.push_back(p.time_ms);
     s.y.push_back(p.error_mm);
     s.labels.push_back(p.label);
-    if (p.detection >= min_detection) candidates.push_back(p);
+    if (detected && !p.physics_changed) candidates.push_back(p);
   }
   std::sort(candidates.begin(), candidates.end(),
             [](const ParetoPoint& a, const ParetoPoint& b) { return std::tie(a.time_ms, a.error_mm) < std::tie(b.time_ms, b.error_mm); });
@@ -335,7 +347,7 @@ std::string ParetoSvg(const std::vector<ParetoPoint>& points, double min_detecti
   o.height = 460;
   o.log_x = true;
   o.y_from_zero = true;
-  return SvgPlot(o, {dropped, kept, front});
+  return SvgPlot(o, {dropped, physics, kept, front});
 }
 
 void Run(const SweepArgs& a) {
