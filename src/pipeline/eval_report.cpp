@@ -130,7 +130,6 @@ std::string FrameFigure(const RunFrame& frame, const RunMetrics& m, int width, i
     if (c.matched || !c.has_truth) {
       grow(c.u_measured, c.v_measured);
       const double s = c.has_truth ? 0.35 : 0.7;
-      const std::string u = Fixed(c.u_measured, 3), v = Fixed(c.v_measured, 3);
       marks += "<path d=\"M" + Fixed(c.u_measured - s, 3) + " " + Fixed(c.v_measured - s, 3) + "l" + Fixed(2 * s, 3) +
                " " + Fixed(2 * s, 3) + "m0 " + Fixed(-2 * s, 3) + "l" + Fixed(-2 * s, 3) + " " + Fixed(2 * s, 3) +
                "\" stroke=\"" + (c.has_truth ? "#f00" : "#f0f") + "\"/>";
