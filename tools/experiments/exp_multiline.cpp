@@ -3,7 +3,7 @@
 // how accurate the triangulated points are, against the renderer's exact
 // stripe centres.
 //
-//   exp_multiline OUT_DIR RUN_DIR METHOD [METHOD ...]
+//   exp_multiline OUT_DIR RUN_DIR METHOD [METHOD ...] [--lines FIRST,LAST]
 //
 // RUN_DIR/centers_METHOD/ holds `lasertwin scan --method METHOD`'s centres
 // (tools/experiments/multi_line.sh copies them there). Each measured centre is
@@ -52,6 +52,10 @@ int Run(int argc, char** argv) {
   app.add_option("OUT_DIR", out, "Folder for multi_line.csv and .svg")->required();
   app.add_option("RUN_DIR", run, "Rendered run with centers_METHOD/ folders")->required();
   app.add_option("METHODS", methods, "Extraction methods scanned (multicom, steger)")->required();
+  std::vector<int> lines;
+  app.add_option("--lines", lines, "FIRST,LAST: count only truth centres on these scan lines (the scan's ROI)")
+      ->expected(2)
+      ->delimiter(',');
   CLI11_PARSE(app, argc, argv);
 
   std::vector<RunFrame> frames = ReadRunManifest(run);
@@ -70,6 +74,8 @@ int Run(int argc, char** argv) {
       char name[32];
       std::snprintf(name, sizeof name, "%06lld.csv", static_cast<long long>(f.index));
       std::vector<FrameCentre> truth = ReadFrameCentres(*f.gt_centers, cols);
+      if (lines.size() == 2)
+        std::erase_if(truth, [&](const FrameCentre& c) { return c.line < lines[0] || c.line > lines[1]; });
       std::vector<FrameCentre> measured = ReadFrameCentres(fs::path(run) / ("centers_" + methods[m]) / name, cols);
       const std::vector<int> match = MatchToTruth(measured, truth, kMatchPx);
       std::vector<bool> hit(truth.size(), false);

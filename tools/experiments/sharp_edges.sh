@@ -16,7 +16,10 @@ mkdir -p "$out"
 "$bin/lasertwin" render "$root/scenes/sharp_edges/scene.json" --out "$run" --resume --quiet
 methods=(max com steger)
 for m in "${methods[@]}"; do
-  "$bin/lasertwin" scan "$run" --method "$m" --quiet
+  # Steger's filter scale from the stripe's width here (FWHM about 3 px), not its 5 px default.
+  extra=()
+  if [ "$m" = steger ]; then extra=(--width 3); fi
+  "$bin/lasertwin" scan "$run" --method "$m" "${extra[@]}" --quiet
   rm -rf "$run/centers_$m"
   cp -r "$run/centers" "$run/centers_$m"
 done
