@@ -138,11 +138,12 @@ TEST(StressGeometry, SceneOneKilometreFromTheOrigin) {
   EXPECT_LE(test::WorstCentreErrorPx(r), kComBoundPx);
   test::ExpectPointsNearSurface(r, far, kComBoundPx);
   int with_world = 0;
-  for (const ScanPoint& p : r.scanned)
+  for (const ScanPoint& p : r.scanned) {
     if (p.p_in_world) {
       EXPECT_NEAR((*p.p_in_world - far.world_from_cam.translation()).norm(), p.p_in_cam->norm(), 1e-9);
       ++with_world;
     }
+  }
   EXPECT_GE(with_world, far.height - 2);
 }
 

@@ -43,9 +43,14 @@ TEST(StressOptics, LaserSheetNearlyParallelToViewRays) {
     any_angle.min_ray_angle_deg = 0;
     test::StressResult r0 = test::RenderAndScan(world, ExtractionMethod::kCom, any_angle);
     test::ExpectAllFinite(r0, world.scene.sensor.image_sensor);
-    for (const ScanPoint& p : r0.scanned)
-      if (p.p_in_cam) EXPECT_LE(std::abs(r0.planes[0].SignedDistance(*p.p_in_cam)), 1e-9 * p.p_in_cam->norm());
-    if (baseline == 0) EXPECT_EQ(r0.stats.triangulated, 0);
+    for (const ScanPoint& p : r0.scanned) {
+      if (p.p_in_cam) {
+        EXPECT_LE(std::abs(r0.planes[0].SignedDistance(*p.p_in_cam)), 1e-9 * p.p_in_cam->norm());
+      }
+    }
+    if (baseline == 0) {
+      EXPECT_EQ(r0.stats.triangulated, 0);
+    }
   }
 }
 
@@ -54,9 +59,10 @@ TEST(StressOptics, LaserSheetNearlyParallelToViewRays) {
 // undistorted radius r with 1 + 3 k1 r^2 = 0, distorted radius 2r/3, so it
 // reaches the image corner at k1 = -4 / (27 r_c^2)) is accepted, 105% is
 // refused (ParamError on "distortion"). With a stripe 6 px from the left edge
-// in the middle row, bowed through the corners' strongly compressed region: truth within 1e-6 of the
-// closed form and reprojecting to its pixel within 1e-6 px, extracted centres
-// within 0.5 px wherever found (at least half the rows), no NaN.
+// in the middle row, bowed through the corners' strongly compressed region:
+// truth within 1e-6 of the closed form and reprojecting to its pixel within
+// 1e-6 px, extracted centres within 0.5 px wherever found (at least half the
+// rows), no NaN.
 TEST(StressOptics, StrongDistortionNearTheImageCorners) {
   PlaneSetup s;
   // Long version: 5 times the resolution, the sheet 5 times thinner (stripe sigma still ~1 px).
