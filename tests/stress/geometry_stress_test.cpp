@@ -3,6 +3,7 @@
 // rejection) and checks that no output holds NaN or infinity.
 #include <gtest/gtest.h>
 
+#include "core/random.h"
 #include "stress_scenes.h"
 
 namespace lt {
@@ -196,6 +197,39 @@ TEST(StressGeometry, SubMicrometreTriangles) {
   EXPECT_LE(test::WorstCentreErrorPx(r, &matched), kComBoundPx);
   EXPECT_EQ(matched, s.height);
   test::ExpectPointsNearSurface(r, s, kComBoundPx);
+}
+
+// Expected: rays leaving a point of a huge triangle (a 400 m x 40 m
+// rectangle, vertices 200 m from the points, where Embree's float arithmetic
+// errs by about 1e-5 m) from 1 um above it never find that triangle again
+// (EmbreeScene skips hits whose exact intersection lies behind the ray's
+// origin): none of 2000 shadow rays towards points 0.03-0.3 m above is
+// occluded, and none of 2000 rays leaving it finds a hit.
+TEST(StressGeometry, LargeTrianglesDoNotShadowThemselves) {
+  test::World world;
+  Eigen::Affine3d at = Eigen::Affine3d::Identity();
+  at.translation() = Eigen::Vector3d(0.3, -0.2, 1.0);
+  const Eigen::Vector3d a = Eigen::Vector3d(1, 0.2, 0.1).normalized();
+  const Eigen::Vector3d b = a.cross(Eigen::Vector3d(0.1, 0.3, 1)).normalized();
+  world.Add(test::Rectangle(Eigen::Vector3d::Zero(), a, b, 200, 20), at);
+  world.Build();
+  const Eigen::Vector3d n = a.cross(b).normalized();
+  Rng rng = Rng::For(7, 0, 0, 0, 0);
+  int occluded = 0, rehit = 0;
+  for (int i = 0; i < 2000; ++i) {
+    Eigen::Vector3d p = at * ((rng.NextDouble() - 0.5) * 0.2 * a + (rng.NextDouble() - 0.5) * 0.2 * b);
+    Eigen::Vector3d target = p + (0.03 + 0.27 * rng.NextDouble()) * (n + (rng.NextDouble() - 0.5) * a).normalized();
+    Ray shadow;
+    shadow.origin = p + 1e-6 * n;
+    shadow.direction = target - shadow.origin;
+    shadow.t_max = 1.0 - 1e-9;
+    occluded += world.embree->Occluded(shadow);
+    Ray away = shadow;
+    away.t_max = INFINITY;
+    rehit += world.embree->Intersect(away).has_value();
+  }
+  EXPECT_EQ(occluded, 0);
+  EXPECT_EQ(rehit, 0);
 }
 
 }  // namespace
