@@ -18,11 +18,11 @@ struct PlaneSetup {
   double divergence_rad = 0.03;  // sigma ~1 px at 0.1 m for the 64x48, fx 150 camera
   double exposure_s = 7e-4;      // peak about 1500 DN of the 2500 DN full well on a facing surface
   Pose world_from_cam = Pose::Identity();
-  int width = 64, height = 48;
+  int width = 64, height = 24;
   double fx = 150;
   DistortionModel distortion = DistortionModel::kNone;
   BrownConradyCoeffs bc;
-  int spp = 64;  // 8 x 8 stratified: the pixel integral of a 1 px wide stripe needs them
+  int spp = 16;  // 4 x 4 stratified: enough for the pixel integral of a 1 px wide stripe
 };
 
 // The surface's plane in the camera frame: through (aim_x, 0, D), normal
