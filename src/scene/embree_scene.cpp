@@ -105,6 +105,7 @@ EmbreeScene::EmbreeScene(std::shared_ptr<const SceneGeometry> geometry)
       Eigen::Vector3f c = b.isEmpty() ? Eigen::Vector3f::Zero() : Eigen::Vector3f(b.center().cast<float>());
       mesh_center.push_back(c.cast<double>());
       RTCScene ms = rtcNewScene(device_);
+      rtcSetSceneFlags(ms, RTC_SCENE_FLAG_ROBUST);  // watertight: no ray slips through a shared edge
       mesh_scenes_.push_back(ms);
       rtcSetSceneBuildQuality(ms, RTC_BUILD_QUALITY_MEDIUM);
       RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -224,9 +225,24 @@ std::optional<Hit> EmbreeScene::Intersect(const Ray& ray) const {
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(scene_, &context, &rh);
-  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
-  return MakeHit(ray, rh.hit.instID[0], rh.hit.primID, rh.hit.u, rh.hit.v);
+  const float t_far = rh.ray.tfar;
+  // Embree intersects in float: a ray leaving a large triangle (vertices far
+  // from the ray's origin, relative to the offset the caller started it at)
+  // can find that triangle again. The refined (double) intersection of such a
+  // hit lies at or behind the ray's origin, where a planar triangle, crossed
+  // at most once, cannot be met: skip it and look further along the ray.
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    rtcIntersect1(scene_, &context, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+    Hit hit = MakeHit(ray, rh.hit.instID[0], rh.hit.primID, rh.hit.u, rh.hit.v);
+    if (hit.t > ray.t_min) return hit;
+    rh.ray.tnear = std::nextafter(rh.ray.tfar, std::numeric_limits<float>::infinity());
+    rh.ray.tfar = t_far;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  }
+  return std::nullopt;
 }
 
 bool EmbreeScene::Occluded(const Ray& ray) const {
@@ -235,7 +251,10 @@ bool EmbreeScene::Occluded(const Ray& ray) const {
   rtcInitIntersectContext(&context);
   RTCRay r = MakeRtcRay(ray, render_origin_);
   rtcOccluded1(scene_, &context, &r);
-  return r.tfar == -std::numeric_limits<float>::infinity();
+  if (r.tfar != -std::numeric_limits<float>::infinity()) return false;
+  // Confirm with the refined hit: float rounding can report the surface the
+  // ray starts from (see Intersect).
+  return Intersect(ray).has_value();
 }
 
 void EmbreeScene::IntersectMany(std::span<const Ray> rays, std::span<std::optional<Hit>> hits) const {
