@@ -62,6 +62,7 @@ RunFrame ParseLine(const fs::path& run_dir, const std::string& text, const std::
     }
   }
   if (auto p = o.Find("world_from_cam")) f.world_from_cam = ReadPose(*p);
+  if (auto p = o.Find("world_from_tool")) f.world_from_tool = ReadPose(*p);
   if (o.Has("gt_axis")) f.gt_axis = o.Enum("gt_axis", {"rows", "cols"}) == "rows" ? SearchAxis::kRows : SearchAxis::kCols;
   f.bit_depth = int(o.Integer("bit_depth", 0, Range::Closed(1, 16)));
   if (o.Has("png_bit_depth")) {

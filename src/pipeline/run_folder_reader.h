@@ -14,6 +14,7 @@
 //                    neither key counts as a laser frame
 //   files.centers    ground-truth stripe centres (CSV)                   optional
 //   world_from_cam   camera pose at mid-exposure (core/pose.h forms)     optional
+//   world_from_tool  robot tool (flange) pose at mid-exposure            optional
 //   gt_axis          "rows" | "cols": how the ground truth was scanned    optional
 //   bit_depth        the sensor's ADC bits (1..16)                       optional
 //   png_bit_depth    8 | 16                                              optional
@@ -43,6 +44,7 @@ struct RunFrame {
   std::filesystem::path image;                    // run folder / files.image
   std::optional<std::filesystem::path> gt_centers;  // run folder / files.centers
   std::optional<Pose> world_from_cam;
+  std::optional<Pose> world_from_tool;  // when the camera rides on a robot tool
   std::optional<SearchAxis> gt_axis;
   int bit_depth = 0;      // 0: unknown
   int png_bit_depth = 0;  // 0: unknown

@@ -1,0 +1,302 @@
+#include "pipeline/calib_session.h"
+
+#include <cmath>
+#include <limits>
+#include <map>
+#include <type_traits>
+
+#include "core/error.h"
+#include "core/image_io.h"
+#include "core/json_reader.h"
+#include "pipeline/run_folder_reader.h"
+#include "pipeline/stripe_extractor.h"
+#include "pipeline/triangulation.h"
+
+namespace lt {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kBoardObject = "checkerboard";
+
+// The run's scene.json object named "checkerboard", if any.
+std::optional<json::Object> BoardObject(const json::Document& scene) {
+  const json::Object root = scene.Root().AsObject();
+  auto objects = root.Find("objects");
+  if (!objects) return std::nullopt;
+  for (const json::Value& v : objects->Array()) {
+    json::Object o = v.AsObject();
+    if (o.String("name") == kBoardObject) return o;
+  }
+  return std::nullopt;
+}
+
+fs::path ScenePath(const fs::path& run_dir) {
+  const fs::path p = run_dir / "scene.json";
+  if (!fs::exists(p)) throw InputError(p.string(), "no such file (the run's scene)");
+  return p;
+}
+
+// Largest value of an image's sample type (1 for float).
+double TypeFullScale(const AnyImage& image) {
+  return std::visit(
+      [](const auto& im) {
+        using T = std::decay_t<decltype(im.pixels[0])>;
+        if constexpr (std::is_floating_point_v<T>) {
+          return 1.0;
+        } else {
+          return double(std::numeric_limits<T>::max());
+        }
+      },
+      image);
+}
+
+AnyImage ReadFrameImage(const RunFrame& frame) {
+  try {
+    return ReadImage(frame.image);
+  } catch (const InputError& e) {
+    throw InputError(e.where(), e.message() + " (frame " + std::to_string(frame.index) + ", " + frame.where + ")");
+  }
+}
+
+CalibrationView ViewOf(const CheckerboardSpec& board, const CornerDetection& d) {
+  return {board.CornerPoints(), d.corners};
+}
+
+}  // namespace
+
+CheckerboardSpec ReadCheckerboardFile(const fs::path& path) {
+  const json::Document doc = json::Document::Load(path);
+  json::Object o = doc.Root().AsObject();
+  CheckerboardSpec b;
+  b.rows = int(o.Integer("rows", json::Range::AtLeast(2)));
+  b.cols = int(o.Integer("cols", json::Range::AtLeast(2)));
+  b.square_m = o.Number("square_mm", json::Range::Positive()) * 1e-3;
+  b.margin_squares = int(o.Integer("margin_squares", 1, json::Range::AtLeast(0)));
+  o.Finish();
+  try {
+    b.Check();
+  } catch (const InputError& e) {
+    throw InputError(path.string(), e.message());
+  }
+  return b;
+}
+
+fs::path FindSessionBoardFile(const fs::path& run_dir) {
+  const fs::path scene_path = ScenePath(run_dir);
+  const json::Document scene = json::Document::Load(scene_path);
+  auto board = BoardObject(scene);
+  if (!board) {
+    throw InputError(scene_path.string() + ": /objects",
+                     "no object named \"checkerboard\": give the board (--board FILE, or --rows, --cols, --square-mm)");
+  }
+  const fs::path file = board->Get("gltf").Path().parent_path() / "checkerboard.json";
+  if (!fs::exists(file)) {
+    throw InputError(file.string(), "no such file (the board layout beside the checkerboard's glTF): give the "
+                                    "board with --board FILE or --rows, --cols, --square-mm");
+  }
+  return file;
+}
+
+SessionTruth ReadSessionTruth(const fs::path& run_dir) {
+  SessionTruth t;
+  const json::Document scene = json::Document::Load(ScenePath(run_dir));
+  if (auto board = BoardObject(scene)) {
+    if (auto pose = board->Find("world_from_object")) t.world_from_board = ReadPose(*pose);
+  }
+  const json::Object root = scene.Root().AsObject();
+  if (auto motion = root.FindObject("motion")) {
+    if (auto pose = motion->Find("tool_from_cam")) t.tool_from_cam = ReadPose(*pose);
+  }
+  return t;
+}
+
+std::vector<SessionView> ReadSessionViews(const fs::path& run_dir, const CheckerboardSpec& board,
+                                          const CornerDetectionOptions& corners) {
+  board.Check();
+  corners.Check();
+  const std::vector<RunFrame> frames = ReadRunManifest(run_dir);
+  std::vector<SessionView> views;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    const RunFrame& f = frames[i];
+    if (f.IsLaserFrame()) continue;
+    SessionView v;
+    v.bright_frame = f.index;
+    if (i + 1 < frames.size() && frames[i + 1].IsLaserFrame()) v.dim_frame = frames[i + 1].index;
+    v.world_from_tool = f.world_from_tool;
+    v.world_from_cam = f.world_from_cam;
+    v.detection = DetectCheckerboard(ReadFrameImage(f), board, corners);
+    views.push_back(std::move(v));
+  }
+  if (views.empty()) {
+    throw InputError((run_dir / "manifest.jsonl").string(),
+                     "the run has no bright frames (frames without laser light) to find the board in");
+  }
+  return views;
+}
+
+SessionCameraResult CalibrateSessionCamera(const fs::path& run_dir, const CheckerboardSpec& board,
+                                           const CameraCalibrationOptions& options,
+                                           const CornerDetectionOptions& corners) {
+  options.Check();
+  SessionCameraResult r;
+  r.views = ReadSessionViews(run_dir, board, corners);
+  std::vector<CalibrationView> views;
+  for (size_t v = 0; v < r.views.size(); ++v) {
+    if (!r.views[v].detection.ok) continue;
+    views.push_back(ViewOf(board, r.views[v].detection));
+    r.used.push_back(int(v));
+  }
+  const RunRig rig = ReadRunRig(run_dir);
+  r.calibration = CalibrateCamera(views, rig.camera.width(), rig.camera.height(), options);
+  return r;
+}
+
+void SessionLaserOptions::Check() const {
+  ExtractionOptions e = extraction;
+  if (std::isnan(e.threshold)) e.threshold = 1;
+  if (std::isnan(e.background)) e.background = 0;
+  e.Check();
+  if (planes < 0) throw InputError("option planes", "must be >= 0");
+  plane_id.Check();
+  fit.Check();
+  if (!(edge_inset_squares >= 0) || !std::isfinite(edge_inset_squares)) {
+    throw InputError("option edge_inset_squares", "must be >= 0");
+  }
+  corners.Check();
+}
+
+SessionLaserResult CalibrateSessionLaser(const fs::path& run_dir, const CheckerboardSpec& board, const Camera& camera,
+                                         const SessionLaserOptions& options) {
+  options.Check();
+  SessionLaserResult r;
+  const RunRig rig = ReadRunRig(run_dir);
+  r.planes = options.planes > 0 ? options.planes : int(rig.planes_in_cam.size());
+  if (r.planes < 1) throw InputError(rig.source.string(), "the rig has no laser: give the number of planes");
+  r.axis = options.axis ? *options.axis : rig.planes_in_cam.empty() ? SearchAxis::kRows : StripeAxis(rig.planes_in_cam);
+  r.views = ReadSessionViews(run_dir, board, options.corners);
+  std::map<int, RunFrame> frames;
+  for (const RunFrame& f : ReadRunManifest(run_dir)) frames.emplace(f.index, f);
+
+  const double inset = options.edge_inset_squares * board.square_m;
+  const double margin = board.margin_squares * board.square_m;
+  const double x0 = -board.square_m - margin + inset, x1 = board.cols * board.square_m + margin - inset;
+  const double y0 = -board.square_m - margin + inset, y1 = board.rows * board.square_m + margin - inset;
+  std::vector<LaserTargetView> target_views;
+  for (size_t v = 0; v < r.views.size(); ++v) {
+    const SessionView& sv = r.views[v];
+    SessionLaserView lv;
+    lv.view = int(v);
+    if (sv.dim_frame < 0) {
+      lv.note = "no laser frame follows bright frame " + std::to_string(sv.bright_frame);
+    } else if (!sv.detection.ok) {
+      lv.note = "board not found: " + sv.detection.reason;
+    } else {
+      lv.pose = EstimateTargetPose(camera, ViewOf(board, sv.detection));
+      if (!lv.pose.ok) lv.note = "no board pose: " + lv.pose.reason;
+    }
+    if (!lv.note.empty()) {
+      r.laser_views.push_back(lv);
+      continue;
+    }
+    const RunFrame& dim = frames.at(sv.dim_frame);
+    const AnyImage image = ReadFrameImage(dim);
+    const double type_full_scale = TypeFullScale(image);
+    ExtractionOptions eo = options.extraction;
+    eo.axis = r.axis;
+    if (std::isnan(eo.threshold)) eo.threshold = 0.1 * dim.FullScale(type_full_scale);
+    if (std::isnan(eo.background)) {
+      eo.background = rig.black_level_dn;
+      if (type_full_scale == 255.0 && rig.bit_depth > 8) eo.background = std::ldexp(eo.background, 8 - rig.bit_depth);
+    }
+    StripeExtractor extractor(eo);
+    std::vector<StripePoint> points;
+    try {
+      points = extractor.Extract(image);
+    } catch (const InputError& e) {
+      throw InputError(dim.image.string(), e.message());
+    }
+    lv.stripe_points = int(points.size());
+    if (r.planes == 1) {
+      for (auto& p : points) p.plane = 0;
+    } else {
+      PlaneIdOptions id = options.plane_id;
+      id.axis = r.axis;
+      id.edge_margin = std::max(id.edge_margin, eo.EdgeLinesWithoutPoints() + 2);
+      const int w = camera.width(), h = camera.height();
+      PlaneIdentification ident = IdentifyPlanes(points, eo.roi ? *eo.roi : PixelRect{0, 0, w, h}, r.planes, id);
+      if (!ident.ok) {
+        lv.note = "plane identification failed on frame " + std::to_string(dim.index) + ": " + ident.error;
+        r.laser_views.push_back(lv);
+        continue;
+      }
+      points = std::move(ident.points);
+    }
+    // Keep the pixels whose rays meet the board inside its area.
+    LaserTargetView tv;
+    tv.cam_from_target = lv.pose.cam_from_target;
+    const Pose target_from_cam = tv.cam_from_target.inverse();
+    const Plane board_plane = Plane{Eigen::Vector3d::UnitZ(), 0.0}.Transformed(tv.cam_from_target);
+    for (const StripePoint& p : points) {
+      if (p.plane < 0) continue;
+      const Eigen::Vector2d px(p.u, p.v);
+      const auto ray = camera.Unproject(px);
+      if (!ray) continue;
+      const auto t = board_plane.IntersectRay(Eigen::Vector3d::Zero(), *ray);
+      if (!t) continue;
+      const Eigen::Vector3d b = target_from_cam * (*t * *ray);
+      if (b.x() < x0 || b.x() > x1 || b.y() < y0 || b.y() > y1) continue;
+      tv.stripe_pixels.push_back(px);
+      tv.plane_ids.push_back(p.plane);
+    }
+    lv.on_board = int(tv.stripe_pixels.size());
+    if (tv.stripe_pixels.empty()) {
+      lv.note = "no stripe on the board in frame " + std::to_string(dim.index);
+    } else {
+      lv.used = true;
+      target_views.push_back(std::move(tv));
+    }
+    r.laser_views.push_back(lv);
+  }
+  r.fits = CalibrateLaserPlanes(camera, target_views, options.fit);
+  return r;
+}
+
+SessionHandEyeResult CalibrateSessionHandEye(const fs::path& run_dir, const CheckerboardSpec& board,
+                                             const Camera& camera, const HandEyeOptions& options,
+                                             const CornerDetectionOptions& corners) {
+  options.Check();
+  SessionHandEyeResult r;
+  r.views = ReadSessionViews(run_dir, board, corners);
+  std::vector<HandEyeObservation> observations;
+  for (size_t v = 0; v < r.views.size(); ++v) {
+    const SessionView& sv = r.views[v];
+    const std::string frame = "frame " + std::to_string(sv.bright_frame) + ": ";
+    if (!sv.world_from_tool) {
+      r.notes.push_back(frame + "no robot tool pose (manifest key world_from_tool)");
+      continue;
+    }
+    if (!sv.detection.ok) {
+      r.notes.push_back(frame + "board not found: " + sv.detection.reason);
+      continue;
+    }
+    const CalibrationView cv = ViewOf(board, sv.detection);
+    const TargetPoseResult pose = EstimateTargetPose(camera, cv);
+    if (!pose.ok) {
+      r.notes.push_back(frame + "no board pose: " + pose.reason);
+      continue;
+    }
+    observations.push_back({*sv.world_from_tool, pose.cam_from_target, cv.target_points, cv.pixels});
+    r.used.push_back(int(v));
+  }
+  if (observations.empty()) {
+    r.hand_eye.ok = false;
+    r.hand_eye.reason = "no view has both a robot tool pose and a detected board";
+    return r;
+  }
+  r.hand_eye = CalibrateHandEye(observations, options, &camera);
+  return r;
+}
+
+}  // namespace lt
