@@ -1,5 +1,6 @@
 #include "pipeline/calib_session.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -64,7 +65,86 @@ CalibrationView ViewOf(const CheckerboardSpec& board, const CornerDetection& d) 
   return {board.CornerPoints(), d.corners};
 }
 
+
 }  // namespace
+
+bool GroupStripesOnFlatTarget(std::vector<StripePoint>* points, const std::vector<StripeSegment>& segments, int n,
+                              SearchAxis axis, double tol_px, std::string* error) {
+  auto along = [&](int i) { return axis == SearchAxis::kCols ? (*points)[size_t(i)].u : (*points)[size_t(i)].v; };
+  auto across = [&](int i) { return axis == SearchAxis::kCols ? (*points)[size_t(i)].v : (*points)[size_t(i)].u; };
+  std::vector<const StripeSegment*> pieces;
+  for (const StripeSegment& seg : segments) {
+    if (!seg.ignored) pieces.push_back(&seg);
+  }
+  // Pooled slope: within-piece covariance over within-piece variance.
+  double sxy = 0, sxx = 0;
+  for (const StripeSegment* seg : pieces) {
+    double mx = 0, my = 0;
+    for (int i : seg->points) mx += along(i), my += across(i);
+    mx /= double(seg->points.size()), my /= double(seg->points.size());
+    for (int i : seg->points) sxy += (along(i) - mx) * (across(i) - my), sxx += (along(i) - mx) * (along(i) - mx);
+  }
+  const double slope = sxx > 0 ? sxy / sxx : 0.0;
+  std::vector<std::pair<double, const StripeSegment*>> by_intercept;
+  for (const StripeSegment* seg : pieces) {
+    double c = 0;
+    for (int i : seg->points) c += across(i) - slope * along(i);
+    by_intercept.emplace_back(c / double(seg->points.size()), seg);
+  }
+  std::sort(by_intercept.begin(), by_intercept.end(),
+            [](const auto& x, const auto& y) { return x.first < y.first; });
+  struct Line {
+    std::vector<int> points;
+    double a = 0, b = 0;  // across = a + b·along
+  };
+  std::vector<Line> lines;
+  for (size_t k = 0; k < by_intercept.size(); ++k) {
+    if (k == 0 || by_intercept[k].first - by_intercept[k - 1].first > 4 * tol_px) lines.emplace_back();
+    const auto& pts = by_intercept[k].second->points;
+    lines.back().points.insert(lines.back().points.end(), pts.begin(), pts.end());
+  }
+  for (Line& l : lines) {
+    double s1 = 0, sx = 0, sy = 0, sxx2 = 0, sxy2 = 0;
+    for (int i : l.points) s1 += 1, sx += along(i), sy += across(i), sxx2 += along(i) * along(i), sxy2 += along(i) * across(i);
+    const double det = s1 * sxx2 - sx * sx;
+    l.b = det > 1e-9 * s1 * s1 ? (s1 * sxy2 - sx * sy) / det : slope;
+    l.a = (sy - l.b * sx) / s1;
+    l.points.clear();
+  }
+  for (const StripeSegment* seg : pieces) {
+    int best = -1;
+    double best_d = tol_px;
+    for (size_t k = 0; k < lines.size(); ++k) {
+      double d = 0;
+      for (int i : seg->points) d += std::abs(across(i) - (lines[k].a + lines[k].b * along(i)));
+      d /= double(seg->points.size());
+      if (d < best_d) best_d = d, best = int(k);
+    }
+    if (best >= 0) lines[size_t(best)].points.insert(lines[size_t(best)].points.end(), seg->points.begin(), seg->points.end());
+  }
+  // Lines with less than a fifth of the longest line's points are stray light.
+  size_t longest = 0;
+  for (const Line& l : lines) longest = std::max(longest, l.points.size());
+  lines.erase(std::remove_if(lines.begin(), lines.end(),
+                             [longest](const Line& l) { return l.points.empty() || 5 * l.points.size() < longest; }),
+              lines.end());
+  if (int(lines.size()) != n) {
+    *error = "found " + std::to_string(lines.size()) + " stripe line(s) on the board, expected " + std::to_string(n);
+    return false;
+  }
+  double mid = 0;
+  int count = 0;
+  for (const Line& l : lines) {
+    for (int i : l.points) mid += along(i), ++count;
+  }
+  mid /= std::max(1, count);
+  std::sort(lines.begin(), lines.end(), [mid](const Line& x, const Line& y) { return x.a + x.b * mid < y.a + y.b * mid; });
+  for (auto& p : *points) p.plane = -1;
+  for (size_t k = 0; k < lines.size(); ++k) {
+    for (int i : lines[k].points) (*points)[size_t(i)].plane = int(k);
+  }
+  return true;
+}
 
 CheckerboardSpec ReadCheckerboardFile(const fs::path& path) {
   const json::Document doc = json::Document::Load(path);
@@ -161,6 +241,9 @@ void SessionLaserOptions::Check() const {
   if (planes < 0) throw InputError("option planes", "must be >= 0");
   plane_id.Check();
   fit.Check();
+  if (!(line_tolerance_px > 0) || !std::isfinite(line_tolerance_px)) {
+    throw InputError("option line_tolerance_px", "must be > 0");
+  }
   if (!(edge_inset_squares >= 0) || !std::isfinite(edge_inset_squares)) {
     throw InputError("option edge_inset_squares", "must be >= 0");
   }
@@ -226,12 +309,13 @@ SessionLaserResult CalibrateSessionLaser(const fs::path& run_dir, const Checkerb
       id.edge_margin = std::max(id.edge_margin, eo.EdgeLinesWithoutPoints() + 2);
       const int w = camera.width(), h = camera.height();
       PlaneIdentification ident = IdentifyPlanes(points, eo.roi ? *eo.roi : PixelRect{0, 0, w, h}, r.planes, id);
-      if (!ident.ok) {
-        lv.note = "plane identification failed on frame " + std::to_string(dim.index) + ": " + ident.error;
+      std::string error;
+      if (!GroupStripesOnFlatTarget(&points, ident.segments, r.planes, r.axis, options.line_tolerance_px, &error)) {
+        lv.note = "frame " + std::to_string(dim.index) + " (" + std::to_string(points.size()) +
+                  " stripe points): " + error;
         r.laser_views.push_back(lv);
         continue;
       }
-      points = std::move(ident.points);
     }
     // Keep the pixels whose rays meet the board inside its area.
     LaserTargetView tv;

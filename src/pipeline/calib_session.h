@@ -86,7 +86,10 @@ struct SessionLaserOptions {
   ExtractionOptions extraction;
   std::optional<SearchAxis> axis;  // unset: from the run rig's nominal planes (StripeAxis)
   int planes = 0;                  // laser sheets; 0: as many as the run's rig has
-  PlaneIdOptions plane_id;
+  PlaneIdOptions plane_id;  // the stripe's connected pieces (link_distance, min_segment_points)
+  // Several sheets: a piece of stripe joins a line when its points lie within
+  // this mean distance (pixels, across the stripe) of the line's fit.
+  double line_tolerance_px = 3.0;
   LaserPlaneFitOptions fit;
   // Stripe pixels are kept where their ray meets the board at least this far
   // (in squares) inside the board's outer edge.
@@ -114,6 +117,21 @@ struct SessionLaserResult {
 };
 SessionLaserResult CalibrateSessionLaser(const std::filesystem::path& run_dir, const CheckerboardSpec& board,
                                          const Camera& camera, const SessionLaserOptions& options = {});
+
+// Multi-line stripes on the flat target: each sheet's stripe is one straight
+// line across the board (up to lens distortion), broken into pieces where it
+// crosses black squares (`segments`: the connected pieces from
+// IdentifyPlanes). The lines run nearly parallel, so with the slope pooled
+// over all pieces each piece has an intercept, and the intercepts cluster by
+// line (a gap of more than 4·tol_px starts a new cluster). A line is then
+// fitted to each cluster and every piece goes to the line its points lie
+// closest to, within tol_px mean distance; farther pieces, and lines with less
+// than a fifth of the longest line's points, are stray light (plane −1). The
+// lines must number n; they are numbered in image order (by
+// their position across at the middle of the points) into each point's
+// `plane`. Otherwise false, with the reason in *error.
+bool GroupStripesOnFlatTarget(std::vector<StripePoint>* points, const std::vector<StripeSegment>& segments, int n,
+                              SearchAxis axis, double tol_px, std::string* error);
 
 struct SessionHandEyeResult {
   std::vector<SessionView> views;
