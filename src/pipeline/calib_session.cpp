@@ -39,20 +39,6 @@ fs::path ScenePath(const fs::path& run_dir) {
   return p;
 }
 
-// Largest value of an image's sample type (1 for float).
-double TypeFullScale(const AnyImage& image) {
-  return std::visit(
-      [](const auto& im) {
-        using T = std::decay_t<decltype(im.pixels[0])>;
-        if constexpr (std::is_floating_point_v<T>) {
-          return 1.0;
-        } else {
-          return double(std::numeric_limits<T>::max());
-        }
-      },
-      image);
-}
-
 AnyImage ReadFrameImage(const RunFrame& frame) {
   try {
     return ReadImage(frame.image);
@@ -285,14 +271,12 @@ SessionLaserResult CalibrateSessionLaser(const fs::path& run_dir, const Checkerb
     }
     const RunFrame& dim = frames.at(sv.dim_frame);
     const AnyImage image = ReadFrameImage(dim);
-    const double type_full_scale = TypeFullScale(image);
     ExtractionOptions eo = options.extraction;
     eo.axis = r.axis;
-    if (std::isnan(eo.threshold)) eo.threshold = 0.1 * dim.FullScale(type_full_scale);
-    if (std::isnan(eo.background)) {
-      eo.background = rig.black_level_dn;
-      if (type_full_scale == 255.0 && rig.bit_depth > 8) eo.background = std::ldexp(eo.background, 8 - rig.bit_depth);
-    }
+    const ExtractionLevels levels = FrameExtractionLevels(eo.threshold, eo.background, dim, rig.bit_depth,
+                                                          rig.black_level_dn, ImageTypeFullScale(image));
+    eo.threshold = levels.threshold;
+    eo.background = levels.background;
     StripeExtractor extractor(eo);
     std::vector<StripePoint> points;
     try {
