@@ -106,11 +106,7 @@ void CameraStep(const CalibrateArgs& a, CalibrationFile* file) {
     throw InputError(a.run_dir, "camera calibration refused (" + std::to_string(r.used.size()) + " of " +
                                     std::to_string(r.views.size()) + " views with the board): " + c.reason);
   }
-  *file = [&] {
-    CalibrationFile f = *file;
-    f.camera = MakeCalibrationFile(&c, nullptr, nullptr).camera;
-    return f;
-  }();
+  file->camera = MakeCalibrationFile(&c, nullptr, nullptr).camera;
   if (a.quiet) return;
   const RunRig rig = ReadRunRig(a.run_dir);
   const CameraParams& t = rig.camera.params();
