@@ -3,12 +3,16 @@
 // (The whole chain on a rendered session is tests/cli/calibrate_test.cpp.)
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <unistd.h>
 
 #include "core/error.h"
+#include "core/image_io.h"
+#include <nlohmann/json.hpp>
 #include "pipeline/calib_session.h"
 
 namespace lt {
@@ -95,6 +99,131 @@ TEST(CalibSessionBoard, BoardFileIsReadStrictly) {
     EXPECT_NE(std::string(e.what()).find("scene.json"), std::string::npos) << e.what();
   }
   std::filesystem::remove_all(dir);
+}
+
+// A recorded session without a renderer: bright frames of a synthetic board
+// (RenderCheckerboard, 1% noise, 10-bit DN in 16-bit PNG), dark laser frames,
+// and the robot tool pose of each view in the manifest. The camera and the
+// hand-eye pose come back; the laser step finds no stripe and refuses.
+namespace session_run {
+
+constexpr double kDeg = M_PI / 180.0;
+
+CheckerboardSpec Board() {
+  CheckerboardSpec b;
+  b.rows = 7;
+  b.cols = 10;
+  b.square_m = 6e-3;
+  return b;
+}
+
+Pose BoardPose(double ox, double oy, double z, double tilt, double axis, double spin) {
+  const CheckerboardSpec b = Board();
+  const Eigen::Vector3d centre(0.5 * (b.cols - 1) * b.square_m, 0.5 * (b.rows - 1) * b.square_m, 0);
+  Pose p = Pose::Identity();
+  p.linear() = (Eigen::AngleAxisd(tilt, Eigen::Vector3d(std::cos(axis), std::sin(axis), 0)) *
+                Eigen::AngleAxisd(spin, Eigen::Vector3d::UnitZ()))
+                   .toRotationMatrix();
+  p.translation() = Eigen::Vector3d(ox, oy, z) - p.linear() * centre;
+  return p;
+}
+
+Pose ToolFromCam() {
+  Pose x = Pose::Identity();
+  x.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  x.translation() = Eigen::Vector3d(0.05, -0.02, 0.08);
+  return x;
+}
+
+std::filesystem::path WriteRun() {
+  const auto dir = std::filesystem::temp_directory_path() / ("lt_calib_run_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir / "frames");
+  std::ofstream(dir / "scene.json") << R"({"sensor": {"camera": {"resolution": [640, 480], "pixel_pitch_um": 4.8,
+    "fx": 805, "fy": 803, "cx": 323.4, "cy": 236.8, "f_number": 4,
+    "distortion": {"model": "brown_conrady", "k1": -0.18, "k2": 0.09}}}})";
+  CameraParams p;
+  p.width = 640;
+  p.height = 480;
+  p.fx = 805;
+  p.fy = 803;
+  p.cx = 323.4;
+  p.cy = 236.8;
+  p.distortion = DistortionModel::kBrownConrady;
+  p.brown_conrady = {-0.18, 0.09, 0, 0, 0};
+  const Camera cam(p);
+  const std::vector<Pose> poses = {BoardPose(0, 0, 0.20, 30 * kDeg, 0, 0),
+                                   BoardPose(0.03, -0.02, 0.21, 35 * kDeg, 90 * kDeg, 15 * kDeg),
+                                   BoardPose(-0.03, 0.02, 0.22, 30 * kDeg, 45 * kDeg, -20 * kDeg),
+                                   BoardPose(0.03, 0.025, 0.19, 25 * kDeg, 135 * kDeg, 180 * kDeg),
+                                   BoardPose(-0.035, -0.02, 0.23, 40 * kDeg, 200 * kDeg, 5 * kDeg),
+                                   BoardPose(0.0, 0.03, 0.20, 20 * kDeg, 270 * kDeg, 90 * kDeg)};
+  Pose world_from_board = Pose::Identity();
+  world_from_board.translation() = Eigen::Vector3d(0.4, 0.1, 0);
+  std::ofstream manifest(dir / "manifest.jsonl");
+  const Image<uint16_t> dark(640, 480, 1);
+  for (size_t v = 0; v < poses.size(); ++v) {
+    SyntheticBoardOptions o;
+    o.noise_sigma = 0.01 * (o.white - o.black);
+    o.seed = 40 + v;
+    const Image<float> board = RenderCheckerboard(cam, poses[v], Board(), o);
+    Image<uint16_t> img(640, 480, 1);
+    for (size_t i = 0; i < img.pixels.size(); ++i) {
+      img.pixels[i] = uint16_t(std::clamp(std::lround(1000.0 * board.pixels[i]), 0L, 1023L));
+    }
+    const std::string bright = "frames/" + std::to_string(2 * v) + ".png", dim = "frames/" + std::to_string(2 * v + 1) + ".png";
+    WriteImage(dir / bright, img);
+    WriteImage(dir / dim, dark);
+    const Pose world_from_tool = world_from_board * poses[v].inverse() * ToolFromCam().inverse();
+    const nlohmann::json tool = PoseToJson(world_from_tool);
+    manifest << nlohmann::json{{"index", 2 * v}, {"files", {{"image", bright}}}, {"shutter", {{"laser_on", false}}},
+                               {"bit_depth", 10}, {"world_from_tool", tool}}
+                    .dump()
+             << "\n"
+             << nlohmann::json{{"index", 2 * v + 1}, {"files", {{"image", dim}}}, {"shutter", {{"laser_on", true}}},
+                               {"bit_depth", 10}}
+                    .dump()
+             << "\n";
+  }
+  return dir;
+}
+
+}  // namespace session_run
+
+TEST(CalibSessionRun, CameraAndHandEyeFromARecordedSession) {
+  const auto run = session_run::WriteRun();
+  const CheckerboardSpec board = session_run::Board();
+  const SessionCameraResult cam = CalibrateSessionCamera(run, board);
+  ASSERT_EQ(cam.views.size(), 6u);
+  EXPECT_EQ(cam.views[0].dim_frame, 1);
+  ASSERT_TRUE(cam.calibration.ok) << cam.calibration.reason;
+  EXPECT_EQ(cam.used.size(), 6u);
+  // Rendered boards with 1% noise: corners to a few hundredths of a pixel
+  // (docs/calibration.md), so fx to well within 0.5%.
+  EXPECT_NEAR(cam.calibration.camera.fx, 805, 4);
+  EXPECT_NEAR(cam.calibration.camera.cy, 236.8, 2);
+  const Camera calibrated(cam.calibration.camera);
+
+  const SessionHandEyeResult he = CalibrateSessionHandEye(run, board, calibrated);
+  ASSERT_TRUE(he.hand_eye.ok) << he.hand_eye.reason;
+  EXPECT_EQ(he.used.size(), 6u);
+  const PoseError e = ComparePoses(he.hand_eye.tool_from_cam, session_run::ToolFromCam());
+  EXPECT_LT(e.rotation_rad, 0.05 * session_run::kDeg);
+  EXPECT_LT(e.translation_m, 0.2e-3);
+
+  // No laser in the rig: the number of planes must be given; then the dark
+  // laser frames give no stripe and the fit is refused, with reasons.
+  EXPECT_THROW(CalibrateSessionLaser(run, board, calibrated), InputError);
+  SessionLaserOptions o;
+  o.planes = 1;
+  const SessionLaserResult laser = CalibrateSessionLaser(run, board, calibrated, o);
+  ASSERT_EQ(laser.laser_views.size(), 6u);
+  for (const SessionLaserView& v : laser.laser_views) {
+    EXPECT_FALSE(v.used);
+    EXPECT_NE(v.note.find("no stripe on the board"), std::string::npos) << v.note;
+  }
+  for (const LaserPlaneFit& f : laser.fits) EXPECT_FALSE(f.ok);
+  std::filesystem::remove_all(run);
 }
 
 }  // namespace
