@@ -88,6 +88,16 @@ Image<float> ReadImageFloat(const std::filesystem::path& path) {
       ReadImage(path));
 }
 
+Image<float> ReadImageFloat(const std::filesystem::path& path, std::vector<std::string>* channel_names) {
+  OIIO::ImageSpec spec;
+  auto in = OpenInput(path, &spec);
+  if (channel_names) {
+    channel_names->clear();
+    for (int c = 0; c < spec.nchannels; ++c) channel_names->push_back(spec.channel_name(c));
+  }
+  return ReadAs<float>(*in, spec, OIIO::TypeDesc::FLOAT, path);
+}
+
 void WriteImage(const std::filesystem::path& path, const Image<uint8_t>& image) {
   Write(path, image, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8, {});
 }

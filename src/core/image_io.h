@@ -16,6 +16,10 @@ AnyImage ReadImage(const std::filesystem::path& path);
 
 // Reads an image as float in its own units (no scaling: an 8-bit 255 is 255.0f).
 Image<float> ReadImageFloat(const std::filesystem::path& path);
+// The same, and the names of the image's channels in the order of the pixels'
+// channels (EXR: e.g. {"Z", "N.X", ...}; OpenImageIO may reorder them from the
+// file's order, so look channels up by name).
+Image<float> ReadImageFloat(const std::filesystem::path& path, std::vector<std::string>* channel_names);
 
 // Writes atomically (temporary name, then rename). The format follows the
 // extension; PNG takes uint8/uint16, EXR takes float (stored as half unless

@@ -52,6 +52,7 @@ RunFrame ParseLine(const fs::path& run_dir, const std::string& text, const std::
   if (image.empty()) files.Get("image").Fail("must name the frame's image file");
   f.image = run_dir / image;
   if (files.Has("centers")) f.gt_centers = run_dir / files.String("centers");
+  if (files.Has("gt")) f.gt_buffers = run_dir / files.String("gt");
   if (auto s = o.FindObject("shutter")) {
     if (s->Has("laser_on")) {
       f.laser_on = s->Bool("laser_on", false);

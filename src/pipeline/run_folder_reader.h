@@ -13,6 +13,7 @@
 //                    or the laser lit part of its exposure; a line with
 //                    neither key counts as a laser frame
 //   files.centers    ground-truth stripe centres (CSV)                   optional
+//   files.gt         ground-truth buffers (EXR: Z, N.X, N.Y, N.Z, ...)    optional
 //   world_from_cam   camera pose at mid-exposure (core/pose.h forms)     optional
 //   world_from_tool  robot tool (flange) pose at mid-exposure            optional
 //   gt_axis          "rows" | "cols": how the ground truth was scanned    optional
@@ -44,6 +45,7 @@ struct RunFrame {
   bool shutter_known = false;  // the line has shutter.laser_on or lit_fraction.laser
   std::filesystem::path image;                    // run folder / files.image
   std::optional<std::filesystem::path> gt_centers;  // run folder / files.centers
+  std::optional<std::filesystem::path> gt_buffers;  // run folder / files.gt (depth, normal, ... EXR)
   std::optional<Pose> world_from_cam;
   std::optional<Pose> world_from_tool;  // when the camera rides on a robot tool
   std::optional<SearchAxis> gt_axis;

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "core/image_io.h"
+#include "render/multi_jitter.h"
 #include "render/speckle.h"
 #include "render/subsurface_profile.h"
 
@@ -17,6 +18,7 @@ namespace lt {
 namespace {
 
 constexpr uint64_t kPixelSamplePurpose = 0x504958454c53414dull;  // camera samples
+constexpr uint64_t kPixelPatternPurpose = 0x504958454c504154ull;  // multi-jitter pattern of a pixel
 constexpr uint64_t kSpecklePurpose = 0x535045434b4c4531ull;
 constexpr int kTile = 16;
 constexpr double kNearSigmas = 8.0;
@@ -182,8 +184,6 @@ void FrameRenderer::SamplePass(const RenderedFrame& frame, bool all_pixels, Film
   const bool moving = !IsStaticWithin(scene_.motion, sf.t_start_s, sf.t_end_s);
   const FrameLights fixed_lights = MakeFrameLights(scene_.sensor, frame.world_from_cam, sf.laser_fraction,
                                                    sf.pattern_fraction, sf.led_fraction);
-  const int k = int(std::lround(std::sqrt(double(spp_))));
-  const bool square = k * k == spp_;
   tbb::enumerable_thread_specific<TraceStats> tstats;
   tbb::enumerable_thread_specific<uint64_t> tsamples(0);
   tbb::parallel_for(
@@ -196,16 +196,11 @@ void FrameRenderer::SamplePass(const RenderedFrame& frame, bool all_pixels, Film
             const bool full = all_pixels || frame.near_mask.At(x, y) > 0;
             const int n = full ? spp_ : 1;
             const uint64_t pixel = uint64_t(y) * uint64_t(cam.width()) + uint64_t(x);
+            const uint32_t pattern = uint32_t(HashKey(seed_, uint64_t(sf.index), pixel, kPixelPatternPurpose));
             for (int s = 0; s < n; ++s) {
               Rng rng = Rng::For(seed_, uint64_t(sf.index), pixel, uint64_t(s), kPixelSamplePurpose);
-              double jx, jy;
-              if (n == 1) {
-                jx = rng.NextDouble(), jy = rng.NextDouble();
-              } else if (square) {
-                jx = ((s % k) + rng.NextDouble()) / k, jy = ((s / k) + rng.NextDouble()) / k;
-              } else {
-                jx = rng.NextDouble(), jy = rng.NextDouble();
-              }
+              const Eigen::Vector2d j = MultiJitter2D(uint32_t(s), uint32_t(n), pattern);
+              const double jx = j.x(), jy = j.y();
               Eigen::Vector2d lens(0.5, 0.5);
               if (!cam.is_pinhole()) lens = Eigen::Vector2d(rng.NextDouble(), rng.NextDouble());
               Pose world_from_cam = frame.world_from_cam;

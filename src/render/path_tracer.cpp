@@ -228,7 +228,9 @@ void PathTracer::Trace(const Ray& camera_ray, const FrameLights& lights, Rng& rn
     if (!lights.emitters.empty()) {
       AddEmitterLight(v, lights, beta_mono_span, mono, stats);
       if (v.subsurface) {
-        for (const PointEmitter& e : lights.emitters) AddSubsurfaceEmitter(v, e, beta_mono[size_t(e.group)], rng, mono, stats);
+        const int emitter_rays = depth == 0 ? options_.subsurface_emitter_rays : 1;
+        for (const PointEmitter& e : lights.emitters)
+          AddSubsurfaceEmitter(v, e, beta_mono[size_t(e.group)], emitter_rays, rng, mono, stats);
       }
     }
     if (lights.led) AddLedLight(v, *lights.led, beta, rng, rgb, stats);

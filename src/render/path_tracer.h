@@ -41,6 +41,9 @@ struct PathTracerOptions {
   int max_bounces = 2;
   int russian_roulette_depth = 3;
   bool subsurface = true;
+  // Emitter rays per emitter channel for the subsurface light of the first
+  // surface the camera sees (render/path_tracer_subsurface.cpp); one at bounces.
+  int subsurface_emitter_rays = 8;
 };
 
 // Counters of one thread's work.
@@ -79,8 +82,8 @@ class PathTracer {
   void AddLedLight(const Vertex& v, const LedLight& led, const Eigen::Vector3f& beta, Rng& rng,
                    Eigen::Vector3f* rgb, TraceStats* stats) const;
   // Subsurface light of one emitter (render/path_tracer_subsurface.cpp).
-  void AddSubsurfaceEmitter(const Vertex& v, const PointEmitter& e, float beta, Rng& rng, std::span<float> mono,
-                            TraceStats* stats) const;
+  void AddSubsurfaceEmitter(const Vertex& v, const PointEmitter& e, float beta, int emitter_rays, Rng& rng,
+                            std::span<float> mono, TraceStats* stats) const;
   // Irradiance factor I_k cos/r² at p for each channel of emitter e (written to
   // per_channel), or false when p is unlit (shadowed, outside the beam, facing away).
   bool EmitterIrradiance(const PointEmitter& e, const Eigen::Vector3d& p, const Eigen::Vector3d& n_geo,

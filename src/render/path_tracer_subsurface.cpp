@@ -10,7 +10,8 @@
 // r_max holding 99.9% of its energy.
 //
 // Two strategies find entry points, combined by the balance heuristic
-// (Veach 1997), one sample each per emitter channel:
+// (Veach 1997) over one probe sample and M emitter samples per channel
+// (weight f / (p_probe + M p_emitter) for every sample):
 //  - probe rays around x_o (Christensen & Burley 2015; King et al. 2013): a
 //    radius from the profile, an angle, and an axis (normal 1/2, tangents 1/4
 //    each), then a ray through the disc point along the axis; every hit on the
@@ -20,7 +21,10 @@
 //    projector, over the fan angles within r_max of x_o (with a density that
 //    follows the profile's 1/d fall-off, see EmitterWindow) and across the
 //    sheet from its Gaussian (a cone of directions for a pattern projector);
-//    the first surface hit is the lit entry point.
+//    the first surface hit is the lit entry point. The M draws are stratified
+//    along the sheet (the profile varies most there); M is larger at the
+//    camera vertex (PathTracerOptions::subsurface_emitter_rays), where the
+//    glow is seen directly, than at bounces.
 #include <cmath>
 
 #include "render/path_tracer.h"
@@ -42,11 +46,16 @@ struct EmitterWindow {
   // fan angle of x_o, the window half-width and the sampling sigma across.
   Eigen::Vector3d c, x, n;
   double phi0 = 0, dphi = 0, sigma = 0;
-  // Along the sheet, the offset delta = phi - phi0 has density
-  // 1 / (2 V sqrt(delta^2 + dh^2)) on |delta| < dphi, V = asinh(dphi / dh): it
-  // follows the profile's 1/d fall-off seen from a point at angular distance dh
-  // from the sheet (delta = dh sinh(v), v uniform on (-V, V)).
-  double dh = 1e-3, V = 1;
+  // Across the sheet, psi (the angle out of the sheet's plane) is drawn from
+  // the sheet's Gaussian; psi0 is the angle of x_o. Then along the sheet, the
+  // offset delta = phi - phi0 has density 1 / (2 V sqrt(delta^2 + dh^2)) on
+  // |delta| < dphi, V = asinh(dphi / dh), dh = max(|psi - psi0|, dh_min): it
+  // follows the profile's 1/d fall-off along the line of entry points at that
+  // psi, seen from x_o (delta = dh sinh(v), v uniform on (-V, V)). Matching the
+  // 1/d singularity for each line leaves only a logarithmic one in the weight
+  // where the stripe passes through x_o, where the peak of the glow is.
+  double psi0 = 0, dh_min = 1e-6;
+  double Dh(double psi) const { return std::max(std::abs(psi - psi0), dh_min); }
   // Pattern: a cone around the direction of x_o.
   Eigen::Vector3d axis;
   double cos_max = 1;
@@ -59,11 +68,12 @@ struct EmitterWindow {
     double dp = std::remainder(phi - phi0, 2 * M_PI);
     if (std::abs(dp) > dphi || std::abs(psi) >= 0.5 * M_PI) return 0.0;
     double g = std::exp(-0.5 * psi * psi / (sigma * sigma)) / (sigma * std::sqrt(2 * M_PI));
+    double dh = Dh(psi), V = std::asinh(dphi / dh);
     double p_delta = 1.0 / (2 * V * std::sqrt(dp * dp + dh * dh));
     return p_delta * g / std::cos(psi);
   }
   // Draws a unit direction (projector frame); false when the draw falls outside.
-  bool Sample(Rng& rng, Eigen::Vector3d* w) const {
+  bool Sample(Rng& rng, double u_along, Eigen::Vector3d* w) const {
     if (!sheet) {
       double cos_t = 1 - rng.NextDouble() * (1 - cos_max), sin_t = std::sqrt(std::max(0.0, 1 - cos_t * cos_t));
       double a = 2 * M_PI * rng.NextDouble();
@@ -71,9 +81,10 @@ struct EmitterWindow {
       *w = cos_t * axis + sin_t * (std::cos(a) * t + std::sin(a) * b);
       return true;
     }
-    double phi = phi0 + dh * std::sinh((2 * rng.NextDouble() - 1) * V);
     double psi = sigma * rng.NextGaussian();
     if (std::abs(psi) >= 0.5 * M_PI) return false;
+    double dh = Dh(psi), V = std::asinh(dphi / dh);
+    double phi = phi0 + dh * std::sinh((2 * u_along - 1) * V);
     *w = std::cos(psi) * (std::cos(phi) * c + std::sin(phi) * x) + std::sin(psi) * n;
     return true;
   }
@@ -81,8 +92,8 @@ struct EmitterWindow {
 
 }  // namespace
 
-void PathTracer::AddSubsurfaceEmitter(const Vertex& v, const PointEmitter& e, float beta, Rng& rng,
-                                      std::span<float> mono, TraceStats* stats) const {
+void PathTracer::AddSubsurfaceEmitter(const Vertex& v, const PointEmitter& e, float beta, int emitter_rays,
+                                      Rng& rng, std::span<float> mono, TraceStats* stats) const {
   const Subsurface& sss = *v.material->subsurface;
   double albedo = (1.0 - v.material->metallic) * v.albedo_mono[size_t(e.group)];
   if (beta <= 0 || albedo <= 0) return;
@@ -135,10 +146,9 @@ void PathTracer::AddSubsurfaceEmitter(const Vertex& v, const PointEmitter& e, fl
       w.phi0 = std::atan2(u.dot(w.x), u.dot(w.c));
       w.dphi = std::min(M_PI, r_max / dist);
       w.sigma = e.laser->SheetSigma(dist);
-      double psi = std::asin(std::clamp(u.dot(w.n), -1.0, 1.0));
-      w.dh = std::max({std::abs(psi), 2 * w.sigma, 1e-3 * w.dphi});
-      w.V = std::asinh(w.dphi / w.dh);
-      active[size_t(k)] = std::abs(psi) <= w.dphi + 8 * w.sigma;  // the sheet passes within reach
+      w.psi0 = std::asin(std::clamp(u.dot(w.n), -1.0, 1.0));
+      w.dh_min = 1e-6 * w.dphi;
+      active[size_t(k)] = std::abs(w.psi0) <= w.dphi + 8 * w.sigma;  // the sheet passes within reach
     } else {
       w.sheet = false;
       w.axis = p_proj / dist;
@@ -188,31 +198,34 @@ void PathTracer::AddSubsurfaceEmitter(const Vertex& v, const PointEmitter& e, fl
       if (g <= 0 || !(pp > 0)) continue;
       for (int k = 0; k < e.channels; ++k) {
         double f = g * ch[size_t(k)] * cos_i;  // ch: I_k / r^2 times the lit fraction
-        mono[size_t(e.first_channel + k)] += float(scale * f / (pp + emitter_pdf(k, hit->position, ni)));
+        mono[size_t(e.first_channel + k)] += float(scale * f / (pp + emitter_rays * emitter_pdf(k, hit->position, ni)));
       }
     }
   }
-  // Strategy 2: one emitter ray per channel within reach.
+  // Strategy 2: M emitter rays per channel within reach, stratified along the sheet.
   for (int k = 0; k < e.channels; ++k) {
     if (!active[size_t(k)]) continue;
-    Eigen::Vector3d w_proj;
-    if (!windows[size_t(k)].Sample(rng, &w_proj)) continue;
-    Ray ray{e.origin_world, world_from_projector * w_proj, 0, std::numeric_limits<double>::infinity()};
-    ++stats->rays;
-    auto hit = scene_.Intersect(ray);
-    if (!hit || hit->material_id != v.material_id) continue;
-    Eigen::Vector3d ni = hit->geometric_normal;
-    if (ni.dot(v.n_geo) < 0) ni = -ni;
-    Eigen::Vector3d to = e.origin_world - hit->position;
-    double r2 = to.squaredNorm(), cos_i = ni.dot(to) / std::sqrt(r2);
-    double g = entry(hit->position, cos_i);
-    if (g <= 0) continue;
-    Eigen::Vector3d p_hit_proj = e.projector_from_world * hit->position;
-    double I = e.laser ? e.laser->SheetIntensityAt(k, p_hit_proj) : e.pattern->RadiantIntensityAt(p_hit_proj);
-    double f = g * I * e.weight * cos_i / r2;
-    double pl = emitter_pdf(k, hit->position, ni);
-    if (!(pl > 0)) continue;
-    mono[size_t(e.first_channel + k)] += float(scale * f / (probe_pdf(hit->position, ni) + pl));
+    const double u0 = rng.NextDouble();
+    for (int m = 0; m < emitter_rays; ++m) {
+      Eigen::Vector3d w_proj;
+      if (!windows[size_t(k)].Sample(rng, (m + u0) / emitter_rays, &w_proj)) continue;
+      Ray ray{e.origin_world, world_from_projector * w_proj, 0, std::numeric_limits<double>::infinity()};
+      ++stats->rays;
+      auto hit = scene_.Intersect(ray);
+      if (!hit || hit->material_id != v.material_id) continue;
+      Eigen::Vector3d ni = hit->geometric_normal;
+      if (ni.dot(v.n_geo) < 0) ni = -ni;
+      Eigen::Vector3d to = e.origin_world - hit->position;
+      double r2 = to.squaredNorm(), cos_i = ni.dot(to) / std::sqrt(r2);
+      double g = entry(hit->position, cos_i);
+      if (g <= 0) continue;
+      Eigen::Vector3d p_hit_proj = e.projector_from_world * hit->position;
+      double I = e.laser ? e.laser->SheetIntensityAt(k, p_hit_proj) : e.pattern->RadiantIntensityAt(p_hit_proj);
+      double f = g * I * e.weight * cos_i / r2;
+      double pl = emitter_pdf(k, hit->position, ni);
+      if (!(pl > 0)) continue;
+      mono[size_t(e.first_channel + k)] += float(scale * f / (probe_pdf(hit->position, ni) + emitter_rays * pl));
+    }
   }
 }
 

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "core/base64.h"  // Base64Encode, used for embedded buffers
+
 namespace lt {
 
 class GltfBuilder {
@@ -58,7 +60,5 @@ class GltfBuilder {
   nlohmann::json doc_;
   std::vector<uint8_t> bin_;
 };
-
-std::string Base64Encode(const uint8_t* data, size_t size);
 
 }  // namespace lt

@@ -9,6 +9,7 @@
 // Threads: all (2 here) unless LT_BENCH_THREADS is set.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <map>
 
@@ -63,18 +64,23 @@ std::vector<StripePoint> Com(const Image<float>& radiance) {
   return StripeExtractor(o).Extract(laser.View());
 }
 
-double ComRms(const std::vector<StripePoint>& a, const std::vector<StripePoint>& ref) {
+// Column-wise |v - v_ref| of the columns both extractions found.
+std::vector<double> ComErrors(const std::vector<StripePoint>& a, const std::vector<StripePoint>& ref) {
   std::map<int, double> r;
   for (const auto& p : ref) r[int(std::lround(p.u))] = p.v;
-  double s = 0;
-  int n = 0;
+  std::vector<double> e;
   for (const auto& p : a) {
     auto it = r.find(int(std::lround(p.u)));
-    if (it == r.end()) continue;
-    s += (p.v - it->second) * (p.v - it->second);
-    ++n;
+    if (it != r.end()) e.push_back(std::abs(p.v - it->second));
   }
-  return n ? std::sqrt(s / n) : -1;
+  std::sort(e.begin(), e.end());
+  return e;
+}
+
+double Rms(const std::vector<double>& e) {
+  double s = 0;
+  for (double x : e) s += x * x;
+  return e.empty() ? -1 : std::sqrt(s / double(e.size()));
 }
 
 const std::vector<StripePoint>& Reference() {
@@ -97,7 +103,11 @@ void BM_DimFrame640(benchmark::State& state) {
   FrameRenderer renderer(d.scene, *d.embree, o);
   RenderedFrame frame;
   for (auto _ : state) frame = renderer.Render(1);
-  state.counters["com_rms_px"] = ComRms(Com(frame.radiance), ref);
+  const std::vector<double> e = ComErrors(Com(frame.radiance), ref);
+  state.counters["com_rms_px"] = Rms(e);
+  state.counters["com_median_px"] = e.empty() ? -1 : e[e.size() / 2];
+  state.counters["com_p90_px"] = e.empty() ? -1 : e[e.size() * 9 / 10];
+  state.counters["columns"] = double(e.size());
   state.counters["rays_per_s"] = benchmark::Counter(double(frame.stats.rays), benchmark::Counter::kIsIterationInvariantRate);
   state.counters["near_pixels"] = double(frame.stats.near_pixels);
   state.counters["gt_ms"] = frame.stats.ground_truth_ms;

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "pipeline/scan.h"
+#include "tools/lasertwin/frame_range.h"
 #include "tools/lasertwin/command.h"
 
 namespace lt::cli {
@@ -25,13 +26,6 @@ struct ScanArgs {
   bool quiet = false;
   ScanOptions options;
 };
-
-int ParseInt(const std::string& s, const std::string& option, const std::string& text) {
-  if (s.empty() || s.size() > 9 || s.find_first_not_of("0123456789") != std::string::npos) {
-    throw InputError(option, "expected whole numbers, got '" + text + "'");
-  }
-  return std::stoi(s);
-}
 
 std::vector<double> ParseNumbers(const std::string& text, const std::string& option) {
   std::vector<double> values;
@@ -60,18 +54,7 @@ void Run(ScanArgs& a) {
   }
   if (!a.weights.empty()) o.extraction.channel_weights = ParseNumbers(a.weights, "--weights");
   if (!a.calib.empty()) o.calibration = a.calib;
-  if (!a.frames.empty()) {
-    auto colon = a.frames.find(':');
-    if (colon == std::string::npos) {
-      o.frames_begin = ParseInt(a.frames, "--frames", a.frames);
-      o.frames_end = o.frames_begin + 1;
-    } else {
-      std::string b = a.frames.substr(0, colon), e = a.frames.substr(colon + 1);
-      if (!b.empty()) o.frames_begin = ParseInt(b, "--frames", a.frames);
-      if (!e.empty()) o.frames_end = ParseInt(e, "--frames", a.frames);
-      if (o.frames_end >= 0 && o.frames_end <= o.frames_begin) throw InputError("--frames", "empty range '" + a.frames + "'");
-    }
-  }
+  if (!a.frames.empty()) ParseFrameRange(a.frames, &o.frames_begin, &o.frames_end);
   ScanSummary s = ScanRun(a.run_dir, o, [](const std::string& w) { std::cerr << "lasertwin: warning: " << w << "\n"; });
   if (a.quiet) return;
   const TriangulationStats& st = s.stats;

@@ -1,0 +1,383 @@
+#include "pipeline/eval_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+#include <tuple>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "pipeline/ground_truth.h"
+#include "pipeline/option_checks.h"
+#include "pipeline/run_folder_reader.h"
+#include "pipeline/scan.h"
+#include "pipeline/scan_output.h"
+
+namespace lt {
+
+namespace fs = std::filesystem;
+
+void EvalOptions::Check() const {
+  Require(std::isfinite(max_match_px) && max_match_px > 0, "max_match_px",
+          "must be a finite number > 0, got " + FormatNumber(max_match_px));
+  Require(std::isfinite(completeness_mm) && completeness_mm > 0, "completeness_mm",
+          "must be a finite number > 0, got " + FormatNumber(completeness_mm));
+  Require(frames_begin >= 0, "frames", "the first frame must be >= 0");
+  Require(frames_end < 0 || frames_end > frames_begin, "frames", "the frame range is empty");
+}
+
+double SortedQuantile(const std::vector<double>& sorted, double q) {
+  if (sorted.empty()) return 0;
+  const double pos = std::clamp(q, 0.0, 1.0) * double(sorted.size() - 1);
+  const size_t i = size_t(std::floor(pos));
+  if (i + 1 >= sorted.size()) return sorted.back();
+  const double f = pos - double(i);
+  return sorted[i] + f * (sorted[i + 1] - sorted[i]);
+}
+
+ErrorStats Summarize(std::vector<double> values) {
+  ErrorStats s;
+  s.n = int64_t(values.size());
+  if (values.empty()) return s;
+  double sum_sq = 0;
+  for (double& v : values) {
+    if (!std::isfinite(v)) throw std::invalid_argument("Summarize: a value is not finite");
+    v = std::abs(v);
+    sum_sq += v * v;
+  }
+  std::sort(values.begin(), values.end());
+  s.rms = std::sqrt(sum_sq / double(values.size()));
+  s.median = SortedQuantile(values, 0.5);
+  s.p95 = SortedQuantile(values, 0.95);
+  s.max = values.back();
+  return s;
+}
+
+namespace {
+
+nlohmann::json Num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+nlohmann::json Num(const std::optional<double>& v) { return v ? Num(*v) : nlohmann::json(nullptr); }
+std::optional<double> Ratio(int64_t num, int64_t den) {
+  return den > 0 ? std::optional<double>(double(num) / double(den)) : std::nullopt;
+}
+
+// The metrics of the samples (of plane `plane` when set: true plane for
+// ground-truth centres, measured plane for false positives and points).
+EvalSummary Summarise(const std::vector<CenterSample>& centers, const std::vector<PointSample>& points,
+                      std::optional<int> plane = std::nullopt) {
+  EvalSummary s;
+  EvalCounts& c = s.counts;
+  std::vector<double> center_errors, point_errors;
+  double bias = 0;
+  for (const CenterSample& x : centers) {
+    if (!x.has_truth) {
+      if (plane && x.plane_measured != *plane) continue;
+      ++c.false_positives;
+      ++c.measured_centers;
+      continue;
+    }
+    if (plane && x.plane_true != *plane) continue;
+    ++c.gt_centers;
+    if (!x.matched) continue;
+    ++c.matched;
+    ++c.measured_centers;
+    center_errors.push_back(x.error_px);
+    bias += x.error_px;
+    if (x.plane_measured == x.plane_true) ++c.plane_correct;
+    if (x.plane_measured < 0) ++c.plane_unidentified;
+    if (x.complete) ++c.complete;
+  }
+  for (const PointSample& p : points) {
+    if (plane && p.plane != *plane) continue;
+    ++c.points_triangulated;
+    if (p.on_surface) {
+      point_errors.push_back(p.error_mm);
+    } else {
+      ++c.points_off_surface;
+    }
+  }
+  s.center_px = Summarize(std::move(center_errors));
+  s.center_bias_px = c.matched > 0 ? bias / double(c.matched) : 0.0;
+  s.point_mm = Summarize(std::move(point_errors));
+  s.detection_rate = Ratio(c.matched, c.gt_centers);
+  s.false_positive_rate = Ratio(c.false_positives, c.measured_centers);
+  s.plane_id_accuracy = Ratio(c.plane_correct, c.matched);
+  s.completeness = Ratio(c.complete, c.gt_centers);
+  return s;
+}
+
+std::map<int, EvalSummary> SummarisePlanes(const std::vector<CenterSample>& centers,
+                                           const std::vector<PointSample>& points) {
+  std::vector<int> planes;
+  for (const CenterSample& x : centers) planes.push_back(x.has_truth ? x.plane_true : x.plane_measured);
+  for (const PointSample& p : points) planes.push_back(p.plane);
+  std::sort(planes.begin(), planes.end());
+  planes.erase(std::unique(planes.begin(), planes.end()), planes.end());
+  std::map<int, EvalSummary> out;
+  for (int k : planes) out[k] = Summarise(centers, points, k);
+  return out;
+}
+
+nlohmann::json PlanesToJson(const std::map<int, EvalSummary>& planes) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const auto& [k, s] : planes) {
+    nlohmann::json j = {{"plane", k}};
+    j.update(s.ToJson());
+    a.push_back(j);
+  }
+  return a;
+}
+
+// A whole number within tolerance (and small enough to be a pixel index).
+bool IsWhole(double x, double tolerance) { return std::abs(x) < 1e8 && std::abs(x - std::round(x)) <= tolerance; }
+
+// The scan axis of a frame's ground truth: the manifest's gt_axis, else the
+// coordinate that is a whole number on every centre.
+SearchAxis TruthAxis(const RunFrame& frame, const std::vector<TruthCenter>& truth) {
+  if (frame.gt_axis) return *frame.gt_axis;
+  const bool rows = std::all_of(truth.begin(), truth.end(), [](const TruthCenter& t) { return IsWhole(t.v, 1e-6); });
+  const bool cols = std::all_of(truth.begin(), truth.end(), [](const TruthCenter& t) { return IsWhole(t.u, 1e-6); });
+  if (rows) return SearchAxis::kRows;
+  if (cols) return SearchAxis::kCols;
+  throw InputError(frame.gt_centers->string(),
+                   "the centres are neither on whole rows nor on whole columns, and the manifest has no gt_axis");
+}
+
+struct FrameSamples {
+  std::vector<CenterSample> centers;
+  std::vector<PointSample> points;
+};
+
+FrameSamples EvaluateFrame(const RunFrame& frame, SearchAxis axis, const std::vector<TruthCenter>& truth,
+                           const std::vector<ScanPoint>& measured, const fs::path& measured_file,
+                           const TrueSurface* surface, const EvalOptions& o) {
+  const bool rows = axis == SearchAxis::kRows;
+  auto line_of = [&](double u, double v) { return rows ? v : u; };
+  auto along = [&](double u, double v) { return rows ? u : v; };
+  const char* lines = rows ? "rows" : "columns";
+  std::map<int, std::pair<std::vector<int>, std::vector<int>>> by_line;  // line -> (truth, measured) indices
+  for (size_t i = 0; i < truth.size(); ++i) {
+    const double l = line_of(truth[i].u, truth[i].v);
+    if (!IsWhole(l, 1e-6)) {
+      throw InputError(frame.gt_centers->string(), std::string("ground-truth centre ") + std::to_string(i + 1) +
+                                                       " is not on a whole image row/column (gt_axis " +
+                                                       (rows ? "rows" : "cols") + ")");
+    }
+    by_line[int(std::lround(l))].first.push_back(int(i));
+  }
+  for (size_t j = 0; j < measured.size(); ++j) {
+    const double l = line_of(measured[j].pixel.u, measured[j].pixel.v);
+    if (!IsWhole(l, 1e-3)) {
+      throw InputError(measured_file.string(),
+                       std::string("the centres are not on whole image ") + lines +
+                           ", but this run's ground truth scans " + lines + ": scan it with --axis " +
+                           (rows ? "rows" : "cols"));
+    }
+    by_line[int(std::lround(l))].second.push_back(int(j));
+  }
+
+  FrameSamples out;
+  std::vector<int> partner(measured.size(), -1);  // measured -> truth
+  for (auto& [line, ids] : by_line) {
+    const auto& [ti, mi] = ids;
+    std::vector<std::tuple<double, int, int>> pairs;
+    for (int i : ti) {
+      for (int j : mi) {
+        const double d = std::abs(along(measured[size_t(j)].pixel.u, measured[size_t(j)].pixel.v) -
+                                  along(truth[size_t(i)].u, truth[size_t(i)].v));
+        if (d <= o.max_match_px) pairs.emplace_back(d, i, j);
+      }
+    }
+    std::sort(pairs.begin(), pairs.end());
+    std::vector<int> truth_partner;
+    for (const auto& [d, i, j] : pairs) {
+      (void)d;
+      if (partner[size_t(j)] >= 0 ||
+          std::find(truth_partner.begin(), truth_partner.end(), i) != truth_partner.end()) {
+        continue;
+      }
+      partner[size_t(j)] = i;
+      truth_partner.push_back(i);
+    }
+    std::map<int, int> matched_truth;
+    for (int j : mi) {
+      if (partner[size_t(j)] >= 0) matched_truth[partner[size_t(j)]] = j;
+    }
+    for (int i : ti) {
+      const TruthCenter& t = truth[size_t(i)];
+      CenterSample s;
+      s.frame = frame.index;
+      s.line = line;
+      s.has_truth = true;
+      s.u_true = t.u;
+      s.v_true = t.v;
+      s.depth_true_m = t.p_in_cam.z();
+      s.plane_true = t.plane;
+      auto it = matched_truth.find(i);
+      if (it != matched_truth.end()) {
+        const ScanPoint& m = measured[size_t(it->second)];
+        s.matched = true;
+        s.u_measured = m.pixel.u;
+        s.v_measured = m.pixel.v;
+        s.plane_measured = m.pixel.plane;
+        s.error_px = along(m.pixel.u, m.pixel.v) - along(t.u, t.v);
+        s.complete = m.p_in_cam && (*m.p_in_cam - t.p_in_cam).norm() <= o.completeness_mm * 1e-3;
+      }
+      out.centers.push_back(s);
+    }
+    for (int j : mi) {
+      if (partner[size_t(j)] >= 0) continue;
+      const ScanPoint& m = measured[size_t(j)];
+      CenterSample s;
+      s.frame = frame.index;
+      s.line = line;
+      s.u_measured = m.pixel.u;
+      s.v_measured = m.pixel.v;
+      s.plane_measured = m.pixel.plane;
+      out.centers.push_back(s);
+    }
+  }
+  if (surface) {
+    for (const ScanPoint& m : measured) {
+      if (!m.p_in_cam) continue;
+      PointSample p;
+      p.frame = frame.index;
+      p.plane = m.pixel.plane;
+      p.u = m.pixel.u;
+      p.v = m.pixel.v;
+      p.depth_m = m.p_in_cam->z();
+      if (auto d = surface->SignedDistance(*m.p_in_cam)) {
+        p.on_surface = true;
+        p.error_mm = std::abs(*d) * 1e3;
+      }
+      out.points.push_back(p);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+EvalCounts& EvalCounts::operator+=(const EvalCounts& o) {
+  gt_centers += o.gt_centers;
+  measured_centers += o.measured_centers;
+  matched += o.matched;
+  false_positives += o.false_positives;
+  plane_correct += o.plane_correct;
+  plane_unidentified += o.plane_unidentified;
+  points_triangulated += o.points_triangulated;
+  points_off_surface += o.points_off_surface;
+  complete += o.complete;
+  return *this;
+}
+
+nlohmann::json ErrorStats::ToJson() const {
+  if (n == 0) return {{"n", 0}, {"rms", nullptr}, {"median", nullptr}, {"p95", nullptr}, {"max", nullptr}};
+  return {{"n", n}, {"rms", Num(rms)}, {"median", Num(median)}, {"p95", Num(p95)}, {"max", Num(max)}};
+}
+
+nlohmann::json EvalSummary::ToJson() const {
+  nlohmann::json center = center_px.ToJson();
+  center["bias"] = center_px.n > 0 ? Num(center_bias_px) : nlohmann::json(nullptr);
+  const EvalCounts& c = counts;
+  return {{"stripe_center_error_px", center},
+          {"detection_rate", Num(detection_rate)},
+          {"false_positives", {{"count", c.false_positives}, {"rate", Num(false_positive_rate)}}},
+          {"plane_id_accuracy", Num(plane_id_accuracy)},
+          {"plane_unidentified", c.plane_unidentified},
+          {"point_error_mm", point_mm.ToJson()},
+          {"completeness", Num(completeness)},
+          {"counts",
+           {{"gt_centers", c.gt_centers},
+            {"measured_centers", c.measured_centers},
+            {"matched", c.matched},
+            {"plane_correct", c.plane_correct},
+            {"points_triangulated", c.points_triangulated},
+            {"points_off_surface", c.points_off_surface},
+            {"complete", c.complete}}}};
+}
+
+nlohmann::json RunMetrics::ToJson() const {
+  nlohmann::json j = {{"run", run_dir.string()},
+                      {"options",
+                       {{"max_match_px", options.max_match_px},
+                        {"completeness_mm", options.completeness_mm},
+                        {"frames_begin", options.frames_begin},
+                        {"frames_end", options.frames_end}}},
+                      {"axis", axis == SearchAxis::kRows ? "rows" : "cols"},
+                      {"frames_evaluated", frames.size()},
+                      {"frames_skipped", frames_skipped}};
+  j.update(total.ToJson());
+  j["planes"] = PlanesToJson(planes);
+  nlohmann::json fa = nlohmann::json::array();
+  for (const FrameMetrics& f : frames) {
+    nlohmann::json fj = {{"index", f.index}, {"point_error_available", f.has_surface}};
+    fj.update(f.total.ToJson());
+    fj["planes"] = PlanesToJson(f.planes);
+    fa.push_back(fj);
+  }
+  j["frames"] = fa;
+  return j;
+}
+
+RunMetrics EvaluateRun(const fs::path& run_dir, const EvalOptions& options) {
+  options.Check();
+  const std::vector<RunFrame> manifest = ReadRunManifest(run_dir);
+  const fs::path centers_dir = run_dir / "centers";
+  if (!fs::is_directory(centers_dir)) {
+    throw InputError(centers_dir.string(), "no measured centres: run `lasertwin scan " + run_dir.string() + "` first");
+  }
+  RunMetrics run;
+  run.run_dir = run_dir;
+  run.options = options;
+  std::optional<RunRig> rig;
+  bool first = true;
+  for (const RunFrame& f : manifest) {
+    if (f.index < options.frames_begin || (options.frames_end >= 0 && f.index >= options.frames_end)) continue;
+    if (!f.IsLaserFrame()) continue;
+    if (!f.gt_centers) {
+      ++run.frames_skipped;
+      continue;
+    }
+    const std::vector<TruthCenter> truth = ReadTruthCentersCsv(*f.gt_centers);
+    const SearchAxis axis = TruthAxis(f, truth);
+    if (first) run.axis = axis;
+    first = false;
+    const fs::path measured_file = run_dir / ScanCentersName(f.index);
+    if (!fs::exists(measured_file)) {
+      throw InputError(measured_file.string(), "no such file: frame " + std::to_string(f.index) +
+                                                   " was not scanned (run `lasertwin scan " + run_dir.string() + "`)");
+    }
+    const std::vector<ScanPoint> measured = ReadScanCsv(measured_file);
+    std::optional<TrueSurface> surface;
+    if (f.gt_buffers) {
+      if (!rig) rig = ReadRunRig(run_dir);
+      surface.emplace(rig->camera, *f.gt_buffers);
+    }
+    FrameSamples s = EvaluateFrame(f, axis, truth, measured, measured_file, surface ? &*surface : nullptr, options);
+    FrameMetrics fm;
+    fm.index = f.index;
+    fm.has_surface = surface.has_value();
+    fm.total = Summarise(s.centers, s.points);
+    fm.planes = SummarisePlanes(s.centers, s.points);
+    run.frames.push_back(std::move(fm));
+    run.centers.insert(run.centers.end(), s.centers.begin(), s.centers.end());
+    run.points.insert(run.points.end(), s.points.begin(), s.points.end());
+  }
+  if (run.frames.empty()) {
+    throw InputError((run_dir / "manifest.jsonl").string(),
+                     "no laser frame with ground-truth stripe centres (files.centers) in the frame range");
+  }
+  run.total = Summarise(run.centers, run.points);
+  run.planes = SummarisePlanes(run.centers, run.points);
+  return run;
+}
+
+fs::path WriteMetricsJson(const fs::path& run_dir, const RunMetrics& metrics) {
+  const fs::path path = run_dir / "metrics.json";
+  WriteFileAtomically(path, metrics.ToJson().dump(2) + "\n");
+  return path;
+}
+
+}  // namespace lt

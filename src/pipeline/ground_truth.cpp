@@ -1,0 +1,128 @@
+#include "pipeline/ground_truth.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <string>
+
+#include "core/error.h"
+#include "core/image_io.h"
+
+namespace lt {
+
+namespace {
+
+constexpr const char* kTruthHeader = "u,v,plane,x_cam,y_cam,z_cam,x_world,y_world,z_world";
+
+// Fields of one CSV line (an empty line gives one empty field).
+std::vector<std::string> SplitFields(const std::string& line) {
+  std::vector<std::string> fields(1);
+  for (char c : line) {
+    if (c == ',') {
+      fields.emplace_back();
+    } else {
+      fields.back().push_back(c);
+    }
+  }
+  return fields;
+}
+
+}  // namespace
+
+std::vector<TruthCenter> ReadTruthCentersCsv(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path.string(), std::filesystem::exists(path) ? "cannot open" : "no such file");
+  std::string line;
+  std::getline(in, line);
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  if (line != kTruthHeader) throw InputError(path.string() + ":1", std::string("expected the header ") + kTruthHeader);
+  std::vector<TruthCenter> centers;
+  for (int line_no = 2; std::getline(in, line); ++line_no) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
+    const std::string where = path.string() + ":" + std::to_string(line_no);
+    const std::vector<std::string> f = SplitFields(line);
+    if (f.size() != 9) throw InputError(where, "expected 9 fields, got " + std::to_string(f.size()));
+    double v[6];
+    for (size_t k = 0; k < 6; ++k) {
+      char* end = nullptr;
+      v[k] = std::strtod(f[k].c_str(), &end);
+      if (f[k].empty() || *end != '\0' || !std::isfinite(v[k])) {
+        throw InputError(where, "field " + std::to_string(k + 1) + " is not a finite number: '" + f[k] + "'");
+      }
+    }
+    if (v[2] != std::floor(v[2]) || v[2] < 0 || v[2] > 1e6) {
+      throw InputError(where, "plane must be an integer >= 0, got '" + f[2] + "'");
+    }
+    centers.push_back({v[0], v[1], int(v[2]), Eigen::Vector3d(v[3], v[4], v[5])});
+  }
+  return centers;
+}
+
+TrueSurface::TrueSurface(const Camera& camera, const std::filesystem::path& gt_exr) : camera_(camera) {
+  std::vector<std::string> names;
+  buffers_ = ReadImageFloat(gt_exr, &names);
+  auto channel = [&](const std::string& name, bool required) {
+    auto it = std::find(names.begin(), names.end(), name);
+    if (it == names.end()) {
+      if (!required) return -1;
+      throw InputError(gt_exr.string(), "no channel '" + name + "' (ground-truth buffers need Z, N.X, N.Y, N.Z)");
+    }
+    return int(it - names.begin());
+  };
+  z_ = channel("Z", true);
+  nx_ = channel("N.X", true);
+  ny_ = channel("N.Y", true);
+  nz_ = channel("N.Z", true);
+  instance_ = channel("instance", false);
+  if (buffers_.width != camera.width() || buffers_.height != camera.height()) {
+    throw InputError(gt_exr.string(), "the buffers are " + std::to_string(buffers_.width) + "x" +
+                                          std::to_string(buffers_.height) + " but the camera is " +
+                                          std::to_string(camera.width()) + "x" + std::to_string(camera.height()));
+  }
+}
+
+TrueSurface::Texel TrueSurface::At(int x, int y) const {
+  Texel t;
+  const double z = buffers_.At(x, y, z_);
+  const Eigen::Vector3d n(buffers_.At(x, y, nx_), buffers_.At(x, y, ny_), buffers_.At(x, y, nz_));
+  const double norm = n.norm();
+  if (!(z > 0) || !std::isfinite(z) || !(norm > 0.5) || !std::isfinite(norm)) return t;
+  auto ray = camera_.Unproject({double(x), double(y)});
+  if (!ray || !((*ray).z() > 0)) return t;
+  t.hit = true;
+  t.instance = instance_ >= 0 ? buffers_.At(x, y, instance_) : 0.0;
+  t.s = (z / ray->z()) * *ray;
+  t.n = n / norm;  // stored as half: renormalise
+  return t;
+}
+
+std::optional<double> TrueSurface::SignedDistance(const Eigen::Vector3d& p_in_cam) const {
+  if (!p_in_cam.allFinite()) return std::nullopt;
+  auto pixel = camera_.Project(p_in_cam);
+  if (!pixel || !camera_.InImage(*pixel)) return std::nullopt;
+  const int w = buffers_.width, h = buffers_.height;
+  const int xn = std::clamp(int(std::lround(pixel->x())), 0, w - 1);
+  const int yn = std::clamp(int(std::lround(pixel->y())), 0, h - 1);
+  const Texel nearest = At(xn, yn);
+  if (!nearest.hit) return std::nullopt;
+  const double d_nearest = nearest.n.dot(p_in_cam - nearest.s);
+
+  // Bilinear over the 4 pixels around the projection, when they are one surface.
+  const int x0 = int(std::floor(pixel->x())), y0 = int(std::floor(pixel->y()));
+  if (x0 < 0 || y0 < 0 || x0 + 1 >= w || y0 + 1 >= h) return d_nearest;
+  const double fx = pixel->x() - x0, fy = pixel->y() - y0;
+  const double cos30 = std::cos(M_PI / 6), sin30 = 0.5;
+  double blend = 0;
+  for (int k = 0; k < 4; ++k) {
+    const int dx = k & 1, dy = k >> 1;
+    const Texel t = At(x0 + dx, y0 + dy);
+    if (!t.hit || t.instance != nearest.instance || t.n.dot(nearest.n) < cos30) return d_nearest;
+    const Eigen::Vector3d step = t.s - nearest.s;
+    if (std::abs(nearest.n.dot(step)) > sin30 * step.norm()) return d_nearest;  // a step, not one smooth surface
+    blend += (dx ? fx : 1 - fx) * (dy ? fy : 1 - fy) * t.n.dot(p_in_cam - t.s);
+  }
+  return blend;
+}
+
+}  // namespace lt

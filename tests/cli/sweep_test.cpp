@@ -1,0 +1,63 @@
+// `lasertwin sweep` on the tiny scan scene with a short ladder: every
+// configuration gets a run folder, a CSV row with finite times and errors, and
+// the Pareto plot is written. Bad options exit with code 2.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "run_many.h"
+
+namespace lt::test {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+const fs::path kScene = fs::path(LT_SOURCE_DIR) / "tests/data/scenes/tiny_scan.json";
+
+TEST(SweepCommand, QuickLadder) {
+  const fs::path dir = TestFolder("sweep");
+  CliResult r = RunCli("sweep " + Quoted(kScene) + " --out " + Quoted(dir) + " --quick --spp 1,2 --methods com,max --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::istringstream csv(ReadFile(dir / "sweep.csv"));
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_THAT(line, HasSubstr("name,factor,spp,adaptive_sampling,max_bounces,subsurface,resolution,method"));
+  std::vector<std::string> names;
+  while (std::getline(csv, line)) {
+    names.push_back(line.substr(0, line.find(',')));
+    EXPECT_EQ(line.find("nan"), std::string::npos) << line;
+    EXPECT_EQ(line.find(",,"), std::string::npos) << line;  // every value present on this scene
+  }
+  // spp 1 and 2 with both methods, then adaptive sampling off, 0 bounces,
+  // subsurface off and half resolution with the first method.
+  EXPECT_EQ(names.size(), 2u * 2 + 4);
+  for (const char* run : {"spp1", "spp2", "adaptive_off", "bounces0", "subsurface_off", "half_resolution"}) {
+    EXPECT_TRUE(fs::exists(dir / "runs" / run / "metrics_com.json")) << run;
+    EXPECT_TRUE(fs::exists(dir / "runs" / run / "centers_com")) << run;
+  }
+  EXPECT_TRUE(fs::exists(dir / "runs/spp1/report_max.html"));
+  EXPECT_FALSE(fs::exists(dir / "runs/bounces0/metrics_max.json"));
+  // The half-resolution run renders 48x36 frames.
+  EXPECT_THAT(ReadFile(dir / "runs/half_resolution/rig.json"), HasSubstr("48"));
+  const std::string svg = ReadFile(dir / "pareto.svg");
+  EXPECT_THAT(svg, HasSubstr("Pareto front"));
+  EXPECT_THAT(svg, HasSubstr("half_resolution"));
+}
+
+TEST(SweepCommand, BadOptions) {
+  const fs::path dir = NewTestFolder("sweep_bad");
+  auto results = RunMany({"sweep " + Quoted(kScene) + " --out " + Quoted(dir) + " --methods fastest",
+                          "sweep " + Quoted(kScene) + " --out " + Quoted(dir) + " --spp 0,4",
+                          "sweep " + Quoted(dir / "none.json") + " --out " + Quoted(dir)});
+  EXPECT_EQ(results[0].exit_code, 2);
+  EXPECT_THAT(results[0].err, HasSubstr("unknown extraction method 'fastest'"));
+  EXPECT_EQ(results[1].exit_code, 2);
+  EXPECT_THAT(results[1].err, HasSubstr("--spp: expected positive whole numbers"));
+  EXPECT_EQ(results[2].exit_code, 2);
+  EXPECT_FALSE(fs::exists(dir / "sweep.csv"));
+}
+
+}  // namespace
+}  // namespace lt::test

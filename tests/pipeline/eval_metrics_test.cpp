@@ -1,0 +1,338 @@
+// EvaluateRun on synthetic run folders with a known answer: a pinhole camera
+// looks at a tilted plane; the ground-truth centres, the depth/normal buffers
+// and the "measured" centres are written directly (no extraction), with known
+// offsets, dropped rows, extra centres, swapped plane numbers and points moved
+// off the surface by a known distance along its normal.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+
+#include "core/error.h"
+#include "core/image_io.h"
+#include "pipeline/eval_metrics.h"
+#include "pipeline/ground_truth.h"
+#include "pipeline/scan_output.h"
+#include "sensor/plane.h"
+#include "sensor/rig.h"
+
+namespace lt {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+const Camera& EvalCamera() {
+  static const Camera camera = [] {
+    CameraParams p;
+    p.width = 80;
+    p.height = 60;
+    p.fx = p.fy = 100;
+    p.cx = 39.5;
+    p.cy = 29.5;
+    p.pixel_pitch_m = 10e-6;
+    return Camera(p);
+  }();
+  return camera;
+}
+
+// The surface: a plane 0.1 m away, tilted about both axes; its normal faces the camera.
+const Plane kSurface = Plane::FromPointNormal({0, 0, 0.1}, Eigen::Vector3d(0.2, -0.1, -1).normalized());
+// Pixels at u >= kEdge see nothing (Z = 0).
+constexpr int kEdge = 72;
+
+Eigen::Vector3d SurfacePoint(double u, double v) {
+  const Eigen::Vector3d r = *EvalCamera().Unproject({u, v});
+  return (-kSurface.d / kSurface.n.dot(r)) * r;
+}
+
+// The true stripe of plane k on row v (rows are scanned).
+double TrueU(int k, int v) { return (k == 0 ? 40.3 : 15.6) + 0.1 * v; }
+
+struct Measured {
+  int plane = 0;
+  double u = 0, v = 0;
+  double off_surface_m = 0;  // moved along the surface normal (towards the camera)
+  bool triangulate = true;
+};
+
+struct EvalRun {
+  fs::path dir;
+  int planes = 1;
+  std::vector<Measured> measured;
+
+  // Every true centre measured with offset du and its own plane.
+  static EvalRun Exact(const std::string& name, int planes, double du) {
+    EvalRun r;
+    r.dir = fs::temp_directory_path() / ("lt_eval_test_" + std::to_string(::getpid())) / name;
+    r.planes = planes;
+    for (int v = 0; v < EvalCamera().height(); ++v) {
+      for (int k = 0; k < planes; ++k) r.measured.push_back({k, TrueU(k, v) + du, double(v)});
+    }
+    return r;
+  }
+
+  void Write(bool scanned = true, bool with_buffers = true) const {
+    fs::remove_all(dir);
+    fs::create_directories(dir / "gt");
+    SensorRig rig;
+    rig.camera = EvalCamera();
+    std::ofstream(dir / "rig.json") << SensorRigToJson(rig).dump(2);
+    std::ofstream truth(dir / "gt/000000_centers.csv");
+    truth << std::setprecision(12) << "u,v,plane,x_cam,y_cam,z_cam,x_world,y_world,z_world\n";
+    for (int v = 0; v < EvalCamera().height(); ++v) {
+      for (int k = 0; k < planes; ++k) {
+        const Eigen::Vector3d p = SurfacePoint(TrueU(k, v), v);
+        truth << TrueU(k, v) << "," << v << "," << k << "," << p.x() << "," << p.y() << "," << p.z() << ",,,\n";
+      }
+    }
+    truth.close();
+    // Buffers in an order other than the renderer's: channels are found by name.
+    Image<float> gt(EvalCamera().width(), EvalCamera().height(), 5, 0.0f);
+    for (int y = 0; y < gt.height; ++y) {
+      for (int x = 0; x < kEdge; ++x) {
+        const Eigen::Vector3d s = SurfacePoint(x, y);
+        gt.At(x, y, 0) = float(kSurface.n.x());
+        gt.At(x, y, 1) = float(kSurface.n.y());
+        gt.At(x, y, 2) = float(kSurface.n.z());
+        gt.At(x, y, 3) = 2;
+        gt.At(x, y, 4) = float(s.z());
+      }
+    }
+    if (with_buffers) WriteImage(dir / "gt/000000.exr", gt, true, {"N.X", "N.Y", "N.Z", "instance", "Z"});
+    nlohmann::json line = {{"index", 0},
+                           {"shutter", {{"laser_on", true}}},
+                           {"files", {{"image", "frames/000000.png"}, {"centers", "gt/000000_centers.csv"}}},
+                           {"gt_axis", "rows"}};
+    if (with_buffers) line["files"]["gt"] = "gt/000000.exr";
+    nlohmann::json bright = {{"index", 1}, {"shutter", {{"laser_on", false}}}, {"files", {{"image", "frames/000001.png"}}}};
+    std::ofstream(dir / "manifest.jsonl") << line.dump() << "\n" << bright.dump() << "\n";
+    if (!scanned) return;
+    fs::create_directories(dir / "centers");
+    std::vector<ScanPoint> points;
+    for (const Measured& m : measured) {
+      ScanPoint p;
+      p.pixel = {m.u, m.v, 2.0, 500.0, m.plane};
+      if (m.triangulate) p.p_in_cam = SurfacePoint(m.u, m.v) + m.off_surface_m * kSurface.n;
+      points.push_back(p);
+    }
+    WriteScanCsv(dir / "centers/000000.csv", points);
+  }
+};
+
+TEST(Summarize, KnownValues) {
+  ErrorStats s = Summarize({3, -4, 1, 0, 2});
+  EXPECT_EQ(s.n, 5);
+  EXPECT_DOUBLE_EQ(s.rms, std::sqrt(30.0 / 5));
+  EXPECT_DOUBLE_EQ(s.median, 2);
+  EXPECT_DOUBLE_EQ(s.p95, 3.8);  // sorted |x| = 0 1 2 3 4; position 0.95 * 4 = 3.8
+  EXPECT_DOUBLE_EQ(s.max, 4);
+  ErrorStats e = Summarize({});
+  EXPECT_EQ(e.n, 0);
+  EXPECT_TRUE(e.ToJson()["rms"].is_null());
+  EXPECT_THROW(Summarize({1, std::nan("")}), std::invalid_argument);
+}
+
+TEST(EvalOptions, Check) {
+  EvalOptions o;
+  EXPECT_NO_THROW(o.Check());
+  o.max_match_px = 0;
+  EXPECT_THAT([&] { o.Check(); }, ::testing::ThrowsMessage<InputError>(HasSubstr("max_match_px")));
+  o = {};
+  o.completeness_mm = std::nan("");
+  EXPECT_THAT([&] { o.Check(); }, ::testing::ThrowsMessage<InputError>(HasSubstr("completeness_mm")));
+  o = {};
+  o.frames_begin = 3;
+  o.frames_end = 3;
+  EXPECT_THROW(o.Check(), InputError);
+}
+
+TEST(EvaluateRun, KnownOffsetAndDisplacement) {
+  EvalRun run = EvalRun::Exact("offset", 1, 0.3);
+  for (Measured& m : run.measured) m.off_surface_m = 50e-6;  // 0.05 mm along the normal
+  run.Write();
+  EvalOptions o;
+  RunMetrics m = EvaluateRun(run.dir, o);
+  ASSERT_EQ(m.frames.size(), 1u);  // the bright frame is not evaluated
+  const EvalSummary& t = m.total;
+  EXPECT_EQ(t.counts.gt_centers, 60);
+  EXPECT_EQ(t.counts.matched, 60);
+  // The CSVs hold 5-6 decimals: the offset is exact to 1e-5 px.
+  EXPECT_NEAR(t.center_px.rms, 0.3, 1e-5);
+  EXPECT_NEAR(t.center_px.max, 0.3, 1e-5);
+  EXPECT_NEAR(t.center_bias_px, 0.3, 1e-5);
+  EXPECT_DOUBLE_EQ(*t.detection_rate, 1.0);
+  EXPECT_EQ(t.counts.false_positives, 0);
+  EXPECT_DOUBLE_EQ(*t.plane_id_accuracy, 1.0);
+  // Planar surface: the tangent-plane distance is exact; the buffers are float
+  // (Z to ~1e-8 m) and the CSV points have 10 digits, so 1e-4 mm is ample.
+  EXPECT_EQ(t.point_mm.n, 60);
+  EXPECT_NEAR(t.point_mm.median, 0.05, 1e-4);
+  EXPECT_NEAR(t.point_mm.max, 0.05, 1e-4);
+  // 0.3 px is about 0.3 mm on the surface here: not within 0.1 mm of the true point...
+  const double dist_mm = (SurfacePoint(TrueU(0, 0) + 0.3, 0) - SurfacePoint(TrueU(0, 0), 0)).norm() * 1e3;
+  ASSERT_GT(dist_mm, 0.2);
+  EXPECT_DOUBLE_EQ(*t.completeness, 0.0);
+  // ...but within 1 mm.
+  o.completeness_mm = 1.0;
+  EXPECT_DOUBLE_EQ(*EvaluateRun(run.dir, o).total.completeness, 1.0);
+}
+
+TEST(EvaluateRun, DroppedRowsExtraCentresAndDistantMatches) {
+  EvalRun run = EvalRun::Exact("dropped", 1, -0.2);
+  std::vector<Measured> kept;
+  for (const Measured& m : run.measured) {
+    if (int(m.v) % 4 == 1) continue;  // 15 of 60 rows not found
+    kept.push_back(m);
+  }
+  kept.push_back({0, TrueU(0, 2) + 10, 2});  // a reflection 10 px away on row 2
+  kept.push_back({0, TrueU(0, 5) + 4, 5});   // row 5 is dropped: 4 px from the truth, beyond max_match_px
+  run.measured = kept;
+  run.Write();
+  RunMetrics m = EvaluateRun(run.dir, {});
+  const EvalSummary& t = m.total;
+  EXPECT_EQ(t.counts.matched, 45);
+  EXPECT_DOUBLE_EQ(*t.detection_rate, 45.0 / 60);
+  EXPECT_EQ(t.counts.false_positives, 2);
+  EXPECT_DOUBLE_EQ(*t.false_positive_rate, 2.0 / 47);
+  EXPECT_NEAR(t.center_px.rms, 0.2, 1e-5);
+  EXPECT_NEAR(t.center_bias_px, -0.2, 1e-5);
+  // With a 5 px window the 4 px one matches.
+  EvalOptions wide;
+  wide.max_match_px = 5;
+  EXPECT_EQ(EvaluateRun(run.dir, wide).total.counts.matched, 46);
+}
+
+TEST(EvaluateRun, PlaneIdentificationAndGreedyMatching) {
+  EvalRun run = EvalRun::Exact("planes", 2, 0.1);
+  int swapped = 0, unidentified = 0;
+  for (Measured& m : run.measured) {
+    const int v = int(m.v);
+    if (v < 10) {
+      m.plane = 1 - m.plane;  // both stripes of rows 0..9 swapped: 20 wrong pairs
+      ++swapped;
+    } else if (v < 15 && m.plane == 0) {
+      m.plane = -1;  // 5 not identified (no 3D point)
+      m.triangulate = false;
+      ++unidentified;
+    }
+  }
+  ASSERT_EQ(swapped, 20);
+  // Two measured centres near one true centre on row 30: the closer one pairs.
+  run.measured.push_back({0, TrueU(0, 30) + 0.05, 30});
+  run.Write();
+  RunMetrics m = EvaluateRun(run.dir, {});
+  const EvalSummary& t = m.total;
+  EXPECT_EQ(t.counts.gt_centers, 120);
+  EXPECT_EQ(t.counts.matched, 120);
+  EXPECT_EQ(t.counts.false_positives, 1);
+  EXPECT_EQ(t.counts.plane_unidentified, 5);
+  EXPECT_DOUBLE_EQ(*t.plane_id_accuracy, (120.0 - 20 - 5) / 120);
+  // 119 pairs at 0.1 px, one at 0.05 px.
+  EXPECT_NEAR(t.center_px.max, 0.1, 1e-5);
+  EXPECT_NEAR(t.center_px.rms, std::sqrt((119 * 0.01 + 0.0025) / 120), 1e-5);
+  // Per true plane: plane 0 has 10 swapped and 5 unidentified, plane 1 10 swapped.
+  ASSERT_EQ(m.planes.size(), 2u);
+  EXPECT_EQ(m.planes.at(0).counts.gt_centers, 60);
+  EXPECT_DOUBLE_EQ(*m.planes.at(0).plane_id_accuracy, 45.0 / 60);
+  EXPECT_DOUBLE_EQ(*m.planes.at(1).plane_id_accuracy, 50.0 / 60);
+  EXPECT_EQ(m.planes.at(0).counts.false_positives, 1);  // the extra centre says plane 0
+  EXPECT_EQ(t.counts.points_triangulated, 121 - 5);
+}
+
+TEST(EvaluateRun, PointsOffTheSurfaceAndWithoutBuffers) {
+  EvalRun run = EvalRun::Exact("off", 1, 0);
+  run.measured.push_back({0, 75.0, 3});  // over the background (u >= kEdge)
+  run.Write();
+  RunMetrics m = EvaluateRun(run.dir, {});
+  EXPECT_EQ(m.total.counts.points_triangulated, 61);
+  EXPECT_EQ(m.total.counts.points_off_surface, 1);
+  EXPECT_EQ(m.total.point_mm.n, 60);
+  EXPECT_LT(m.total.point_mm.max, 1e-4);
+  EXPECT_DOUBLE_EQ(*m.total.completeness, 1.0);
+  // Without ground-truth buffers there is no point error, and it is said so.
+  run.Write(true, false);
+  RunMetrics n = EvaluateRun(run.dir, {});
+  EXPECT_EQ(n.total.point_mm.n, 0);
+  EXPECT_FALSE(n.frames[0].has_surface);
+  nlohmann::json j = n.ToJson();
+  EXPECT_TRUE(j["point_error_mm"]["rms"].is_null());
+  EXPECT_FALSE(j["frames"][0]["point_error_available"].get<bool>());
+}
+
+TEST(EvaluateRun, MetricsJsonIsFiniteAndComplete) {
+  EvalRun run = EvalRun::Exact("json", 2, 0.25);
+  run.Write();
+  RunMetrics m = EvaluateRun(run.dir, {});
+  const fs::path path = WriteMetricsJson(run.dir, m);
+  std::ifstream in(path);
+  nlohmann::json j = nlohmann::json::parse(in);  // would throw on NaN / Infinity
+  EXPECT_NEAR(j["stripe_center_error_px"]["rms"].get<double>(), 0.25, 1e-5);
+  EXPECT_EQ(j["frames_evaluated"].get<int>(), 1);
+  ASSERT_EQ(j["frames"].size(), 1u);
+  EXPECT_EQ(j["frames"][0]["planes"].size(), 2u);
+  EXPECT_EQ(j["planes"][1]["plane"].get<int>(), 1);
+  EXPECT_DOUBLE_EQ(j["detection_rate"].get<double>(), 1.0);
+  EXPECT_EQ(j["axis"], "rows");
+}
+
+TEST(EvaluateRun, BadInput) {
+  EvalRun run = EvalRun::Exact("bad", 1, 0);
+  run.Write(false);
+  EXPECT_THAT([&] { EvaluateRun(run.dir, {}); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("run `lasertwin scan")));
+  EXPECT_THAT([&] { EvaluateRun(run.dir / "nowhere", {}); }, ::testing::Throws<InputError>());
+  // Measured along columns (fractional rows) while the truth scans rows.
+  run.measured = {{0, 40, 10.5}};
+  run.Write();
+  EXPECT_THAT([&] { EvaluateRun(run.dir, {}); }, ::testing::ThrowsMessage<InputError>(HasSubstr("--axis rows")));
+  // A measured file is missing.
+  run.Write();
+  fs::remove(run.dir / "centers/000000.csv");
+  EXPECT_THAT([&] { EvaluateRun(run.dir, {}); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("centers/000000.csv: no such file")));
+  // A broken ground-truth line names file:line.
+  run.Write();
+  std::ofstream(run.dir / "gt/000000_centers.csv", std::ios::app) << "1,2,x,0,0,0,,,\n";
+  EXPECT_THAT([&] { EvaluateRun(run.dir, {}); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("000000_centers.csv:62: field 3")));
+  // Buffers without a Z channel.
+  run.Write();
+  WriteImage(run.dir / "gt/000000.exr", Image<float>(80, 60, 1), true, {"Y"});
+  EXPECT_THAT([&] { EvaluateRun(run.dir, {}); }, ::testing::ThrowsMessage<InputError>(HasSubstr("no channel 'Z'")));
+  // No frame in range.
+  run.Write();
+  EvalOptions o;
+  o.frames_begin = 1;
+  EXPECT_THAT([&] { EvaluateRun(run.dir, o); }, ::testing::ThrowsMessage<InputError>(HasSubstr("no laser frame")));
+}
+
+TEST(TrueSurface, StepUsesTheNearestPixel) {
+  // Two fronto-parallel surfaces: z = 0.1 m left of column 40, 0.101 m from it on.
+  const fs::path dir = fs::temp_directory_path() / ("lt_eval_test_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  Image<float> gt(80, 60, 4, 0.0f);
+  for (int y = 0; y < 60; ++y) {
+    for (int x = 0; x < 80; ++x) {
+      gt.At(x, y, 0) = x < 40 ? 0.1f : 0.101f;
+      gt.At(x, y, 3) = -1;
+    }
+  }
+  WriteImage(dir / "step.exr", gt, true, {"Z", "N.X", "N.Y", "N.Z"});
+  TrueSurface s(EvalCamera(), dir / "step.exr");
+  // A point on the near surface projecting at u = 39.4, next to the step: the
+  // nearest pixel (39) is on its surface, so the error is 0, not a blend with 1 mm.
+  const Eigen::Vector3d r = *EvalCamera().Unproject({39.4, 20});
+  EXPECT_NEAR(*s.SignedDistance(r * (0.1 / r.z())), 0.0, 1e-7);
+  // Away from the step the blend is exact as well; the distance is signed (towards the camera: +).
+  const Eigen::Vector3d q = *EvalCamera().Unproject({60.3, 20.7});
+  EXPECT_NEAR(*s.SignedDistance(q * (0.1005 / q.z())), 0.0005, 1e-7);
+  EXPECT_FALSE(s.SignedDistance({0, 0, -1}).has_value());
+}
+
+}  // namespace
+}  // namespace lt

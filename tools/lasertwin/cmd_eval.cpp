@@ -1,0 +1,80 @@
+// `lasertwin eval RUN_DIR [--max-match-px P] [--completeness-mm D] [--frames A:B]
+// [--quiet]`: compares the measured stripe centres and points of a scanned run
+// with its ground truth; writes RUN_DIR/metrics.json and RUN_DIR/report.html
+// (docs/evaluation.md) and prints the headline metrics.
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+#include "pipeline/eval_metrics.h"
+#include "pipeline/eval_report.h"
+#include "tools/lasertwin/command.h"
+#include "tools/lasertwin/frame_range.h"
+
+namespace lt::cli {
+namespace {
+
+struct EvalArgs {
+  std::string run_dir;
+  std::string frames;
+  bool quiet = false;
+  EvalOptions options;
+};
+
+std::string Pct(const std::optional<double>& v) {
+  if (!v) return "n/a";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2f%%", *v * 100);
+  return buf;
+}
+
+std::string Val(const ErrorStats& s, double ErrorStats::*field, const char* format) {
+  if (s.n == 0) return "n/a";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, format, s.*field);
+  return buf;
+}
+
+void Run(EvalArgs& a) {
+  if (!a.frames.empty()) ParseFrameRange(a.frames, &a.options.frames_begin, &a.options.frames_end);
+  const RunMetrics m = EvaluateRun(a.run_dir, a.options);
+  const auto json = WriteMetricsJson(a.run_dir, m);
+  const auto report = WriteEvalReport(a.run_dir, m);
+  if (a.quiet) return;
+  const EvalSummary& t = m.total;
+  std::cout << "evaluated " << m.frames.size() << " laser frame" << (m.frames.size() == 1 ? "" : "s") << ": "
+            << t.counts.gt_centers << " true centres, " << t.counts.measured_centers << " measured\n"
+            << "  stripe centre error  rms " << Val(t.center_px, &ErrorStats::rms, "%.4f") << " px, median "
+            << Val(t.center_px, &ErrorStats::median, "%.4f") << ", p95 " << Val(t.center_px, &ErrorStats::p95, "%.4f")
+            << ", max " << Val(t.center_px, &ErrorStats::max, "%.4f") << " (" << t.center_px.n << " pairs)\n"
+            << "  detection rate       " << Pct(t.detection_rate) << "\n"
+            << "  false positives      " << t.counts.false_positives << " (" << Pct(t.false_positive_rate) << ")\n"
+            << "  plane id accuracy    " << Pct(t.plane_id_accuracy) << "\n"
+            << "  point error          rms " << Val(t.point_mm, &ErrorStats::rms, "%.4f") << " mm, median "
+            << Val(t.point_mm, &ErrorStats::median, "%.4f") << ", p95 " << Val(t.point_mm, &ErrorStats::p95, "%.4f")
+            << ", max " << Val(t.point_mm, &ErrorStats::max, "%.4f") << " (" << t.point_mm.n << " points)\n"
+            << "  completeness         " << Pct(t.completeness) << " (within " << m.options.completeness_mm << " mm)\n"
+            << "wrote " << json.string() << "\nreport " << report.string() << "\n";
+}
+
+void Add(CLI::App& app) {
+  auto args = std::make_shared<EvalArgs>();
+  auto* cmd = app.add_subcommand("eval", "Compare a scanned run with its ground truth (metrics.json, report.html)");
+  cmd->add_option("RUN_DIR", args->run_dir, "Run folder, rendered and scanned (lasertwin render, lasertwin scan)")
+      ->required();
+  cmd->add_option("--max-match-px", args->options.max_match_px,
+                  "Largest distance along the scan line between a true and a measured centre that pair")
+      ->capture_default_str();
+  cmd->add_option("--completeness-mm", args->options.completeness_mm,
+                  "A true stripe point is reconstructed when its measured point is within this distance")
+      ->capture_default_str();
+  cmd->add_option("--frames", args->frames, "Frames to evaluate: A:B (A inclusive, B exclusive), A:, :B or N");
+  cmd->add_flag("--quiet", args->quiet, "Print nothing");
+  cmd->callback([args] { Run(*args); });
+}
+
+}  // namespace
+
+LT_REGISTER_COMMAND("eval", Add);
+
+}  // namespace lt::cli
