@@ -126,12 +126,22 @@ TEST(CalibrateCli, RenderedSessionCalibratesEndToEnd) {
   EXPECT_NEAR(c.cy, rig.camera.cy(), 10);
   EXPECT_NEAR(rig.camera.fx(), 8.889e-3 / (4 * 4.8e-6), 1e-6);  // the demo camera, binned
 
-  // The laser plane through the calibrated camera: the errors of the camera
-  // and the board poses dominate (0.1° and 0.17 mm were measured here; the
-  // full-size session of docs/experiments.md does 3-4 times better).
+  // The laser plane through the calibrated camera: the camera's errors
+  // dominate. On this small session fx and cy come out about 1σ (3-4 px) off,
+  // which turns the rays by up to 0.5° (measured 0.10° / 0.17 mm and 0.44° /
+  // 0.20 mm on two noise realisations); the full-size session of
+  // docs/experiments.md does 0.011° / 0.018 mm.
   const PlaneError pe = ComparePlanes(f.laser_planes[0], rig.planes_in_cam[0]);
-  EXPECT_LT(pe.normal_angle_rad, 0.4 * kDeg);
-  EXPECT_LT(pe.offset_m, 0.5e-3);
+  EXPECT_LT(pe.normal_angle_rad, 1.0 * kDeg);
+  EXPECT_LT(pe.offset_m, 0.6e-3);
+  // Through the true camera the plane fit alone is measured (0.04° / 0.03 mm here).
+  const fs::path true_cam_yaml = s.dir / "laser_true_camera.yaml";
+  const CliResult laser_true = RunCli("calibrate laser " + Quoted(s.run) + " --out " + Quoted(true_cam_yaml));
+  ASSERT_EQ(laser_true.exit_code, 0) << laser_true.err;
+  EXPECT_THAT(laser_true.err, HasSubstr("using the run's true camera"));
+  const PlaneError pt = ComparePlanes(ReadCalibrationFile(true_cam_yaml).laser_planes.at(0), rig.planes_in_cam[0]);
+  EXPECT_LT(pt.normal_angle_rad, 0.15 * kDeg);
+  EXPECT_LT(pt.offset_m, 0.15e-3);
 
   // Hand-eye (measured 0.3° and 0.3 mm, reported σ 0.15° and 0.11 mm).
   const PoseError he_err = ComparePoses(*f.tool_from_cam, TrueToolFromCam());
@@ -139,9 +149,9 @@ TEST(CalibrateCli, RenderedSessionCalibratesEndToEnd) {
   EXPECT_LT(he_err.translation_m, 1.0e-3);
 
   // Scanning the session's own dim frames with the calibration: the stripe
-  // points lie on the board, the world's z = 0 plane (measured: RMS 0.27 mm,
-  // worst 0.65 mm: the errors of the plane and of the intrinsics above, with
-  // the camera placed by its true poses).
+  // points lie on the board, the world's z = 0 plane (measured: RMS 0.27 and
+  // 0.73 mm, worst 0.65 and 1.04 mm on the two realisations above: the errors
+  // of the plane and of the intrinsics, with the camera placed by its true poses).
   const fs::path scan_run = NewTestFolder("calibrate_scan") / "run";
   fs::copy(s.run, scan_run, fs::copy_options::recursive);
   const CliResult scan = RunCli("scan " + Quoted(scan_run) + " --calib " + Quoted(all_yaml) + " --quiet");
@@ -154,8 +164,8 @@ TEST(CalibrateCli, RenderedSessionCalibratesEndToEnd) {
     sum2 += v.p.z * v.p.z;
   }
   const double rms = std::sqrt(sum2 / double(cloud.size()));
-  EXPECT_LT(rms, 0.5e-3) << "worst " << worst;
-  EXPECT_LT(worst, 1.2e-3) << "rms " << rms;
+  EXPECT_LT(rms, 1.2e-3) << "worst " << worst;
+  EXPECT_LT(worst, 2.5e-3) << "rms " << rms;
 
 #ifdef LT_HAVE_OPENCV
   // OpenCV reads the file as it is.
