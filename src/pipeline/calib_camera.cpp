@@ -181,6 +181,10 @@ std::string ViewName(size_t v) { return "view " + std::to_string(v); }
 
 }  // namespace
 
+Pose PoseFromHomography(const Eigen::Matrix3d& camera_matrix, const Eigen::Matrix3d& homography) {
+  return ClosedFormExtrinsics(camera_matrix, homography);
+}
+
 void CameraCalibrationOptions::Check() const {
   Require(min_views >= 3, "min_views", "must be >= 3, got " + std::to_string(min_views));
   Require(min_points_per_view >= 4, "min_points_per_view", "must be >= 4, got " + std::to_string(min_points_per_view));

@@ -90,4 +90,8 @@ bool ProjectWithModel(const CameraParams& params, const Eigen::Vector3d& p_in_ca
 bool EstimateHomography(const std::vector<Eigen::Vector2d>& from, const std::vector<Eigen::Vector2d>& to,
                         Eigen::Matrix3d* homography);
 
+// The target's pose from its homography H ~ K [r1 r2 t] (Zhang's extrinsics,
+// the rotation orthonormalised, the target in front of the camera).
+Pose PoseFromHomography(const Eigen::Matrix3d& camera_matrix, const Eigen::Matrix3d& homography);
+
 }  // namespace lt

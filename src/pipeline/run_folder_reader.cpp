@@ -2,8 +2,11 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <type_traits>
+#include <variant>
 
 #include "core/error.h"
 #include "core/json_reader.h"
@@ -63,6 +66,7 @@ RunFrame ParseLine(const fs::path& run_dir, const std::string& text, const std::
     }
   }
   if (auto p = o.Find("world_from_cam")) f.world_from_cam = ReadPose(*p);
+  if (auto p = o.Find("world_from_tool")) f.world_from_tool = ReadPose(*p);
   if (o.Has("gt_axis")) f.gt_axis = o.Enum("gt_axis", {"rows", "cols"}) == "rows" ? SearchAxis::kRows : SearchAxis::kCols;
   f.bit_depth = int(o.Integer("bit_depth", 0, Range::Closed(1, 16)));
   if (o.Has("png_bit_depth")) {
@@ -165,6 +169,32 @@ RunRig ReadRunRig(const fs::path& run_dir) {
   if (fs::exists(run_dir / "rig.json")) return ReadRigJson(run_dir / "rig.json");
   if (fs::exists(run_dir / "scene.json")) return ReadSceneSensor(run_dir / "scene.json");
   throw InputError(run_dir.string(), "holds neither rig.json nor scene.json: the camera and laser planes are unknown");
+}
+
+ExtractionLevels FrameExtractionLevels(double threshold, double background, const RunFrame& frame, int rig_bit_depth,
+                                       double rig_black_level_dn, double type_full_scale) {
+  ExtractionLevels l;
+  l.threshold = std::isnan(threshold) ? 0.1 * frame.FullScale(type_full_scale) : threshold;
+  l.background = background;
+  if (std::isnan(background)) {
+    // The black level in DN; an 8-bit image holds the top 8 bits.
+    l.background = rig_black_level_dn;
+    if (type_full_scale == 255.0 && rig_bit_depth > 8) l.background = std::ldexp(l.background, 8 - rig_bit_depth);
+  }
+  return l;
+}
+
+double ImageTypeFullScale(const AnyImage& image) {
+  return std::visit(
+      [](const auto& im) {
+        using T = std::decay_t<decltype(im.pixels[0])>;
+        if constexpr (std::is_floating_point_v<T>) {
+          return 1.0;
+        } else {
+          return double(std::numeric_limits<T>::max());
+        }
+      },
+      image);
 }
 
 }  // namespace lt

@@ -15,6 +15,7 @@
 //   files.centers    ground-truth stripe centres (CSV)                   optional
 //   files.gt         ground-truth buffers (EXR: Z, N.X, N.Y, N.Z, ...)    optional
 //   world_from_cam   camera pose at mid-exposure (core/pose.h forms)     optional
+//   world_from_tool  robot tool (flange) pose at mid-exposure            optional
 //   gt_axis          "rows" | "cols": how the ground truth was scanned    optional
 //   bit_depth        the sensor's ADC bits (1..16)                       optional
 //   png_bit_depth    8 | 16                                              optional
@@ -27,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "core/image.h"
 #include "core/pose.h"
 #include "pipeline/extraction_options.h"
 #include "sensor/camera.h"
@@ -45,6 +47,7 @@ struct RunFrame {
   std::optional<std::filesystem::path> gt_centers;  // run folder / files.centers
   std::optional<std::filesystem::path> gt_buffers;  // run folder / files.gt (depth, normal, ... EXR)
   std::optional<Pose> world_from_cam;
+  std::optional<Pose> world_from_tool;  // when the camera rides on a robot tool
   std::optional<SearchAxis> gt_axis;
   int bit_depth = 0;      // 0: unknown
   int png_bit_depth = 0;  // 0: unknown
@@ -70,6 +73,19 @@ struct RunRig {
   double black_level_dn = 0;
   std::filesystem::path source;      // the file read
 };
+
+// The threshold and background level of stripe extraction on one frame of a
+// run: `threshold` and `background` as given, or, when kAuto (NaN), 10% of the
+// frame's full scale (from its bit depth; type_full_scale is the image sample
+// type's: 255, 65535 or 1) and the image sensor's black level (in the top 8
+// bits for an 8-bit image of a deeper sensor).
+struct ExtractionLevels {
+  double threshold = 0, background = 0;
+};
+ExtractionLevels FrameExtractionLevels(double threshold, double background, const RunFrame& frame, int rig_bit_depth,
+                                       double rig_black_level_dn, double type_full_scale);
+// The largest sample value of an image's type: 255, 65535, or 1 for float.
+double ImageTypeFullScale(const AnyImage& image);
 
 // Reads rig.json (render/rig JSON: "camera" in scene-file form, "lasers" with
 // "sheet_planes_in_cam", "image_sensor"); without it, the "sensor" section of

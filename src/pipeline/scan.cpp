@@ -28,15 +28,6 @@ struct PendingPoint {
   int frame, plane;
 };
 
-template <typename T>
-constexpr double TypeFullScale() {
-  if constexpr (std::is_floating_point_v<T>) {
-    return 1.0;
-  } else {
-    return double(std::numeric_limits<T>::max());
-  }
-}
-
 // Extractors by (threshold, background, axis): a run normally needs one.
 class ExtractorCache {
  public:
@@ -146,30 +137,22 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
       throw InputError(e.where(), e.message() + context);
     }
     int width = 0, height = 0;
-    double type_full_scale = 1;
     std::visit(
         [&](const auto& im) {
-          using T = std::decay_t<decltype(im.pixels[0])>;
           width = im.width;
           height = im.height;
-          type_full_scale = TypeFullScale<T>();
         },
         image);
+    const double type_full_scale = ImageTypeFullScale(image);
     if (width != camera.width() || height != camera.height()) {
       throw InputError(frame.image.string(), "the image is " + Size(width, height) + " but the camera (" +
                                                  summary.plane_source.string() + ") is " +
                                                  Size(camera.width(), camera.height()) + context);
     }
     // Thresholds relative to the frame's real range of values.
-    const double full_scale = frame.FullScale(type_full_scale);
-    const double threshold =
-        std::isnan(options.extraction.threshold) ? 0.1 * full_scale : options.extraction.threshold;
-    double background = options.extraction.background;
-    if (std::isnan(background)) {
-      // The black level in DN; an 8-bit image holds the top 8 bits.
-      background = rig.black_level_dn;
-      if (type_full_scale == 255.0 && rig.bit_depth > 8) background = std::ldexp(background, 8 - rig.bit_depth);
-    }
+    const ExtractionLevels levels = FrameExtractionLevels(options.extraction.threshold, options.extraction.background,
+                                                          frame, rig.bit_depth, rig.black_level_dn, type_full_scale);
+    const double threshold = levels.threshold, background = levels.background;
     const SearchAxis axis = options.axis ? *options.axis : frame.gt_axis ? *frame.gt_axis : planes_axis;
     std::vector<StripePoint> points;
     try {

@@ -76,6 +76,10 @@ nlohmann::json WriteFrame(const RunFolder& run, const RenderedFrame& frame, int 
         {"near_pixels", frame.stats.near_pixels},
         {"render_ms", frame.stats.render_ms},
         {"ground_truth_ms", frame.stats.ground_truth_ms}}}};
+  // The robot tool (flange) pose when the camera rides on one (hand-eye calibration).
+  if (auto tool = WorldFromToolAt(scene.motion, 0.5 * (sf.t_start_s + sf.t_end_s))) {
+    line["world_from_tool"] = PoseToJson(*tool);
+  }
   return line;
 }
 

@@ -58,6 +58,11 @@ Pose PoseListMotion::WorldFromCam(double time_s) const {
   return tool_from_cam ? Pose(world_from * *tool_from_cam) : world_from;
 }
 
+std::optional<Pose> PoseListMotion::WorldFromTool(double time_s) const {
+  if (!tool_from_cam) return std::nullopt;
+  return trajectory->At(time_from_first_pose ? time_s + trajectory->StartTime() : time_s);
+}
+
 Motion ParseMotion(const json::Value& value) {
   json::Object o(value);
   json::Value type_value = o.Get("type");
@@ -93,6 +98,11 @@ Pose WorldFromCamAt(const Motion& motion, double time_s) {
                                [time_s](const PoseListMotion& m) { return m.WorldFromCam(time_s); },
                                [time_s](const GcodeMotion& m) { return m.WorldFromCam(time_s); }},
                     motion);
+}
+
+std::optional<Pose> WorldFromToolAt(const Motion& motion, double time_s) {
+  if (const auto* m = std::get_if<PoseListMotion>(&motion)) return m->WorldFromTool(time_s);
+  return std::nullopt;
 }
 
 nlohmann::json MotionToJson(const Motion& motion) {

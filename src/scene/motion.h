@@ -36,6 +36,8 @@ struct PoseListMotion {
   std::shared_ptr<const PoseTrajectory> trajectory;  // shared: motions are copied cheaply
 
   Pose WorldFromCam(double time_s) const;
+  // The tool pose at time t when the file holds world_from_tool (tool_from_cam given).
+  std::optional<Pose> WorldFromTool(double time_s) const;
 };
 
 // The scanner rides on a printer's nozzle, or on a robot arm that carries it, along
@@ -52,6 +54,9 @@ std::string MotionTypeName(const Motion& motion);
 std::vector<std::string> MotionTypeNames();
 // The camera pose at time t (seconds from the start of the sequence).
 Pose WorldFromCamAt(const Motion& motion, double time_s);
+// The robot tool (flange) pose at time t, for motions that carry the camera on
+// a tool: a pose list of world_from_tool poses. Empty otherwise.
+std::optional<Pose> WorldFromToolAt(const Motion& motion, double time_s);
 // The motion written back as scene-file JSON (for the resolved scene.json), with
 // every default written out and file paths absolute.
 nlohmann::json MotionToJson(const Motion& motion);

@@ -13,6 +13,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "ply_util.h"
 #include "run_many.h"
 
 namespace lt::test {
@@ -25,10 +26,6 @@ using ::testing::StartsWith;
 
 const fs::path kSource = LT_SOURCE_DIR;
 
-struct Vec3 {
-  double x = 0, y = 0, z = 0;
-};
-double Distance(const Vec3& a, const Vec3& b) { return std::hypot(a.x - b.x, a.y - b.y, a.z - b.z); }
 
 std::vector<std::vector<std::string>> ReadCsv(const fs::path& p, const std::string& header) {
   std::stringstream in(ReadFile(p));
@@ -57,40 +54,6 @@ const char* kTruthHeader = "u,v,plane,x_cam,y_cam,z_cam,x_world,y_world,z_world"
 
 // A tiny reader for the PLY that scan writes: binary little-endian, double
 // x y z, int frame, int plane.
-struct PlyVertex {
-  Vec3 p;
-  int32_t frame = 0, plane = 0;
-};
-std::vector<PlyVertex> ReadPly(const fs::path& path, std::string* header_out = nullptr) {
-  const std::string bytes = ReadFile(path);
-  const std::string end = "end_header\n";
-  const size_t body = bytes.find(end);
-  if (body == std::string::npos) {
-    ADD_FAILURE() << "no end_header in " << path;
-    return {};
-  }
-  const std::string header = bytes.substr(0, body + end.size());
-  if (header_out) *header_out = header;
-  EXPECT_THAT(header, StartsWith("ply\nformat binary_little_endian 1.0\n"));
-  EXPECT_THAT(header, HasSubstr("property double x\nproperty double y\nproperty double z\nproperty int frame\n"
-                                "property int plane\nend_header\n"));
-  const size_t pos = header.find("element vertex ");
-  const size_t count = std::stoul(header.substr(pos + 15));
-  const size_t record = 3 * 8 + 2 * 4;
-  EXPECT_EQ(bytes.size(), body + end.size() + count * record);
-  std::vector<PlyVertex> out;
-  const char* p = bytes.data() + body + end.size();
-  for (size_t i = 0; i < count && p + record <= bytes.data() + bytes.size(); ++i, p += record) {
-    PlyVertex v;  // the test machine is little-endian, like the file
-    std::memcpy(&v.p.x, p, 8);
-    std::memcpy(&v.p.y, p + 8, 8);
-    std::memcpy(&v.p.z, p + 16, 8);
-    std::memcpy(&v.frame, p + 24, 4);
-    std::memcpy(&v.plane, p + 28, 4);
-    out.push_back(v);
-  }
-  return out;
-}
 
 class ScanCommand : public ::testing::Test {
  protected:

@@ -1,0 +1,146 @@
+// Calibration from a recorded session (`lasertwin calibrate`, docs/calibration.md):
+// a run folder (pipeline/run_folder_reader.h) of a checkerboard seen in several
+// poses, each pose as a bright frame (no laser: the corners) followed by a dim
+// frame (laser on: the stripe on the board), as `lasertwin calib-session`
+// scenes render them and a real capture records them.
+//
+//   camera     corners of every bright frame -> CalibrateCamera
+//   laser      per view, the board pose from the bright frame's corners
+//              (EstimateTargetPose with the calibrated camera) and the stripe
+//              of the dim frame (StripeExtractor; with several sheets, the
+//              stripes grouped in image order by IdentifyPlanes) -> the stripe
+//              pixels whose rays meet the board inside its area ->
+//              CalibrateLaserPlanes (RANSAC + total least squares)
+//   hand-eye   per view, the robot tool pose of the bright frame (manifest
+//              key world_from_tool) and the board pose -> CalibrateHandEye
+//              with the corners' reprojection refinement
+//
+// A view whose board is not detected is skipped (and listed with the
+// detector's reason); the estimators refuse, with their reasons, when too few
+// or degenerate views remain.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/pose.h"
+#include "pipeline/calib_camera.h"
+#include "pipeline/calib_checkerboard.h"
+#include "pipeline/calib_corners.h"
+#include "pipeline/calib_hand_eye.h"
+#include "pipeline/calib_laser_plane.h"
+#include "pipeline/calib_target_pose.h"
+#include "pipeline/extraction_options.h"
+#include "pipeline/plane_identification.h"
+#include "sensor/camera.h"
+
+namespace lt {
+
+// A board layout file (JSON: rows, cols, square_mm, margin_squares optional,
+// default 1), as calib-session writes it (checkerboard.json). Errors name the
+// file and JSON pointer.
+CheckerboardSpec ReadCheckerboardFile(const std::filesystem::path& path);
+
+// The board layout file of a rendered session: checkerboard.json beside the
+// glTF of the run scene's object named "checkerboard". Throws lt::InputError
+// when the run's scene.json has no such object or the file is missing.
+std::filesystem::path FindSessionBoardFile(const std::filesystem::path& run_dir);
+
+// Ground truth of a rendered session, from the run's scene.json: the board's
+// pose (object "checkerboard") and the hand-eye pose (motion tool_from_cam).
+struct SessionTruth {
+  std::optional<Pose> world_from_board;
+  std::optional<Pose> tool_from_cam;
+};
+SessionTruth ReadSessionTruth(const std::filesystem::path& run_dir);
+
+// One pose of the board: its bright frame and the dim frame that follows it.
+struct SessionView {
+  int bright_frame = -1;  // manifest index
+  int dim_frame = -1;     // -1: none follows
+  CornerDetection detection;
+  std::optional<Pose> world_from_tool;  // of the bright frame
+  std::optional<Pose> world_from_cam;   // of the bright frame (a rendered run's truth)
+};
+
+// The views of a run: every frame without laser light starts one; a laser
+// frame right after it is its dim frame. Corners are detected on the bright
+// frames. Throws lt::InputError for an unreadable run or image, or a run
+// without bright frames.
+std::vector<SessionView> ReadSessionViews(const std::filesystem::path& run_dir, const CheckerboardSpec& board,
+                                          const CornerDetectionOptions& corners = {});
+
+struct SessionCameraResult {
+  std::vector<SessionView> views;
+  std::vector<int> used;  // indices into views of the calibrated views, in the calibration's order
+  CameraCalibrationResult calibration;
+};
+SessionCameraResult CalibrateSessionCamera(const std::filesystem::path& run_dir, const CheckerboardSpec& board,
+                                           const CameraCalibrationOptions& options = {},
+                                           const CornerDetectionOptions& corners = {});
+
+struct SessionLaserOptions {
+  // Threshold kAuto: 10% of the frame's full scale (its bit depth), as `scan`.
+  ExtractionOptions extraction;
+  std::optional<SearchAxis> axis;  // unset: from the run rig's nominal planes (StripeAxis)
+  int planes = 0;                  // laser sheets; 0: as many as the run's rig has
+  PlaneIdOptions plane_id;  // the stripe's connected pieces (link_distance, min_segment_points)
+  // Several sheets: a piece of stripe joins a line when its points lie within
+  // this mean distance (pixels, across the stripe) of the line's fit.
+  double line_tolerance_px = 3.0;
+  LaserPlaneFitOptions fit;
+  // Stripe pixels are kept where their ray meets the board at least this far
+  // (in squares) inside the board's outer edge.
+  double edge_inset_squares = 0.5;
+  CornerDetectionOptions corners;
+
+  void Check() const;  // throws lt::InputError naming the option
+};
+
+struct SessionLaserView {
+  int view = 0;  // index into views
+  bool used = false;
+  std::string note;  // why the view was not used, or a plane identification failure
+  int stripe_points = 0;  // extracted
+  int on_board = 0;       // kept: their rays meet the board
+  TargetPoseResult pose;
+};
+
+struct SessionLaserResult {
+  std::vector<SessionView> views;
+  std::vector<SessionLaserView> laser_views;
+  std::vector<LaserPlaneFit> fits;  // plane k = k-th stripe in image order
+  int planes = 0;
+  SearchAxis axis = SearchAxis::kRows;
+};
+SessionLaserResult CalibrateSessionLaser(const std::filesystem::path& run_dir, const CheckerboardSpec& board,
+                                         const Camera& camera, const SessionLaserOptions& options = {});
+
+// Multi-line stripes on the flat target: each sheet's stripe is one straight
+// line across the board (up to lens distortion), broken into pieces where it
+// crosses black squares (`segments`: the connected pieces from
+// IdentifyPlanes). The lines run nearly parallel, so with the slope pooled
+// over all pieces each piece has an intercept, and the intercepts cluster by
+// line (a gap of more than 4·tol_px starts a new cluster). A line is then
+// fitted to each cluster and every piece goes to the line its points lie
+// closest to, within tol_px mean distance; farther pieces, and lines with less
+// than a fifth of the longest line's points, are stray light (plane −1). The
+// lines must number n; they are numbered in image order (by
+// their position across at the middle of the points) into each point's
+// `plane`. Otherwise false, with the reason in *error.
+bool GroupStripesOnFlatTarget(std::vector<StripePoint>* points, const std::vector<StripeSegment>& segments, int n,
+                              SearchAxis axis, double tol_px, std::string* error);
+
+struct SessionHandEyeResult {
+  std::vector<SessionView> views;
+  std::vector<int> used;  // views in the estimate
+  std::vector<std::string> notes;  // skipped views and why
+  HandEyeResult hand_eye;
+};
+SessionHandEyeResult CalibrateSessionHandEye(const std::filesystem::path& run_dir, const CheckerboardSpec& board,
+                                             const Camera& camera, const HandEyeOptions& options = {},
+                                             const CornerDetectionOptions& corners = {});
+
+}  // namespace lt

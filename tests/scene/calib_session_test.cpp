@@ -1,0 +1,142 @@
+// Calibration session scenes (scene/calib_session.h): the scene loads, each
+// view's pose holds across its bright/dim pair, the tool poses compose with the
+// hand-eye pose, the board is in view and its squares follow the colour
+// convention of pipeline/calib_checkerboard.h.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/error.h"
+#include "scene/calib_session.h"
+#include "scene/scene_file.h"
+#include "scene/scene_geometry.h"
+#include "test_util.h"
+
+namespace lt {
+namespace {
+
+std::filesystem::path DemoRig() { return std::filesystem::path(LT_SOURCE_DIR) / "scenes/demo/scene.json"; }
+
+CalibSessionOptions Options() {
+  CalibSessionOptions o;
+  o.rig_scene = DemoRig();
+  o.views = 6;
+  return o;
+}
+
+double PoseDistance(const Pose& a, const Pose& b) { return (a.matrix() - b.matrix()).cwiseAbs().maxCoeff(); }
+
+TEST(CalibSession, SceneHoldsEachPoseAcrossItsBrightAndDimFrame) {
+  test::TempDir dir;
+  const CalibSessionOptions o = Options();
+  const CalibSession s = WriteCalibSession(o, dir.path());
+  ASSERT_EQ(s.views.size(), 6u);
+  const SceneFile scene = LoadSceneFile(dir / "scene.json");
+  EXPECT_EQ(scene.render.frames, 12);
+  // The demo camera binned 2 x 2.
+  const Camera& cam = scene.sensor.camera;
+  EXPECT_EQ(cam.width(), 640);
+  EXPECT_EQ(cam.height(), 512);
+  EXPECT_NEAR(cam.fx(), 8.889e-3 / 9.6e-6, 1e-6);
+  EXPECT_NEAR(cam.cx(), 319.5, 1e-12);
+  for (int v = 0; v < 6; ++v) {
+    const ShutterFrame bright = scene.sensor.shutter.Frame(2 * v), dim = scene.sensor.shutter.Frame(2 * v + 1);
+    EXPECT_TRUE(bright.led_on && !bright.laser_on);
+    EXPECT_TRUE(dim.laser_on && !dim.led_on);
+    EXPECT_EQ(bright.led_fraction, 1.0);
+    EXPECT_EQ(dim.led_fraction, 0.0);  // no LED light bleeds into the dim frame
+    EXPECT_EQ(bright.laser_fraction, 0.0);
+    for (double t : {bright.t_start_s, 0.5 * (bright.t_start_s + bright.t_end_s), dim.t_start_s, dim.t_end_s}) {
+      EXPECT_LT(PoseDistance(WorldFromCamAt(scene.motion, t), s.views[size_t(v)].world_from_cam), 1e-12)
+          << "view " << v << " t " << t;
+    }
+    // Every inner corner is in the image, well inside.
+    const Pose cam_from_world = s.views[size_t(v)].world_from_cam.inverse();
+    for (int i = 0; i < o.rows; ++i) {
+      for (int j = 0; j < o.cols; ++j) {
+        const Eigen::Vector3d p_board(j * o.square_m, i * o.square_m, 0);
+        const auto px = cam.Project(cam_from_world * s.world_from_board * p_board);
+        ASSERT_TRUE(px.has_value());
+        EXPECT_TRUE(px->x() > 10 && px->y() > 10 && px->x() < 629 && px->y() < 501) << px->transpose();
+      }
+    }
+    EXPECT_GE(s.views[size_t(v)].tilt_deg, o.min_tilt_deg);
+    EXPECT_LE(s.views[size_t(v)].tilt_deg, o.max_tilt_deg);
+  }
+  EXPECT_FALSE(WorldFromToolAt(scene.motion, 0).has_value());
+}
+
+TEST(CalibSession, ArmSessionRecordsToolPosesThatComposeWithTheHandEyePose) {
+  test::TempDir dir;
+  CalibSessionOptions o = Options();
+  o.arm = true;
+  const CalibSession s = WriteCalibSession(o, dir.path());
+  const SceneFile scene = LoadSceneFile(dir / "scene.json");
+  for (int v = 0; v < 6; ++v) {
+    const double t = scene.sensor.shutter.Frame(2 * v).t_start_s;
+    const auto tool = WorldFromToolAt(scene.motion, t);
+    ASSERT_TRUE(tool.has_value());
+    EXPECT_LT(PoseDistance(*tool * o.tool_from_cam, s.views[size_t(v)].world_from_cam), 1e-12);
+    EXPECT_LT(PoseDistance(WorldFromCamAt(scene.motion, t), s.views[size_t(v)].world_from_cam), 1e-12);
+  }
+}
+
+// Each square's material follows the convention: the square between corners
+// (i, j) and (i + 1, j + 1) is black when i + j is even; the margin is white.
+TEST(CalibSession, BoardSquaresFollowTheColourConvention) {
+  test::TempDir dir;
+  const CalibSessionOptions o = Options();
+  WriteCalibSession(o, dir.path());
+  const SceneFile scene = LoadSceneFile(dir / "scene.json");
+  const SceneGeometry g = LoadSceneGeometry(scene);
+  double black_area = 0, white_area = 0;
+  int checked = 0;
+  for (const SceneInstance& inst : g.instances) {
+    const Mesh& mesh = g.meshes[inst.mesh];
+    for (size_t t = 0; t < mesh.TriangleCount(); ++t) {
+      const Eigen::Vector3d a = mesh.positions[mesh.indices[3 * t]].cast<double>();
+      const Eigen::Vector3d b = mesh.positions[mesh.indices[3 * t + 1]].cast<double>();
+      const Eigen::Vector3d c = mesh.positions[mesh.indices[3 * t + 2]].cast<double>();
+      // Facing the printed side: the normal of the winding is −z in the board frame.
+      EXPECT_LT((b - a).cross(c - a).z(), 0);
+      const std::string& material = g.materials[g.MaterialOf(inst, uint32_t(t))].name;
+      const double area = 0.5 * (b - a).cross(c - a).norm();
+      (material == "black" ? black_area : white_area) += area;
+      const Eigen::Vector3d centre = (a + b + c) / 3;
+      const int j = int(std::floor(centre.x() / o.square_m)), i = int(std::floor(centre.y() / o.square_m));
+      const bool in_squares = i >= -1 && i < o.rows && j >= -1 && j < o.cols;
+      const std::string expected = in_squares && ((i + j) % 2 + 2) % 2 == 0 ? "black" : "white";
+      EXPECT_EQ(material, expected) << "triangle centre " << centre.transpose();
+      ++checked;
+      // Placed printed side up on the world's z = 0.
+      EXPECT_NEAR((inst.world_from_mesh * a).z(), 0, 1e-12);
+    }
+  }
+  EXPECT_GT(checked, 0);
+  const double sq = o.square_m * o.square_m;
+  const int squares = (o.rows + 1) * (o.cols + 1);
+  EXPECT_NEAR(black_area, 0.5 * squares * sq, 1e-3 * sq);  // (rows + 1)(cols + 1) is even
+  const double whole = (o.rows + 1 + 2 * o.margin_squares) * (o.cols + 1 + 2 * o.margin_squares) * sq;
+  EXPECT_NEAR(black_area + white_area, whole, 1e-3 * sq);
+}
+
+TEST(CalibSession, RefusesBadOptionsAndBoardsThatDoNotFit) {
+  test::TempDir dir;
+  CalibSessionOptions o = Options();
+  o.rows = 7;  // 7 + 9 even: the orientation could not be told
+  EXPECT_THROW(WriteCalibSession(o, dir.path()), InputError);
+  o = Options();
+  o.square_m = 10e-3;  // a 100 mm board in a 55 mm field of view
+  try {
+    WriteCalibSession(o, dir.path());
+    FAIL() << "expected a refusal";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("smaller board"), std::string::npos) << e.what();
+  }
+  o = Options();
+  o.rig_scene = dir / "missing.json";
+  EXPECT_THROW(WriteCalibSession(o, dir.path()), InputError);
+}
+
+}  // namespace
+}  // namespace lt

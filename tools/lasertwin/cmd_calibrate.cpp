@@ -1,0 +1,256 @@
+// `lasertwin calibrate camera|laser|hand-eye RUN_DIR --out calib.yaml
+// [--calib IN.yaml] [--board FILE | --rows R --cols C --square-mm S]`:
+// calibrates one part of the scanner from a calibration session's run folder
+// (pipeline/calib_session.h) and writes the calibration file (OpenCV YAML,
+// pipeline/calibration_file.h) with that part added to IN.yaml's. Prints the
+// result with its uncertainty, and against the run's ground truth (rig.json,
+// scene.json) when the run has one.
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+#include "core/error.h"
+#include "pipeline/calib_output.h"
+#include "pipeline/calib_session.h"
+#include "pipeline/calibration_file.h"
+#include "pipeline/run_folder_reader.h"
+#include "pipeline/triangulation.h"
+#include "tools/lasertwin/command.h"
+
+namespace lt::cli {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+struct CalibrateArgs {
+  std::string step;
+  std::string run_dir;
+  std::string out;
+  std::string calib;
+  std::string board;
+  int rows = 0, cols = 0;
+  double square_mm = 0;
+  std::string model = "brown_conrady";
+  bool fix_k3 = false;
+  int planes = 0;
+  bool quiet = false;
+};
+
+std::string Fmt(const char* format, double a, double b = 0, double c = 0, double d = 0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, format, a, b, c, d);
+  return buf;
+}
+
+void Warn(const std::string& message) { std::cerr << "lasertwin: warning: " << message << "\n"; }
+
+CheckerboardSpec Board(const CalibrateArgs& a) {
+  if (a.rows > 0 || a.cols > 0 || a.square_mm > 0) {
+    if (a.rows <= 0 || a.cols <= 0 || a.square_mm <= 0) {
+      throw InputError("--rows/--cols/--square-mm", "give all three, or none (then the board is read from a file)");
+    }
+    CheckerboardSpec b;
+    b.rows = a.rows;
+    b.cols = a.cols;
+    b.square_m = a.square_mm * 1e-3;
+    b.Check();
+    return b;
+  }
+  return ReadCheckerboardFile(a.board.empty() ? FindSessionBoardFile(a.run_dir) : std::filesystem::path(a.board));
+}
+
+CalibrationFile InputFile(const CalibrateArgs& a) {
+  if (a.calib.empty()) return {};
+  CalibrationFile f = ReadCalibrationFile(a.calib);
+  for (const auto& k : f.ignored_keys) Warn(a.calib + ": key " + k + " is not kept in the output");
+  return f;
+}
+
+// The camera for the laser and hand-eye steps: --calib's, else the run's true one.
+Camera StepCamera(const CalibrateArgs& a, const CalibrationFile& in, const RunRig& rig) {
+  if (in.camera) {
+    if (in.camera->width != rig.camera.width() || in.camera->height != rig.camera.height()) {
+      throw InputError(a.calib, "the calibrated camera is " + std::to_string(in.camera->width) + "x" +
+                                    std::to_string(in.camera->height) + " but the run's is " +
+                                    std::to_string(rig.camera.width()) + "x" + std::to_string(rig.camera.height()));
+    }
+    return in.MakeCamera(rig.camera.params(), a.calib);
+  }
+  Warn("no calibrated camera (--calib IN.yaml with a camera part): using the run's true camera from " +
+       rig.source.string());
+  return rig.camera;
+}
+
+void PrintSkipped(const std::vector<SessionView>& views) {
+  for (const SessionView& v : views) {
+    if (!v.detection.ok) Warn("frame " + std::to_string(v.bright_frame) + ": " + v.detection.reason);
+  }
+}
+
+void CameraStep(const CalibrateArgs& a, CalibrationFile* file) {
+  const CheckerboardSpec board = Board(a);
+  CameraCalibrationOptions o;
+  if (a.model == "fisheye") {
+    o.model = DistortionModel::kFisheye;
+  } else if (a.model == "none") {
+    o.model = DistortionModel::kNone;
+  } else if (a.model != "brown_conrady") {
+    throw InputError("--model", "expected brown_conrady, fisheye or none, got '" + a.model + "'");
+  }
+  o.fix_k3 = a.fix_k3;
+  const SessionCameraResult r = CalibrateSessionCamera(a.run_dir, board, o);
+  PrintSkipped(r.views);
+  const CameraCalibrationResult& c = r.calibration;
+  if (!c.ok) {
+    throw InputError(a.run_dir, "camera calibration refused (" + std::to_string(r.used.size()) + " of " +
+                                    std::to_string(r.views.size()) + " views with the board): " + c.reason);
+  }
+  file->camera = MakeCalibrationFile(&c, nullptr, nullptr).camera;
+  if (a.quiet) return;
+  const RunRig rig = ReadRunRig(a.run_dir);
+  const CameraParams& t = rig.camera.params();
+  std::vector<double> truth = {t.fx, t.fy, t.cx, t.cy};
+  if (o.model == DistortionModel::kBrownConrady) {
+    const auto& k = t.brown_conrady;
+    truth.insert(truth.end(), {k.k1, k.k2, k.p1, k.p2, k.k3});
+  } else if (o.model == DistortionModel::kFisheye) {
+    const auto& k = t.fisheye;
+    truth.insert(truth.end(), {k.k1, k.k2, k.k3, k.k4});
+  }
+  const bool same_model = t.distortion == o.model || t.distortion == DistortionModel::kNone;
+  std::cout << "camera from " << r.used.size() << " of " << r.views.size() << " views, " << c.camera.width << "x"
+            << c.camera.height << ": reprojection RMS " << Fmt("%.4f", c.rms_px) << " px\n";
+  std::cout << "  param        recovered        std         true (" << rig.source.filename().string()
+            << ")   error   error/std\n";
+  for (int i = 0; i < int(c.params.size()); ++i) {
+    std::cout << "  " << c.param_names[size_t(i)]
+              << std::string(8 - std::min<size_t>(7, c.param_names[size_t(i)].size()), ' ')
+              << Fmt("%14.6g  %11.3g", c.params[i], c.param_std[i]);
+    if (same_model && i < int(truth.size())) {
+      const double e = c.params[i] - truth[size_t(i)];
+      std::cout << Fmt("  %14.6g  %+10.3g", truth[size_t(i)], e);
+      if (c.param_std[i] > 0) std::cout << Fmt("  %+6.2f", e / c.param_std[i]);
+    }
+    std::cout << "\n";
+  }
+}
+
+void LaserStep(const CalibrateArgs& a, CalibrationFile* file) {
+  const CheckerboardSpec board = Board(a);
+  const RunRig rig = ReadRunRig(a.run_dir);
+  const Camera camera = StepCamera(a, *file, rig);
+  SessionLaserOptions o;
+  o.planes = a.planes;
+  const SessionLaserResult r = CalibrateSessionLaser(a.run_dir, board, camera, o);
+  int used = 0;
+  for (const SessionLaserView& v : r.laser_views) {
+    used += v.used;
+    if (!v.note.empty()) Warn("view " + std::to_string(v.view) + ": " + v.note);
+  }
+  std::string refused;
+  for (const LaserPlaneFit& f : r.fits) {
+    if (!f.ok) refused += (refused.empty() ? "" : "; ") + ("plane " + std::to_string(f.plane_id) + ": " + f.reason);
+  }
+  if (int(r.fits.size()) != r.planes) {
+    refused += (refused.empty() ? "" : "; ") + std::to_string(r.fits.size()) + " plane(s) found, " +
+               std::to_string(r.planes) + " expected";
+  }
+  if (!refused.empty()) {
+    throw InputError(a.run_dir, "laser plane calibration refused (" + std::to_string(used) + " views with a stripe on "
+                                "the board): " + refused);
+  }
+  // Plane k of the fit is the k-th stripe in image order; the file numbers the
+  // rig's planes (sheets of laser 0 first), in the nominal rig's image order.
+  CalibrationFile part = MakeCalibrationFile(nullptr, &r.fits, nullptr);
+  std::vector<int> order(r.fits.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = int(k);
+  if (rig.planes_in_cam.size() == r.fits.size()) order = PlanesInImageOrder(rig.planes_in_cam, r.axis);
+  file->laser_planes.assign(r.fits.size(), Plane{});
+  for (size_t k = 0; k < r.fits.size(); ++k) file->laser_planes[size_t(order[k])] = part.laser_planes[k];
+  if (a.quiet) return;
+  std::cout << "laser planes from " << used << " views (camera frame, n.p + d = 0):\n";
+  for (size_t k = 0; k < r.fits.size(); ++k) {
+    const LaserPlaneFit& f = r.fits[k];
+    std::cout << "  plane " << order[k] << ": n = (" << Fmt("%.6f, %.6f, %.6f", f.plane.n.x(), f.plane.n.y(), f.plane.n.z())
+              << Fmt("), d = %.4f mm; %.0f of %.0f points inliers, RMS %.2f um", f.plane.d * 1e3, double(f.inliers), double(f.points),
+                     f.residual_rms_m * 1e6)
+              << Fmt("; std: normal %.4f deg, offset %.4f mm\n", f.normal_std_rad / kDeg, f.offset_std_m * 1e3);
+    if (rig.planes_in_cam.size() == r.fits.size()) {
+      const PlaneError e = ComparePlanes(f.plane, rig.planes_in_cam[size_t(order[k])]);
+      std::cout << "           against the true plane: normal " << Fmt("%.4f", e.normal_angle_rad / kDeg)
+                << " deg, offset " << Fmt("%.4f", e.offset_m * 1e3) << " mm\n";
+    }
+  }
+}
+
+void HandEyeStep(const CalibrateArgs& a, CalibrationFile* file) {
+  const CheckerboardSpec board = Board(a);
+  const RunRig rig = ReadRunRig(a.run_dir);
+  const Camera camera = StepCamera(a, *file, rig);
+  const SessionHandEyeResult r = CalibrateSessionHandEye(a.run_dir, board, camera);
+  for (const auto& n : r.notes) Warn(n);
+  const HandEyeResult& h = r.hand_eye;
+  if (!h.ok) {
+    throw InputError(a.run_dir, "hand-eye calibration refused (" + std::to_string(r.used.size()) + " of " +
+                                    std::to_string(r.views.size()) + " views usable): " + h.reason);
+  }
+  file->tool_from_cam = MakeCalibrationFile(nullptr, nullptr, &h).tool_from_cam;
+  if (a.quiet) return;
+  const Eigen::Vector3d t = h.tool_from_cam.translation() * 1e3;
+  const Eigen::Vector3d rv = RotationLog(h.tool_from_cam.linear()) / kDeg;
+  std::cout << "tool_from_cam from " << r.used.size() << " views: translation (" << Fmt("%.4f, %.4f, %.4f", t.x(), t.y(), t.z())
+            << ") mm, rotation vector (" << Fmt("%.4f, %.4f, %.4f", rv.x(), rv.y(), rv.z()) << ") deg\n"
+            << "  std: rotation " << Fmt("%.4f", h.rotation_std_rad / kDeg) << " deg, translation "
+            << Fmt("%.4f", h.translation_std_m * 1e3) << " mm; reprojection RMS " << Fmt("%.4f", h.reprojection_rms_px)
+            << " px, variance factor " << Fmt("%.3f", h.variance_factor) << "\n";
+  const SessionTruth truth = ReadSessionTruth(a.run_dir);
+  if (truth.tool_from_cam) {
+    const PoseError e = ComparePoses(h.tool_from_cam, *truth.tool_from_cam);
+    std::cout << "  against the true tool_from_cam (scene.json): rotation " << Fmt("%.4f", e.rotation_rad / kDeg)
+              << " deg, translation " << Fmt("%.4f", e.translation_m * 1e3) << " mm\n";
+  }
+}
+
+void Run(const CalibrateArgs& a) {
+  CalibrationFile file = InputFile(a);
+  file.ignored_keys.clear();
+  if (a.step == "camera") {
+    CameraStep(a, &file);
+  } else if (a.step == "laser") {
+    LaserStep(a, &file);
+  } else {
+    HandEyeStep(a, &file);
+  }
+  WriteCalibrationFile(a.out, file);
+  if (!a.quiet) std::cerr << "wrote " << a.out << "\n";
+}
+
+void Add(CLI::App& app) {
+  auto args = std::make_shared<CalibrateArgs>();
+  auto* cmd = app.add_subcommand("calibrate",
+                                 "Calibrate the camera, laser planes or hand-eye pose from a calibration session run");
+  cmd->add_option("STEP", args->step, "camera | laser | hand-eye")
+      ->required()
+      ->check(CLI::IsMember({"camera", "laser", "hand-eye"}));
+  cmd->add_option("RUN_DIR", args->run_dir, "Run folder of a calibration session (bright/dim frame pairs)")
+      ->required();
+  cmd->add_option("--out", args->out, "Calibration file to write (OpenCV YAML)")->required();
+  cmd->add_option("--calib", args->calib,
+                  "Calibration file to start from (its camera is used by the laser and hand-eye steps)");
+  cmd->add_option("--board", args->board,
+                  "Board layout (JSON: rows, cols, square_mm); default: checkerboard.json of the session");
+  cmd->add_option("--rows", args->rows, "Inner corners down a column (instead of --board)");
+  cmd->add_option("--cols", args->cols, "Inner corners along a row");
+  cmd->add_option("--square-mm", args->square_mm, "Square size (mm)");
+  cmd->add_option("--model", args->model, "camera: brown_conrady | fisheye | none")->capture_default_str();
+  cmd->add_flag("--fix-k3", args->fix_k3, "camera: hold k3 at 0");
+  cmd->add_option("--planes", args->planes, "laser: number of laser sheets (default: the run's rig)");
+  cmd->add_flag("--quiet", args->quiet, "Print nothing but warnings");
+  cmd->callback([args] { Run(*args); });
+}
+
+LT_REGISTER_COMMAND("calibrate", Add);
+
+}  // namespace
+}  // namespace lt::cli
