@@ -76,6 +76,11 @@ nlohmann::json WriteFrame(const RunFolder& run, const RenderedFrame& frame, int 
         {"near_pixels", frame.stats.near_pixels},
         {"render_ms", frame.stats.render_ms},
         {"ground_truth_ms", frame.stats.ground_truth_ms}}}};
+  if (scene.print) {
+    line["stats"]["print_chunks_rebuilt"] = frame.stats.print_chunks_rebuilt;
+    line["stats"]["print_triangles_rebuilt"] = frame.stats.print_triangles_rebuilt;
+    line["stats"]["print_triangles"] = frame.stats.print_triangles;
+  }
   return line;
 }
 
