@@ -21,7 +21,8 @@ constexpr double kLayerHeight = 0.2;     // mm
 constexpr double kBeadWidth = 0.45;      // mm
 constexpr double kFilament = 1.75;       // mm
 constexpr double kPrintFeed = 1200;      // mm/min (20 mm/s)
-constexpr double kTravelFeed = 6000;     // mm/min
+constexpr double kCircleFeed = 600;      // mm/min: on r = 4 mm the heading turns at v / r = 143 deg/s, within the UR5e's wrist
+constexpr double kTravelFeed = 1200;     // mm/min (slow: the robot turns the scanner with the path)
 constexpr double kRetract = 1.0;         // mm of filament
 constexpr double kRetractFeed = 2400;    // mm/min
 constexpr double kCx = 100, kCy = 100;   // part centre on the bed (mm)
@@ -83,7 +84,7 @@ struct Writer {
   void CircleCw(double cx, double cy) {
     const double r = std::hypot(x - cx, y - cy);
     e += 2 * M_PI * r * EPerMm();
-    out << "G2 F" << F(kPrintFeed) << " X" << F(x) << " Y" << F(y) << " I" << F(cx - x) << " J" << F(cy - y)
+    out << "G2 F" << F(kCircleFeed) << " X" << F(x) << " Y" << F(y) << " I" << F(cx - x) << " J" << F(cy - y)
         << " E" << F(e) << "\n";
   }
 };

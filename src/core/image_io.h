@@ -17,6 +17,11 @@ AnyImage ReadImage(const std::filesystem::path& path);
 // Reads an image as float in its own units (no scaling: an 8-bit 255 is 255.0f).
 Image<float> ReadImageFloat(const std::filesystem::path& path);
 
+// Reads the named channels of an image (EXR channel names, e.g. {"instance"}) as
+// float, in the order asked for, whatever order the file stores them in. A
+// channel the file lacks is an InputError naming it.
+Image<float> ReadImageChannels(const std::filesystem::path& path, const std::vector<std::string>& names);
+
 // Writes atomically (temporary name, then rename). The format follows the
 // extension; PNG takes uint8/uint16, EXR takes float (stored as half unless
 // full_float). channel_names (optional) name EXR channels, e.g. {"R","G","B"}.

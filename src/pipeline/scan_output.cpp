@@ -112,15 +112,17 @@ std::string FormatPly(const PointCloud& cloud) {
       std::string(cloud.world_frame ? "world frame" : "camera frame (some frames have no pose)") +
       "\nelement vertex " + std::to_string(cloud.points.size()) +
       "\nproperty double x\nproperty double y\nproperty double z\nproperty int frame\nproperty int plane\n";
+  if (cloud.has_label) out += "property int label\n";
   if (cloud.has_colour) out += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   out += "end_header\n";
-  const size_t record = 3 * 8 + 2 * 4 + (cloud.has_colour ? 3 : 0);
+  const size_t record = 3 * 8 + 2 * 4 + (cloud.has_label ? 4 : 0) + (cloud.has_colour ? 3 : 0);
   out.reserve(out.size() + cloud.points.size() * record);
   for (const CloudPoint& p : cloud.points) {
     if (!p.p.allFinite()) throw std::invalid_argument("FormatPly: a point is not finite");
     for (int i = 0; i < 3; ++i) AppendLittleEndian(&out, p.p[i]);
     AppendLittleEndian(&out, int32_t(p.frame));
     AppendLittleEndian(&out, int32_t(p.plane));
+    if (cloud.has_label) AppendLittleEndian(&out, int32_t(p.label));
     if (cloud.has_colour) out.append(reinterpret_cast<const char*>(p.rgb.data()), 3);
   }
   return out;
