@@ -2,6 +2,7 @@
 // [--frames A:B] ...`: extracts, identifies and triangulates the stripe points
 // of every laser frame of a run folder; writes RUN_DIR/centers/NNNNNN.csv and
 // RUN_DIR/cloud.ply (docs/pipeline.md).
+#include <iomanip>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -93,7 +94,7 @@ void Run(ScanArgs& a) {
     const ColourStats& c = s.colour;
     std::cerr << "colour from " << c.bright_frames << " bright frame" << (c.bright_frames == 1 ? "" : "s") << ": "
               << c.coloured << " of " << c.points << " points coloured; " << c.contaminated
-              << " contaminated by laser light (" << FormatNumber(c.coloured > 0 ? 100.0 * c.contaminated / c.coloured : 0.0)
+              << " contaminated by laser light (" << std::fixed << std::setprecision(1) << (c.coloured > 0 ? 100.0 * c.contaminated / c.coloured : 0.0) << std::defaultfloat
               << "% of the coloured, " << (c.from_radiance ? "from the radiance images" : "from the lit fractions")
               << ")\n";
   }
