@@ -56,10 +56,12 @@ const char* kCentersHeader = "u,v,width,strength,plane,x_cam,y_cam,z_cam,x_world
 const char* kTruthHeader = "u,v,plane,x_cam,y_cam,z_cam,x_world,y_world,z_world";
 
 // A tiny reader for the PLY that scan writes: binary little-endian, double
-// x y z, int frame, int plane.
+// x y z, int frame, int plane, then (runs with ground truth) int label and (runs
+// with bright frames) uchar red, green, blue.
 struct PlyVertex {
   Vec3 p;
-  int32_t frame = 0, plane = 0;
+  int32_t frame = 0, plane = 0, label = -1;
+  uint8_t rgb[3] = {0, 0, 0};
 };
 std::vector<PlyVertex> ReadPly(const fs::path& path, std::string* header_out = nullptr) {
   const std::string bytes = ReadFile(path);
@@ -73,10 +75,12 @@ std::vector<PlyVertex> ReadPly(const fs::path& path, std::string* header_out = n
   if (header_out) *header_out = header;
   EXPECT_THAT(header, StartsWith("ply\nformat binary_little_endian 1.0\n"));
   EXPECT_THAT(header, HasSubstr("property double x\nproperty double y\nproperty double z\nproperty int frame\n"
-                                "property int plane\nend_header\n"));
+                                "property int plane\n"));
+  const bool has_label = header.find("property int label\n") != std::string::npos;
+  const bool has_colour = header.find("property uchar red\nproperty uchar green\nproperty uchar blue\n") != std::string::npos;
   const size_t pos = header.find("element vertex ");
   const size_t count = std::stoul(header.substr(pos + 15));
-  const size_t record = 3 * 8 + 2 * 4;
+  const size_t record = 3 * 8 + 2 * 4 + (has_label ? 4 : 0) + (has_colour ? 3 : 0);
   EXPECT_EQ(bytes.size(), body + end.size() + count * record);
   std::vector<PlyVertex> out;
   const char* p = bytes.data() + body + end.size();
@@ -87,6 +91,8 @@ std::vector<PlyVertex> ReadPly(const fs::path& path, std::string* header_out = n
     std::memcpy(&v.p.z, p + 16, 8);
     std::memcpy(&v.frame, p + 24, 4);
     std::memcpy(&v.plane, p + 28, 4);
+    if (has_label) std::memcpy(&v.label, p + 32, 4);
+    if (has_colour) std::memcpy(v.rgb, p + 32 + (has_label ? 4 : 0), 3);
     out.push_back(v);
   }
   return out;
@@ -190,12 +196,15 @@ TEST_F(ScanCommand, PlyHoldsTheTriangulatedPoints) {
   std::string header;
   std::vector<PlyVertex> ply = ReadPly(run / "cloud.ply", &header);
   EXPECT_THAT(header, HasSubstr("world frame"));
-  EXPECT_THAT(header, ::testing::Not(HasSubstr("property uchar red")));  // no colour yet
+  // The run has ground truth and bright frames: labels and colour.
+  EXPECT_THAT(header, HasSubstr("property int plane\nproperty int label\nproperty uchar red\nproperty uchar green\n"
+                                "property uchar blue\nend_header\n"));
   ASSERT_EQ(ply.size(), csv_world.size());
   ASSERT_GT(ply.size(), 140u);
   for (size_t i = 0; i < ply.size(); ++i) {
     EXPECT_EQ(ply[i].frame, 0);
     EXPECT_EQ(ply[i].plane, 0);
+    EXPECT_TRUE(ply[i].label == 0 || ply[i].label == 1) << ply[i].label;  // the test part or the bed
     // The CSV has 12 significant digits (1e-14 m at these coordinates).
     EXPECT_LT(Distance(ply[i].p, csv_world[i]), 1e-12) << i;
   }
