@@ -55,5 +55,8 @@ struct PointCloud {
 // The PLY file's bytes. Throws std::invalid_argument on a non-finite coordinate.
 std::string FormatPly(const PointCloud& cloud);
 void WritePly(const std::filesystem::path& path, const PointCloud& cloud);  // atomic
+// Reads a file FormatPly wrote (any of its property sets); errors are
+// lt::InputError naming the file.
+PointCloud ReadPly(const std::filesystem::path& path);
 
 }  // namespace lt
