@@ -107,7 +107,7 @@ void Run(const CoverageArgs& a) {
   if (a.quiet) return;
   std::cout << std::fixed << std::setprecision(1) << "coverage of the beads printed in G-code time [" << g0 << ", " << g1
             << "] s (" << MotionToJson(scene.motion)["orientation"].get<std::string>() << "): "
-            << 100 * cov.Share() << "% of " << cov.area_m2 * 1e6 << " mm^2 of top surface within " << a.distance_mm
+            << 100 * cov.Share() << "% of " << cov.area_m2 * 1e6 << " mm^2 of top surface within " << FormatNumber(a.distance_mm)
             << " mm of a point\n"
             << std::setprecision(3) << "points: " << points.size() << " (" << on_print.size()
             << " on the print), median spacing between profiles " << spacing * 1e3 << " mm\n"
