@@ -105,6 +105,39 @@ TEST_F(PrintScan, RenderReportsTheMotionAndThePrintedPart) {
   }
 }
 
+TEST_F(PrintScan, InfoListsTheMotionNotesAndThePrint) {
+  test::CliResult r = RunCli("info " + Quoted(fs::path(LT_SOURCE_DIR) / "scenes/print/scene.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("  orientation caster: largest turn rate"));
+  EXPECT_THAT(r.out, HasSubstr("  robot ur5e: 230 waypoints"));
+  EXPECT_THAT(r.out, HasSubstr("print: the part grows along the toolpath in 6 chunk(s), material pla_white"));
+  r = RunCli("info --json " + Quoted(fs::path(LT_SOURCE_DIR) / "scenes/print/scene.json"));
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["print"]["chunks"], 6);
+  EXPECT_EQ(j["motion"]["notes"].size(), 3u);
+}
+
+TEST_F(PrintScan, CoverageOfTheBeadsPrintedDuringTheRun) {
+  const fs::path run = *root_ / "sync/run";
+  test::CliResult r = RunCli("coverage " + Quoted(run));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(ReadFile(run / "coverage.json"));
+  // G-code time [15.5, 15.83] s: the move under way is the first side of layer 1,
+  // from x = 90 mm (at 14.99 s) to x = 106.8 mm by 15.83 s, 16.8 mm of bead. The
+  // laser line, 8 mm behind the nozzle, crossed it at x = 92.2 .. 98.8 mm in 6
+  // profiles 1.2 mm apart, each covering 1 mm of bead within 0.5 mm: about 6 of
+  // 16.8 mm, 36%, less where a profile's points miss the bead's edges.
+  EXPECT_NEAR(j["gcode_time_s"][0].get<double>(), 15.5, 1e-9);
+  EXPECT_NEAR(j["top_area_mm2"].get<double>(), 16.8 * 0.45, 16.8 * 0.45 * 0.25);  // the top: 0.25 mm flat + rounded sides
+  EXPECT_GT(j["coverage"].get<double>(), 0.2);
+  EXPECT_LT(j["coverage"].get<double>(), 0.45);
+  EXPECT_GT(j["points_on_print"].get<int>(), 0);
+  EXPECT_EQ(j["max_turn_rate_deg_s"].get<double>(), j["max_turn_rate_deg_s"].get<double>());  // finite, not NaN
+  // A run without a print is refused.
+  r = RunCli("coverage " + Quoted(*root_ / "nothing"));
+  EXPECT_EQ(r.exit_code, 2);
+}
+
 TEST_F(PrintScan, StitchedPointsMatchTheGroundTruthWorldPoints) {
   // Per dim frame, the scanned point of each image column against the exact stripe
   // centre of that column, both in the world frame. Tolerance: at 0.072 mm per

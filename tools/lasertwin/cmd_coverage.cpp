@@ -1,6 +1,7 @@
 // `lasertwin coverage RUN_DIR [--distance-mm D] [--quiet]`: how well a scan of a
 // print (a run rendered from a scene with "print" and a "gcode" motion, then
-// scanned) covers the beads printed during the run: the share of the beads' top
+// scanned) covers the beads of the moves under way at the run's start or started
+// during it, as printed by its end: the share of the beads' top
 // surface within D of a measured point, the spacing of the profiles along the
 // path and the scanner's largest turn rate over the run. Writes RUN_DIR/coverage.json.
 #include <cmath>

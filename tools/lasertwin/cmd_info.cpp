@@ -164,12 +164,19 @@ nlohmann::json Describe(const SceneFile& scene, const EmbreeScene& embree) {
                  {"notes", MotionNotes(scene.motion)}};
   if (scene.print) {
     const auto& motion = std::get<GcodeMotion>(scene.motion);
-    const uint32_t material = g.instances.at(g.print_meshes.empty() ? 0 : g.instances.size() - 1).material_override;
-    Mesh full = BeadMeshUpTo(motion.toolpath->path(), motion.toolpath->path().Duration(),
-                             BeadOptions{scene.print->filament_diameter_m, scene.print->layer_height_m,
-                                         scene.print->points_per_half_disc});
+    std::string material;
+    for (const SceneInstance& inst : g.instances) {
+      if (inst.object == scene.objects.size() && inst.material_override >= 0) {
+        material = g.materials.at(size_t(inst.material_override)).name;
+      }
+    }
+    BeadOptions beads;
+    beads.filament_diameter_m = scene.print->filament_diameter_m;
+    beads.layer_height_m = scene.print->layer_height_m;
+    beads.points_per_half_disc = scene.print->points_per_half_disc;
+    const Mesh full = BeadMeshUpTo(motion.toolpath->path(), motion.toolpath->path().Duration(), beads);
     j["print"] = {{"chunks", g.print_meshes.size()},
-                  {"material", g.print_meshes.empty() ? std::string() : g.materials.at(material).name},
+                  {"material", material},
                   {"triangles_when_complete", full.TriangleCount()},
                   {"settings", PrintSettingsToJson(*scene.print)}};
   }
