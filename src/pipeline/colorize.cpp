@@ -30,15 +30,6 @@ double Bilinear(const Image<float>& image, int c, double u, double v, int x0, in
   return (1 - fy) * ((1 - fx) * at(ix, iy) + fx * at(ix + 1, iy)) + fy * ((1 - fx) * at(ix, iy + 1) + fx * at(ix + 1, iy + 1));
 }
 
-template <typename T>
-constexpr double TypeFullScale() {
-  if constexpr (std::is_floating_point_v<T>) {
-    return 1.0;
-  } else {
-    return double(std::numeric_limits<T>::max());
-  }
-}
-
 }  // namespace
 
 void ColourOptions::Check() const {

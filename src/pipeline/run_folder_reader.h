@@ -23,6 +23,8 @@
 #pragma once
 
 #include <filesystem>
+#include <limits>
+#include <type_traits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -67,6 +69,17 @@ struct RunFrame {
   // (LSB-aligned), otherwise the type's full scale.
   double FullScale(double type_full_scale) const;
 };
+
+// The largest value of a sample type as image readers give it: 1 for float
+// images, the integer type's maximum otherwise (the type_full_scale of FullScale).
+template <typename T>
+constexpr double TypeFullScale() {
+  if constexpr (std::is_floating_point_v<T>) {
+    return 1.0;
+  } else {
+    return double(std::numeric_limits<T>::max());
+  }
+}
 
 // Frames sorted by index. Throws lt::InputError for a missing run folder or
 // manifest, an invalid line, a duplicate index.

@@ -31,15 +31,6 @@ struct PendingPoint {
   int label;
 };
 
-template <typename T>
-constexpr double TypeFullScale() {
-  if constexpr (std::is_floating_point_v<T>) {
-    return 1.0;
-  } else {
-    return double(std::numeric_limits<T>::max());
-  }
-}
-
 // Extractors by (threshold, background, axis): a run normally needs one.
 class ExtractorCache {
  public:
