@@ -80,7 +80,9 @@ TEST(PrintedPart, ChunksCutAtTravelsAndPartitionTheFullMesh) {
     Mesh m = w.part->ChunkMesh(c, path.Duration());
     triangles += m.TriangleCount();
     volume += MeshVolume(m);
-    if (c > 0) EXPECT_EQ(chunks[c].first_segment, chunks[c - 1].end_segment);
+    if (c > 0) {
+      EXPECT_EQ(chunks[c].first_segment, chunks[c - 1].end_segment);
+    }
   }
   EXPECT_EQ(chunks.back().end_segment, path.segments.size());
   BeadOptions options;
