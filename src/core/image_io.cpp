@@ -65,6 +65,26 @@ void Write(const std::filesystem::path& path, const Image<T>& image, OIIO::TypeD
 
 }  // namespace
 
+Image<float> ReadImageChannels(const std::filesystem::path& path, const std::vector<std::string>& names) {
+  OIIO::ImageSpec spec;
+  auto in = OpenInput(path, &spec);
+  Image<float> all = ReadAs<float>(*in, spec, OIIO::TypeDesc::FLOAT, path);
+  std::vector<int> index;
+  for (const std::string& name : names) {
+    int found = -1;
+    for (int c = 0; c < spec.nchannels; ++c) {
+      if (c < int(spec.channelnames.size()) && spec.channelnames[size_t(c)] == name) found = c;
+    }
+    if (found < 0) throw InputError(path.string(), "has no channel \"" + name + "\"");
+    index.push_back(found);
+  }
+  Image<float> out(spec.width, spec.height, int(names.size()));
+  for (int y = 0; y < spec.height; ++y)
+    for (int x = 0; x < spec.width; ++x)
+      for (size_t k = 0; k < index.size(); ++k) out.At(x, y, int(k)) = all.At(x, y, index[k]);
+  return out;
+}
+
 AnyImage ReadImage(const std::filesystem::path& path) {
   OIIO::ImageSpec spec;
   auto in = OpenInput(path, &spec);

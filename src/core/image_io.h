@@ -21,6 +21,11 @@ Image<float> ReadImageFloat(const std::filesystem::path& path);
 // file's order, so look channels up by name).
 Image<float> ReadImageFloat(const std::filesystem::path& path, std::vector<std::string>* channel_names);
 
+// Reads the named channels of an image (EXR channel names, e.g. {"instance"}) as
+// float, in the order asked for, whatever order the file stores them in. A
+// channel the file lacks is an InputError naming it.
+Image<float> ReadImageChannels(const std::filesystem::path& path, const std::vector<std::string>& names);
+
 // Writes atomically (temporary name, then rename). The format follows the
 // extension; PNG takes uint8/uint16, EXR takes float (stored as half unless
 // full_float). channel_names (optional) name EXR channels, e.g. {"R","G","B"}.

@@ -53,10 +53,12 @@ RunFrame ParseLine(const fs::path& run_dir, const std::string& text, const std::
   f.image = run_dir / image;
   if (files.Has("centers")) f.gt_centers = run_dir / files.String("centers");
   if (files.Has("gt")) f.gt_buffers = run_dir / files.String("gt");
+  if (files.Has("radiance")) f.radiance = run_dir / files.String("radiance");
   if (auto s = o.FindObject("shutter")) {
     if (s->Has("laser_on")) {
       f.laser_on = s->Bool("laser_on", false);
       f.shutter_known = true;
+      f.laser_on_known = true;
     }
   }
   if (auto l = o.FindObject("lit_fraction")) {
@@ -139,6 +141,12 @@ RunRig ReadRigJson(const fs::path& path) {
   if (auto s = root.FindObject("image_sensor")) {
     rig.bit_depth = int(s->Integer("bit_depth", 0, Range::Closed(1, 16)));
     rig.black_level_dn = s->Number("black_level_dn", 0.0, Range::NonNegative());
+    const std::string cfa = s->Enum("color_filter", "mono", {"mono", "rggb", "bggr", "grbg", "gbrg"});
+    rig.color_filter = cfa == "rggb"   ? ColorFilter::kRGGB
+                       : cfa == "bggr" ? ColorFilter::kBGGR
+                       : cfa == "grbg" ? ColorFilter::kGRBG
+                       : cfa == "gbrg" ? ColorFilter::kGBRG
+                                       : ColorFilter::kMono;
     s->Accept({"full_well_e", "system_gain_dn_per_e", "dark_noise_e"});
     s->Finish();
   }
@@ -159,6 +167,7 @@ RunRig ReadSceneSensor(const fs::path& path) {
   }
   rig.bit_depth = sensor.image_sensor.bit_depth();
   rig.black_level_dn = sensor.image_sensor.params().black_level_dn;
+  rig.color_filter = sensor.image_sensor.color_filter();
   return rig;
 }
 

@@ -13,7 +13,8 @@
 //                    or the laser lit part of its exposure; a line with
 //                    neither key counts as a laser frame
 //   files.centers    ground-truth stripe centres (CSV)                   optional
-//   files.gt         ground-truth buffers (EXR: Z, N.X, N.Y, N.Z, ...)    optional
+//   files.gt         ground-truth buffers (EXR: Z, N.X, N.Y, N.Z, instance, ...) optional
+//   files.radiance   radiance EXR (R, G, B, laser channels)                optional
 //   world_from_cam   camera pose at mid-exposure (core/pose.h forms)     optional
 //   world_from_tool  robot tool (flange) pose at mid-exposure            optional
 //   gt_axis          "rows" | "cols": how the ground truth was scanned    optional
@@ -24,6 +25,8 @@
 #pragma once
 
 #include <filesystem>
+#include <limits>
+#include <type_traits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -32,6 +35,7 @@
 #include "core/pose.h"
 #include "pipeline/extraction_options.h"
 #include "sensor/camera.h"
+#include "sensor/image_sensor.h"
 #include "sensor/plane.h"
 
 namespace lt {
@@ -43,6 +47,7 @@ struct RunFrame {
   bool laser_on = false;
   double laser_fraction = 0;
   bool shutter_known = false;  // the line has shutter.laser_on or lit_fraction.laser
+  bool laser_on_known = false;  // the line has shutter.laser_on (the commanded state)
   std::filesystem::path image;                    // run folder / files.image
   std::optional<std::filesystem::path> gt_centers;  // run folder / files.centers
   std::optional<std::filesystem::path> gt_buffers;  // run folder / files.gt (depth, normal, ... EXR)
@@ -53,13 +58,32 @@ struct RunFrame {
   int png_bit_depth = 0;  // 0: unknown
   double t_start_s = 0, t_end_s = 0;
 
-  // A frame the laser lit: the frames to triangulate.
-  bool IsLaserFrame() const { return !shutter_known || laser_on || laser_fraction > 0; }
+  std::optional<std::filesystem::path> radiance;  // run folder / files.radiance (radiance EXR)
+
+  // A frame to triangulate: one the laser was commanded on for (shutter.laser_on);
+  // without that key, one the laser lit (lit_fraction.laser > 0); without either,
+  // every frame. A bright frame that laser light bled into (laser_on false,
+  // lit_fraction.laser > 0: synchronisation error) is not a laser frame.
+  bool IsLaserFrame() const {
+    if (laser_on_known) return laser_on;
+    return !shutter_known || laser_fraction > 0;
+  }
   // Largest sample value of the frame's image for a sample type whose own full
   // scale is type_full_scale: 2^bit_depth - 1 for a 16-bit image holding raw DN
   // (LSB-aligned), otherwise the type's full scale.
   double FullScale(double type_full_scale) const;
 };
+
+// The largest value of a sample type as image readers give it: 1 for float
+// images, the integer type's maximum otherwise (the type_full_scale of FullScale).
+template <typename T>
+constexpr double TypeFullScale() {
+  if constexpr (std::is_floating_point_v<T>) {
+    return 1.0;
+  } else {
+    return double(std::numeric_limits<T>::max());
+  }
+}
 
 // Frames sorted by index. Throws lt::InputError for a missing run folder or
 // manifest, an invalid line, a duplicate index.
@@ -71,6 +95,7 @@ struct RunRig {
   std::vector<Plane> planes_in_cam;  // global plane numbers: sheets of laser 0 first, then laser 1, ...
   int bit_depth = 0;                 // image sensor ADC bits, 0 when unknown
   double black_level_dn = 0;
+  ColorFilter color_filter = ColorFilter::kMono;  // the raw images' mosaic
   std::filesystem::path source;      // the file read
 };
 

@@ -1,5 +1,6 @@
 #include "pipeline/scan.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -11,6 +12,7 @@
 #include "core/error.h"
 #include "core/image_io.h"
 #include "pipeline/calibration_file.h"
+#include "pipeline/colorize.h"
 #include "pipeline/run_folder_reader.h"
 #include "pipeline/scan_output.h"
 #include "pipeline/stripe_extractor.h"
@@ -26,6 +28,7 @@ struct PendingPoint {
   Eigen::Vector3d p_cam, p_world;
   bool has_world;
   int frame, plane;
+  int label;
 };
 
 // Extractors by (threshold, background, axis): a run normally needs one.
@@ -64,6 +67,7 @@ void ScanOptions::Check() const {
   e.Check();
   plane_id.Check();
   triangulation.Check();
+  colour.Check();
   if (frames_begin < 0) throw InputError("option frames", "the first frame must be >= 0");
   if (frames_end >= 0 && frames_end <= frames_begin) throw InputError("option frames", "the frame range is empty");
 }
@@ -121,7 +125,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
 
   ExtractorCache extractors(options.extraction);
   std::vector<PendingPoint> pending;
-  bool all_posed = true, any_posed = false;
+  bool all_posed = true, any_posed = false, all_labelled = true;
   std::error_code ec;
   for (const RunFrame& frame : frames) {
     if (!selected(frame)) continue;
@@ -194,10 +198,31 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
 
     all_posed &= frame.world_from_cam.has_value();
     any_posed |= frame.world_from_cam.has_value();
+    // Labels: the ground-truth instance id at each point's pixel.
+    Image<float> instance;
+    if (frame.gt_buffers) {
+      try {
+        instance = ReadImageChannels(*frame.gt_buffers, {"instance"});
+      } catch (const InputError& e) {
+        throw InputError(e.where(), e.message() + context);
+      }
+      if (instance.width != width || instance.height != height) {
+        throw InputError(frame.gt_buffers->string(), "the ground truth is " + Size(instance.width, instance.height) +
+                                                 " but the image is " + Size(width, height) + context);
+      }
+    } else {
+      all_labelled = false;
+    }
     for (const ScanPoint& s : scan) {
       if (!s.p_in_cam) continue;
+      int label = -1;
+      if (!instance.empty()) {
+        const int x = std::clamp(int(std::lround(s.pixel.u)), 0, width - 1);
+        const int y = std::clamp(int(std::lround(s.pixel.v)), 0, height - 1);
+        label = int(instance.At(x, y));
+      }
       pending.push_back({*s.p_in_cam, s.p_in_world.value_or(Eigen::Vector3d::Zero()), s.p_in_world.has_value(),
-                         frame.index, s.pixel.plane});
+                         frame.index, s.pixel.plane, label});
     }
     const TriangulationStats& st = fs_summary.stats;
     summary.stats.points += st.points;
@@ -218,9 +243,30 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
   cloud.world_frame = all_posed;
   if (!all_posed && any_posed) warn("some frames have no pose (world_from_cam): cloud.ply is in the camera frame");
   cloud.points.reserve(pending.size());
+  cloud.has_label = all_labelled;
   for (const PendingPoint& p : pending) {
     if (all_posed && !p.has_world) continue;  // cannot happen: a posed frame's points all have world coordinates
-    cloud.points.push_back({all_posed ? p.p_world : p.p_cam, p.frame, p.plane, {0, 0, 0}});
+    cloud.points.push_back({all_posed ? p.p_world : p.p_cam, p.frame, p.plane, {0, 0, 0}, p.label});
+  }
+  // Colour from the bright frames next to each laser frame (world frame only).
+  const bool has_bright = std::any_of(frames.begin(), frames.end(), [](const RunFrame& f) {
+    return !f.IsLaserFrame() && f.world_from_cam.has_value();
+  });
+  if (all_posed && has_bright && !cloud.points.empty()) {
+    Colorizer colorizer(frames, camera, rig.color_filter, rig.black_level_dn, options.colour);
+    for (size_t begin = 0; begin < cloud.points.size();) {
+      size_t end = begin;
+      std::vector<Eigen::Vector3d> world;
+      while (end < cloud.points.size() && cloud.points[end].frame == cloud.points[begin].frame) {
+        world.push_back(cloud.points[end++].p);
+      }
+      const std::vector<PointColour> colours = colorizer.Colour(cloud.points[begin].frame, world);
+      for (size_t k = begin; k < end; ++k) cloud.points[k].rgb = colours[k - begin].rgb;
+      begin = end;
+    }
+    cloud.has_colour = true;
+    summary.colour = colorizer.stats();
+    summary.coloured = true;
   }
   WritePly(run_dir / "cloud.ply", cloud);
   summary.world_frame = all_posed;

@@ -1,7 +1,9 @@
 // Scanning a run folder (`lasertwin scan`, docs/pipeline.md): for every laser
 // frame of the run, extract the stripe centres, identify their laser planes and
 // triangulate them; write RUN/centers/NNNNNN.csv per frame and RUN/cloud.ply
-// (pipeline/scan_output.h). Every file is written atomically; cloud.ply is
+// (pipeline/scan_output.h), coloured from the run's bright frames when it has
+// them (pipeline/colorize.h) and labelled with the ground-truth instance ids when
+// it has ground truth. Every file is written atomically; cloud.ply is
 // written last, only when every frame was scanned, and missing images are
 // reported before anything is written.
 #pragma once
@@ -12,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/colorize.h"
 #include "pipeline/extraction_options.h"
 #include "pipeline/plane_identification.h"
 #include "pipeline/triangulation.h"
@@ -38,6 +41,8 @@ struct ScanOptions {
   // Frames [frames_begin, frames_end) of the manifest (by index); -1: to the end.
   int frames_begin = 0;
   int frames_end = -1;
+  // Colour from bright frames and the laser contamination test (pipeline/colorize.h).
+  ColourOptions colour;
 
   static ExtractionOptions DefaultExtraction() {
     ExtractionOptions o;
@@ -64,6 +69,10 @@ struct ScanSummary {
   int planes = 0;
   std::filesystem::path plane_source;  // rig.json, scene.json or the calibration file
   std::vector<ScanFrameSummary> frames;
+  // Colour (cloud in the world frame and the run has bright frames with poses):
+  // points coloured and contaminated by laser light (pipeline/colorize.h).
+  bool coloured = false;
+  ColourStats colour;
 };
 
 // Scans a run folder. Warnings (plane identification failed on a frame,

@@ -112,15 +112,17 @@ std::string FormatPly(const PointCloud& cloud) {
       std::string(cloud.world_frame ? "world frame" : "camera frame (some frames have no pose)") +
       "\nelement vertex " + std::to_string(cloud.points.size()) +
       "\nproperty double x\nproperty double y\nproperty double z\nproperty int frame\nproperty int plane\n";
+  if (cloud.has_label) out += "property int label\n";
   if (cloud.has_colour) out += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   out += "end_header\n";
-  const size_t record = 3 * 8 + 2 * 4 + (cloud.has_colour ? 3 : 0);
+  const size_t record = 3 * 8 + 2 * 4 + (cloud.has_label ? 4 : 0) + (cloud.has_colour ? 3 : 0);
   out.reserve(out.size() + cloud.points.size() * record);
   for (const CloudPoint& p : cloud.points) {
     if (!p.p.allFinite()) throw std::invalid_argument("FormatPly: a point is not finite");
     for (int i = 0; i < 3; ++i) AppendLittleEndian(&out, p.p[i]);
     AppendLittleEndian(&out, int32_t(p.frame));
     AppendLittleEndian(&out, int32_t(p.plane));
+    if (cloud.has_label) AppendLittleEndian(&out, int32_t(p.label));
     if (cloud.has_colour) out.append(reinterpret_cast<const char*>(p.rgb.data()), 3);
   }
   return out;
@@ -128,6 +130,69 @@ std::string FormatPly(const PointCloud& cloud) {
 
 void WritePly(const std::filesystem::path& path, const PointCloud& cloud) {
   WriteFileAtomically(path, FormatPly(cloud));
+}
+
+}  // namespace lt
+
+namespace lt {
+
+PointCloud ReadPly(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path.string(), "cannot open");
+  const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  const std::string end = "end_header\n";
+  const size_t body = bytes.find(end);
+  if (bytes.rfind("ply\nformat binary_little_endian 1.0\n", 0) != 0 || body == std::string::npos) {
+    throw InputError(path.string(), "not a binary little-endian PLY file as lasertwin scan writes");
+  }
+  const std::string header = bytes.substr(0, body);
+  const std::string base = "property double x\nproperty double y\nproperty double z\nproperty int frame\nproperty int plane\n";
+  const size_t props = header.find(base);
+  const size_t count_pos = header.find("element vertex ");
+  if (props == std::string::npos || count_pos == std::string::npos) {
+    throw InputError(path.string(), "the header lacks the vertex element or its x, y, z, frame, plane properties");
+  }
+  PointCloud cloud;
+  std::string rest = header.substr(props + base.size());
+  const std::string label = "property int label\n";
+  const std::string colour = "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  if (rest.rfind(label, 0) == 0) {
+    cloud.has_label = true;
+    rest = rest.substr(label.size());
+  }
+  if (rest.rfind(colour, 0) == 0) {
+    cloud.has_colour = true;
+    rest = rest.substr(colour.size());
+  }
+  if (!rest.empty()) throw InputError(path.string(), "unexpected properties in the header: " + rest);
+  cloud.world_frame = header.find("world frame") != std::string::npos;
+  const unsigned long long count = std::strtoull(header.c_str() + count_pos + 15, nullptr, 10);
+  const size_t record = 3 * 8 + 2 * 4 + (cloud.has_label ? 4 : 0) + (cloud.has_colour ? 3 : 0);
+  if (bytes.size() - (body + end.size()) != count * record) {
+    throw InputError(path.string(), "holds " + std::to_string(bytes.size() - body - end.size()) + " bytes of vertices, " +
+                                        std::to_string(count) + " vertices need " + std::to_string(count * record));
+  }
+  auto read = [](const char* p, auto& v) {
+    std::memcpy(&v, p, sizeof v);
+    if constexpr (std::endian::native == std::endian::big) {
+      auto* b = reinterpret_cast<char*>(&v);
+      std::reverse(b, b + sizeof v);
+    }
+  };
+  const char* p = bytes.data() + body + end.size();
+  cloud.points.resize(count);
+  for (CloudPoint& c : cloud.points) {
+    for (int i = 0; i < 3; ++i) read(p + 8 * i, c.p[i]);
+    int32_t frame, plane, label = -1;
+    read(p + 24, frame);
+    read(p + 28, plane);
+    if (cloud.has_label) read(p + 32, label);
+    c.frame = frame, c.plane = plane, c.label = label;
+    if (cloud.has_colour) std::memcpy(c.rgb.data(), p + 32 + (cloud.has_label ? 4 : 0), 3);
+    if (!c.p.allFinite()) throw InputError(path.string(), "a vertex is not finite");
+    p += record;
+  }
+  return cloud;
 }
 
 }  // namespace lt

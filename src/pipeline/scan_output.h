@@ -14,7 +14,12 @@
 //                               frame has no pose; the header comment says which)
 //   property int frame          frame index
 //   property int plane          global laser plane number
-//   property uchar red, green, blue   only when the cloud has colour
+//   property int label          only when the run has ground truth: the instance
+//                               id (gt/ "instance") at the point's pixel, -1 for
+//                               none
+//   property uchar red, green, blue   only when the cloud has colour (from the
+//                               bright frames, pipeline/colorize.h; 0 0 0 for a
+//                               point no bright frame sees)
 #pragma once
 
 #include <array>
@@ -37,16 +42,21 @@ struct CloudPoint {
   int frame = 0;
   int plane = 0;
   std::array<uint8_t, 3> rgb = {0, 0, 0};  // used when the cloud has colour
+  int label = -1;                          // used when the cloud has labels
 };
 
 struct PointCloud {
   std::vector<CloudPoint> points;
   bool has_colour = false;
+  bool has_label = false;
   bool world_frame = true;  // false: camera frame
 };
 
 // The PLY file's bytes. Throws std::invalid_argument on a non-finite coordinate.
 std::string FormatPly(const PointCloud& cloud);
 void WritePly(const std::filesystem::path& path, const PointCloud& cloud);  // atomic
+// Reads a file FormatPly wrote (any of its property sets); errors are
+// lt::InputError naming the file.
+PointCloud ReadPly(const std::filesystem::path& path);
 
 }  // namespace lt

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "core/image_io.h"
 #include "render/multi_jitter.h"
@@ -52,12 +53,29 @@ void InArena(int threads, F&& f) {
 }  // namespace
 
 FrameRenderer::FrameRenderer(const SceneFile& scene, const EmbreeScene& embree, const RenderOverrides& overrides)
+    : FrameRenderer(scene, embree, nullptr, overrides) {}
+
+FrameRenderer::FrameRenderer(const SceneFile& scene, EmbreeScene& embree, const RenderOverrides& overrides)
+    : FrameRenderer(scene, embree, &embree, overrides) {}
+
+FrameRenderer::FrameRenderer(const SceneFile& scene, const EmbreeScene& embree, EmbreeScene* mutable_embree,
+                             const RenderOverrides& overrides)
     : scene_(scene),
       embree_(embree),
+      mutable_embree_(mutable_embree),
       spp_(overrides.spp.value_or(scene.render.spp)),
       threads_(overrides.threads.value_or(scene.render.threads)),
       seed_(overrides.seed.value_or(scene.seed)),
       layout_(MakeEmitterLayout(scene.sensor)) {
+  if (scene.print) {
+    if (!mutable_embree_ || !mutable_embree_->mutable_geometry()) {
+      throw std::invalid_argument(
+          "FrameRenderer: the scene has a printed part; build the EmbreeScene from mutable geometry and pass it "
+          "non-const");
+    }
+    print_ = std::make_unique<PrintedPart>(std::get<GcodeMotion>(scene.motion), *scene.print,
+                                           embree.geometry().print_meshes);
+  }
   if (scene_.environment.kind == Environment::Kind::kMap) environment_map_ = ReadImageFloat(scene_.environment.exr);
   PathTracerOptions options;
   options.max_bounces = scene.render.max_bounces;
@@ -236,6 +254,12 @@ RenderedFrame FrameRenderer::Render(int64_t frame_index) const {
   out.shutter = rig.shutter.Frame(frame_index, seed_);
   const ShutterFrame& sf = out.shutter;
   out.world_from_cam = WorldFromCamAt(scene_.motion, 0.5 * (sf.t_start_s + sf.t_end_s));
+  if (print_) {
+    const PrintUpdate u = print_->UpdateTo(*mutable_embree_, 0.5 * (sf.t_start_s + sf.t_end_s));
+    out.stats.print_chunks_rebuilt = u.chunks_rebuilt;
+    out.stats.print_triangles_rebuilt = u.triangles_rebuilt;
+    out.stats.print_triangles = u.triangles;
+  }
   FrameLights lights =
       MakeFrameLights(rig, out.world_from_cam, sf.laser_fraction, sf.pattern_fraction, sf.led_fraction);
   // Broadband light needs every pixel sampled only when it can show in the image:

@@ -19,6 +19,13 @@
 //  3. Radiance -> sensor irradiance (Camera::RadianceToIrradiance) -> energy per
 //     pixel over the exposure -> EMVA 1288 image sensor -> digital numbers.
 //  4. Exact stripe centres by ray casting (render/stripe_truth.h).
+//
+// A scene with a printed part ("print", scene/printed_part.h) needs the renderer
+// built on a mutable EmbreeScene: before each frame it brings the part to the
+// frame's mid-exposure time (the time of the frame's world_from_cam; the bead
+// under way grows by only v * exposure / 2 either side of it, well under the
+// pixel footprint at print speeds), rebuilding only the chunks that changed. Such
+// a renderer must not render two frames at once.
 #pragma once
 
 #include <chrono>
@@ -30,6 +37,7 @@
 #include "render/path_tracer.h"
 #include "render/stripe_truth.h"
 #include "scene/embree_scene.h"
+#include "scene/printed_part.h"
 #include "scene/scene_file.h"
 
 namespace lt {
@@ -54,6 +62,11 @@ struct FrameStats {
   int64_t near_pixels = 0;
   double render_ms = 0;        // passes 1-3
   double ground_truth_ms = 0;  // stripe centres
+  // The printed part (scenes with "print"): chunks and triangles rebuilt for this
+  // frame, and the part's triangles at the frame's time.
+  uint64_t print_chunks_rebuilt = 0;
+  uint64_t print_triangles_rebuilt = 0;
+  uint64_t print_triangles = 0;
 };
 
 struct RenderedFrame {
@@ -71,7 +84,11 @@ struct RenderedFrame {
 
 class FrameRenderer {
  public:
+  // Throws std::invalid_argument when the scene has a printed part (it needs the overload below).
   FrameRenderer(const SceneFile& scene, const EmbreeScene& embree, const RenderOverrides& overrides = {});
+  // For any scene, including one with a printed part: `embree` must then be built
+  // from mutable geometry (LoadSceneGeometry's, as shared_ptr<SceneGeometry>).
+  FrameRenderer(const SceneFile& scene, EmbreeScene& embree, const RenderOverrides& overrides = {});
   ~FrameRenderer();
 
   int spp() const { return spp_; }
@@ -84,8 +101,13 @@ class FrameRenderer {
                        std::vector<ChiefHit>* hits) const;
   void SamplePass(const RenderedFrame& frame, bool all_pixels, Film* film, FrameStats* stats) const;
 
+  FrameRenderer(const SceneFile& scene, const EmbreeScene& embree, EmbreeScene* mutable_embree,
+                const RenderOverrides& overrides);
+
   const SceneFile& scene_;
   const EmbreeScene& embree_;
+  EmbreeScene* mutable_embree_ = nullptr;
+  std::unique_ptr<PrintedPart> print_;  // state across frames (which chunks are built)
   int spp_;
   int threads_;
   uint64_t seed_;

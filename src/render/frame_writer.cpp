@@ -80,6 +80,11 @@ nlohmann::json WriteFrame(const RunFolder& run, const RenderedFrame& frame, int 
   if (auto tool = WorldFromToolAt(scene.motion, 0.5 * (sf.t_start_s + sf.t_end_s))) {
     line["world_from_tool"] = PoseToJson(*tool);
   }
+  if (scene.print) {
+    line["stats"]["print_chunks_rebuilt"] = frame.stats.print_chunks_rebuilt;
+    line["stats"]["print_triangles_rebuilt"] = frame.stats.print_triangles_rebuilt;
+    line["stats"]["print_triangles"] = frame.stats.print_triangles;
+  }
   return line;
 }
 

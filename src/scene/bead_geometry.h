@@ -35,6 +35,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 
 #include "scene/mesh.h"
 #include "scene/toolpath.h"
@@ -46,6 +47,11 @@ struct BeadOptions {
   double layer_height_m = 0;       // 0: from the file (see above)
   int points_per_half_disc = 8;    // segments on each rounded end of the cross-section
   uint32_t material = 0;           // material index of every triangle
+  // Only the beads of segments [first_segment, end_segment) (layer heights still
+  // come from the whole path before them). A range that starts after a move that
+  // does not extrude breaks no joint: such ranges partition the full mesh.
+  size_t first_segment = 0;
+  size_t end_segment = SIZE_MAX;
   // Throws std::invalid_argument for negative or non-finite sizes or fewer than 2 points.
   void Check() const;
 };

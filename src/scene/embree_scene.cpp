@@ -81,6 +81,60 @@ void EmbreeScene::ThrowIfError(const char* stage) const {
 
 EmbreeScene::EmbreeScene(std::shared_ptr<const SceneGeometry> geometry)
     : geometry_(std::move(geometry)), errors_(std::make_unique<DeviceErrors>()) {
+  Build();
+}
+
+EmbreeScene::EmbreeScene(std::shared_ptr<SceneGeometry> geometry)
+    : geometry_(geometry), mutable_geometry_(geometry.get()), errors_(std::make_unique<DeviceErrors>()) {
+  Build();
+}
+
+// One scene per mesh, holding its triangles in object space, re-centred: Embree
+// gets positions minus the mesh's bounds centre c (rounded to float, so the
+// subtraction is exact) and the instance transform gains T(c). Float arithmetic
+// inside Embree then works on small numbers even for meshes whose vertices lie
+// far from their origin (georeferenced exports). An empty mesh gets an empty scene.
+Eigen::Vector3d EmbreeScene::BuildMeshScene(size_t mesh_index) {
+  const Mesh& mesh = geometry_->meshes[mesh_index];
+  RTCScene ms = mesh_scenes_[mesh_index];
+  if (mesh_attached_[mesh_index]) rtcDetachGeometry(ms, 0);
+  mesh_attached_[mesh_index] = mesh.TriangleCount() > 0;
+  Eigen::AlignedBox3d b = mesh.Bounds();
+  Eigen::Vector3f c = b.isEmpty() ? Eigen::Vector3f::Zero() : Eigen::Vector3f(b.center().cast<float>());
+  if (mesh.TriangleCount() > 0) {
+    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    // Vertices are copied (Embree pads the buffer for its SIMD loads); the
+    // index buffer is shared in place.
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                                 3 * sizeof(float), mesh.VertexCount()));
+    if (vertices) {
+      for (size_t v = 0; v < mesh.VertexCount(); ++v) {
+        for (int k = 0; k < 3; ++k) vertices[3 * v + size_t(k)] = mesh.positions[v][k] - c[k];
+      }
+    }
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.indices.data(), 0,
+                               3 * sizeof(uint32_t), mesh.TriangleCount());
+    rtcCommitGeometry(geom);
+    rtcAttachGeometryByID(ms, geom, 0);
+    rtcReleaseGeometry(geom);
+  }
+  rtcCommitScene(ms);
+  ThrowIfError(("building mesh \"" + mesh.name + "\"").c_str());
+  return c.cast<double>();
+}
+
+void EmbreeScene::SetInstanceTransform(size_t instance_index, RTCGeometry geom) const {
+  const SceneInstance& inst = geometry_->instances[instance_index];
+  const Eigen::Translation3d render_from_world(-render_origin_);
+  const Eigen::Affine3d render_from_mesh =
+      render_from_world * inst.world_from_mesh * Eigen::Translation3d(mesh_center_[inst.mesh]);  // in double
+  const Eigen::Matrix<float, 3, 4> m = render_from_mesh.matrix().topRows<3>().cast<float>();
+  float xfm[12];
+  std::memcpy(xfm, m.data(), sizeof xfm);  // Eigen is column-major
+  rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
+}
+
+void EmbreeScene::Build() {
   if (!geometry_) throw std::invalid_argument("EmbreeScene: no geometry");
   const SceneGeometry& g = *geometry_;
   bounds_ = g.WorldBounds();
@@ -94,54 +148,24 @@ EmbreeScene::EmbreeScene(std::shared_ptr<const SceneGeometry> geometry)
   rtcSetDeviceErrorFunction(device_, &DeviceErrors::Callback, errors_.get());
 
   try {
-    // One scene per mesh, holding its triangles in object space, re-centred:
-    // Embree gets positions minus the mesh's bounds centre c (rounded to float,
-    // so the subtraction is exact) and the instance transform gains T(c). Float
-    // arithmetic inside Embree then works on small numbers even for meshes whose
-    // vertices lie far from their origin (georeferenced exports).
-    std::vector<Eigen::Vector3d> mesh_center;
-    for (const Mesh& mesh : g.meshes) {
-      Eigen::AlignedBox3d b = mesh.Bounds();
-      Eigen::Vector3f c = b.isEmpty() ? Eigen::Vector3f::Zero() : Eigen::Vector3f(b.center().cast<float>());
-      mesh_center.push_back(c.cast<double>());
+    for (size_t i = 0; i < g.meshes.size(); ++i) {
       RTCScene ms = rtcNewScene(device_);
       rtcSetSceneFlags(ms, RTC_SCENE_FLAG_ROBUST);  // watertight: no ray slips through a shared edge
       mesh_scenes_.push_back(ms);
+      mesh_attached_.push_back(0);
       rtcSetSceneBuildQuality(ms, RTC_BUILD_QUALITY_MEDIUM);
-      RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-      // Vertices are copied (Embree pads the buffer for its SIMD loads); the
-      // index buffer is shared in place.
-      auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                                   3 * sizeof(float), mesh.VertexCount()));
-      if (vertices) {
-        for (size_t v = 0; v < mesh.VertexCount(); ++v) {
-          for (int k = 0; k < 3; ++k) vertices[3 * v + size_t(k)] = mesh.positions[v][k] - c[k];
-        }
-      }
-      rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.indices.data(), 0,
-                                 3 * sizeof(uint32_t), mesh.TriangleCount());
-      rtcCommitGeometry(geom);
-      rtcAttachGeometry(ms, geom);
-      rtcReleaseGeometry(geom);
-      rtcCommitScene(ms);
-      ThrowIfError(("building mesh \"" + mesh.name + "\"").c_str());
+      mesh_center_.push_back(BuildMeshScene(i));
     }
 
     // The top scene: one instance per SceneInstance, geometry id = instance index.
     scene_ = rtcNewScene(device_);
     rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_MEDIUM);
-    const Eigen::Translation3d render_from_world(-render_origin_);
     for (size_t i = 0; i < g.instances.size(); ++i) {
       const SceneInstance& inst = g.instances[i];
-      const Eigen::Affine3d render_from_mesh =
-          render_from_world * inst.world_from_mesh * Eigen::Translation3d(mesh_center[inst.mesh]);  // in double
-      const Eigen::Matrix<float, 3, 4> m = render_from_mesh.matrix().topRows<3>().cast<float>();
-      float xfm[12];
-      std::memcpy(xfm, m.data(), sizeof xfm);  // Eigen is column-major
       RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
       rtcSetGeometryInstancedScene(geom, mesh_scenes_[inst.mesh]);
       rtcSetGeometryTimeStepCount(geom, 1);
-      rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
+      SetInstanceTransform(i, geom);
       rtcCommitGeometry(geom);
       rtcAttachGeometryByID(scene_, geom, unsigned(i));
       rtcReleaseGeometry(geom);
@@ -155,6 +179,28 @@ EmbreeScene::EmbreeScene(std::shared_ptr<const SceneGeometry> geometry)
     rtcReleaseDevice(device_);
     throw;
   }
+}
+
+void EmbreeScene::ReplaceMesh(size_t mesh_index, Mesh mesh) {
+  if (!mutable_geometry_) throw std::logic_error("EmbreeScene::ReplaceMesh: the scene was built from immutable geometry");
+  if (mesh_index >= mutable_geometry_->meshes.size()) throw std::out_of_range("EmbreeScene::ReplaceMesh: no such mesh");
+  mesh.Validate();
+  // Embree reads the old index buffer in place until the mesh scene is rebuilt:
+  // keep it alive until then.
+  Mesh old = std::move(mutable_geometry_->meshes[mesh_index]);
+  mutable_geometry_->meshes[mesh_index] = std::move(mesh);
+  mesh_center_[mesh_index] = BuildMeshScene(mesh_index);
+  const SceneGeometry& g = *geometry_;
+  for (size_t i = 0; i < g.instances.size(); ++i) {
+    const SceneInstance& inst = g.instances[i];
+    if (inst.mesh != mesh_index) continue;
+    RTCGeometry geom = rtcGetGeometry(scene_, unsigned(i));
+    SetInstanceTransform(i, geom);
+    rtcCommitGeometry(geom);
+    for (const auto& p : g.meshes[mesh_index].positions) bounds_.extend(inst.world_from_mesh * p.cast<double>());
+  }
+  rtcCommitScene(scene_);
+  ThrowIfError("rebuilding a mesh");
 }
 
 EmbreeScene::~EmbreeScene() {

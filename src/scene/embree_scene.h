@@ -11,6 +11,13 @@
 // does not depend on the distance from the origin or on Embree's float arithmetic.
 //
 // Embree device errors become exceptions (std::runtime_error), never ignored.
+//
+// Meshes that change over time (the printed part growing while it is scanned):
+// a scene built from mutable geometry (the shared_ptr<SceneGeometry> constructor)
+// can replace one mesh's triangles with ReplaceMesh. Only that mesh's Embree
+// scene is rebuilt, and the top scene refitted over the instances; other meshes
+// are untouched. The render origin stays where construction put it. A mesh may be
+// empty (no triangles): it is instanced but nothing is hit.
 #pragma once
 
 #include <embree3/rtcore.h>
@@ -25,6 +32,7 @@
 #include <string>
 #include <vector>
 
+#include "scene/mesh.h"
 #include "scene/scene_geometry.h"
 
 namespace lt {
@@ -55,6 +63,8 @@ class EmbreeScene {
   // Builds the Embree scene. The geometry is shared (Embree reads its index
   // buffers in place), so it stays alive as long as this object.
   explicit EmbreeScene(std::shared_ptr<const SceneGeometry> geometry);
+  // The same, for geometry whose meshes may later be replaced (ReplaceMesh).
+  explicit EmbreeScene(std::shared_ptr<SceneGeometry> geometry);
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;
@@ -82,6 +92,15 @@ class EmbreeScene {
   size_t degenerate_triangle_count() const { return geometry_->degenerate_triangles; }
   const std::vector<std::string>& warnings() const { return geometry_->warnings; }
 
+  // Whether ReplaceMesh may be called (built from mutable geometry).
+  bool mutable_geometry() const { return mutable_geometry_ != nullptr; }
+  // Replaces the triangles of SceneGeometry::meshes[mesh_index] (every instance
+  // of it sees the new mesh) and rebuilds what depends on it. Not thread-safe:
+  // no query may run meanwhile. Throws std::logic_error on immutable geometry,
+  // std::out_of_range for a bad index, std::logic_error (Mesh::Validate) for an
+  // inconsistent mesh. Bounds grow to hold the new mesh (they never shrink).
+  void ReplaceMesh(size_t mesh_index, Mesh mesh);
+
   // Fills a hit from what Embree reports (instance, triangle, barycentrics).
   Hit MakeHit(const Ray& ray, uint32_t instance_id, uint32_t primitive_id, float u, float v) const;
   // Throws std::runtime_error when Embree has reported an error on this scene's
@@ -92,12 +111,19 @@ class EmbreeScene {
  private:
   struct DeviceErrors;
   void ThrowIfError(const char* stage) const;
+  void Build();
+  // Builds mesh_scenes_[mesh_index]'s content; returns the re-centring offset.
+  Eigen::Vector3d BuildMeshScene(size_t mesh_index);
+  void SetInstanceTransform(size_t instance_index, RTCGeometry geom) const;
 
   std::shared_ptr<const SceneGeometry> geometry_;
+  SceneGeometry* mutable_geometry_ = nullptr;  // the same geometry, when it may change
   std::unique_ptr<DeviceErrors> errors_;
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
   std::vector<RTCScene> mesh_scenes_;
+  std::vector<char> mesh_attached_;                // per mesh: its scene holds geometry 0
+  std::vector<Eigen::Vector3d> mesh_center_;       // per mesh: the re-centring offset (float-exact)
   std::vector<Eigen::Matrix3d> normal_from_mesh_;  // inverse transpose of each instance's linear part
   Eigen::Vector3d render_origin_ = Eigen::Vector3d::Zero();
   Eigen::AlignedBox3d bounds_;

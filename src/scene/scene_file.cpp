@@ -77,6 +77,7 @@ nlohmann::json Resolve(const nlohmann::json& raw, const SceneFile& s, const std:
   }
   // The motion as parsed: every type writes its own complete form, file paths absolute.
   r["motion"] = MotionToJson(s.motion);
+  if (s.print) r["print"] = PrintSettingsToJson(*s.print);
   if (!r.contains("render")) r["render"] = nlohmann::json::object();
   AddMissing(r["render"], ToJson(s.render));
   if (!r.contains("output")) r["output"] = nlohmann::json::object();
@@ -103,6 +104,16 @@ SceneFile Parse(const json::Document& doc, const std::filesystem::path& path, co
   if (auto env = o.Find("environment")) s.environment = ParseEnvironment(*env);
   s.sensor = ParseSensorRig(o.GetObject("sensor"));
   if (auto motion = o.Find("motion")) s.motion = ParseMotion(*motion);
+  if (auto print = o.Find("print")) {
+    s.print = ParsePrintSettings(*print);
+    if (!std::holds_alternative<GcodeMotion>(s.motion)) {
+      print->Fail("needs a \"gcode\" motion (the part is printed along its toolpath), the motion is \"" +
+                  MotionTypeName(s.motion) + "\"");
+    }
+    if (!s.print->material.empty() && s.FindMaterial(s.print->material) < 0) {
+      print->Child("material").Fail("unknown material \"" + s.print->material + "\"");
+    }
+  }
   if (auto render = o.Find("render")) s.render = ParseRenderSettings(*render);
   if (auto output = o.Find("output")) s.output = ParseOutputSettings(*output);
   o.Finish();

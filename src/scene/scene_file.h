@@ -18,6 +18,7 @@
 
 #include "core/pose.h"
 #include "scene/motion.h"
+#include "scene/printed_part.h"
 #include "scene/scene_materials.h"
 #include "scene/scene_settings.h"
 #include "sensor/rig.h"
@@ -40,6 +41,8 @@ struct SceneFile {
   Environment environment;                  // default: black
   SensorRig sensor;
   Motion motion = DefaultMotion();
+  // The printed part growing along a "gcode" motion's toolpath (scene key "print").
+  std::optional<PrintSettings> print;
   RenderSettings render;
   OutputSettings output;
   // The scene as read, with every path made absolute, the defaults of seed,

@@ -71,6 +71,32 @@ SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
       g.warnings.push_back("object \"" + obj.name + "\": " + obj.gltf.string() + " holds no triangles");
     }
   }
+  if (scene.print) {
+    // The printed part: one empty mesh and instance per chunk, placed by the
+    // motion's world_from_gcode; PrintedPart fills the meshes over time.
+    const auto& motion = std::get<GcodeMotion>(scene.motion);
+    int32_t material = scene.print->material.empty() ? -1 : int32_t(scene.FindMaterial(scene.print->material));
+    if (material < 0) {
+      material = int32_t(g.materials.size());
+      g.materials.push_back(DefaultPrintMaterial());
+    }
+    const size_t object = g.object_names.size();
+    g.object_names.push_back("print");
+    const size_t chunks = SplitPrintIntoChunks(motion.toolpath->path(), scene.print->chunk_moves).size();
+    for (size_t c = 0; c < chunks; ++c) {
+      Mesh mesh;
+      mesh.name = "print/chunk_" + std::to_string(c);
+      SceneInstance inst;
+      inst.mesh = g.meshes.size();
+      inst.object = object;
+      inst.world_from_mesh = Eigen::Affine3d(motion.world_from_gcode.matrix());
+      inst.material_override = material;
+      inst.name = mesh.name;
+      g.print_meshes.push_back(g.meshes.size());
+      g.meshes.push_back(std::move(mesh));
+      g.instances.push_back(std::move(inst));
+    }
+  }
   return g;
 }
 

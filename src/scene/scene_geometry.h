@@ -30,7 +30,10 @@ struct SceneGeometry {
   // the materials of each glTF file in the order the files were loaded.
   std::vector<Material> materials;
   std::vector<SceneInstance> instances;
-  std::vector<std::string> object_names;  // SceneFile::objects order
+  std::vector<std::string> object_names;  // SceneFile::objects order, then "print" when the scene prints
+  // The meshes of the printed part's chunks (scene/printed_part.h), in chunk
+  // order; empty until PrintedPart::UpdateTo fills them. Empty without "print".
+  std::vector<size_t> print_meshes;
   size_t degenerate_triangles = 0;   // dropped while loading
   std::vector<std::string> warnings;
 

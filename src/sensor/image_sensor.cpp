@@ -114,11 +114,13 @@ double ImageSensor::SystemGain(std::optional<double> analog_gain_db) const {
   return params_.system_gain_dn_per_e * std::pow(10.0, analog_gain_db.value_or(params_.analog_gain_db) / 20.0);
 }
 
-int ImageSensor::Channel(int x, int y) const {
+int FilterChannel(ColorFilter filter, int x, int y) {
   // Colour of the 2x2 tile position (row-major: (0,0) (1,0) (0,1) (1,1)).
   static const int kTiles[5][4] = {{0, 0, 0, 0}, {0, 1, 1, 2}, {2, 1, 1, 0}, {1, 0, 2, 1}, {1, 2, 0, 1}};
-  return kTiles[int(params_.color_filter)][(y & 1) * 2 + (x & 1)];
+  return kTiles[int(filter)][(y & 1) * 2 + (x & 1)];
 }
+
+int ImageSensor::Channel(int x, int y) const { return FilterChannel(params_.color_filter, x, y); }
 
 double ImageSensor::QuantumEfficiency(int channel, double wavelength_m) const {
   const auto& w = params_.qe_wavelength_m;

@@ -39,6 +39,10 @@ namespace lt {
 
 enum class ColorFilter { kMono, kRGGB, kBGGR, kGRBG, kGBRG };
 
+// Colour channel (0 R, 1 G, 2 B; 0 for mono) of pixel (x, y) under a filter array
+// (x, y >= 0).
+int FilterChannel(ColorFilter filter, int x, int y);
+
 constexpr double kPlanck = 6.62607015e-34;       // J·s
 constexpr double kSpeedOfLight = 299792458.0;    // m/s
 constexpr uint64_t kSensorNoisePurpose = 0x53454e534f524e31ull;   // temporal noise streams

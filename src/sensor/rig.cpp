@@ -352,6 +352,8 @@ nlohmann::json SensorRigToJson(const SensorRig& rig) {
                            {"system_gain_dn_per_e", rig.image_sensor.SystemGain()},
                            {"dark_noise_e", s.dark_noise_e},
                            {"black_level_dn", s.black_level_dn}};
+  static const char* kFilters[] = {"mono", "rggb", "bggr", "grbg", "gbrg"};
+  sensor["color_filter"] = kFilters[int(s.color_filter)];
   return {{"camera", cam}, {"lasers", lasers}, {"image_sensor", sensor}};
 }
 

@@ -104,7 +104,7 @@ std::vector<BadScene> BadScenes() {
   return {
       {"unknown_top_key.json",
        "/seeds: unknown key \"seeds\" (known keys: $schema, description, environment, materials, motion, objects, "
-       "output, render, seed, sensor)"},
+       "output, print, render, seed, sensor)"},
       {"seed_negative.json", "/seed: must be >= 0, got -1"},
       {"seed_not_integer.json", "/seed: must be an integer, got 1.5"},
       {"objects_empty.json", "/objects: must have at least 1 elements, got 0"},
@@ -136,6 +136,7 @@ std::vector<BadScene> BadScenes() {
       {"motion_unknown_key.json",
        "/motion/world_from_camera: unknown key \"world_from_camera\" (known keys: type, world_from_cam)"},
       {"render_spp_zero.json", "/render/spp: must be in [1, 65536], got 0"},
+      {"print_chunk_moves_zero.json", "/print/chunk_moves: must be in [1, 1000000000], got 0"},
       {"render_threads_negative.json", "/render/threads: must be in [0, 1024], got -1"},
       {"output_bit_depth.json", "/output/png_bit_depth: must be 8 or 16, got 12"},
       {"output_bool_type.json", "/output/write_radiance: must be true or false, got a string"},

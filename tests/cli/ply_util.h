@@ -1,5 +1,6 @@
 // Reading the binary PLY clouds `lasertwin scan` writes (x, y, z doubles,
-// frame and plane ints), for the command-line tests.
+// frame and plane ints, then (runs with ground truth) int label and (runs with
+// bright frames) uchar red, green, blue), for the command-line tests.
 #pragma once
 
 #include <gmock/gmock.h>
@@ -22,7 +23,8 @@ inline double Distance(const Vec3& a, const Vec3& b) { return std::hypot(a.x - b
 
 struct PlyVertex {
   Vec3 p;
-  int32_t frame = 0, plane = 0;
+  int32_t frame = 0, plane = 0, label = -1;
+  uint8_t rgb[3] = {0, 0, 0};
 };
 inline std::vector<PlyVertex> ReadPly(const std::filesystem::path& path, std::string* header_out = nullptr) {
   const std::string bytes = ReadFile(path);
@@ -36,10 +38,12 @@ inline std::vector<PlyVertex> ReadPly(const std::filesystem::path& path, std::st
   if (header_out) *header_out = header;
   EXPECT_THAT(header, ::testing::StartsWith("ply\nformat binary_little_endian 1.0\n"));
   EXPECT_THAT(header, ::testing::HasSubstr("property double x\nproperty double y\nproperty double z\nproperty int frame\n"
-                                "property int plane\nend_header\n"));
+                                "property int plane\n"));
+  const bool has_label = header.find("property int label\n") != std::string::npos;
+  const bool has_colour = header.find("property uchar red\nproperty uchar green\nproperty uchar blue\n") != std::string::npos;
   const size_t pos = header.find("element vertex ");
   const size_t count = std::stoul(header.substr(pos + 15));
-  const size_t record = 3 * 8 + 2 * 4;
+  const size_t record = 3 * 8 + 2 * 4 + (has_label ? 4 : 0) + (has_colour ? 3 : 0);
   EXPECT_EQ(bytes.size(), body + end.size() + count * record);
   std::vector<PlyVertex> out;
   const char* p = bytes.data() + body + end.size();
@@ -50,6 +54,8 @@ inline std::vector<PlyVertex> ReadPly(const std::filesystem::path& path, std::st
     std::memcpy(&v.p.z, p + 16, 8);
     std::memcpy(&v.frame, p + 24, 4);
     std::memcpy(&v.plane, p + 28, 4);
+    if (has_label) std::memcpy(&v.label, p + 32, 4);
+    if (has_colour) std::memcpy(v.rgb, p + 32 + (has_label ? 4 : 0), 3);
     out.push_back(v);
   }
   return out;

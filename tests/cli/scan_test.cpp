@@ -153,12 +153,15 @@ TEST_F(ScanCommand, PlyHoldsTheTriangulatedPoints) {
   std::string header;
   std::vector<PlyVertex> ply = ReadPly(run / "cloud.ply", &header);
   EXPECT_THAT(header, HasSubstr("world frame"));
-  EXPECT_THAT(header, ::testing::Not(HasSubstr("property uchar red")));  // no colour yet
+  // The run has ground truth and bright frames: labels and colour.
+  EXPECT_THAT(header, HasSubstr("property int plane\nproperty int label\nproperty uchar red\nproperty uchar green\n"
+                                "property uchar blue\nend_header\n"));
   ASSERT_EQ(ply.size(), csv_world.size());
   ASSERT_GT(ply.size(), 140u);
   for (size_t i = 0; i < ply.size(); ++i) {
     EXPECT_EQ(ply[i].frame, 0);
     EXPECT_EQ(ply[i].plane, 0);
+    EXPECT_TRUE(ply[i].label == 0 || ply[i].label == 1) << ply[i].label;  // the test part or the bed
     // The CSV has 12 significant digits (1e-14 m at these coordinates).
     EXPECT_LT(Distance(ply[i].p, csv_world[i]), 1e-12) << i;
   }

@@ -69,12 +69,18 @@ TEST(RunFolderReader, LaserFrameRules) {
         R"({"index":1,"files":{"image":"b.png"},"shutter":{"laser_on":false},"lit_fraction":{"laser":0.25}})"
         "\n"
         R"({"index":2,"files":{"image":"c.png"},"shutter":{"laser_on":false}})"
+        "\n"
+        R"({"index":3,"files":{"image":"d.png"},"lit_fraction":{"laser":0.5}})"
+        "\n"
+        R"({"index":4,"files":{"image":"e.png"},"lit_fraction":{"laser":0}})"
         "\n");
   std::vector<RunFrame> f = ReadRunManifest(run);
-  ASSERT_EQ(f.size(), 3u);
+  ASSERT_EQ(f.size(), 5u);
   EXPECT_TRUE(f[0].IsLaserFrame());   // no shutter information: a laser scanner's frame
-  EXPECT_TRUE(f[1].IsLaserFrame());   // the laser lit a quarter of the exposure (sync error)
+  EXPECT_FALSE(f[1].IsLaserFrame());  // a bright frame the laser bled into (sync error): colour, not stripes
   EXPECT_FALSE(f[2].IsLaserFrame());
+  EXPECT_TRUE(f[3].IsLaserFrame());   // no commanded state: the laser lit the frame
+  EXPECT_FALSE(f[4].IsLaserFrame());
   EXPECT_EQ(f[0].FullScale(65535), 65535);  // bit depth unknown
 }
 

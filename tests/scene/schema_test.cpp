@@ -54,7 +54,7 @@ Result Validate(const std::vector<fs::path>& files) {
 }
 
 TEST(SceneSchema, ExamplesValidate) {
-  Result r = Validate({kSource / "scenes/demo/scene.json", kSource / "tests/data/scenes/minimal.json",
+  Result r = Validate({kSource / "scenes/demo/scene.json", kSource / "scenes/print/scene.json", kSource / "tests/data/scenes/minimal.json",
                        kSource / "tests/data/scenes/full.json", kSource / "tests/data/scenes/warnings.json"});
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(r.output, "");
@@ -84,6 +84,7 @@ TEST(SceneSchema, RejectsWhatTheParserRejects) {
       {"render_threads_negative", ": /render/threads: -1 is less than the minimum of 0"},
       {"output_bit_depth", ": /output/png_bit_depth: 12 is not one of [8, 16]"},
       {"output_bool_type", ": /output/write_radiance: 'yes' is not of type 'boolean'"},
+      {"print_chunk_moves_zero", ": /print/chunk_moves: 0 is less than the minimum of 1"},
   };
   std::vector<fs::path> files;
   for (const auto& [name, message] : cases) files.push_back(kSource / "tests/data/scenes/bad" / (name + ".json"));

@@ -9,6 +9,7 @@
 #include <memory>
 #include <sstream>
 
+#include "scene/bead_geometry.h"
 #include "scene/embree_scene.h"
 #include "scene/scene_file.h"
 #include "tools/lasertwin/command.h"
@@ -159,7 +160,26 @@ nlohmann::json Describe(const SceneFile& scene, const EmbreeScene& embree) {
   const Pose world_from_cam = WorldFromCamAt(scene.motion, 0.0);
   j["motion"] = {{"type", MotionTypeName(scene.motion)},
                  {"camera_position_m", JsonVec(world_from_cam.translation())},
-                 {"view_direction", JsonVec(world_from_cam.linear().col(2))}};
+                 {"view_direction", JsonVec(world_from_cam.linear().col(2))},
+                 {"notes", MotionNotes(scene.motion)}};
+  if (scene.print) {
+    const auto& motion = std::get<GcodeMotion>(scene.motion);
+    std::string material;
+    for (const SceneInstance& inst : g.instances) {
+      if (inst.object == scene.objects.size() && inst.material_override >= 0) {
+        material = g.materials.at(size_t(inst.material_override)).name;
+      }
+    }
+    BeadOptions beads;
+    beads.filament_diameter_m = scene.print->filament_diameter_m;
+    beads.layer_height_m = scene.print->layer_height_m;
+    beads.points_per_half_disc = scene.print->points_per_half_disc;
+    const Mesh full = BeadMeshUpTo(motion.toolpath->path(), motion.toolpath->path().Duration(), beads);
+    j["print"] = {{"chunks", g.print_meshes.size()},
+                  {"material", material},
+                  {"triangles_when_complete", full.TriangleCount()},
+                  {"settings", PrintSettingsToJson(*scene.print)}};
+  }
   j["environment"] = ToJson(scene.environment);
   j["render"] = ToJson(scene.render);
   j["output"] = ToJson(scene.output);
@@ -246,6 +266,13 @@ void PrintText(const nlohmann::json& j, std::ostream& out) {
   const auto& mo = j["motion"];
   out << "motion: " << mo["type"].get<std::string>() << ", camera at " << vec(mo["camera_position_m"], 1e3)
       << " mm looking along " << vec(mo["view_direction"]) << "\n";
+  for (const auto& n : mo["notes"]) out << "  " << n.get<std::string>() << "\n";
+  if (j.contains("print")) {
+    const auto& p = j["print"];
+    out << "print: the part grows along the toolpath in " << p["chunks"].get<size_t>() << " chunk(s), material "
+        << p["material"].get<std::string>() << ", " << p["triangles_when_complete"].get<size_t>()
+        << " triangles when complete\n";
+  }
   out << "environment: " << j["environment"].dump() << "\n";
   out << "render: " << j["render"].dump() << "\n";
   out << "output: " << j["output"].dump() << "\n";

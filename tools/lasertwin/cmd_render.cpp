@@ -35,6 +35,9 @@ void Run(const RenderArgs& a) {
   if (a.threads >= 0) overrides.threads = a.threads;
   if (a.seed >= 0) overrides.seed = uint64_t(a.seed);
   auto [begin, end] = FrameRange::Parse(a.frames).Resolve(scene.render.frames);
+  if (!a.quiet) {
+    for (const std::string& note : MotionNotes(scene.motion)) std::cerr << "motion: " << note << "\n";
+  }
 
   // The resolved scene with the overrides applied, so the run folder says what was rendered.
   nlohmann::json resolved = scene.resolved;

@@ -2,6 +2,7 @@
 // [--frames A:B] ...`: extracts, identifies and triangulates the stripe points
 // of every laser frame of a run folder; writes RUN_DIR/centers/NNNNNN.csv and
 // RUN_DIR/cloud.ply (docs/pipeline.md).
+#include <iomanip>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -71,7 +72,16 @@ void Run(ScanArgs& a) {
   add(st.behind, "behind the camera");
   if (!rejected.empty()) std::cerr << " (" << rejected << ")";
   std::cerr << "; " << s.planes << " laser plane" << (s.planes == 1 ? "" : "s") << " from " << s.plane_source.string()
-            << "\nwrote " << a.run_dir << "/centers/ and " << a.run_dir << "/cloud.ply ("
+            << "\n";
+  if (s.coloured) {
+    const ColourStats& c = s.colour;
+    std::cerr << "colour from " << c.bright_frames << " bright frame" << (c.bright_frames == 1 ? "" : "s") << ": "
+              << c.coloured << " of " << c.points << " points coloured; " << c.contaminated
+              << " contaminated by laser light (" << std::fixed << std::setprecision(1) << (c.coloured > 0 ? 100.0 * c.contaminated / c.coloured : 0.0) << std::defaultfloat
+              << "% of the coloured, " << (c.from_radiance ? "from the radiance images" : "from the lit fractions")
+              << ")\n";
+  }
+  std::cerr << "wrote " << a.run_dir << "/centers/ and " << a.run_dir << "/cloud.ply ("
             << (s.world_frame ? "world" : "camera") << " frame)\n";
 }
 
@@ -111,6 +121,10 @@ void Add(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--min-ray-angle-deg", args->options.triangulation.min_ray_angle_deg,
                   "Reject rays closer than this to the laser plane (degrees)")
+      ->capture_default_str();
+  cmd->add_option("--contamination-ratio", args->options.colour.contamination_ratio,
+                  "A bright-frame sample is contaminated when its laser radiance is at least this fraction of its "
+                  "broadband radiance")
       ->capture_default_str();
   cmd->add_flag("--quiet", args->quiet, "No summary on stderr");
   cmd->callback([args] { Run(*args); });

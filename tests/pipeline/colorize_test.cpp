@@ -1,0 +1,169 @@
+// Colour for scan points from bright frames (pipeline/colorize.h): bilinear
+// demosaicing against closed forms, the colour of a known-coloured target, and the
+// laser contamination test from radiance images and from lit fractions.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "core/error.h"
+#include "core/image_io.h"
+#include "pipeline/colorize.h"
+
+namespace lt {
+namespace {
+
+namespace fs = std::filesystem;
+
+Camera SmallCamera() {
+  CameraParams p;
+  p.width = 40;
+  p.height = 30;
+  p.fx = p.fy = 400;
+  p.cx = 19.5;
+  p.cy = 14.5;
+  return Camera(p);
+}
+
+// A linear function of position per colour channel.
+double Linear(int c, double x, double y) { return 100.0 + 50.0 * c + (2.0 + c) * x + (3.0 - c) * y; }
+
+TEST(SampleColour, BilinearDemosaicReproducesLinearColoursExactly) {
+  // Each pixel holds its filter colour's linear function: bilinear interpolation on
+  // each colour's lattice reproduces a linear function exactly, wherever the four
+  // lattice neighbours exist (here: one lattice step inside the image).
+  for (ColorFilter f : {ColorFilter::kRGGB, ColorFilter::kBGGR, ColorFilter::kGRBG, ColorFilter::kGBRG}) {
+    Image<float> mosaic(20, 16, 1);
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 20; ++x) mosaic.At(x, y) = float(Linear(FilterChannel(f, x, y), x, y));
+    for (const Eigen::Vector2d uv : {Eigen::Vector2d(5.3, 7.9), Eigen::Vector2d(2.0, 2.0), Eigen::Vector2d(16.7, 12.2)}) {
+      const Eigen::Vector3d rgb = SampleColour(mosaic, f, uv);
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(rgb[c], Linear(c, uv.x(), uv.y()), 1e-3) << int(f) << " " << c;
+    }
+  }
+  // Mono and three-channel images: plain bilinear interpolation.
+  Image<float> grey(10, 10, 1), rgb(10, 10, 3);
+  for (int y = 0; y < 10; ++y)
+    for (int x = 0; x < 10; ++x) {
+      grey.At(x, y) = float(Linear(0, x, y));
+      for (int c = 0; c < 3; ++c) rgb.At(x, y, c) = float(Linear(c, x, y));
+    }
+  EXPECT_NEAR(SampleColour(grey, ColorFilter::kMono, {3.25, 4.5})[2], Linear(0, 3.25, 4.5), 1e-4);
+  EXPECT_NEAR(SampleColour(rgb, ColorFilter::kMono, {3.25, 4.5})[1], Linear(1, 3.25, 4.5), 1e-4);
+}
+
+// A run folder: frames 0 (bright), 1 (dim), 2 (bright), all with the camera at the
+// world origin looking along +z; the bright images are uniform RGGB mosaics.
+struct ColourRun {
+  fs::path dir = fs::temp_directory_path() / ("lt_colorize_" + std::to_string(::getpid()));
+  std::vector<RunFrame> frames;
+  ColourRun() {
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    for (int i = 0; i < 3; ++i) {
+      RunFrame f;
+      f.index = i;
+      f.where = "manifest.jsonl:" + std::to_string(i + 1);
+      f.laser_on = i == 1;
+      f.laser_on_known = f.shutter_known = true;
+      f.laser_fraction = i == 1 ? 1.0 : 0.0;
+      f.world_from_cam = Pose::Identity();
+      f.bit_depth = 10;
+      f.png_bit_depth = 16;
+      f.image = dir / ("frame" + std::to_string(i) + ".png");
+      frames.push_back(f);
+    }
+  }
+  ~ColourRun() { fs::remove_all(dir); }
+  // A 16-bit PNG holding 10-bit DN: an RGGB mosaic of the colour rgb (DN).
+  void WriteMosaic(int index, const Eigen::Vector3d& rgb) {
+    Image<uint16_t> im(40, 30, 1);
+    for (int y = 0; y < 30; ++y)
+      for (int x = 0; x < 40; ++x) im.At(x, y) = uint16_t(rgb[FilterChannel(ColorFilter::kRGGB, x, y)]);
+    WriteImage(frames[size_t(index)].image, im);
+  }
+};
+
+TEST(Colorizer, KnownColourAveragedOverTheAdjacentBrightFrames) {
+  ColourRun run;
+  run.WriteMosaic(0, {800, 400, 100});
+  run.WriteMosaic(2, {600, 200, 300});
+  run.WriteMosaic(1, {0, 0, 0});
+  // Black level 23 DN, full scale 1023 DN: colour = (mean DN - 23) / 1000 * 255.
+  Colorizer colorizer(run.frames, SmallCamera(), ColorFilter::kRGGB, 23.0);
+  const std::vector<Eigen::Vector3d> points = {{0, 0, 0.1}, {0.004, -0.003, 0.1}, {1.0, 0, 0.1}, {0, 0, -0.1}};
+  std::vector<PointColour> c = colorizer.Colour(1, points);
+  ASSERT_EQ(c.size(), 4u);
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_TRUE(c[size_t(k)].coloured);
+    EXPECT_FALSE(c[size_t(k)].contaminated);
+    EXPECT_EQ(int(c[size_t(k)].rgb[0]), int(std::lround((700.0 - 23) / 1000 * 255)));  // 173
+    EXPECT_EQ(int(c[size_t(k)].rgb[1]), int(std::lround((300.0 - 23) / 1000 * 255)));  // 71
+    EXPECT_EQ(int(c[size_t(k)].rgb[2]), int(std::lround((200.0 - 23) / 1000 * 255)));  // 45
+  }
+  // Outside the image (x = 1 m at 0.1 m: 4000 px off) and behind the camera: uncoloured.
+  EXPECT_FALSE(c[2].coloured);
+  EXPECT_FALSE(c[3].coloured);
+  EXPECT_EQ(colorizer.stats().coloured, 2);
+  EXPECT_EQ(colorizer.stats().bright_frames, 2);
+  EXPECT_EQ(colorizer.stats().contaminated, 0);
+  EXPECT_FALSE(colorizer.stats().from_radiance);
+}
+
+TEST(Colorizer, ContaminationFromLitFractionOrRadiance) {
+  ColourRun run;
+  for (int i = 0; i < 3; ++i) run.WriteMosaic(i, {500, 500, 500});
+  const std::vector<Eigen::Vector3d> points = {{-0.002, 0, 0.1}, {0.002, 0, 0.1}};  // u = 11.5 and 27.5 px
+  {
+    // No radiance image: the laser lit 10% of bright frame 2's exposure.
+    std::vector<RunFrame> frames = run.frames;
+    frames[2].laser_fraction = 0.1;
+    Colorizer colorizer(frames, SmallCamera(), ColorFilter::kRGGB, 0.0);
+    std::vector<PointColour> c = colorizer.Colour(1, points);
+    EXPECT_TRUE(c[0].contaminated && c[1].contaminated);
+    EXPECT_EQ(colorizer.stats().contaminated, 2);
+  }
+  {
+    // Radiance images: laser light in the right half of frame 2 only, at 10% and
+    // 1% of the broadband radiance (the threshold is 5%).
+    std::vector<RunFrame> frames = run.frames;
+    for (int i : {0, 2}) {
+      Image<float> radiance(40, 30, 4, 0.0f);
+      for (int y = 0; y < 30; ++y)
+        for (int x = 0; x < 40; ++x) {
+          for (int c = 0; c < 3; ++c) radiance.At(x, y, c) = 2.0f;
+          radiance.At(x, y, 3) = i == 2 && x >= 20 ? 0.2f : i == 2 ? 0.02f : 0.0f;
+        }
+      frames[size_t(i)].radiance = run.dir / ("radiance" + std::to_string(i) + ".exr");
+      WriteImage(*frames[size_t(i)].radiance, radiance, true, {"R", "G", "B", "laser"});
+    }
+    Colorizer colorizer(frames, SmallCamera(), ColorFilter::kRGGB, 0.0);
+    std::vector<PointColour> c = colorizer.Colour(1, points);
+    EXPECT_FALSE(c[0].contaminated);
+    EXPECT_TRUE(c[1].contaminated);
+    EXPECT_TRUE(colorizer.stats().from_radiance);
+    EXPECT_EQ(colorizer.stats().contaminated, 1);
+  }
+}
+
+TEST(Colorizer, ErrorsNameTheBrightFrame) {
+  ColourRun run;
+  run.WriteMosaic(0, {1, 2, 3});
+  // Frame 2's image is missing.
+  Colorizer colorizer(run.frames, SmallCamera(), ColorFilter::kRGGB, 0.0);
+  try {
+    colorizer.Colour(1, {{0, 0, 0.1}});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("frame2.png"));
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("bright frame 2"));
+  }
+  ColourOptions bad;
+  bad.contamination_ratio = 0;
+  EXPECT_THROW(bad.Check(), InputError);
+}
+
+}  // namespace
+}  // namespace lt
