@@ -144,14 +144,11 @@ SearchAxis TruthAxis(const RunFrame& frame, const std::vector<TruthCenter>& trut
                    "the centres are neither on whole rows nor on whole columns, and the manifest has no gt_axis");
 }
 
-struct FrameSamples {
-  std::vector<CenterSample> centers;
-  std::vector<PointSample> points;
-};
+}  // namespace
 
-FrameSamples EvaluateFrame(const RunFrame& frame, SearchAxis axis, const std::vector<TruthCenter>& truth,
-                           const std::vector<ScanPoint>& measured, const fs::path& measured_file,
-                           const TrueSurface* surface, const EvalOptions& o) {
+std::vector<int> MatchCenters(SearchAxis axis, const std::vector<TruthCenter>& truth,
+                              const std::vector<ScanPoint>& measured, double max_match_px,
+                              const fs::path& truth_file, const fs::path& measured_file) {
   const bool rows = axis == SearchAxis::kRows;
   auto line_of = [&](double u, double v) { return rows ? v : u; };
   auto along = [&](double u, double v) { return rows ? u : v; };
@@ -160,9 +157,9 @@ FrameSamples EvaluateFrame(const RunFrame& frame, SearchAxis axis, const std::ve
   for (size_t i = 0; i < truth.size(); ++i) {
     const double l = line_of(truth[i].u, truth[i].v);
     if (!IsWhole(l, 1e-6)) {
-      throw InputError(frame.gt_centers->string(), std::string("ground-truth centre ") + std::to_string(i + 1) +
-                                                       " is not on a whole image row/column (gt_axis " +
-                                                       (rows ? "rows" : "cols") + ")");
+      throw InputError(truth_file.string(), std::string("ground-truth centre ") + std::to_string(i + 1) +
+                                                " is not on a whole image row/column (gt_axis " +
+                                                (rows ? "rows" : "cols") + ")");
     }
     by_line[int(std::lround(l))].first.push_back(int(i));
   }
@@ -176,8 +173,6 @@ FrameSamples EvaluateFrame(const RunFrame& frame, SearchAxis axis, const std::ve
     }
     by_line[int(std::lround(l))].second.push_back(int(j));
   }
-
-  FrameSamples out;
   std::vector<int> partner(measured.size(), -1);  // measured -> truth
   for (auto& [line, ids] : by_line) {
     const auto& [ti, mi] = ids;
@@ -186,7 +181,7 @@ FrameSamples EvaluateFrame(const RunFrame& frame, SearchAxis axis, const std::ve
       for (int j : mi) {
         const double d = std::abs(along(measured[size_t(j)].pixel.u, measured[size_t(j)].pixel.v) -
                                   along(truth[size_t(i)].u, truth[size_t(i)].v));
-        if (d <= o.max_match_px) pairs.emplace_back(d, i, j);
+        if (d <= max_match_px) pairs.emplace_back(d, i, j);
       }
     }
     std::sort(pairs.begin(), pairs.end());
@@ -200,6 +195,32 @@ FrameSamples EvaluateFrame(const RunFrame& frame, SearchAxis axis, const std::ve
       partner[size_t(j)] = i;
       truth_partner.push_back(i);
     }
+  }
+  return partner;
+}
+
+namespace {
+
+struct FrameSamples {
+  std::vector<CenterSample> centers;
+  std::vector<PointSample> points;
+};
+
+FrameSamples EvaluateFrame(const RunFrame& frame, SearchAxis axis, const std::vector<TruthCenter>& truth,
+                           const std::vector<ScanPoint>& measured, const fs::path& measured_file,
+                           const TrueSurface* surface, const EvalOptions& o) {
+  const bool rows = axis == SearchAxis::kRows;
+  auto line_of = [&](double u, double v) { return rows ? v : u; };
+  auto along = [&](double u, double v) { return rows ? u : v; };
+  const std::vector<int> partner = MatchCenters(axis, truth, measured, o.max_match_px, *frame.gt_centers, measured_file);
+  std::map<int, std::pair<std::vector<int>, std::vector<int>>> by_line;  // line -> (truth, measured) indices
+  for (size_t i = 0; i < truth.size(); ++i) by_line[int(std::lround(line_of(truth[i].u, truth[i].v)))].first.push_back(int(i));
+  for (size_t j = 0; j < measured.size(); ++j)
+    by_line[int(std::lround(line_of(measured[j].pixel.u, measured[j].pixel.v)))].second.push_back(int(j));
+
+  FrameSamples out;
+  for (auto& [line, ids] : by_line) {
+    const auto& [ti, mi] = ids;
     std::map<int, int> matched_truth;
     for (int j : mi) {
       if (partner[size_t(j)] >= 0) matched_truth[partner[size_t(j)]] = j;

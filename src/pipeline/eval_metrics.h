@@ -44,6 +44,8 @@
 #include <vector>
 
 #include "pipeline/extraction_options.h"
+#include "pipeline/ground_truth.h"
+#include "pipeline/triangulation.h"
 
 namespace lt {
 
@@ -134,6 +136,15 @@ struct RunMetrics {
 // measured file scanned along the other axis, ground-truth buffers of the
 // wrong size or without Z/N channels, no frame with ground truth in range.
 RunMetrics EvaluateRun(const std::filesystem::path& run_dir, const EvalOptions& options);
+
+// The matching of one frame (above): per scan line of `axis`, each
+// ground-truth centre with the nearest measured centre within max_match_px,
+// one-to-one, closest pairs first. Returns, per measured centre, the index of
+// its ground-truth partner or -1. Throws lt::InputError naming truth_file or
+// measured_file when a centre is not on a whole scan line.
+std::vector<int> MatchCenters(SearchAxis axis, const std::vector<TruthCenter>& truth,
+                              const std::vector<ScanPoint>& measured, double max_match_px,
+                              const std::filesystem::path& truth_file, const std::filesystem::path& measured_file);
 
 // Writes RUN/metrics.json (atomically) and returns its path.
 std::filesystem::path WriteMetricsJson(const std::filesystem::path& run_dir, const RunMetrics& metrics);

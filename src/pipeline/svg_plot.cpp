@@ -131,6 +131,11 @@ std::string SvgEscape(const std::string& text) {
   return out;
 }
 
+std::string SvgColor(int i) {
+  static const char* colors[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2"};
+  return colors[size_t(i) % 7];
+}
+
 std::string SvgPlot(const SvgPlotOptions& o, const std::vector<SvgSeries>& series) {
   Frame f(o);
   double xmn = std::numeric_limits<double>::infinity(), xmx = -xmn, ymn = xmn, ymx = -xmn;
@@ -145,15 +150,28 @@ std::string SvgPlot(const SvgPlotOptions& o, const std::vector<SvgSeries>& serie
   }
   f.x.Fit(xmn, xmx, false);
   f.y.Fit(ymn, ymx, o.y_from_zero);
+  if (o.x_min) f.x.lo = *o.x_min;
+  if (o.x_max) f.x.hi = *o.x_max;
+  if (o.y_min) f.y.lo = *o.y_min;
+  if (o.y_max) f.y.hi = *o.y_max;
+  auto inside = [&](double xv, double yv) {
+    return f.x.Valid(xv) && f.y.Valid(yv) && (!o.x_min || xv >= *o.x_min) && (!o.x_max || xv <= *o.x_max) &&
+           (!o.y_min || yv >= *o.y_min) && (!o.y_max || yv <= *o.y_max);
+  };
   f.DrawAxes(o);
   int legend = 0;
   for (const SvgSeries& s : series) {
     std::string path;
     std::string marks;
+    bool broken = true;
     for (size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) {
-      if (!f.x.Valid(s.x[i]) || !f.y.Valid(s.y[i])) continue;
+      if (!inside(s.x[i], s.y[i])) {
+        broken = true;
+        continue;
+      }
       const double px = f.x.Map(s.x[i]), py = f.y.Map(s.y[i]);
-      path += (path.empty() ? "M" : " L") + F(px) + " " + F(py);
+      path += (path.empty() ? "M" : broken ? " M" : " L") + F(px) + " " + F(py);
+      broken = false;
       if (s.markers) marks += "<circle cx=\"" + F(px) + "\" cy=\"" + F(py) + "\" r=\"" + F(s.marker_radius) + "\"/>";
       if (i < s.labels.size() && !s.labels[i].empty()) {
         const bool right_edge = px > f.x.p1 - 90;  // keep labels inside the plot
@@ -162,7 +180,8 @@ std::string SvgPlot(const SvgPlotOptions& o, const std::vector<SvgSeries>& serie
       }
     }
     if (s.line && !path.empty()) {
-      f.svg += "<path d=\"" + path + "\" fill=\"none\" stroke=\"" + s.color + "\" stroke-width=\"1.5\"/>\n";
+      f.svg += "<path d=\"" + path + "\" fill=\"none\" stroke=\"" + s.color + "\" stroke-width=\"1.5\"" +
+               (s.dashed ? std::string(" stroke-dasharray=\"6 4\"") : std::string()) + "/>\n";
     }
     if (!marks.empty()) f.svg += "<g fill=\"" + s.color + "\" fill-opacity=\"0.7\">" + marks + "</g>\n";
     if (!s.name.empty()) {

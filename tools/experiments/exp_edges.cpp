@@ -7,9 +7,10 @@
 // RUN_DIR is a rendered run; RUN_DIR/centers_METHOD/ holds `lasertwin scan
 // --method METHOD`'s centres of its laser frames (the driver script
 // tools/experiments/sharp_edges.sh copies each scan's centers/ there). Each
-// measured point is compared with the truth centre of the same scan line
-// (gt/NNNNNN_centers.csv) nearest to it along the line; points on lines
-// without a truth centre are "spurious". A scan line is an edge line when,
+// measured point is paired with a truth centre of the same scan line
+// (gt/NNNNNN_centers.csv) by the evaluation's matching (lt::MatchCenters:
+// nearest along the line, one-to-one, closest pairs first, no distance
+// limit); unpaired points are "spurious". A scan line is an edge line when,
 // within kEdgeLines lines, the truth stripe jumps (> 1 px between
 // neighbouring lines: a depth discontinuity), bends (second difference >
 // 0.1 px: a crease between faces), splits (two truth centres on one line) or
@@ -29,9 +30,11 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "centre_matching.h"
+#include "pipeline/eval_metrics.h"
+#include "pipeline/ground_truth.h"
 #include "pipeline/run_folder_reader.h"
-#include "svg_plot.h"
+#include "pipeline/scan_output.h"
+#include "pipeline/svg_plot.h"
 
 namespace lt {
 namespace {
@@ -64,21 +67,27 @@ int Run(int argc, char** argv) {
   fs::create_directories(out);
   std::ostringstream csv;
   csv << "method,class,points,truth_lines,detection_rate,median_px,p95_px,max_px,spurious\n";
-  std::vector<PlotSeries> series;
+  std::vector<SvgSeries> series;
   std::printf("%-8s %-7s %7s %9s %9s %8s %8s %9s\n", "method", "class", "points", "detected", "median", "95%",
               "max", "spurious");
   for (size_t m = 0; m < methods.size(); ++m) {
     std::map<std::string, ClassStats> stats;
-    PlotSeries ser{methods[m], {}, {}, PlotColor(int(m)), false, true};
+    SvgSeries ser;
+    ser.name = methods[m];
+    ser.color = SvgColor(int(m));
     for (const RunFrame& f : frames) {
       if (!f.IsLaserFrame() || !f.gt_centers) continue;
-      const bool cols = f.gt_axis && *f.gt_axis == SearchAxis::kCols;
+      const SearchAxis axis = f.gt_axis ? *f.gt_axis : SearchAxis::kRows;
+      const bool cols = axis == SearchAxis::kCols;
+      auto line_of = [&](double u, double v) { return int(std::lround(cols ? u : v)); };
+      auto along = [&](double u, double v) { return cols ? v : u; };
       char name[32];
       std::snprintf(name, sizeof name, "%06lld.csv", static_cast<long long>(f.index));
-      std::vector<FrameCentre> truth = ReadFrameCentres(*f.gt_centers, cols);
-      std::vector<FrameCentre> measured = ReadFrameCentres(fs::path(run) / ("centers_" + methods[m]) / name, cols);
+      const fs::path measured_file = fs::path(run) / ("centers_" + methods[m]) / name;
+      const std::vector<TruthCenter> truth = ReadTruthCentersCsv(*f.gt_centers);
+      const std::vector<ScanPoint> measured = ReadScanCsv(measured_file);
       std::map<int, std::vector<double>> truth_by_line;
-      for (const FrameCentre& c : truth) truth_by_line[c.line].push_back(c.pos);
+      for (const TruthCenter& c : truth) truth_by_line[line_of(c.u, c.v)].push_back(along(c.u, c.v));
       if (truth_by_line.empty()) continue;
       const int first = truth_by_line.begin()->first, last = truth_by_line.rbegin()->first;
       // Lines where the truth stripe has a feature; edge lines lie within kEdgeLines of one.
@@ -99,19 +108,21 @@ int Run(int argc, char** argv) {
         auto it = std::lower_bound(feature.begin(), feature.end(), line - kEdgeLines);
         return it != feature.end() && *it <= line + kEdgeLines;
       };
-      const std::vector<int> match = MatchToTruth(measured, truth, INFINITY);
+      const std::vector<int> match = MatchCenters(axis, truth, measured, INFINITY, *f.gt_centers, measured_file);
       std::map<int, bool> found;
       for (size_t k = 0; k < measured.size(); ++k) {
-        const FrameCentre& c = measured[k];
-        const std::string cls = is_edge(c.line) ? "edge" : "smooth";
+        const StripePoint& c = measured[k].pixel;
+        const int line = line_of(c.u, c.v);
+        const std::string cls = is_edge(line) ? "edge" : "smooth";
         if (match[k] < 0) {
           ++stats[cls].spurious;
           continue;
         }
-        const double signed_err = c.pos - truth[size_t(match[k])].pos;
+        const TruthCenter& t = truth[size_t(match[k])];
+        const double signed_err = along(c.u, c.v) - along(t.u, t.v);
         stats[cls].errors.push_back(std::abs(signed_err));
-        found[c.line] = true;
-        ser.x.push_back(c.line), ser.y.push_back(signed_err);
+        found[line] = true;
+        ser.x.push_back(line), ser.y.push_back(signed_err);
       }
       for (auto& [line, pos] : truth_by_line) {
         const std::string cls = is_edge(line) ? "edge" : "smooth";
@@ -132,12 +143,13 @@ int Run(int argc, char** argv) {
     series.push_back(ser);
   }
   WriteFileAtomically(fs::path(out) / "sharp_edges.csv", csv.str());
-  PlotOptions po;
+  SvgPlotOptions po;
+  po.height = 420;
   po.title = "Stripe centre error along the stripe (truth: exact centres)";
   po.x_label = "scan line (image column)";
   po.y_label = "measured - true centre (px)";
   po.y_min = -3, po.y_max = 3;
-  WriteFileAtomically(fs::path(out) / "sharp_edges.svg", SvgLinePlot(po, series));
+  WriteFileAtomically(fs::path(out) / "sharp_edges.svg", SvgPlot(po, series));
   std::cout << "wrote " << out << "/sharp_edges.csv and sharp_edges.svg\n";
   return 0;
 }

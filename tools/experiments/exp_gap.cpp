@@ -32,10 +32,11 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "csv_table.h"
+#include "pipeline/ground_truth.h"
 #include "pipeline/run_folder_reader.h"
+#include "pipeline/scan_output.h"
+#include "pipeline/svg_plot.h"
 #include "scene/gltf_loader.h"
-#include "svg_plot.h"
 
 namespace lt {
 namespace {
@@ -107,14 +108,21 @@ struct ProfilePoint {
 };
 
 // One point per column (the first when several): columns of the scan line.
-std::vector<ProfilePoint> ReadProfile(const fs::path& csv) {
-  CsvTable t = ReadCsvTable(csv);
-  const int cu = t.Column("u"), cx = t.Column("x_world"), cz = t.Column("z_world");
+// The measured points' world positions come from the scan (centers/NNNNNN.csv),
+// the truth centres' from their camera-frame points and the frame's pose.
+std::vector<ProfilePoint> ReadProfile(const RunFrame& frame, const fs::path& csv, bool truth) {
+  std::vector<std::pair<double, Eigen::Vector3d>> points;  // u, world point
+  if (truth) {
+    for (const TruthCenter& c : ReadTruthCentersCsv(csv)) points.emplace_back(c.u, *frame.world_from_cam * c.p_in_cam);
+  } else {
+    for (const ScanPoint& p : ReadScanCsv(csv))
+      if (p.p_in_world) points.emplace_back(p.pixel.u, *p.p_in_world);
+  }
   std::map<int, ProfilePoint> by_column;
-  for (const auto& r : t.rows) {
-    if (!std::isfinite(r[size_t(cx)]) || !std::isfinite(r[size_t(cz)])) continue;
-    int col = int(std::lround(r[size_t(cu)]));
-    by_column.emplace(col, ProfilePoint{col, r[size_t(cx)], r[size_t(cz)]});
+  for (const auto& [u, w] : points) {
+    if (!std::isfinite(w.x()) || !std::isfinite(w.z())) continue;
+    int col = int(std::lround(u));
+    by_column.emplace(col, ProfilePoint{col, w.x(), w.z()});
   }
   std::vector<ProfilePoint> out;
   for (auto& [c, p] : by_column) out.push_back(p);
@@ -190,7 +198,7 @@ std::vector<SlotResult> MeasureRun(const fs::path& run, const PartGeometry& part
     char name[32];
     std::snprintf(name, sizeof name, "%06lld", static_cast<long long>(f.index));
     fs::path csv = truth ? run / "gt" / (std::string(name) + "_centers.csv") : run / "centers" / (std::string(name) + ".csv");
-    std::vector<ProfilePoint> pts = ReadProfile(csv);
+    std::vector<ProfilePoint> pts = ReadProfile(f, csv, truth);
     if (pts.empty()) continue;
     std::vector<Gap> gaps = FindGaps(pts, mid, part.top_z);
     const double cam_x = f.world_from_cam->translation().x();
@@ -232,8 +240,13 @@ int Run(int argc, char** argv) {
   fs::create_directories(out);
   std::ostringstream csv;
   csv << "label,true_width_mm,measured_width_mm,error_mm,relative_error,detected,truth_width_mm,truth_error_mm\n";
-  std::vector<PlotSeries> widths, errors;
-  PlotSeries ideal{"ideal", {}, {}, "#888888", true, false, true};
+  std::vector<SvgSeries> widths, errors;
+  auto dashed = [](const std::string& name) {
+    SvgSeries s;
+    s.name = name, s.color = "#888888", s.markers = false, s.line = true, s.dashed = true;
+    return s;
+  };
+  SvgSeries ideal = dashed("ideal");
   for (const Slot& s : part.slots) ideal.x.push_back(s.width() * 1e3), ideal.y.push_back(s.width() * 1e3);
   widths.push_back(ideal);
   std::cout << "label   smallest detected  all detected  false gaps  max |error| >= 0.4 mm  mean |error|\n";
@@ -245,7 +258,9 @@ int Run(int argc, char** argv) {
     int false_scan = 0, false_truth = 0;
     std::vector<SlotResult> scan = MeasureRun(dir, part, false, &false_scan);
     std::vector<SlotResult> truth = MeasureRun(dir, part, true, &false_truth);
-    PlotSeries w{label, {}, {}, PlotColor(int(r))}, e{label, {}, {}, PlotColor(int(r))};
+    SvgSeries w;
+    w.name = label, w.color = SvgColor(int(r)), w.line = true;
+    SvgSeries e = w;
     double smallest = NAN, worst_big = 0, sum_abs = 0;
     int detected = 0;
     for (size_t k = 0; k < part.slots.size(); ++k) {
@@ -269,20 +284,23 @@ int Run(int argc, char** argv) {
     errors.push_back(e);
   }
   WriteFileAtomically(fs::path(out) / "gap_resolution.csv", csv.str());
-  PlotOptions pw;
+  SvgPlotOptions pw;
+  pw.height = 420;
   pw.title = "Measured slot width vs true width";
   pw.x_label = "true width (mm)";
   pw.y_label = "measured width (mm)";
   pw.x_min = 0, pw.x_max = 1.8, pw.y_min = 0, pw.y_max = 2.0;
-  WriteFileAtomically(fs::path(out) / "gap_widths.svg", SvgLinePlot(pw, widths));
-  PlotOptions pe;
+  WriteFileAtomically(fs::path(out) / "gap_widths.svg", SvgPlot(pw, widths));
+  SvgPlotOptions pe;
+  pe.height = 420;
   pe.title = "Relative error of the measured slot width";
   pe.x_label = "true width (mm)";
   pe.y_label = "error (% of the true width)";
   pe.x_min = 0, pe.x_max = 1.8;
-  PlotSeries band{"+-10%", {0, 1.8, NAN, 0, 1.8}, {10, 10, NAN, -10, -10}, "#888888", true, false, true};
+  SvgSeries band = dashed("+-10%");
+  band.x = {0, 1.8, NAN, 0, 1.8}, band.y = {10, 10, NAN, -10, -10};
   errors.push_back(band);
-  WriteFileAtomically(fs::path(out) / "gap_errors.svg", SvgLinePlot(pe, errors));
+  WriteFileAtomically(fs::path(out) / "gap_errors.svg", SvgPlot(pe, errors));
   std::cout << "wrote " << out << "/gap_resolution.csv, gap_widths.svg, gap_errors.svg\n";
   return 0;
 }

@@ -6,11 +6,12 @@
 //   exp_multiline OUT_DIR RUN_DIR METHOD [METHOD ...] [--lines FIRST,LAST]
 //
 // RUN_DIR/centers_METHOD/ holds `lasertwin scan --method METHOD`'s centres
-// (tools/experiments/multi_line.sh copies them there). Each measured centre is
-// matched to the truth centre on the same scan line nearest to it along the
-// line, within kMatchPx; the plane is right when it equals the truth centre's
-// sheet. Point error: 3D distance (world frame) between the triangulated point
-// and the truth centre's point, for points with a plane.
+// (tools/experiments/multi_line.sh copies them there). Measured centres are
+// paired with truth centres by the evaluation's matching (lt::MatchCenters:
+// same scan line, nearest along it within kMatchPx, one-to-one); the plane is
+// right when it equals the truth centre's sheet. Point error: 3D distance
+// between the triangulated point and the truth centre's point, for points
+// with a plane.
 //
 // Writes OUT_DIR/multi_line.csv (per method and sheet) and
 // OUT_DIR/multi_line.svg (point error along the stripes per sheet, first method).
@@ -20,12 +21,15 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <sstream>
 
-#include "centre_matching.h"
 #include "core/atomic_file.h"
+#include "pipeline/eval_metrics.h"
+#include "pipeline/ground_truth.h"
 #include "pipeline/run_folder_reader.h"
-#include "svg_plot.h"
+#include "pipeline/scan_output.h"
+#include "pipeline/svg_plot.h"
 
 namespace lt {
 namespace {
@@ -62,31 +66,38 @@ int Run(int argc, char** argv) {
   fs::create_directories(out);
   std::ostringstream csv;
   csv << "method,sheet,truth_centres,detected,plane_id_accuracy,unidentified,spurious,median_mm,p95_mm,max_mm\n";
-  std::vector<PlotSeries> series;
+  std::vector<SvgSeries> series;
   std::printf("%-9s %-5s %6s %9s %9s %8s %9s %9s %9s %9s\n", "method", "sheet", "truth", "detected", "plane ok",
               "no plane", "spurious", "median", "95%", "max");
   for (size_t m = 0; m < methods.size(); ++m) {
     std::map<int, SheetStats> stats;  // sheet -1: all
-    std::map<int, PlotSeries> per_sheet;
+    std::map<int, SvgSeries> per_sheet;
     for (const RunFrame& f : frames) {
       if (!f.IsLaserFrame() || !f.gt_centers) continue;
-      const bool cols = f.gt_axis && *f.gt_axis == SearchAxis::kCols;
+      const SearchAxis axis = f.gt_axis ? *f.gt_axis : SearchAxis::kRows;
+      const bool cols = axis == SearchAxis::kCols;
+      auto line_of = [&](double u, double v) { return int(std::lround(cols ? u : v)); };
       char name[32];
       std::snprintf(name, sizeof name, "%06lld.csv", static_cast<long long>(f.index));
-      std::vector<FrameCentre> truth = ReadFrameCentres(*f.gt_centers, cols);
+      const fs::path measured_file = fs::path(run) / ("centers_" + methods[m]) / name;
+      std::vector<TruthCenter> truth = ReadTruthCentersCsv(*f.gt_centers);
       if (lines.size() == 2)
-        std::erase_if(truth, [&](const FrameCentre& c) { return c.line < lines[0] || c.line > lines[1]; });
-      std::vector<FrameCentre> measured = ReadFrameCentres(fs::path(run) / ("centers_" + methods[m]) / name, cols);
-      const std::vector<int> match = MatchToTruth(measured, truth, kMatchPx);
+        std::erase_if(truth, [&](const TruthCenter& c) {
+          const int l = line_of(c.u, c.v);
+          return l < lines[0] || l > lines[1];
+        });
+      const std::vector<ScanPoint> measured = ReadScanCsv(measured_file);
+      const std::vector<int> match = MatchCenters(axis, truth, measured, kMatchPx, *f.gt_centers, measured_file);
       std::vector<bool> hit(truth.size(), false);
-      for (const FrameCentre& t : truth) ++stats[t.plane].truth, ++stats[-1].truth;
+      for (const TruthCenter& t : truth) ++stats[t.plane].truth, ++stats[-1].truth;
       for (size_t k = 0; k < measured.size(); ++k) {
         if (match[k] < 0) {
           ++stats[-1].spurious;
           continue;
         }
-        const FrameCentre& t = truth[size_t(match[k])];
-        const FrameCentre& c = measured[k];
+        const TruthCenter& t = truth[size_t(match[k])];
+        const StripePoint& c = measured[k].pixel;
+        const std::optional<Eigen::Vector3d>& p = measured[k].p_in_cam;
         for (int key : {t.plane, -1}) {
           SheetStats& s = stats[key];
           ++s.matched;
@@ -95,13 +106,12 @@ int Run(int argc, char** argv) {
             ++s.identified;
             s.correct += c.plane == t.plane;
           }
-          if (c.plane == t.plane && c.p_world.allFinite())
-            s.errors_mm.push_back((c.p_world - t.p_world).norm() * 1e3);
+          if (c.plane == t.plane && p) s.errors_mm.push_back((*p - t.p_in_cam).norm() * 1e3);
         }
         hit[size_t(match[k])] = true;
-        if (c.plane == t.plane && c.p_world.allFinite()) {
-          PlotSeries& ps = per_sheet[t.plane];
-          ps.x.push_back(c.line), ps.y.push_back((c.p_world - t.p_world).norm() * 1e3);
+        if (c.plane == t.plane && p) {
+          SvgSeries& ps = per_sheet[t.plane];
+          ps.x.push_back(line_of(c.u, c.v)), ps.y.push_back((*p - t.p_in_cam).norm() * 1e3);
         }
       }
     }
@@ -119,18 +129,18 @@ int Run(int argc, char** argv) {
     if (m == 0)
       for (auto& [sheet, ps] : per_sheet) {
         ps.name = methods[m] + " sheet " + std::to_string(sheet);
-        ps.color = PlotColor(sheet);
-        ps.line = false;
+        ps.color = SvgColor(sheet);
         series.push_back(ps);
       }
   }
   WriteFileAtomically(fs::path(out) / "multi_line.csv", csv.str());
-  PlotOptions po;
+  SvgPlotOptions po;
+  po.height = 420;
   po.title = "Point error along the stripes, per laser sheet (" + methods[0] + ")";
   po.x_label = "scan line (image column)";
   po.y_label = "3D error (mm)";
   po.y_min = 0;
-  WriteFileAtomically(fs::path(out) / "multi_line.svg", SvgLinePlot(po, series));
+  WriteFileAtomically(fs::path(out) / "multi_line.svg", SvgPlot(po, series));
   std::cout << "wrote " << out << "/multi_line.csv and multi_line.svg\n";
   return 0;
 }
