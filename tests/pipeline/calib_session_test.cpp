@@ -14,6 +14,7 @@
 #include "core/image_io.h"
 #include <nlohmann/json.hpp>
 #include "pipeline/calib_session.h"
+#include "calib_test_util.h"
 
 namespace lt {
 namespace {
@@ -109,25 +110,6 @@ namespace session_run {
 
 constexpr double kDeg = M_PI / 180.0;
 
-CheckerboardSpec Board() {
-  CheckerboardSpec b;
-  b.rows = 7;
-  b.cols = 10;
-  b.square_m = 6e-3;
-  return b;
-}
-
-Pose BoardPose(double ox, double oy, double z, double tilt, double axis, double spin) {
-  const CheckerboardSpec b = Board();
-  const Eigen::Vector3d centre(0.5 * (b.cols - 1) * b.square_m, 0.5 * (b.rows - 1) * b.square_m, 0);
-  Pose p = Pose::Identity();
-  p.linear() = (Eigen::AngleAxisd(tilt, Eigen::Vector3d(std::cos(axis), std::sin(axis), 0)) *
-                Eigen::AngleAxisd(spin, Eigen::Vector3d::UnitZ()))
-                   .toRotationMatrix();
-  p.translation() = Eigen::Vector3d(ox, oy, z) - p.linear() * centre;
-  return p;
-}
-
 Pose ToolFromCam() {
   Pose x = Pose::Identity();
   x.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
@@ -192,7 +174,7 @@ std::filesystem::path WriteRun() {
 
 TEST(CalibSessionRun, CameraAndHandEyeFromARecordedSession) {
   const auto run = session_run::WriteRun();
-  const CheckerboardSpec board = session_run::Board();
+  const CheckerboardSpec board = Board();
   const SessionCameraResult cam = CalibrateSessionCamera(run, board);
   ASSERT_EQ(cam.views.size(), 6u);
   EXPECT_EQ(cam.views[0].dim_frame, 1);
