@@ -196,12 +196,18 @@ void FrameRenderer::GroundTruthPass(const Pose& world_from_cam, const FrameLight
   });
 }
 
-void FrameRenderer::SamplePass(const RenderedFrame& frame, bool all_pixels, Film* film, FrameStats* stats) const {
+void FrameRenderer::SamplePass(const RenderedFrame& frame, bool all_pixels, const SampleNoise& noise, Film* film,
+                               FrameStats* stats) const {
   const Camera& cam = scene_.sensor.camera;
   const ShutterFrame& sf = frame.shutter;
   const bool moving = !IsStaticWithin(scene_.motion, sf.t_start_s, sf.t_end_s);
   const FrameLights fixed_lights = MakeFrameLights(scene_.sensor, frame.world_from_cam, sf.laser_fraction,
                                                    sf.pattern_fraction, sf.led_fraction);
+  // Batches of a pixel's samples: one of spp, or (adaptive) a first batch and
+  // then batches that double the count, each stratified on its own, until the
+  // pixel's noise is low enough or spp is reached.
+  const bool adaptive = noise.fraction > 0;
+  const int first_batch = adaptive ? std::min(spp_, std::max(4, spp_ / 16)) : spp_;
   tbb::enumerable_thread_specific<TraceStats> tstats;
   tbb::enumerable_thread_specific<uint64_t> tsamples(0);
   tbb::parallel_for(
@@ -212,31 +218,38 @@ void FrameRenderer::SamplePass(const RenderedFrame& frame, bool all_pixels, Film
         for (int y = range.rows().begin(); y < range.rows().end(); ++y) {
           for (int x = range.cols().begin(); x < range.cols().end(); ++x) {
             const bool full = all_pixels || frame.near_mask.At(x, y) > 0;
-            const int n = full ? spp_ : 1;
+            const int budget = full ? spp_ : 1;
             const uint64_t pixel = uint64_t(y) * uint64_t(cam.width()) + uint64_t(x);
-            const uint32_t pattern = uint32_t(HashKey(seed_, uint64_t(sf.index), pixel, kPixelPatternPurpose));
-            for (int s = 0; s < n; ++s) {
-              Rng rng = Rng::For(seed_, uint64_t(sf.index), pixel, uint64_t(s), kPixelSamplePurpose);
-              const Eigen::Vector2d j = MultiJitter2D(uint32_t(s), uint32_t(n), pattern);
-              const double jx = j.x(), jy = j.y();
-              Eigen::Vector2d lens(0.5, 0.5);
-              if (!cam.is_pinhole()) lens = Eigen::Vector2d(rng.NextDouble(), rng.NextDouble());
-              Pose world_from_cam = frame.world_from_cam;
-              FrameLights moving_lights;
-              const FrameLights* lights = &fixed_lights;
-              if (moving) {
-                double t = sf.t_start_s + rng.NextDouble() * (sf.t_end_s - sf.t_start_s);
-                world_from_cam = WorldFromCamAt(scene_.motion, t);
-                moving_lights = MakeFrameLights(scene_.sensor, world_from_cam, sf.laser_fraction,
-                                                sf.pattern_fraction, sf.led_fraction);
-                lights = &moving_lights;
+            int taken = 0;
+            for (int batch = 0; taken < budget; ++batch) {
+              if (batch > 0 && noise.Converged(*film, x, y)) break;
+              const int n = std::min(batch == 0 ? std::min(first_batch, budget) : taken, budget - taken);
+              const uint32_t pattern =
+                  uint32_t(HashKey(seed_, uint64_t(sf.index), pixel, kPixelPatternPurpose, uint64_t(batch)));
+              for (int i = 0; i < n; ++i) {
+                const int s = taken + i;
+                Rng rng = Rng::For(seed_, uint64_t(sf.index), pixel, uint64_t(s), kPixelSamplePurpose);
+                const Eigen::Vector2d j = MultiJitter2D(uint32_t(i), uint32_t(n), pattern);
+                Eigen::Vector2d lens(0.5, 0.5);
+                if (!cam.is_pinhole()) lens = Eigen::Vector2d(rng.NextDouble(), rng.NextDouble());
+                Pose world_from_cam = frame.world_from_cam;
+                FrameLights moving_lights;
+                const FrameLights* lights = &fixed_lights;
+                if (moving) {
+                  double t = sf.t_start_s + rng.NextDouble() * (sf.t_end_s - sf.t_start_s);
+                  world_from_cam = WorldFromCamAt(scene_.motion, t);
+                  moving_lights = MakeFrameLights(scene_.sensor, world_from_cam, sf.laser_fraction,
+                                                  sf.pattern_fraction, sf.led_fraction);
+                  lights = &moving_lights;
+                }
+                auto cam_ray = cam.GenerateRay(Eigen::Vector2d(x - 0.5 + j.x(), y - 0.5 + j.y()), lens);
+                Eigen::Vector3f rgb = Eigen::Vector3f::Zero();
+                std::fill(mono.begin(), mono.end(), 0.0f);
+                if (cam_ray) tracer_->Trace(WorldRay(world_from_cam, *cam_ray), *lights, rng, &rgb, mono, &ts);
+                film->AddSample(x, y, rgb, mono);
+                ++ns;
               }
-              auto cam_ray = cam.GenerateRay(Eigen::Vector2d(x - 0.5 + jx, y - 0.5 + jy), lens);
-              Eigen::Vector3f rgb = Eigen::Vector3f::Zero();
-              std::fill(mono.begin(), mono.end(), 0.0f);
-              if (cam_ray) tracer_->Trace(WorldRay(world_from_cam, *cam_ray), *lights, rng, &rgb, mono, &ts);
-              film->AddSample(x, y, rgb, mono);
-              ++ns;
+              taken += n;
             }
           }
         }
@@ -285,11 +298,39 @@ RenderedFrame FrameRenderer::Render(int64_t frame_index) const {
   film_options.width = w;
   film_options.height = h;
   film_options.laser_sheets = layout_.channels;
+  SampleNoise noise;
+  if (scene_.render.adaptive_sampling) {
+    // The film's tracked value: photo-electrons at the pixel with the largest
+    // radiance-to-irradiance factor (the most sensitive channel of each band and
+    // of the lasers' wavelengths, so that the noise is never overestimated).
+    const double rtoi_max =
+        *std::max_element(radiance_to_irradiance_.pixels.begin(), radiance_to_irradiance_.pixels.end());
+    const double joules = rtoi_max * cam.pixel_area_m2() * sf.exposure_s;  // per unit radiance
+    auto electrons_per_joule = [&](double lambda) {
+      double qe = 0;
+      for (int k = 0; k < 3; ++k) qe = std::max(qe, rig.image_sensor.QuantumEfficiency(k, lambda));
+      return qe * PhotonsFromEnergy(1.0, lambda);
+    };
+    for (int c = 0; c < 3; ++c) {
+      film_options.rgb_weights[c] =
+          float(joules * electrons_per_joule(rig.image_sensor.params().band_wavelength_m[size_t(c)]));
+    }
+    double laser = 0;
+    for (int g = 0; g < layout_.groups; ++g)
+      laser = std::max(laser, electrons_per_joule(layout_.group_wavelength_m[size_t(g)]));
+    film_options.laser_weight = float(joules * laser);
+    const double gain = rig.image_sensor.SystemGain(sf.analog_gain_db);
+    const double dark = rig.image_sensor.params().dark_noise_e;
+    noise.fraction = rtoi_max > 0 ? scene_.render.adaptive_noise : 0.0;
+    noise.radiance_to_irradiance = &radiance_to_irradiance_;
+    noise.inverse_max_radiance_to_irradiance = rtoi_max > 0 ? 1.0 / rtoi_max : 0.0;
+    noise.read_variance_e2 = dark * dark + (gain > 0 ? 1.0 / (12.0 * gain * gain) : 0.0);
+  }
   Film film(film_options);
   std::vector<ChiefHit> chief_hits;
   InArena(threads_, [&] {
     GroundTruthPass(out.world_from_cam, lights, &out, &chief_hits);
-    SamplePass(out, broadband || !scene_.render.adaptive_sampling, &film, &out.stats);
+    SamplePass(out, broadband || !scene_.render.adaptive_sampling, noise, &film, &out.stats);
   });
   for (float v : out.near_mask.pixels) out.stats.near_pixels += v > 0;
 

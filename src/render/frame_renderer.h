@@ -10,7 +10,11 @@
 //     and by one pixel. Far pixels need one sample; near pixels get the budget.
 //     When broadband light shows in the image (the LED, or environment and
 //     emission bright enough for half a digital number), every pixel gets the
-//     full budget.
+//     full budget. With render.adaptive_noise > 0 a pixel with the budget takes
+//     its samples in batches (a first of min(spp, max(4, spp/16)), then batches
+//     that double its count, each stratified) and stops once the Monte Carlo
+//     standard error of its mean is below that fraction of the sensor's temporal
+//     noise at its signal (render/sample_noise.h).
 //  2. Path samples (render/path_tracer.h), stratified over the pixel, the lens
 //     aperture (thin lens only) and the exposure time (moving scanner only),
 //     accumulated in the film. Every random number comes from
@@ -35,6 +39,7 @@
 #include "render/film.h"
 #include "render/frame_lights.h"
 #include "render/path_tracer.h"
+#include "render/sample_noise.h"
 #include "render/stripe_truth.h"
 #include "scene/embree_scene.h"
 #include "scene/printed_part.h"
@@ -99,7 +104,8 @@ class FrameRenderer {
   struct Impl;
   void GroundTruthPass(const Pose& world_from_cam, const FrameLights& lights, RenderedFrame* out,
                        std::vector<ChiefHit>* hits) const;
-  void SamplePass(const RenderedFrame& frame, bool all_pixels, Film* film, FrameStats* stats) const;
+  void SamplePass(const RenderedFrame& frame, bool all_pixels, const SampleNoise& noise, Film* film,
+                  FrameStats* stats) const;
 
   FrameRenderer(const SceneFile& scene, const EmbreeScene& embree, EmbreeScene* mutable_embree,
                 const RenderOverrides& overrides);

@@ -11,6 +11,7 @@ using json::Range;
 
 void RenderSettings::Check() const {
   if (spp < 1 || spp > 65536) throw std::invalid_argument("render.spp must be in [1, 65536]");
+  if (!(adaptive_noise >= 0 && adaptive_noise <= 10)) throw std::invalid_argument("render.adaptive_noise must be in [0, 10]");
   if (max_bounces < 0 || max_bounces > 64) throw std::invalid_argument("render.max_bounces must be in [0, 64]");
   if (russian_roulette_depth < 1 || russian_roulette_depth > 64) {
     throw std::invalid_argument("render.russian_roulette_depth must be in [1, 64]");
@@ -41,6 +42,7 @@ RenderSettings ParseRenderSettings(const json::Value& value) {
   s.max_bounces = int(o.Integer("max_bounces", s.max_bounces, Range::Closed(0, 64)));
   s.russian_roulette_depth = int(o.Integer("russian_roulette_depth", s.russian_roulette_depth, Range::Closed(1, 64)));
   s.adaptive_sampling = o.Bool("adaptive_sampling", s.adaptive_sampling);
+  s.adaptive_noise = o.Number("adaptive_noise", s.adaptive_noise, Range::Closed(0, 10));
   s.subsurface = o.Bool("subsurface", s.subsurface);
   s.threads = int(o.Integer("threads", s.threads, Range::Closed(0, 1024)));
   s.frames = int(o.Integer("frames", s.frames, Range::Closed(1, 1000000)));
@@ -91,6 +93,7 @@ nlohmann::json ToJson(const RenderSettings& s) {
           {"max_bounces", s.max_bounces},
           {"russian_roulette_depth", s.russian_roulette_depth},
           {"adaptive_sampling", s.adaptive_sampling},
+          {"adaptive_noise", s.adaptive_noise},
           {"subsurface", s.subsurface},
           {"threads", s.threads},
           {"frames", s.frames},

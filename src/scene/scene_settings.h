@@ -17,6 +17,10 @@ struct RenderSettings {
   int max_bounces = 2;             // indirect bounces after the first hit, [0, 64]
   int russian_roulette_depth = 3;  // bounce from which paths may be cut short, [1, 64]
   bool adaptive_sampling = true;   // pixels no light path can reach get one sample
+  // With adaptive_sampling: a pixel stops taking samples once the Monte Carlo
+  // standard error of its mean is below this fraction of the sensor's temporal
+  // noise at its signal, [0, 10]; 0 = every sampled pixel takes spp samples.
+  double adaptive_noise = 0.25;
   bool subsurface = true;          // false renders subsurface materials as surfaces only
   int threads = 0;                 // 0 = all hardware threads, else [1, 1024]
   int frames = 1;                  // frames in the sequence, [1, 1000000]

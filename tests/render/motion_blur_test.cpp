@@ -42,6 +42,7 @@ RenderedFrame RenderBox(const Motion& motion) {
   sh.cycle = {ShutterFrameSpec{"bright", 1e-3, false, false, false}};
   rig.shutter = ShutterSchedule(sh);
   world.scene.render.spp = 64;
+  world.scene.render.adaptive_noise = 0;  // every pixel takes its 64 time samples
   world.scene.render.max_bounces = 0;
   world.scene.motion = motion;
   return FrameRenderer(world.scene, *world.embree).Render(0);

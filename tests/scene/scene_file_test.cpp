@@ -37,6 +37,7 @@ TEST(SceneFile, MinimalSceneGetsTheDefaults) {
   EXPECT_EQ(s.render.max_bounces, 2);
   EXPECT_EQ(s.render.russian_roulette_depth, 3);
   EXPECT_TRUE(s.render.adaptive_sampling);
+  EXPECT_EQ(s.render.adaptive_noise, 0.25);
   EXPECT_TRUE(s.render.subsurface);
   EXPECT_EQ(s.render.threads, 0);
   EXPECT_EQ(s.output.png_bit_depth, 8);
@@ -85,6 +86,7 @@ TEST(SceneFile, FullSceneValuesLandWhereTheyShould) {
   EXPECT_EQ(s.render.max_bounces, 0);
   EXPECT_EQ(s.render.russian_roulette_depth, 5);
   EXPECT_FALSE(s.render.adaptive_sampling);
+  EXPECT_EQ(s.render.adaptive_noise, 0.5);
   EXPECT_FALSE(s.render.subsurface);
   EXPECT_EQ(s.render.threads, 2);
   EXPECT_EQ(s.output.png_bit_depth, 16);
@@ -150,6 +152,8 @@ TEST(SceneFile, ErrorsNameTheFileAndPointer) {
               HasSubstr("scene.json: /objects2: unknown key \"objects2\""));
   EXPECT_EQ(ErrorOf([&] { Parse("{" + obj + kSensor + R"(, "render": {"spp": 2.5}})"); }),
             "scene.json: /render/spp: must be an integer, got 2.5");
+  EXPECT_EQ(ErrorOf([&] { Parse("{" + obj + kSensor + R"(, "render": {"adaptive_noise": -0.1}})"); }),
+            "scene.json: /render/adaptive_noise: must be in [0, 10], got -0.1");
   EXPECT_EQ(ErrorOf([&] { Parse("{" + obj + kSensor + R"(, "materials": {"": {}}})"); }),
             "scene.json: /materials/: material names must not be empty");
   EXPECT_EQ(ErrorOf([&] { Parse("{" + obj + kSensor + R"(, "materials": {"m": {"subsurface": {"mean_free_path_mm": [1, 2]}}}})"); }),
