@@ -1,7 +1,10 @@
 // Renderer benchmarks on the demo scene (scenes/demo/scene.json):
-//  - DimFrame640/spp: a 640x480 dim (laser) frame at several sample counts, with
-//    the error of a centre-of-mass extraction on its laser radiance against a
-//    256-spp reference (counter com_rms_px): run time against error;
+//  - DimFrame640/spp/adaptive: a 640x480 dim (laser) frame at several sample
+//    counts, with and without the adaptive stop, with the error of a
+//    centre-of-mass extraction on its laser radiance against a 256-spp
+//    reference (counters com_*_px): run time against error;
+//  - DimFrame640Noise/bounces: the noise of one 16-spp render of that frame, per
+//    max_bounces (two seeds against each other);
 //  - BrightFrame1280: the 1280x1024 bright frame (LED, 2 bounces, 16 spp);
 //  - EmbreePrimaryRays: a bare rtcIntersect1 loop over the 1280x1024 pinhole
 //    rays of the demo camera, the upper bound on rays per second; the renderer's
@@ -135,10 +138,12 @@ const ReferenceStripe& Reference() {
 void BM_DimFrame640(benchmark::State& state) {
   Demo& d = Demo640();
   const auto& ref = Reference();
+  SceneFile scene = d.scene;
+  if (state.range(1) == 0) scene.render.adaptive_noise = 0;  // every near pixel takes spp samples
   RenderOverrides o;
   o.spp = int(state.range(0));
   o.threads = BenchThreads();
-  FrameRenderer renderer(d.scene, *d.embree, o);
+  FrameRenderer renderer(scene, *d.embree, o);
   RenderedFrame frame;
   for (auto _ : state) frame = renderer.Render(1);
   const std::vector<double> e = ComErrors(Com(LaserImage(frame.radiance), ref.threshold), ref.centers);
@@ -151,7 +156,39 @@ void BM_DimFrame640(benchmark::State& state) {
   state.counters["gt_ms"] = frame.stats.ground_truth_ms;
   state.counters["samples"] = double(frame.stats.samples);
 }
-BENCHMARK(BM_DimFrame640)->Arg(1)->Arg(4)->Arg(16)->Arg(64)->Unit(benchmark::kMillisecond)->UseRealTime();
+// Arguments: samples per pixel, and 1 for the scene's adaptive stop (render.adaptive_noise) or 0 without it.
+BENCHMARK(BM_DimFrame640)
+    ->Args({1, 1})
+    ->Args({4, 1})
+    ->Args({16, 1})
+    ->Args({64, 1})
+    ->Args({16, 0})
+    ->Args({64, 0})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Where the dim frame's noise comes from: two renders with different seeds at
+// 16 spp (every near pixel at spp), per max_bounces; com_rms_px is the RMS of the
+// centre differences between the two over sqrt(2), the noise of one render.
+void BM_DimFrame640Noise(benchmark::State& state) {
+  Demo& d = Demo640();
+  const double threshold = Reference().threshold;
+  SceneFile scene = d.scene;
+  scene.render.adaptive_noise = 0;
+  scene.render.max_bounces = int(state.range(0));
+  RenderOverrides o;
+  o.spp = 16;
+  o.threads = BenchThreads();
+  std::vector<StripePoint> a, b;
+  for (auto _ : state) {
+    o.seed = 11;
+    a = Com(LaserImage(FrameRenderer(scene, *d.embree, o).Render(1).radiance), threshold);
+    o.seed = 12;
+    b = Com(LaserImage(FrameRenderer(scene, *d.embree, o).Render(1).radiance), threshold);
+  }
+  const std::vector<double> e = ComErrors(a, b);
+  state.counters["com_rms_px"] = Rms(e) / std::sqrt(2.0);
+  state.counters["columns"] = double(e.size());
+}
+BENCHMARK(BM_DimFrame640Noise)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 
 void BM_BrightFrame1280(benchmark::State& state) {
   static Demo d(1280, 1024);
