@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "calib_test_util.h"
 #include "pipeline/calib_output.h"
 
 namespace lt {
@@ -14,16 +15,7 @@ namespace {
 namespace fs = std::filesystem;
 
 CameraCalibrationResult CalibratedCamera640() {
-  CameraParams p;
-  p.width = 640;
-  p.height = 480;
-  p.fx = 805;
-  p.fy = 803;
-  p.cx = 323.4;
-  p.cy = 236.8;
-  p.distortion = DistortionModel::kBrownConrady;
-  p.brown_conrady = {-0.18, 0.09, 3e-4, -2e-4, 0.01};
-  const Camera cam(p);
+  const Camera cam(Camera640Params({-0.18, 0.09, 3e-4, -2e-4, 0.01}));
   std::vector<CalibrationView> views;
   for (int v = 0; v < 5; ++v) {
     Pose pose = Pose::Identity();

@@ -124,16 +124,7 @@ std::filesystem::path WriteRun() {
   std::ofstream(dir / "scene.json") << R"({"sensor": {"camera": {"resolution": [640, 480], "pixel_pitch_um": 4.8,
     "fx": 805, "fy": 803, "cx": 323.4, "cy": 236.8, "f_number": 4,
     "distortion": {"model": "brown_conrady", "k1": -0.18, "k2": 0.09}}}})";
-  CameraParams p;
-  p.width = 640;
-  p.height = 480;
-  p.fx = 805;
-  p.fy = 803;
-  p.cx = 323.4;
-  p.cy = 236.8;
-  p.distortion = DistortionModel::kBrownConrady;
-  p.brown_conrady = {-0.18, 0.09, 0, 0, 0};
-  const Camera cam(p);
+  const Camera cam(Camera640Params({-0.18, 0.09, 0, 0, 0}));
   const std::vector<Pose> poses = {BoardPose(0, 0, 0.20, 30 * kDeg, 0, 0),
                                    BoardPose(0.03, -0.02, 0.21, 35 * kDeg, 90 * kDeg, 15 * kDeg),
                                    BoardPose(-0.03, 0.02, 0.22, 30 * kDeg, 45 * kDeg, -20 * kDeg),

@@ -18,18 +18,7 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
-CameraParams TrueCamera() {
-  CameraParams p;
-  p.width = 640;
-  p.height = 480;
-  p.fx = 805;
-  p.fy = 803;
-  p.cx = 323.4;
-  p.cy = 236.8;
-  p.distortion = DistortionModel::kBrownConrady;
-  p.brown_conrady = {-0.18, 0.09, 3e-4, -2e-4, 0};
-  return p;
-}
+CameraParams TrueCamera() { return Camera640Params({-0.18, 0.09, 3e-4, -2e-4, 0}); }
 
 std::vector<Pose> SessionPoses() {
   return {BoardPose(0, 0, 0.20, 30 * kDeg, 0, 0),

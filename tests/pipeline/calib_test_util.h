@@ -24,6 +24,21 @@ inline Camera RigCamera() {
   return Camera(p);
 }
 
+// A 640x480 camera with Brown-Conrady distortion (k1 k2 p1 p2 k3): the
+// calibration tests' small camera.
+inline CameraParams Camera640Params(const BrownConradyCoeffs& k) {
+  CameraParams p;
+  p.width = 640;
+  p.height = 480;
+  p.fx = 805;
+  p.fy = 803;
+  p.cx = 323.4;
+  p.cy = 236.8;
+  p.distortion = DistortionModel::kBrownConrady;
+  p.brown_conrady = k;
+  return p;
+}
+
 // A 7 x 10 inner-corner board of 6 mm squares.
 inline CheckerboardSpec Board() {
   CheckerboardSpec b;
