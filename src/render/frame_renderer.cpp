@@ -98,12 +98,14 @@ FrameRenderer::FrameRenderer(const SceneFile& scene, const EmbreeScene& embree, 
   for (const Material& m : embree.geometry().materials) {
     if (m.emissive.maxCoeff() > 0) has_emission_ = true;
     max_emission_ = std::max(max_emission_, double(m.emissive.maxCoeff()));
+    double reach = 0;
     if (m.subsurface && scene.render.subsurface) {
       DiffusionProfileParams p;
       p.albedo = 1.0;  // the widest profile for this mean free path
       p.mean_free_path = m.subsurface->mean_free_path_laser_m;
-      subsurface_reach_m_ = std::max(subsurface_reach_m_, BurleyProfile(p).SampleRadius(0.999));
+      reach = BurleyProfile(p).SampleRadius(0.999);
     }
+    subsurface_reach_m_.push_back(reach);
   }
 }
 
@@ -156,7 +158,7 @@ void FrameRenderer::GroundTruthPass(const Pose& world_from_cam, const FrameLight
         Eigen::Vector3d p_proj = e.projector_from_world * hit->position;
         double r = p_proj.norm();
         if (!(r > 0)) continue;
-        double margin = (2.0 * distance * footprint_per_m + subsurface_reach_m_) / r;
+        double margin = (2.0 * distance * footprint_per_m + subsurface_reach_m_[hit->material_id]) / r;
         double sigma = e.laser->SheetSigma(r);
         for (int k = 0; k < e.channels; ++k) {
           if (std::abs(e.laser->SheetOffsetAngle(k, p_proj)) <= kNearSigmas * sigma + margin) {

@@ -6,8 +6,9 @@
 //     ground truth (depth, normal, instance, material) and decide, cheaply and
 //     geometrically, which pixels a laser sheet can reach: a pixel is "near" when
 //     its surface point lies within 8 sigma of a sheet's plane (plus the pixel's
-//     footprint and the subsurface profile's reach), dilated by the defocus blur
-//     and by one pixel. Far pixels need one sample; near pixels get the budget.
+//     footprint and the reach of its own material's subsurface profile: light
+//     that enters a surface leaves it only from the same material), dilated by
+//     the defocus blur and by one pixel. Far pixels need one sample; near pixels get the budget.
 //     When broadband light shows in the image (the LED, or environment and
 //     emission bright enough for half a digital number), every pixel gets the
 //     full budget. With render.adaptive_noise > 0 a pixel with the budget takes
@@ -121,7 +122,8 @@ class FrameRenderer {
   Image<float> environment_map_;
   std::unique_ptr<PathTracer> tracer_;
   Image<float> radiance_to_irradiance_;  // Camera::RadianceToIrradiance per pixel
-  double subsurface_reach_m_ = 0;        // radius holding 99.9% of the widest subsurface profile
+  // Per material: the radius holding 99.9% of its widest subsurface profile (0 without one).
+  std::vector<double> subsurface_reach_m_;
   bool has_emission_ = false;
   double max_emission_ = 0;              // brightest emissive radiance, W/(m² sr)
   double max_environment_radiance_ = 0;  // brightest environment radiance, W/(m² sr)
