@@ -40,6 +40,13 @@ Ray WorldRay(const Pose& world_from_cam, const CameraRay& r) {
   return ray;
 }
 
+// Photo-electrons per joule at wavelength lambda in the sensor's most sensitive channel.
+double ElectronsPerJoule(const ImageSensor& sensor, double lambda) {
+  double qe = 0;
+  for (int k = 0; k < 3; ++k) qe = std::max(qe, sensor.QuantumEfficiency(k, lambda));
+  return qe * PhotonsFromEnergy(1.0, lambda);
+}
+
 template <typename F>
 void InArena(int threads, F&& f) {
   if (threads > 0) {
@@ -89,6 +96,8 @@ FrameRenderer::FrameRenderer(const SceneFile& scene, const EmbreeScene& embree, 
   for (int y = 0; y < cam.height(); ++y)
     for (int x = 0; x < cam.width(); ++x)
       radiance_to_irradiance_.At(x, y) = float(cam.RadianceToIrradiance(Eigen::Vector2d(x, y)));
+  max_radiance_to_irradiance_ =
+      *std::max_element(radiance_to_irradiance_.pixels.begin(), radiance_to_irradiance_.pixels.end());
   if (scene_.environment.kind == Environment::Kind::kMap) {
     for (float v : environment_map_.pixels) max_environment_radiance_ = std::max(max_environment_radiance_, double(v));
     max_environment_radiance_ *= scene_.environment.scale;
@@ -260,6 +269,30 @@ void FrameRenderer::SamplePass(const RenderedFrame& frame, bool all_pixels, cons
   for (uint64_t s : tsamples) stats->samples += s;
 }
 
+SampleNoise FrameRenderer::MakeSampleNoise(const ShutterFrame& sf, FilmOptions* film_options) const {
+  // The film's tracked value: photo-electrons at the pixel with the largest
+  // radiance-to-irradiance factor (the most sensitive channel of each band and
+  // of the lasers' wavelengths, so that the noise is never overestimated).
+  const ImageSensor& sensor = scene_.sensor.image_sensor;
+  const double joules = max_radiance_to_irradiance_ * scene_.sensor.camera.pixel_area_m2() * sf.exposure_s;
+  for (int c = 0; c < 3; ++c) {
+    film_options->rgb_weights[c] =
+        float(joules * ElectronsPerJoule(sensor, sensor.params().band_wavelength_m[size_t(c)]));
+  }
+  double laser = 0;
+  for (int g = 0; g < layout_.groups; ++g)
+    laser = std::max(laser, ElectronsPerJoule(sensor, layout_.group_wavelength_m[size_t(g)]));
+  film_options->laser_weight = float(joules * laser);
+  const double gain = sensor.SystemGain(sf.analog_gain_db);
+  const double dark = sensor.params().dark_noise_e;
+  SampleNoise noise;
+  noise.fraction = max_radiance_to_irradiance_ > 0 ? scene_.render.adaptive_noise : 0.0;
+  noise.radiance_to_irradiance = &radiance_to_irradiance_;
+  noise.inverse_max_radiance_to_irradiance = max_radiance_to_irradiance_ > 0 ? 1.0 / max_radiance_to_irradiance_ : 0.0;
+  noise.read_variance_e2 = dark * dark + (gain > 0 ? 1.0 / (12.0 * gain * gain) : 0.0);
+  return noise;
+}
+
 RenderedFrame FrameRenderer::Render(int64_t frame_index) const {
   auto t0 = std::chrono::steady_clock::now();
   const SensorRig& rig = scene_.sensor;
@@ -284,14 +317,11 @@ RenderedFrame FrameRenderer::Render(int64_t frame_index) const {
   bool broadband = lights.led.has_value();
   if (!broadband && (tracer_->has_environment() || has_emission_)) {
     double l_max = std::max(max_environment_radiance_, max_emission_);
-    double rtoi = *std::max_element(radiance_to_irradiance_.pixels.begin(), radiance_to_irradiance_.pixels.end());
-    double energy = l_max * rtoi * cam.pixel_area_m2() * sf.exposure_s;
+    double energy = l_max * max_radiance_to_irradiance_ * cam.pixel_area_m2() * sf.exposure_s;
     double electrons = 0;
     for (int c = 0; c < 3; ++c) {
       double lambda = rig.image_sensor.params().band_wavelength_m[size_t(c)];
-      double qe = 0;
-      for (int k = 0; k < 3; ++k) qe = std::max(qe, rig.image_sensor.QuantumEfficiency(k, lambda));
-      electrons = std::max(electrons, qe * PhotonsFromEnergy(energy, lambda));
+      electrons = std::max(electrons, energy * ElectronsPerJoule(rig.image_sensor, lambda));
     }
     broadband = electrons * rig.image_sensor.SystemGain(sf.analog_gain_db) >= 0.5;
   }
@@ -301,33 +331,7 @@ RenderedFrame FrameRenderer::Render(int64_t frame_index) const {
   film_options.height = h;
   film_options.laser_sheets = layout_.channels;
   SampleNoise noise;
-  if (scene_.render.adaptive_sampling) {
-    // The film's tracked value: photo-electrons at the pixel with the largest
-    // radiance-to-irradiance factor (the most sensitive channel of each band and
-    // of the lasers' wavelengths, so that the noise is never overestimated).
-    const double rtoi_max =
-        *std::max_element(radiance_to_irradiance_.pixels.begin(), radiance_to_irradiance_.pixels.end());
-    const double joules = rtoi_max * cam.pixel_area_m2() * sf.exposure_s;  // per unit radiance
-    auto electrons_per_joule = [&](double lambda) {
-      double qe = 0;
-      for (int k = 0; k < 3; ++k) qe = std::max(qe, rig.image_sensor.QuantumEfficiency(k, lambda));
-      return qe * PhotonsFromEnergy(1.0, lambda);
-    };
-    for (int c = 0; c < 3; ++c) {
-      film_options.rgb_weights[c] =
-          float(joules * electrons_per_joule(rig.image_sensor.params().band_wavelength_m[size_t(c)]));
-    }
-    double laser = 0;
-    for (int g = 0; g < layout_.groups; ++g)
-      laser = std::max(laser, electrons_per_joule(layout_.group_wavelength_m[size_t(g)]));
-    film_options.laser_weight = float(joules * laser);
-    const double gain = rig.image_sensor.SystemGain(sf.analog_gain_db);
-    const double dark = rig.image_sensor.params().dark_noise_e;
-    noise.fraction = rtoi_max > 0 ? scene_.render.adaptive_noise : 0.0;
-    noise.radiance_to_irradiance = &radiance_to_irradiance_;
-    noise.inverse_max_radiance_to_irradiance = rtoi_max > 0 ? 1.0 / rtoi_max : 0.0;
-    noise.read_variance_e2 = dark * dark + (gain > 0 ? 1.0 / (12.0 * gain * gain) : 0.0);
-  }
+  if (scene_.render.adaptive_sampling) noise = MakeSampleNoise(sf, &film_options);
   Film film(film_options);
   std::vector<ChiefHit> chief_hits;
   InArena(threads_, [&] {

@@ -107,6 +107,8 @@ class FrameRenderer {
                        std::vector<ChiefHit>* hits) const;
   void SamplePass(const RenderedFrame& frame, bool all_pixels, const SampleNoise& noise, Film* film,
                   FrameStats* stats) const;
+  // The adaptive stop of a frame (render.adaptive_noise); sets the film's tracked value to electrons.
+  SampleNoise MakeSampleNoise(const ShutterFrame& sf, FilmOptions* film_options) const;
 
   FrameRenderer(const SceneFile& scene, const EmbreeScene& embree, EmbreeScene* mutable_embree,
                 const RenderOverrides& overrides);
@@ -122,6 +124,7 @@ class FrameRenderer {
   Image<float> environment_map_;
   std::unique_ptr<PathTracer> tracer_;
   Image<float> radiance_to_irradiance_;  // Camera::RadianceToIrradiance per pixel
+  double max_radiance_to_irradiance_ = 0;  // its largest value
   // Per material: the radius holding 99.9% of its widest subsurface profile (0 without one).
   std::vector<double> subsurface_reach_m_;
   bool has_emission_ = false;
