@@ -29,6 +29,7 @@
 #include <sstream>
 
 #include "core/atomic_file.h"
+#include "exp_common.h"
 #include "core/error.h"
 #include "pipeline/eval_metrics.h"
 #include "pipeline/ground_truth.h"
@@ -42,12 +43,6 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr int kEdgeLines = 3;
-
-double Quantile(std::vector<double> v, double q) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, size_t(q * double(v.size())))];
-}
 
 struct ClassStats {
   std::vector<double> errors;
@@ -157,11 +152,4 @@ int Run(int argc, char** argv) {
 }  // namespace
 }  // namespace lt
 
-int main(int argc, char** argv) {
-  try {
-    return lt::Run(argc, argv);
-  } catch (const std::exception& e) {
-    std::cerr << "exp_edges: error: " << e.what() << "\n";
-    return 2;
-  }
-}
+int main(int argc, char** argv) { return lt::ExperimentMain("exp_edges", lt::Run, argc, argv); }

@@ -31,6 +31,7 @@
 #include <sstream>
 
 #include "core/atomic_file.h"
+#include "exp_common.h"
 #include "core/error.h"
 #include "pipeline/ground_truth.h"
 #include "pipeline/run_folder_reader.h"
@@ -308,11 +309,4 @@ int Run(int argc, char** argv) {
 }  // namespace
 }  // namespace lt
 
-int main(int argc, char** argv) {
-  try {
-    return lt::Run(argc, argv);
-  } catch (const std::exception& e) {
-    std::cerr << "exp_gap: error: " << e.what() << "\n";
-    return 2;
-  }
-}
+int main(int argc, char** argv) { return lt::ExperimentMain("exp_gap", lt::Run, argc, argv); }

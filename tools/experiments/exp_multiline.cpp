@@ -25,6 +25,7 @@
 #include <sstream>
 
 #include "core/atomic_file.h"
+#include "exp_common.h"
 #include "pipeline/eval_metrics.h"
 #include "pipeline/ground_truth.h"
 #include "pipeline/run_folder_reader.h"
@@ -37,12 +38,6 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr double kMatchPx = 3.0;
-
-double Quantile(std::vector<double> v, double q) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, size_t(q * double(v.size())))];
-}
 
 struct SheetStats {
   int truth = 0, detected = 0, matched = 0, identified = 0, correct = 0, spurious = 0;
@@ -148,11 +143,4 @@ int Run(int argc, char** argv) {
 }  // namespace
 }  // namespace lt
 
-int main(int argc, char** argv) {
-  try {
-    return lt::Run(argc, argv);
-  } catch (const std::exception& e) {
-    std::cerr << "exp_multiline: error: " << e.what() << "\n";
-    return 2;
-  }
-}
+int main(int argc, char** argv) { return lt::ExperimentMain("exp_multiline", lt::Run, argc, argv); }
