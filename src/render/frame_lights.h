@@ -13,6 +13,8 @@
 
 namespace lt {
 
+class LaserEntryTree;
+
 // A monochromatic point emitter (a laser projector or the pattern projector).
 struct PointEmitter {
   const LaserProjector* laser = nullptr;      // exactly one of these is set
@@ -24,6 +26,9 @@ struct PointEmitter {
   int first_channel = 0;  // film channel of its sheet 0 (a pattern has one channel)
   int channels = 1;       // sheets (pattern: 1)
   double weight = 0;      // lit fraction of the exposure, 0..1
+  // Per sheet, the frame's cache of lit entry points (render/laser_entry_tree.h),
+  // or null: subsurface light then comes from Monte Carlo. Empty: none.
+  std::vector<const LaserEntryTree*> entry_trees;
 };
 
 struct LedLight {

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "core/image_io.h"
+#include "render/laser_entry_tree.h"
 #include "render/multi_jitter.h"
 #include "render/speckle.h"
 #include "render/subsurface_profile.h"
@@ -23,6 +24,9 @@ constexpr uint64_t kPixelPatternPurpose = 0x504958454c504154ull;  // multi-jitte
 constexpr uint64_t kSpecklePurpose = 0x535045434b4c4531ull;
 constexpr int kTile = 16;
 constexpr double kNearSigmas = 8.0;
+// Entry points of the frame's subsurface cache this fraction of the smallest
+// laser mean free path apart (render/laser_entry_tree.h).
+constexpr double kEntrySpacingPerMeanFreePath = 0.125;
 
 double Ms(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
@@ -113,6 +117,9 @@ FrameRenderer::FrameRenderer(const SceneFile& scene, const EmbreeScene& embree, 
       p.albedo = 1.0;  // the widest profile for this mean free path
       p.mean_free_path = m.subsurface->mean_free_path_laser_m;
       reach = BurleyProfile(p).SampleRadius(0.999);
+      if (!(min_subsurface_mfp_m_ > 0) || p.mean_free_path < min_subsurface_mfp_m_) {
+        min_subsurface_mfp_m_ = p.mean_free_path;
+      }
     }
     subsurface_reach_m_.push_back(reach);
   }
@@ -150,6 +157,7 @@ void FrameRenderer::GroundTruthPass(const Pose& world_from_cam, const FrameLight
       chief.p_world = hit->position;
       chief.normal = hit->geometric_normal;
       chief.depth = hit->t * ray.direction.norm();
+      chief.material = hit->material_id;
       Eigen::Vector3d p_cam = cam_from_world * hit->position;
       Eigen::Vector3d n = cam_from_world.linear() * hit->shading_normal;
       if (n.dot(p_cam) > 0) n = -n;
@@ -207,13 +215,11 @@ void FrameRenderer::GroundTruthPass(const Pose& world_from_cam, const FrameLight
   });
 }
 
-void FrameRenderer::SamplePass(const RenderedFrame& frame, bool all_pixels, const SampleNoise& noise, Film* film,
-                               FrameStats* stats) const {
+void FrameRenderer::SamplePass(const RenderedFrame& frame, const FrameLights& fixed_lights, bool all_pixels,
+                               const SampleNoise& noise, Film* film, FrameStats* stats) const {
   const Camera& cam = scene_.sensor.camera;
   const ShutterFrame& sf = frame.shutter;
   const bool moving = !IsStaticWithin(scene_.motion, sf.t_start_s, sf.t_end_s);
-  const FrameLights fixed_lights = MakeFrameLights(scene_.sensor, frame.world_from_cam, sf.laser_fraction,
-                                                   sf.pattern_fraction, sf.led_fraction);
   // Batches of a pixel's samples: one of spp, or (adaptive) a first batch and
   // then batches that double the count, each stratified on its own, until the
   // pixel's noise is low enough or spp is reached.
@@ -267,6 +273,25 @@ void FrameRenderer::SamplePass(const RenderedFrame& frame, bool all_pixels, cons
       });
   for (const auto& t : tstats) stats->rays += t.rays;
   for (uint64_t s : tsamples) stats->samples += s;
+}
+
+std::vector<std::unique_ptr<LaserEntryTree>> FrameRenderer::BuildEntryTrees(std::span<const ChiefHit> hits,
+                                                                           FrameLights* lights,
+                                                                           FrameStats* stats) const {
+  std::vector<std::unique_ptr<LaserEntryTree>> trees;
+  if (!(min_subsurface_mfp_m_ > 0) || !scene_.render.subsurface_cache) return trees;
+  for (PointEmitter& e : lights->emitters) {
+    if (!e.laser) continue;
+    e.entry_trees.assign(size_t(e.channels), nullptr);
+    for (int k = 0; k < e.channels; ++k) {
+      const SheetWindow window = SheetWindowOfHits(e, k, hits, subsurface_reach_m_);
+      trees.push_back(
+          LaserEntryTree::Build(embree_, e, k, window, kEntrySpacingPerMeanFreePath * min_subsurface_mfp_m_,
+                                &stats->rays));
+      e.entry_trees[size_t(k)] = trees.back().get();
+    }
+  }
+  return trees;
 }
 
 SampleNoise FrameRenderer::MakeSampleNoise(const ShutterFrame& sf, FilmOptions* film_options) const {
@@ -334,9 +359,13 @@ RenderedFrame FrameRenderer::Render(int64_t frame_index) const {
   if (scene_.render.adaptive_sampling) noise = MakeSampleNoise(sf, &film_options);
   Film film(film_options);
   std::vector<ChiefHit> chief_hits;
+  std::vector<std::unique_ptr<LaserEntryTree>> entry_trees;
   InArena(threads_, [&] {
     GroundTruthPass(out.world_from_cam, lights, &out, &chief_hits);
-    SamplePass(out, broadband || !scene_.render.adaptive_sampling, noise, &film, &out.stats);
+    if (IsStaticWithin(scene_.motion, sf.t_start_s, sf.t_end_s)) {
+      entry_trees = BuildEntryTrees(chief_hits, &lights, &out.stats);
+    }
+    SamplePass(out, lights, broadband || !scene_.render.adaptive_sampling, noise, &film, &out.stats);
   });
   for (float v : out.near_mask.pixels) out.stats.near_pixels += v > 0;
 

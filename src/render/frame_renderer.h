@@ -16,14 +16,18 @@
 //     that double its count, each stratified) and stops once the Monte Carlo
 //     standard error of its mean is below that fraction of the sensor's temporal
 //     noise at its signal (render/sample_noise.h).
-//  2. Path samples (render/path_tracer.h), stratified over the pixel, the lens
+//  2. When the scanner holds still during the exposure: per laser sheet, the
+//     laser light entering subsurface materials over the fan angles the camera
+//     sees, cast once and kept in a tree (render/laser_entry_tree.h), so that
+//     every path vertex on such a material sums it without noise.
+//  3. Path samples (render/path_tracer.h), stratified over the pixel, the lens
 //     aperture (thin lens only) and the exposure time (moving scanner only),
 //     accumulated in the film. Every random number comes from
 //     Rng::For(seed, frame, pixel, sample), so frames are bit-identical whatever
 //     the thread count.
-//  3. Radiance -> sensor irradiance (Camera::RadianceToIrradiance) -> energy per
+//  4. Radiance -> sensor irradiance (Camera::RadianceToIrradiance) -> energy per
 //     pixel over the exposure -> EMVA 1288 image sensor -> digital numbers.
-//  4. Exact stripe centres by ray casting (render/stripe_truth.h).
+//  5. Exact stripe centres by ray casting (render/stripe_truth.h).
 //
 // A scene with a printed part ("print", scene/printed_part.h) needs the renderer
 // built on a mutable EmbreeScene: before each frame it brings the part to the
@@ -39,6 +43,7 @@
 #include "core/image.h"
 #include "render/film.h"
 #include "render/frame_lights.h"
+#include "render/laser_entry_tree.h"
 #include "render/path_tracer.h"
 #include "render/sample_noise.h"
 #include "render/stripe_truth.h"
@@ -105,8 +110,12 @@ class FrameRenderer {
   struct Impl;
   void GroundTruthPass(const Pose& world_from_cam, const FrameLights& lights, RenderedFrame* out,
                        std::vector<ChiefHit>* hits) const;
-  void SamplePass(const RenderedFrame& frame, bool all_pixels, const SampleNoise& noise, Film* film,
-                  FrameStats* stats) const;
+  void SamplePass(const RenderedFrame& frame, const FrameLights& lights, bool all_pixels, const SampleNoise& noise,
+                  Film* film, FrameStats* stats) const;
+  // The frame's caches of laser light entering subsurface materials, one per
+  // laser sheet (null where the grid would be too large), attached to `lights`.
+  std::vector<std::unique_ptr<LaserEntryTree>> BuildEntryTrees(std::span<const ChiefHit> hits, FrameLights* lights,
+                                                               FrameStats* stats) const;
   // The adaptive stop of a frame (render.adaptive_noise); sets the film's tracked value to electrons.
   SampleNoise MakeSampleNoise(const ShutterFrame& sf, FilmOptions* film_options) const;
 
@@ -127,6 +136,7 @@ class FrameRenderer {
   double max_radiance_to_irradiance_ = 0;  // its largest value
   // Per material: the radius holding 99.9% of its widest subsurface profile (0 without one).
   std::vector<double> subsurface_reach_m_;
+  double min_subsurface_mfp_m_ = 0;  // smallest laser mean free path of a subsurface material (0: none)
   bool has_emission_ = false;
   double max_emission_ = 0;              // brightest emissive radiance, W/(m² sr)
   double max_environment_radiance_ = 0;  // brightest environment radiance, W/(m² sr)

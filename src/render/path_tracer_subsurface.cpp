@@ -9,6 +9,13 @@
 // irradiance at the entry point x_i. The profile is truncated at the radius
 // r_max holding 99.9% of its energy.
 //
+// In a frame where the scanner holds still during the exposure, each laser
+// sheet's lit entry points are cast once per frame and summed by a tree
+// (render/laser_entry_tree.h, render.subsurface_cache): a channel whose cache
+// covers the profile's reach around x_o takes that sum, without noise. Other
+// channels (a moving scanner, the pattern projector, points outside the
+// cache's window) use Monte Carlo:
+//
 // Two strategies find entry points, combined by the balance heuristic
 // (Veach 1997) over one probe sample and M emitter samples per channel
 // (weight f / (p_probe + M p_emitter) for every sample):
@@ -28,6 +35,7 @@
 #include <cmath>
 
 #include "render/path_tracer.h"
+#include "render/laser_entry_tree.h"
 #include "render/path_vertex.h"
 #include "render/specular_albedo.h"
 #include "render/subsurface_profile.h"
@@ -105,6 +113,20 @@ void PathTracer::AddSubsurfaceEmitter(const Vertex& v, const PointEmitter& e, fl
   const float cos_o = std::clamp(v.wo.z(), 0.0f, 1.0f);
   const double exit = (1.0 - DielectricSpecularAlbedo(cos_o, v.alpha)) /
                       (M_PI * (1.0 - DielectricSpecularAlbedoAverage(v.alpha)));
+  const double scale = double(beta) * exit;
+  // Channels whose frame cache covers the profile's reach around x_o: no noise.
+  std::array<bool, kMaxChannels> cached{};
+  bool all_cached = true;
+  for (int k = 0; k < e.channels; ++k) {
+    const LaserEntryTree* tree = size_t(k) < e.entry_trees.size() ? e.entry_trees[size_t(k)] : nullptr;
+    if (tree && tree->Covers(v.p, r_max)) {
+      mono[size_t(e.first_channel + k)] += float(scale * tree->Sum(v.p, v.n_geo, v.material_id, profile, r_max));
+      cached[size_t(k)] = true;
+    } else {
+      all_cached = false;
+    }
+  }
+  if (all_cached) return;
   const Frame axes = Frame::FromNormal(v.n_geo.cast<float>());
   const std::array<Eigen::Vector3d, 3> axis = {axes.n.cast<double>(), axes.t.cast<double>(), axes.b.cast<double>()};
   const std::array<double, 3> axis_prob = {0.5, 0.25, 0.25};
@@ -136,6 +158,7 @@ void PathTracer::AddSubsurfaceEmitter(const Vertex& v, const PointEmitter& e, fl
   std::array<EmitterWindow, kMaxChannels> windows;
   std::array<bool, kMaxChannels> active{};
   for (int k = 0; k < e.channels; ++k) {
+    if (cached[size_t(k)]) continue;
     EmitterWindow& w = windows[size_t(k)];
     if (e.laser) {
       w.c = e.laser->SheetDirection(k).normalized();
@@ -169,7 +192,6 @@ void PathTracer::AddSubsurfaceEmitter(const Vertex& v, const PointEmitter& e, fl
     Eigen::Vector3d w_proj = (e.projector_from_world * x).normalized();
     return windows[size_t(k)].Pdf(w_proj) * cos_i / r2;
   };
-  const double scale = double(beta) * exit;
 
   // Strategy 1: a probe ray.
   {
@@ -197,6 +219,7 @@ void PathTracer::AddSubsurfaceEmitter(const Vertex& v, const PointEmitter& e, fl
       double pp = probe_pdf(hit->position, ni);
       if (g <= 0 || !(pp > 0)) continue;
       for (int k = 0; k < e.channels; ++k) {
+        if (cached[size_t(k)]) continue;
         double f = g * ch[size_t(k)] * cos_i;  // ch: I_k / r^2 times the lit fraction
         mono[size_t(e.first_channel + k)] += float(scale * f / (pp + emitter_rays * emitter_pdf(k, hit->position, ni)));
       }

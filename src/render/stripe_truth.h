@@ -43,6 +43,7 @@ struct ChiefHit {
   Eigen::Vector3d p_world = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // geometric, world
   double depth = 0;                                  // distance along the ray, metres
+  uint32_t material = 0;
 };
 
 struct StripeTruthOptions {

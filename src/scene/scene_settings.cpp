@@ -44,6 +44,7 @@ RenderSettings ParseRenderSettings(const json::Value& value) {
   s.adaptive_sampling = o.Bool("adaptive_sampling", s.adaptive_sampling);
   s.adaptive_noise = o.Number("adaptive_noise", s.adaptive_noise, Range::Closed(0, 10));
   s.subsurface = o.Bool("subsurface", s.subsurface);
+  s.subsurface_cache = o.Bool("subsurface_cache", s.subsurface_cache);
   s.threads = int(o.Integer("threads", s.threads, Range::Closed(0, 1024)));
   s.frames = int(o.Integer("frames", s.frames, Range::Closed(1, 1000000)));
   s.speckle_contrast = o.Number("speckle_contrast", s.speckle_contrast, Range::Closed(0, 1));
@@ -95,6 +96,7 @@ nlohmann::json ToJson(const RenderSettings& s) {
           {"adaptive_sampling", s.adaptive_sampling},
           {"adaptive_noise", s.adaptive_noise},
           {"subsurface", s.subsurface},
+          {"subsurface_cache", s.subsurface_cache},
           {"threads", s.threads},
           {"frames", s.frames},
           {"speckle_contrast", s.speckle_contrast}};

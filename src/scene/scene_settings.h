@@ -22,6 +22,9 @@ struct RenderSettings {
   // noise at its signal, [0, 10]; 0 = every sampled pixel takes spp samples.
   double adaptive_noise = 0.25;
   bool subsurface = true;          // false renders subsurface materials as surfaces only
+  // Laser light entering subsurface materials from a per-frame cache of the lit
+  // surface (render/laser_entry_tree.h) where the frame allows; false: Monte Carlo everywhere.
+  bool subsurface_cache = true;
   int threads = 0;                 // 0 = all hardware threads, else [1, 1024]
   int frames = 1;                  // frames in the sequence, [1, 1000000]
   double speckle_contrast = 0;     // laser speckle contrast C in [0, 1]; 0 = no speckle

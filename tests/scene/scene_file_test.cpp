@@ -39,6 +39,7 @@ TEST(SceneFile, MinimalSceneGetsTheDefaults) {
   EXPECT_TRUE(s.render.adaptive_sampling);
   EXPECT_EQ(s.render.adaptive_noise, 0.25);
   EXPECT_TRUE(s.render.subsurface);
+  EXPECT_TRUE(s.render.subsurface_cache);
   EXPECT_EQ(s.render.threads, 0);
   EXPECT_EQ(s.output.png_bit_depth, 8);
   EXPECT_TRUE(s.output.write_radiance);
@@ -88,6 +89,7 @@ TEST(SceneFile, FullSceneValuesLandWhereTheyShould) {
   EXPECT_FALSE(s.render.adaptive_sampling);
   EXPECT_EQ(s.render.adaptive_noise, 0.5);
   EXPECT_FALSE(s.render.subsurface);
+  EXPECT_FALSE(s.render.subsurface_cache);
   EXPECT_EQ(s.render.threads, 2);
   EXPECT_EQ(s.output.png_bit_depth, 16);
   EXPECT_FALSE(s.output.write_radiance);

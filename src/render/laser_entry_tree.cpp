@@ -1,0 +1,302 @@
+#include "render/laser_entry_tree.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+
+#include "render/specular_albedo.h"
+
+namespace lt {
+
+namespace {
+
+constexpr double kWindowMargin = 1.05;
+// A new segment starts where the normal turns by more than ~25 degrees or
+// neighbouring hits are farther apart than kSegmentGap patch sizes.
+constexpr double kSegmentCos = 0.9;
+constexpr double kSegmentGap = 4.0;  // on the angular reach, for the curvature of the sheet's lines
+
+// The fan angle beyond which a sheet carries no light (LaserProjector::MayIlluminate).
+double FanLimit(const LaserProjector& laser) {
+  const LaserParams& p = laser.params();
+  return p.fan_profile == FanProfile::kFlatTop ? 0.5 * p.fan_angle_rad
+                                               : LaserProjector::kDefaultCutoffSigma * p.fan_angle_rad / 4.0;
+}
+
+double AngularReach(double reach, double r) { return std::asin(std::min(1.0, reach / r)); }
+
+}  // namespace
+
+// Accumulates the entry points of one segment: weight, weighted position and
+// second moment (each point a disc of its patch's area), normals.
+struct LaserEntryTree::Segment {
+  double w = 0, m2 = 0;
+  Eigen::Vector3d wp = Eigen::Vector3d::Zero(), wpp = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::Zero();
+  Eigen::Vector3d n0 = Eigen::Vector3d::Zero();
+  uint32_t material = 0;
+  void Add(const Eigen::Vector3d& p, const Eigen::Vector3d& ni, double wi, double disc_m2) {
+    w += wi;
+    wp += wi * p;
+    wpp += wi * p.cwiseProduct(p);
+    m2 += wi * disc_m2;
+    n += wi * ni;
+  }
+  void Flush(std::vector<Point>* out) {
+    if (w > 0) {
+      Point pt;
+      const Eigen::Vector3d c = wp / w;
+      pt.p = c.cast<float>();
+      pt.n = n.normalized().cast<float>();
+      pt.w = float(w);
+      pt.m2 = float(std::max(0.0, (wpp / w - c.cwiseProduct(c)).sum()) + m2 / w);
+      pt.material = material;
+      out->push_back(pt);
+    }
+    *this = Segment();
+  }
+};
+
+namespace {
+
+}  // namespace
+
+SheetWindow SheetWindowOfHits(const PointEmitter& e, int sheet, std::span<const ChiefHit> hits,
+                              std::span<const double> reach_m) {
+  SheetWindow w;
+  if (!e.laser) return w;
+  const LaserProjector& laser = *e.laser;
+  const Eigen::Vector3d c = laser.SheetDirection(sheet).normalized(), n = laser.SheetPlaneInProjector(sheet).n;
+  double lo = INFINITY, hi = -INFINITY;
+  for (const ChiefHit& h : hits) {
+    if (!h.valid || h.material >= reach_m.size()) continue;
+    const double reach = reach_m[h.material];
+    if (!(reach > 0)) continue;
+    const Eigen::Vector3d p = e.projector_from_world * h.p_world;
+    const double r = p.norm();
+    if (!(r > 0)) continue;
+    const Eigen::Vector3d u = p / r;
+    const double psi = std::asin(std::clamp(u.dot(n), -1.0, 1.0));
+    const double margin = kWindowMargin * AngularReach(reach, r);
+    if (std::abs(psi) > LaserProjector::kDefaultCutoffSigma * laser.SheetSigma(r) + margin) continue;
+    const double phi = std::atan2(u.x(), u.dot(c));
+    lo = std::min(lo, phi - margin);
+    hi = std::max(hi, phi + margin);
+    w.r_far = std::max(w.r_far, r + reach);
+  }
+  const double limit = FanLimit(laser);
+  if (lo <= -limit) lo = -limit, w.closed_lo = true;
+  if (hi >= limit) hi = limit, w.closed_hi = true;
+  if (hi > lo) w.phi_lo = lo, w.phi_hi = hi;
+  return w;
+}
+
+std::unique_ptr<LaserEntryTree> LaserEntryTree::Build(const EmbreeScene& scene, const PointEmitter& e, int sheet,
+                                                      const SheetWindow& window, double spacing_m, uint64_t* rays) {
+  if (!e.laser || window.empty() || !(spacing_m > 0) || !(window.r_far > 0)) return nullptr;
+  const LaserProjector& laser = *e.laser;
+  auto tree = std::unique_ptr<LaserEntryTree>(new LaserEntryTree());
+  tree->origin_ = e.origin_world;
+  tree->projector_from_world_ = e.projector_from_world.linear();
+  tree->center_dir_ = laser.SheetDirection(sheet).normalized();
+  tree->normal_dir_ = laser.SheetPlaneInProjector(sheet).n;
+  tree->window_ = window;
+  const Eigen::Vector3d c = tree->center_dir_, n = tree->normal_dir_, x = Eigen::Vector3d::UnitX();
+  const Eigen::Matrix3d world_from_projector = tree->projector_from_world_.transpose();
+  const std::vector<Material>& materials = scene.geometry().materials;
+
+  const double dphi = spacing_m / window.r_far;
+  const size_t n_phi = size_t(std::ceil((window.phi_hi - window.phi_lo) / dphi));
+  if (n_phi == 0 || n_phi > kMaxPoints) return nullptr;
+  std::vector<std::vector<Point>> rows(n_phi);
+  std::atomic<size_t> total{0};
+  std::atomic<uint64_t> cast{0};
+  std::atomic<bool> overflow{false};
+  tbb::parallel_for(size_t(0), n_phi, [&](size_t i) {
+    if (overflow.load(std::memory_order_relaxed)) return;
+    const double phi = window.phi_lo + (double(i) + 0.5) * dphi;
+    const Eigen::Vector3d along = std::cos(phi) * c + std::sin(phi) * x;
+    auto cast_psi = [&](double psi) {
+      Ray ray{e.origin_world, world_from_projector * (std::cos(psi) * along + std::sin(psi) * n), 0, INFINITY};
+      return scene.Intersect(ray);
+    };
+    uint64_t local_rays = 1;
+    const auto central = cast_psi(0.0);
+    const double r0 = central ? (central->position - e.origin_world).norm() : window.r_far;
+    const double sigma = laser.SheetSigma(r0);
+    const double dpsi = std::min(0.5 * sigma, spacing_m / r0);
+    const long half = long(std::ceil(kAcrossSigmas * sigma / dpsi));
+    const long group = std::max(1L, std::lround(kSegmentSigmas * sigma / dpsi));  // psi samples per segment
+    if (total.fetch_add(size_t(2 * half + 1)) + size_t(2 * half + 1) > kMaxPoints) {
+      overflow = true;
+      return;
+    }
+    // Entry points across the sheet, in psi order, merged into segments: runs
+    // of neighbouring hits on one surface (same material, similar normal, no gap).
+    std::vector<Point>& row = rows[i];
+    Segment seg;
+    Eigen::Vector3d last_p = Eigen::Vector3d::Zero();
+    double last_size = 0;
+    for (long j = -half; j <= half; ++j) {
+      const double psi = double(j) * dpsi;
+      std::optional<Hit> hit = j == 0 ? central : cast_psi(psi);
+      local_rays += j != 0;
+      const Material* m = hit ? &materials[hit->material_id] : nullptr;
+      if (!m || !m->subsurface) {
+        seg.Flush(&row);
+        continue;
+      }
+      const Eigen::Vector3d to = e.origin_world - hit->position;
+      const double r = to.norm();
+      Eigen::Vector3d ni = hit->geometric_normal;
+      double cos_i = ni.dot(to) / r;
+      if (cos_i < 0) ni = -ni, cos_i = -cos_i;
+      if (!(cos_i > 0)) continue;
+      const double intensity =
+          laser.SheetIntensityAt(sheet, tree->projector_from_world_ * (hit->position - e.origin_world));
+      const double d_omega = std::cos(psi) * dpsi * dphi;
+      const double power = intensity * d_omega * e.weight;
+      const double area = r * r * d_omega / std::max(cos_i, 1e-3);
+      const double size = std::sqrt(area);
+      if (seg.w > 0 && ((j + half) % group == 0 || hit->material_id != seg.material || ni.dot(seg.n0) < kSegmentCos ||
+                        (hit->position - last_p).norm() > kSegmentGap * std::max(size, last_size))) {
+        seg.Flush(&row);
+      }
+      last_p = hit->position;
+      last_size = size;
+      if (!(power > 0)) continue;
+      const float alpha = std::max(m->roughness * m->roughness, kMinGgxAlpha);
+      const double w = power * (1.0 - DielectricSpecularAlbedo(float(std::min(cos_i, 1.0)), alpha));
+      if (seg.w == 0) seg.material = hit->material_id, seg.n0 = ni;
+      seg.Add(hit->position - e.origin_world, ni, w, area / (2.0 * M_PI));
+    }
+    seg.Flush(&row);
+    cast.fetch_add(local_rays, std::memory_order_relaxed);
+  });
+  if (rays) *rays += cast.load();
+  if (overflow) return nullptr;
+  std::vector<Point> pts;
+  for (auto& row : rows) pts.insert(pts.end(), row.begin(), row.end());
+  tree->points_ = pts.size();
+  if (pts.empty()) return tree;
+  tree->nodes_.reserve(2 * pts.size());
+  tree->BuildNode(pts, 0, pts.size());
+  return tree;
+}
+
+uint32_t LaserEntryTree::BuildNode(std::vector<Point>& pts, size_t begin, size_t end) {
+  const uint32_t index = uint32_t(nodes_.size());
+  nodes_.emplace_back();
+  Node node;
+  node.lo = Eigen::Vector3f::Constant(INFINITY);
+  node.hi = Eigen::Vector3f::Constant(-INFINITY);
+  Eigen::Vector3d wp = Eigen::Vector3d::Zero(), nsum = Eigen::Vector3d::Zero();
+  double w = 0;
+  node.material = int32_t(pts[begin].material);
+  for (size_t i = begin; i < end; ++i) {
+    const Point& p = pts[i];
+    node.lo = node.lo.cwiseMin(p.p);
+    node.hi = node.hi.cwiseMax(p.p);
+    wp += double(p.w) * p.p.cast<double>();
+    w += p.w;
+    nsum += p.n.cast<double>();
+    if (int32_t(p.material) != node.material) node.material = -1;
+  }
+  node.w = float(w);
+  const Eigen::Vector3d c = w > 0 ? Eigen::Vector3d(wp / w) : 0.5 * (node.lo + node.hi).cast<double>();
+  node.c = c.cast<float>();
+  double m2 = 0;  // parallel axes: each point's own moment plus its offset from c
+  for (size_t i = begin; i < end; ++i) m2 += pts[i].w * (pts[i].m2 + (pts[i].p.cast<double>() - c).squaredNorm());
+  node.m2 = w > 0 ? float(m2 / w) : 0.0f;
+  if (end - begin == 1) {
+    node.n = pts[begin].n;
+    node.cos_cone = 1;
+    nodes_[index] = node;
+    return index;
+  }
+  const double len = nsum.norm();
+  if (len > 1e-6) {
+    node.n = (nsum / len).cast<float>();
+    float cone = 1;
+    for (size_t i = begin; i < end; ++i) cone = std::min(cone, node.n.dot(pts[i].n));
+    node.cos_cone = std::clamp(cone, -1.0f, 1.0f);
+  } else {
+    node.n = Eigen::Vector3f::UnitZ();
+    node.cos_cone = -1;
+  }
+  const size_t mid = begin + (end - begin) / 2;
+  BuildNode(pts, begin, mid);
+  node.right = BuildNode(pts, mid, end);
+  nodes_[index] = node;
+  return index;
+}
+
+bool LaserEntryTree::Covers(const Eigen::Vector3d& p, double r_max) const {
+  const Eigen::Vector3d q = projector_from_world_ * (p - origin_);
+  const double r = q.norm();
+  if (!(r > 0)) return false;
+  const double phi = std::atan2(q.x(), q.dot(center_dir_));
+  const double m = AngularReach(r_max, r);
+  return (window_.closed_lo || phi - m >= window_.phi_lo) && (window_.closed_hi || phi + m <= window_.phi_hi);
+}
+
+double LaserEntryTree::Sum(const Eigen::Vector3d& x_world, const Eigen::Vector3d& n_world, uint32_t material,
+                           const BurleyProfile& profile, double r_max) const {
+  if (nodes_.empty()) return 0.0;
+  // R(r) = A (t^3 + t) / (8 pi d r), t = exp(-r / (3 d)).
+  const float inv_3d = float(1.0 / (3.0 * profile.d()));
+  const float scale = float(profile.albedo() / (8.0 * M_PI * profile.d()));
+  const float albedo = float(profile.albedo());
+  // Within s = sqrt(kSmoothing m2) of a node's centroid, the profile's light
+  // inside radius s spread evenly over the disc: A CDF(s) / (pi s^2).
+  auto R = [&](float r2, float m2) {
+    const float s2 = kSmoothing * m2;
+    if (r2 >= s2 && r2 > 0) {
+      const float r = std::sqrt(r2), t = std::exp(-r * inv_3d);
+      return scale * (t * t * t + t) / r;
+    }
+    const float s = std::sqrt(s2), t = std::exp(-s * inv_3d);
+    return s > 0 ? albedo * (1.0f - 0.25f * t * t * t - 0.75f * t) / (float(M_PI) * s2) : 0.0f;
+  };
+  const Eigen::Vector3f x = (x_world - origin_).cast<float>();
+  const Eigen::Vector3f n_o = n_world.cast<float>();
+  const float r_max_f = float(r_max), r_max2 = r_max_f * r_max_f;
+  const int32_t mat = int32_t(material);
+  constexpr float kOpening2 = float(kOpeningRatio * kOpeningRatio);
+  double sum = 0;
+  std::array<uint32_t, 64> stack;
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (node.material >= 0 && node.material != mat) continue;
+    const Eigen::Vector3f below = (node.lo - x).cwiseMax(0.0f), above = (x - node.hi).cwiseMax(0.0f);
+    if ((below + above).squaredNorm() >= r_max2) continue;
+    if (node.right == 0) {
+      if (node.n.dot(n_o) < 0) continue;
+      const float r2 = (node.c - x).squaredNorm();
+      if (r2 < r_max2) sum += node.w * R(r2, node.m2);
+      continue;
+    }
+    const float cb = node.n.dot(n_o), sb = std::sqrt(std::max(0.0f, 1.0f - cb * cb));
+    const float cg = node.cos_cone, sg = std::sqrt(std::max(0.0f, 1.0f - cg * cg));
+    // Angle beta of n_o from the cone's axis, gamma the cone's half-angle.
+    if (cb < cg && cb * cg + sb * sg < 0) continue;  // beta - gamma > 90 deg: every normal faces away
+    const bool all_facing = cb >= 0 && cg >= 0 && cb * cg - sb * sg >= 0;  // beta + gamma <= 90 deg
+    if (node.material >= 0 && all_facing) {
+      const float r2 = (node.c - x).squaredNorm();
+      if (node.m2 < kOpening2 * r2) {
+        if (r2 < r_max2) sum += node.w * R(r2, node.m2);
+        continue;
+      }
+    }
+    const uint32_t self = uint32_t(&node - nodes_.data());
+    stack[top++] = node.right;
+    stack[top++] = self + 1;
+  }
+  return sum;
+}
+
+}  // namespace lt

@@ -1,0 +1,116 @@
+// The laser light entering subsurface materials, cached for one frame: a
+// quadrature of one laser sheet's lit surface and a tree over it that sums the
+// diffusion profile's light at any exit point without noise.
+//
+// Subsurface light leaving x_o is (path_tracer_subsurface.cpp)
+//   L_o = C_o * integral over the lit surface of R(|x_i - x_o|) (1 - E(cos_i)) E_i(x_i) dA_i.
+// E_i dA_i is the power the sheet sends through the solid angle that lands on
+// dA_i, I(w) dw, so over a grid of directions w_j = (phi_j, psi_j) of the sheet
+// (dw = cos psi dpsi dphi), each cast once from the projector to its first
+// hit x_j,
+//   integral ~= sum_j R(|x_j - x_o|) W_j,   W_j = I(w_j) cos psi_j dpsi dphi (1 - E(cos_i,j)).
+// The grid: phi over the sheet's window (every fan angle within a profile's
+// reach of a surface the camera sees) at a step that puts entry points
+// `spacing` apart on the farthest such surface; psi over +-kAcrossSigmas of the
+// sheet's Gaussian at a step of at most sigma / 2 and the same spacing (the
+// trapezoid rule on a Gaussian). Each x_j stands for the patch
+// dA_j = r^2 dw / cos_i around it. Along psi, neighbouring entry points on one
+// surface (same material, normals within ~25 degrees, no gap) merge into
+// segments kSegmentSigmas sigma wide: a segment keeps its weight, weighted
+// centroid and second moment m2 (each patch counted as a disc of its area).
+// R is evaluated at the distance to a segment's centroid; within
+// s = sqrt(kSmoothing m2) of it the profile's light inside s is spread evenly
+// over the disc, A CDF(s) / (pi s^2), so no light is lost to the 1/r peak.
+//
+// The tree (segments in grid order, split in halves) stores per node the
+// summed weight, the weighted centroid and second moment, the bounding box,
+// the material (or mixed) and a cone bounding the normals. A query opens a node
+// unless it is beyond the profile's reach, of another material, faces away,
+// or is small seen from x_o (m2 < kOpeningRatio^2 |c - x_o|^2), in which case
+// its centroid stands for it.
+// Entry points count as in the Monte Carlo estimator: the same material as x_o,
+// within the profile's radius r_max, and lit on the side that x_o's normal faces.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "render/frame_lights.h"
+#include "render/stripe_truth.h"
+#include "render/subsurface_profile.h"
+#include "scene/embree_scene.h"
+
+namespace lt {
+
+// The range of fan angles phi of one sheet that a frame needs, and whether the
+// sheet has no light beyond each end (the fan's edge): then any point past that
+// end is covered.
+struct SheetWindow {
+  double phi_lo = 0, phi_hi = 0;
+  bool closed_lo = false, closed_hi = false;
+  double r_far = 0;  // largest distance from the projector of a surface within the window
+  bool empty() const { return !(phi_hi > phi_lo); }
+};
+
+// The window of sheet `sheet` of emitter e (a laser) over the camera's chief
+// hits: every hit on a subsurface material (reach_m[material] > 0) that the
+// sheet passes within that reach, widened by the reach.
+SheetWindow SheetWindowOfHits(const PointEmitter& e, int sheet, std::span<const ChiefHit> hits,
+                              std::span<const double> reach_m);
+
+class LaserEntryTree {
+ public:
+  static constexpr double kAcrossSigmas = 4.5;
+  static constexpr double kOpeningRatio = 0.15;
+  static constexpr double kSegmentSigmas = 1.0;
+  static constexpr float kSmoothing = 1.0f;
+  static constexpr size_t kMaxPoints = size_t(1) << 22;
+
+  // Casts the grid of sheet `sheet` of e (a laser) over `window`; keeps the hits
+  // on subsurface materials. `spacing_m`: entry-point spacing along the sheet.
+  // Returns null when the grid would exceed kMaxPoints (the caller falls back
+  // to Monte Carlo). `rays` counts the rays cast.
+  static std::unique_ptr<LaserEntryTree> Build(const EmbreeScene& scene, const PointEmitter& e, int sheet,
+                                               const SheetWindow& window, double spacing_m, uint64_t* rays);
+
+  // True when every entry point within r_max of p (world) lies in the window.
+  bool Covers(const Eigen::Vector3d& p, double r_max) const;
+  // sum_j R(r_eff,j) W_j over the entry points on `material` within r_max of x
+  // (world) whose normal, oriented toward the projector, has n_o . n >= 0.
+  double Sum(const Eigen::Vector3d& x, const Eigen::Vector3d& n_o, uint32_t material, const BurleyProfile& profile,
+             double r_max) const;
+
+  size_t points() const { return points_; }
+
+ private:
+  struct Node {
+    Eigen::Vector3f lo, hi;  // bounding box, relative to origin_
+    Eigen::Vector3f c;       // weighted centroid
+    Eigen::Vector3f n;       // mean normal (unit) of the cone
+    float cos_cone = -1;     // cos of the cone's half-angle
+    float w = 0;             // summed weight W
+    float m2 = 0;            // weighted mean squared distance from c (m^2)
+    int32_t material = -1;   // -1: mixed
+    uint32_t right = 0;      // right child (left child: this + 1); 0 for a leaf
+  };
+  struct Point {
+    Eigen::Vector3f p, n;
+    float w, m2;
+    uint32_t material;
+  };
+  struct Segment;
+  uint32_t BuildNode(std::vector<Point>& pts, size_t begin, size_t end);
+
+  Eigen::Vector3d origin_;  // of the float coordinates (the projector)
+  Eigen::Matrix3d projector_from_world_;
+  Eigen::Vector3d center_dir_, normal_dir_;  // sheet axes c and n (projector frame)
+  SheetWindow window_;
+  std::vector<Node> nodes_;
+  size_t points_ = 0;
+};
+
+}  // namespace lt
