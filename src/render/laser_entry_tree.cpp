@@ -19,13 +19,6 @@ constexpr double kWindowMargin = 1.05;
 constexpr double kSegmentCos = 0.9;
 constexpr double kSegmentGap = 4.0;  // on the angular reach, for the curvature of the sheet's lines
 
-// The fan angle beyond which a sheet carries no light (LaserProjector::MayIlluminate).
-double FanLimit(const LaserProjector& laser) {
-  const LaserParams& p = laser.params();
-  return p.fan_profile == FanProfile::kFlatTop ? 0.5 * p.fan_angle_rad
-                                               : LaserProjector::kDefaultCutoffSigma * p.fan_angle_rad / 4.0;
-}
-
 double AngularReach(double reach, double r) { return std::asin(std::min(1.0, reach / r)); }
 
 }  // namespace
@@ -86,7 +79,7 @@ SheetWindow SheetWindowOfHits(const PointEmitter& e, int sheet, std::span<const 
     hi = std::max(hi, phi + margin);
     w.r_far = std::max(w.r_far, r + reach);
   }
-  const double limit = FanLimit(laser);
+  const double limit = laser.FanHalfWidth();
   if (lo <= -limit) lo = -limit, w.closed_lo = true;
   if (hi >= limit) hi = limit, w.closed_hi = true;
   if (hi > lo) w.phi_lo = lo, w.phi_hi = hi;

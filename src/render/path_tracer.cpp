@@ -128,7 +128,8 @@ bool PathTracer::EmitterIrradiance(const PointEmitter& e, const Eigen::Vector3d&
 }
 
 void PathTracer::AddEmitterLight(const Vertex& v, const FrameLights& lights, std::span<const float> beta_mono,
-                                 std::span<float> mono, TraceStats* stats) const {
+                                 const Eigen::Vector3d* prev_p, float prev_bsdf_pdf, std::span<float> mono,
+                                 TraceStats* stats) const {
   std::array<double, kMaxChannels> irr{};
   for (const PointEmitter& e : lights.emitters) {
     float beta = beta_mono[size_t(e.group)];
@@ -143,7 +144,16 @@ void PathTracer::AddEmitterLight(const Vertex& v, const FrameLights& lights, std
     float f = Bsdf(params).Evaluate(v.wo, v.ToLocal(wi)).x();
     if (f <= 0) continue;
     double scale = double(beta) * f * cos_s;
-    for (int k = 0; k < e.channels; ++k) mono[size_t(e.first_channel + k)] += float(scale * ch[size_t(k)]);
+    const bool connected = prev_p && e.laser;
+    const double cos_1 = connected ? v.n_geo.dot((*prev_p - v.p).normalized()) : 0.0;
+    for (int k = 0; k < e.channels; ++k) {
+      double weight = 1.0;
+      if (connected) {
+        const double p_connect = LaserConnectionDensity(e, k, *prev_p, v.p, v.n_geo.dot(wi), cos_1);
+        if (prev_bsdf_pdf + p_connect > 0) weight = prev_bsdf_pdf / (prev_bsdf_pdf + p_connect);
+      }
+      mono[size_t(e.first_channel + k)] += float(scale * weight * ch[size_t(k)]);
+    }
   }
 }
 
@@ -187,7 +197,8 @@ void PathTracer::Trace(const Ray& camera_ray, const FrameLights& lights, Rng& rn
   for (const auto& e : lights.emitters) group_wavelength[size_t(e.group)] = e.wavelength_m;
 
   Ray ray = camera_ray;
-  float prev_bsdf_pdf = 0;  // for MIS when a BSDF-sampled ray meets the LED
+  float prev_bsdf_pdf = 0;  // for MIS when a BSDF-sampled ray meets the LED or a laser-lit point
+  Eigen::Vector3d prev_p = Eigen::Vector3d::Zero();
   for (int depth = 0;; ++depth) {
     ++stats->rays;
     auto hit = scene_.Intersect(ray);
@@ -226,7 +237,12 @@ void PathTracer::Trace(const Ray& camera_ray, const FrameLights& lights, Rng& rn
 
     if (v.material->emissive.maxCoeff() > 0) *rgb += beta.cwiseProduct(v.material->emissive);
     if (!lights.emitters.empty()) {
-      AddEmitterLight(v, lights, beta_mono_span, mono, stats);
+      // The camera's vertex also connects to laser-lit points (see ConnectToLaserLight);
+      // the vertex after it weighs its next-event estimate against that connection.
+      const bool connects = options_.laser_connection && depth == 0 && depth < options_.max_bounces;
+      const bool connected = options_.laser_connection && depth == 1;
+      AddEmitterLight(v, lights, beta_mono_span, connected ? &prev_p : nullptr, prev_bsdf_pdf, mono, stats);
+      if (connects) ConnectToLaserLight(v, lights, beta_mono_span, rng, mono, stats);
       if (v.subsurface) {
         const int emitter_rays = depth == 0 ? options_.subsurface_emitter_rays : 1;
         for (const PointEmitter& e : lights.emitters)
@@ -253,6 +269,7 @@ void PathTracer::Trace(const Ray& camera_ray, const FrameLights& lights, Rng& rn
       beta_mono[size_t(g)] *= f * cos_i / bs.pdf;
     }
     prev_bsdf_pdf = bs.pdf;
+    prev_p = v.p;
     if (depth + 1 >= options_.russian_roulette_depth) {
       float m = beta.maxCoeff();
       for (int g = 0; g < lights.groups && g < kMaxGroups; ++g) m = std::max(m, beta_mono[size_t(g)]);

@@ -20,6 +20,10 @@
 //    and leaves at the shading point with the profile's weight R(|x_i − x_o|);
 //    broadband light, which varies slowly across the profile's few hundred
 //    micrometres, uses the local diffuse lobe (docs/rendering.md);
+//  - at the camera's vertex, a connection through a point the laser lights
+//    directly (a direction of the sheet drawn near the vertex, its first hit),
+//    combined with the BSDF bounce by the balance heuristic: the stripe on the
+//    print bed and its glint on a wall are thin lines a BSDF bounce rarely meets;
 //  - the path continues by BSDF sampling up to max_bounces, with Russian
 //    roulette from russian_roulette_depth.
 #pragma once
@@ -44,6 +48,9 @@ struct PathTracerOptions {
   // Emitter rays per emitter channel for the subsurface light of the first
   // surface the camera sees (render/path_tracer_subsurface.cpp); one at bounces.
   int subsurface_emitter_rays = 8;
+  // The camera's vertex connects to points the lasers light directly
+  // (render/path_tracer_laser_connection.cpp).
+  bool laser_connection = true;
 };
 
 // Counters of one thread's work.
@@ -77,8 +84,29 @@ class PathTracer {
 
  private:
   struct Vertex;
+  // Directions of one laser sheet drawn toward a path vertex x0 for the
+  // connection through laser-lit points (render/path_tracer_laser_connection.cpp):
+  // fan angle phi from a Cauchy density centred on x0's (spread: x0's angle out
+  // of the sheet, at least 1 mrad), truncated to the fan; psi across the sheet
+  // from a Gaussian. Projector frame.
+  struct SheetConnection {
+    Eigen::Vector3d c, n;
+    double phi0 = 0, spread = 0, a1 = 0, a2 = 0, sigma = 0;
+    bool Make(const PointEmitter& e, int sheet, const Eigen::Vector3d& x0);
+    double Pdf(const Eigen::Vector3d& w) const;  // per steradian, w unit
+    bool Sample(Rng& rng, Eigen::Vector3d* w) const;
+  };
+  // Solid-angle density at x0 of reaching the lit point x1 by the connection
+  // (cos_1l: x1's normal to the laser, cos_1: to x0).
+  double LaserConnectionDensity(const PointEmitter& e, int sheet, const Eigen::Vector3d& x0,
+                                const Eigen::Vector3d& x1, double cos_1l, double cos_1) const;
+  void ConnectToLaserLight(const Vertex& v, const FrameLights& lights, std::span<const float> beta_mono, Rng& rng,
+                           std::span<float> mono, TraceStats* stats) const;
+  // prev_p: the previous path vertex when it connected to laser-lit points
+  // (balance heuristic against that connection, with prev_bsdf_pdf), else null.
   void AddEmitterLight(const Vertex& v, const FrameLights& lights, std::span<const float> beta_mono,
-                       std::span<float> mono, TraceStats* stats) const;
+                       const Eigen::Vector3d* prev_p, float prev_bsdf_pdf, std::span<float> mono,
+                       TraceStats* stats) const;
   void AddLedLight(const Vertex& v, const LedLight& led, const Eigen::Vector3f& beta, Rng& rng,
                    Eigen::Vector3f* rgb, TraceStats* stats) const;
   // Subsurface light of one emitter (render/path_tracer_subsurface.cpp).

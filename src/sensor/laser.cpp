@@ -168,6 +168,11 @@ double LaserProjector::SheetOffsetAngle(int sheet, const Eigen::Vector3d& dir) c
   return Angles(sheet, dir.normalized()).psi;
 }
 
+double LaserProjector::FanHalfWidth(double k_sigma) const {
+  return params_.fan_profile == FanProfile::kFlatTop ? 0.5 * params_.fan_angle_rad
+                                                     : k_sigma * params_.fan_angle_rad / 4.0;
+}
+
 bool LaserProjector::MayIlluminate(const Eigen::Vector3d& p, double k_sigma) const {
   double r = p.norm();
   if (!(r > 0)) return true;
@@ -176,9 +181,7 @@ bool LaserProjector::MayIlluminate(const Eigen::Vector3d& p, double k_sigma) con
   for (int k = 0; k < sheet_count(); ++k) {
     SheetAngles a = Angles(k, w);
     if (std::abs(a.psi) > k_sigma * sigma) continue;
-    double fan_limit = params_.fan_profile == FanProfile::kFlatTop ? 0.5 * params_.fan_angle_rad
-                                                                   : k_sigma * params_.fan_angle_rad / 4.0;
-    if (std::abs(a.phi) > fan_limit) continue;
+    if (std::abs(a.phi) > FanHalfWidth(k_sigma)) continue;
     return true;
   }
   return false;

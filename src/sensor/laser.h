@@ -96,6 +96,9 @@ class LaserProjector {
   // (flat-top) or more than k_sigma σ_φ along it (Gaussian). At 8σ the
   // intensity is below e^-32 ≈ 1e-14 of the peak.
   bool MayIlluminate(const Eigen::Vector3d& p_in_projector, double k_sigma = kDefaultCutoffSigma) const;
+  // The fan angle |phi| beyond which the sheets carry no meaningful light: half
+  // the fan (flat-top) or k_sigma sigma_phi (Gaussian).
+  double FanHalfWidth(double k_sigma = kDefaultCutoffSigma) const;
 
   // The plane of a sheet in the camera frame (n·p + d = 0): the ground-truth
   // laser calibration. And in the projector frame (through the origin).

@@ -1,0 +1,153 @@
+// Laser light reflected once by another surface toward a path vertex: a
+// connection through the laser-lit point (see path_tracer.h).
+//
+// The laser lights thin lines: the stripe on the print bed, its glint on a
+// wall. A bounce drawn from the BSDF at x0 meets them only by chance. So the
+// camera's vertex x0 (PathTracerOptions::laser_connection; deeper vertices add
+// cost for little: their light is a small share of the pixel's) also draws a direction w of the sheet from the projector, near the fan angle
+// of x0 (density in w known in closed form, SheetConnection), casts it to its
+// first hit x1, the lit point, and connects x1 to x0 with a shadow ray. The
+// light x1 sends to x0 is f1 I(w) cos_s1 / r1^2 (the same reflection of the
+// laser as next-event estimation computes at x1: the surface's BSDF, and for a
+// subsurface material its specular lobe only). x1's area density is
+// p(w) cos_1L / r1^2, so in solid angle at x0 p_c = p(w) cos_1L d^2 / (r1^2 cos_1),
+// and the connection and the BSDF bounce combine by the balance heuristic:
+//   connection: f0 L1 cos0 / (p_c + p_bsdf);
+//   next-event estimation at the BSDF-sampled vertex after x0: weight p_bsdf / (p_bsdf + p_c).
+// The subsurface glow around x1 stays with the BSDF bounce (and the frame's cache).
+#include <cmath>
+
+#include "render/bsdf.h"
+#include "render/path_tracer.h"
+#include "render/path_vertex.h"
+#include "render/spectrum.h"
+
+namespace lt {
+
+namespace {
+
+// Spread of the fan-angle density at its centre, radians (about 0.1 mm at 0.1 m).
+constexpr double kMinFanSpread = 1e-3;
+// Across the sheet, psi is drawn from a Gaussian this much wider than the
+// sheet's at x0's distance, so that hits farther away (a wider sheet) keep a
+// bounded weight.
+constexpr double kAcrossWidening = 1.5;
+
+}  // namespace
+
+bool PathTracer::SheetConnection::Make(const PointEmitter& e, int sheet, const Eigen::Vector3d& x0) {
+  if (!e.laser) return false;
+  const Eigen::Vector3d p = e.projector_from_world * x0;
+  const double r0 = p.norm();
+  if (!(r0 > 0)) return false;
+  const Eigen::Vector3d u = p / r0;
+  c = e.laser->SheetDirection(sheet).normalized();
+  n = e.laser->SheetPlaneInProjector(sheet).n;
+  phi0 = std::atan2(u.x(), u.dot(c));
+  spread = std::max(std::abs(std::asin(std::clamp(u.dot(n), -1.0, 1.0))), kMinFanSpread);
+  const double limit = e.laser->FanHalfWidth();
+  a1 = std::atan((-limit - phi0) / spread);
+  a2 = std::atan((limit - phi0) / spread);
+  sigma = kAcrossWidening * e.laser->SheetSigma(r0);
+  return a2 > a1;
+}
+
+double PathTracer::SheetConnection::Pdf(const Eigen::Vector3d& w) const {
+  const double psi = std::asin(std::clamp(w.dot(n), -1.0, 1.0));
+  const double phi = std::atan2(w.x(), w.dot(c));
+  const double a = std::atan((phi - phi0) / spread);
+  if (!(a >= a1 && a <= a2) || std::abs(psi) >= 0.5 * M_PI) return 0.0;
+  const double dp = phi - phi0;
+  const double p_phi = spread / ((a2 - a1) * (spread * spread + dp * dp));
+  const double p_psi = std::exp(-0.5 * psi * psi / (sigma * sigma)) / (sigma * std::sqrt(2 * M_PI));
+  return p_phi * p_psi / std::cos(psi);
+}
+
+bool PathTracer::SheetConnection::Sample(Rng& rng, Eigen::Vector3d* w) const {
+  const double phi = phi0 + spread * std::tan(a1 + rng.NextDouble() * (a2 - a1));
+  const double psi = sigma * rng.NextGaussian();
+  if (std::abs(psi) >= 0.5 * M_PI) return false;
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
+  *w = std::cos(psi) * (std::cos(phi) * c + std::sin(phi) * x) + std::sin(psi) * n;
+  return true;
+}
+
+double PathTracer::LaserConnectionDensity(const PointEmitter& e, int sheet, const Eigen::Vector3d& x0,
+                                          const Eigen::Vector3d& x1, double cos_1l, double cos_1) const {
+  SheetConnection sc;
+  if (!sc.Make(e, sheet, x0) || !(cos_1 > 0)) return 0.0;
+  const Eigen::Vector3d q = e.projector_from_world * x1;
+  const double r2 = q.squaredNorm();
+  return sc.Pdf(q / std::sqrt(r2)) * cos_1l / r2 * (x1 - x0).squaredNorm() / cos_1;
+}
+
+void PathTracer::ConnectToLaserLight(const Vertex& v, const FrameLights& lights, std::span<const float> beta_mono,
+                                     Rng& rng, std::span<float> mono, TraceStats* stats) const {
+  const Bsdf bsdf0({v.base_color, v.material->metallic, v.material->roughness});
+  for (const PointEmitter& e : lights.emitters) {
+    const float beta = beta_mono[size_t(e.group)];
+    if (!e.laser || beta <= 0) continue;
+    const Eigen::Matrix3d world_from_projector = e.projector_from_world.linear().transpose();
+    for (int k = 0; k < e.channels; ++k) {
+      SheetConnection sc;
+      Eigen::Vector3d w;
+      if (!sc.Make(e, k, v.p) || !sc.Sample(rng, &w)) continue;
+      Ray ray{e.origin_world, world_from_projector * w, 0, std::numeric_limits<double>::infinity()};
+      ++stats->rays;
+      const auto hit = scene_.Intersect(ray);
+      if (!hit) continue;
+      const Eigen::Vector3d x1 = hit->position;
+      const Eigen::Vector3d to_laser = e.origin_world - x1;
+      const double r_l2 = to_laser.squaredNorm();
+      const Eigen::Vector3d wl = to_laser / std::sqrt(r_l2);
+      Eigen::Vector3d n1 = hit->geometric_normal;
+      if (n1.dot(wl) < 0) n1 = -n1;  // the lit side
+      const Eigen::Vector3d to0 = v.p - x1;
+      const double d2 = to0.squaredNorm();
+      if (!(d2 > 0)) continue;
+      const Eigen::Vector3d w1 = to0 / std::sqrt(d2);  // x1 -> x0
+      const double cos_1l = n1.dot(wl), cos_1 = n1.dot(w1);
+      if (!(cos_1l > 0) || !(cos_1 > 0)) continue;
+      const Eigen::Vector3f wi0 = v.ToLocal(-w1);
+      const float cos0 = wi0.z();
+      if (v.n_geo.dot(-w1) <= 0 || cos0 <= 0) continue;
+      // The reflection at x1, as next-event estimation computes it there.
+      const Material& m1 = materials_[hit->material_id];
+      const bool sss1 = options_.subsurface && m1.subsurface.has_value();
+      Eigen::Vector3d ns1 = hit->shading_normal;
+      if (ns1.dot(n1) < 0) ns1 = -ns1;
+      const Frame frame1 = Frame::FromNormal(ns1.cast<float>());
+      Eigen::Vector3f wo1 = frame1.ToLocal(w1.cast<float>());
+      if (wo1.z() <= 0) wo1.z() = 1e-6f;
+      wo1.normalize();
+      const Eigen::Vector3f wl1 = frame1.ToLocal(wl.cast<float>());
+      if (wl1.z() <= 0) continue;
+      const float a1 = sss1 ? 0.0f : float(ValueAtWavelength(m1.BaseColorAt(hit->uv), e.wavelength_m));
+      const float f1 = Bsdf({Eigen::Vector3f::Constant(a1), sss1 ? 0.0f : m1.metallic, m1.roughness})
+                           .Evaluate(wo1, wl1)
+                           .x();
+      if (f1 <= 0) continue;
+      const double intensity = e.laser->SheetIntensityAt(k, e.projector_from_world * x1);
+      const double l1 = f1 * intensity * e.weight * wl1.z() / r_l2;
+      if (!(l1 > 0)) continue;
+      const float f0 = Bsdf({Eigen::Vector3f::Constant(v.albedo_mono[size_t(e.group)]), v.material->metallic,
+                             v.material->roughness})
+                           .Evaluate(v.wo, wi0)
+                           .x();
+      if (f0 <= 0) continue;
+      Ray shadow;
+      shadow.origin = SpawnOrigin(v.p, v.n_geo, -w1);
+      shadow.direction = SpawnOrigin(x1, n1, w1) - shadow.origin;
+      shadow.t_min = 0;
+      shadow.t_max = 1.0 - 1e-7;
+      ++stats->rays;
+      if (scene_.Occluded(shadow)) continue;
+      const double p_connect = sc.Pdf(w) * cos_1l / r_l2 * d2 / cos_1;
+      const double p_bsdf = bsdf0.Pdf(v.wo, wi0);
+      if (!(p_connect + p_bsdf > 0)) continue;
+      mono[size_t(e.first_channel + k)] += float(double(beta) * f0 * cos0 * l1 / (p_connect + p_bsdf));
+    }
+  }
+}
+
+}  // namespace lt
