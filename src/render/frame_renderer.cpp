@@ -262,7 +262,7 @@ void FrameRenderer::SamplePass(const RenderedFrame& frame, const FrameLights& fi
                 auto cam_ray = cam.GenerateRay(Eigen::Vector2d(x - 0.5 + j.x(), y - 0.5 + j.y()), lens);
                 Eigen::Vector3f rgb = Eigen::Vector3f::Zero();
                 std::fill(mono.begin(), mono.end(), 0.0f);
-                if (cam_ray) tracer_->Trace(WorldRay(world_from_cam, *cam_ray), *lights, rng, &rgb, mono, &ts);
+                if (cam_ray) tracer_->Trace(WorldRay(world_from_cam, *cam_ray), *lights, rng, &rgb, mono, &ts, full);
                 film->AddSample(x, y, rgb, mono);
                 ++ns;
               }

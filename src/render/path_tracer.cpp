@@ -188,7 +188,8 @@ void PathTracer::AddLedLight(const Vertex& v, const LedLight& led, const Eigen::
 }
 
 void PathTracer::Trace(const Ray& camera_ray, const FrameLights& lights, Rng& rng, Eigen::Vector3f* rgb,
-                       std::span<float> mono, TraceStats* stats) const {
+                       std::span<float> mono, TraceStats* stats, bool laser_connection) const {
+  const bool connection = options_.laser_connection && laser_connection;
   Eigen::Vector3f beta = Eigen::Vector3f::Ones();
   std::array<float, kMaxGroups> beta_mono;
   beta_mono.fill(1.0f);
@@ -239,8 +240,8 @@ void PathTracer::Trace(const Ray& camera_ray, const FrameLights& lights, Rng& rn
     if (!lights.emitters.empty()) {
       // The camera's vertex also connects to laser-lit points (see ConnectToLaserLight);
       // the vertex after it weighs its next-event estimate against that connection.
-      const bool connects = options_.laser_connection && depth == 0 && depth < options_.max_bounces;
-      const bool connected = options_.laser_connection && depth == 1;
+      const bool connects = connection && depth == 0 && depth < options_.max_bounces;
+      const bool connected = connection && depth == 1;
       AddEmitterLight(v, lights, beta_mono_span, connected ? &prev_p : nullptr, prev_bsdf_pdf, mono, stats);
       if (connects) ConnectToLaserLight(v, lights, beta_mono_span, rng, mono, stats);
       if (v.subsurface) {

@@ -70,8 +70,11 @@ class PathTracer {
 
   // Adds the radiance arriving along `ray` (world frame, from the camera) to rgb
   // and mono (one entry per film channel), weighted by each light's lit fraction.
+  // `laser_connection`: this sample may connect to laser-lit points (with
+  // PathTracerOptions::laser_connection; the frame renderer spends it on the
+  // pixels that get the sample budget).
   void Trace(const Ray& ray, const FrameLights& lights, Rng& rng, Eigen::Vector3f* rgb, std::span<float> mono,
-             TraceStats* stats) const;
+             TraceStats* stats, bool laser_connection = true) const;
 
   // Radiance of the environment in a world direction.
   Eigen::Vector3f EnvironmentRadiance(const Eigen::Vector3d& dir) const;
