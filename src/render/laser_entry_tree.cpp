@@ -61,7 +61,6 @@ SheetWindow SheetWindowOfHits(const PointEmitter& e, int sheet, std::span<const 
   SheetWindow w;
   if (!e.laser) return w;
   const LaserProjector& laser = *e.laser;
-  const Eigen::Vector3d c = laser.SheetDirection(sheet).normalized(), n = laser.SheetPlaneInProjector(sheet).n;
   double lo = INFINITY, hi = -INFINITY;
   for (const ChiefHit& h : hits) {
     if (!h.valid || h.material >= reach_m.size()) continue;
@@ -70,13 +69,11 @@ SheetWindow SheetWindowOfHits(const PointEmitter& e, int sheet, std::span<const 
     const Eigen::Vector3d p = e.projector_from_world * h.p_world;
     const double r = p.norm();
     if (!(r > 0)) continue;
-    const Eigen::Vector3d u = p / r;
-    const double psi = std::asin(std::clamp(u.dot(n), -1.0, 1.0));
+    const LaserProjector::SheetAngles a = laser.Angles(sheet, p / r);
     const double margin = kWindowMargin * AngularReach(reach, r);
-    if (std::abs(psi) > LaserProjector::kDefaultCutoffSigma * laser.SheetSigma(r) + margin) continue;
-    const double phi = std::atan2(u.x(), u.dot(c));
-    lo = std::min(lo, phi - margin);
-    hi = std::max(hi, phi + margin);
+    if (std::abs(a.psi) > LaserProjector::kDefaultCutoffSigma * laser.SheetSigma(r) + margin) continue;
+    lo = std::min(lo, a.phi - margin);
+    hi = std::max(hi, a.phi + margin);
     w.r_far = std::max(w.r_far, r + reach);
   }
   const double limit = laser.FanHalfWidth();
@@ -93,10 +90,9 @@ std::unique_ptr<LaserEntryTree> LaserEntryTree::Build(const EmbreeScene& scene, 
   auto tree = std::unique_ptr<LaserEntryTree>(new LaserEntryTree());
   tree->origin_ = e.origin_world;
   tree->projector_from_world_ = e.projector_from_world.linear();
-  tree->center_dir_ = laser.SheetDirection(sheet).normalized();
-  tree->normal_dir_ = laser.SheetPlaneInProjector(sheet).n;
+  tree->laser_ = &laser;
+  tree->sheet_ = sheet;
   tree->window_ = window;
-  const Eigen::Vector3d c = tree->center_dir_, n = tree->normal_dir_, x = Eigen::Vector3d::UnitX();
   const Eigen::Matrix3d world_from_projector = tree->projector_from_world_.transpose();
   const std::vector<Material>& materials = scene.geometry().materials;
 
@@ -110,9 +106,8 @@ std::unique_ptr<LaserEntryTree> LaserEntryTree::Build(const EmbreeScene& scene, 
   tbb::parallel_for(size_t(0), n_phi, [&](size_t i) {
     if (overflow.load(std::memory_order_relaxed)) return;
     const double phi = window.phi_lo + (double(i) + 0.5) * dphi;
-    const Eigen::Vector3d along = std::cos(phi) * c + std::sin(phi) * x;
     auto cast_psi = [&](double psi) {
-      Ray ray{e.origin_world, world_from_projector * (std::cos(psi) * along + std::sin(psi) * n), 0, INFINITY};
+      Ray ray{e.origin_world, world_from_projector * laser.DirectionAt(sheet, phi, psi), 0, INFINITY};
       return scene.Intersect(ray);
     };
     uint64_t local_rays = 1;
@@ -230,7 +225,7 @@ bool LaserEntryTree::Covers(const Eigen::Vector3d& p, double r_max) const {
   const Eigen::Vector3d q = projector_from_world_ * (p - origin_);
   const double r = q.norm();
   if (!(r > 0)) return false;
-  const double phi = std::atan2(q.x(), q.dot(center_dir_));
+  const double phi = laser_->Angles(sheet_, q / r).phi;
   const double m = AngularReach(r_max, r);
   return (window_.closed_lo || phi - m >= window_.phi_lo) && (window_.closed_hi || phi + m <= window_.phi_hi);
 }

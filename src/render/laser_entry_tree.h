@@ -107,7 +107,8 @@ class LaserEntryTree {
 
   Eigen::Vector3d origin_;  // of the float coordinates (the projector)
   Eigen::Matrix3d projector_from_world_;
-  Eigen::Vector3d center_dir_, normal_dir_;  // sheet axes c and n (projector frame)
+  const LaserProjector* laser_ = nullptr;
+  int sheet_ = 0;
   SheetWindow window_;
   std::vector<Node> nodes_;
   size_t points_ = 0;

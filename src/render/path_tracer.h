@@ -93,9 +93,10 @@ class PathTracer {
   // of the sheet, at least 1 mrad), truncated to the fan; psi across the sheet
   // from a Gaussian. Projector frame.
   struct SheetConnection {
-    Eigen::Vector3d c, n;
+    const LaserProjector* laser = nullptr;
+    int sheet = 0;
     double phi0 = 0, spread = 0, a1 = 0, a2 = 0, sigma = 0;
-    bool Make(const PointEmitter& e, int sheet, const Eigen::Vector3d& x0);
+    bool Make(const PointEmitter& e, int sheet_index, const Eigen::Vector3d& x0);
     double Pdf(const Eigen::Vector3d& w) const;  // per steradian, w unit
     bool Sample(Rng& rng, Eigen::Vector3d* w) const;
   };

@@ -35,40 +35,38 @@ constexpr double kAcrossWidening = 1.5;
 
 }  // namespace
 
-bool PathTracer::SheetConnection::Make(const PointEmitter& e, int sheet, const Eigen::Vector3d& x0) {
+bool PathTracer::SheetConnection::Make(const PointEmitter& e, int sheet_index, const Eigen::Vector3d& x0) {
   if (!e.laser) return false;
   const Eigen::Vector3d p = e.projector_from_world * x0;
   const double r0 = p.norm();
   if (!(r0 > 0)) return false;
-  const Eigen::Vector3d u = p / r0;
-  c = e.laser->SheetDirection(sheet).normalized();
-  n = e.laser->SheetPlaneInProjector(sheet).n;
-  phi0 = std::atan2(u.x(), u.dot(c));
-  spread = std::max(std::abs(std::asin(std::clamp(u.dot(n), -1.0, 1.0))), kMinFanSpread);
-  const double limit = e.laser->FanHalfWidth();
+  laser = e.laser;
+  sheet = sheet_index;
+  const LaserProjector::SheetAngles a = laser->Angles(sheet, p / r0);
+  phi0 = a.phi;
+  spread = std::max(std::abs(a.psi), kMinFanSpread);
+  const double limit = laser->FanHalfWidth();
   a1 = std::atan((-limit - phi0) / spread);
   a2 = std::atan((limit - phi0) / spread);
-  sigma = kAcrossWidening * e.laser->SheetSigma(r0);
+  sigma = kAcrossWidening * laser->SheetSigma(r0);
   return a2 > a1;
 }
 
 double PathTracer::SheetConnection::Pdf(const Eigen::Vector3d& w) const {
-  const double psi = std::asin(std::clamp(w.dot(n), -1.0, 1.0));
-  const double phi = std::atan2(w.x(), w.dot(c));
-  const double a = std::atan((phi - phi0) / spread);
-  if (!(a >= a1 && a <= a2) || std::abs(psi) >= 0.5 * M_PI) return 0.0;
-  const double dp = phi - phi0;
+  const LaserProjector::SheetAngles s = laser->Angles(sheet, w);
+  const double a = std::atan((s.phi - phi0) / spread);
+  if (!(a >= a1 && a <= a2) || std::abs(s.psi) >= 0.5 * M_PI) return 0.0;
+  const double dp = s.phi - phi0;
   const double p_phi = spread / ((a2 - a1) * (spread * spread + dp * dp));
-  const double p_psi = std::exp(-0.5 * psi * psi / (sigma * sigma)) / (sigma * std::sqrt(2 * M_PI));
-  return p_phi * p_psi / std::cos(psi);
+  const double p_psi = std::exp(-0.5 * s.psi * s.psi / (sigma * sigma)) / (sigma * std::sqrt(2 * M_PI));
+  return p_phi * p_psi / std::cos(s.psi);
 }
 
 bool PathTracer::SheetConnection::Sample(Rng& rng, Eigen::Vector3d* w) const {
   const double phi = phi0 + spread * std::tan(a1 + rng.NextDouble() * (a2 - a1));
   const double psi = sigma * rng.NextGaussian();
   if (std::abs(psi) >= 0.5 * M_PI) return false;
-  const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
-  *w = std::cos(psi) * (std::cos(phi) * c + std::sin(phi) * x) + std::sin(psi) * n;
+  *w = laser->DirectionAt(sheet, phi, psi);
   return true;
 }
 

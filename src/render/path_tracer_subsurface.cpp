@@ -50,9 +50,10 @@ constexpr double kProfileTruncation = 0.999;
 // The emitter-ray strategy for one channel: a window of directions around x_o.
 struct EmitterWindow {
   bool sheet = true;
-  // Sheet: projector-frame axes (central ray c, fan direction x, normal n), the
+  // Sheet: the laser and its sheet k (angles phi, psi: LaserProjector::Angles), the
   // fan angle of x_o, the window half-width and the sampling sigma across.
-  Eigen::Vector3d c, x, n;
+  const LaserProjector* laser = nullptr;
+  int k = 0;
   double phi0 = 0, dphi = 0, sigma = 0;
   // Across the sheet, psi (the angle out of the sheet's plane) is drawn from
   // the sheet's Gaussian; psi0 is the angle of x_o. Then along the sheet, the
@@ -71,9 +72,9 @@ struct EmitterWindow {
   // Density (per steradian, projector frame) of drawing unit direction w.
   double Pdf(const Eigen::Vector3d& w) const {
     if (!sheet) return w.dot(axis) >= cos_max ? 1.0 / (2 * M_PI * (1 - cos_max)) : 0.0;
-    double psi = std::asin(std::clamp(w.dot(n), -1.0, 1.0));
-    double phi = std::atan2(w.dot(x), w.dot(c));
-    double dp = std::remainder(phi - phi0, 2 * M_PI);
+    const LaserProjector::SheetAngles a = laser->Angles(k, w);
+    const double psi = a.psi;
+    double dp = std::remainder(a.phi - phi0, 2 * M_PI);
     if (std::abs(dp) > dphi || std::abs(psi) >= 0.5 * M_PI) return 0.0;
     double g = std::exp(-0.5 * psi * psi / (sigma * sigma)) / (sigma * std::sqrt(2 * M_PI));
     double dh = Dh(psi), V = std::asinh(dphi / dh);
@@ -93,7 +94,7 @@ struct EmitterWindow {
     if (std::abs(psi) >= 0.5 * M_PI) return false;
     double dh = Dh(psi), V = std::asinh(dphi / dh);
     double phi = phi0 + dh * std::sinh((2 * u_along - 1) * V);
-    *w = std::cos(psi) * (std::cos(phi) * c + std::sin(phi) * x) + std::sin(psi) * n;
+    *w = laser->DirectionAt(k, phi, psi);
     return true;
   }
 };
@@ -161,15 +162,13 @@ void PathTracer::AddSubsurfaceEmitter(const Vertex& v, const PointEmitter& e, fl
     if (cached[size_t(k)]) continue;
     EmitterWindow& w = windows[size_t(k)];
     if (e.laser) {
-      w.c = e.laser->SheetDirection(k).normalized();
-      w.n = e.laser->SheetPlaneInProjector(k).n;
-      w.x = w.n.cross(w.c).normalized();
-      if (w.x.dot(Eigen::Vector3d::UnitX()) < 0) w.x = -w.x;
-      Eigen::Vector3d u = p_proj / dist;
-      w.phi0 = std::atan2(u.dot(w.x), u.dot(w.c));
+      w.laser = e.laser;
+      w.k = k;
+      const LaserProjector::SheetAngles a = e.laser->Angles(k, p_proj / dist);
+      w.phi0 = a.phi;
       w.dphi = std::min(M_PI, r_max / dist);
       w.sigma = e.laser->SheetSigma(dist);
-      w.psi0 = std::asin(std::clamp(u.dot(w.n), -1.0, 1.0));
+      w.psi0 = a.psi;
       w.dh_min = 1e-6 * w.dphi;
       active[size_t(k)] = std::abs(w.psi0) <= w.dphi + 8 * w.sigma;  // the sheet passes within reach
     } else {

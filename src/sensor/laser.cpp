@@ -105,6 +105,12 @@ LaserProjector::SheetAngles LaserProjector::Angles(int sheet, const Eigen::Vecto
   return {std::atan2(a, z), std::asin(std::clamp(b, -1.0, 1.0))};
 }
 
+Eigen::Vector3d LaserProjector::DirectionAt(int sheet, double phi, double psi) const {
+  const Eigen::Vector3d& c = sheet_center_[size_t(sheet)];
+  const Eigen::Vector3d& n = sheet_normal_[size_t(sheet)];
+  return std::cos(psi) * (std::cos(phi) * c + std::sin(phi) * Eigen::Vector3d::UnitX()) + std::sin(psi) * n;
+}
+
 double LaserProjector::Fan(double phi) const {
   if (params_.fan_profile == FanProfile::kFlatTop) {
     return std::abs(phi) <= 0.5 * params_.fan_angle_rad ? fan_norm_ : 0.0;

@@ -105,11 +105,15 @@ class LaserProjector {
   Plane SheetPlane(int sheet) const;
   Plane SheetPlaneInProjector(int sheet) const;
 
- private:
+  // A direction's along-fan angle phi and out-of-plane angle psi relative to a
+  // sheet (projector frame, unit direction), and back.
   struct SheetAngles {
     double phi, psi;
   };
   SheetAngles Angles(int sheet, const Eigen::Vector3d& unit_dir) const;
+  Eigen::Vector3d DirectionAt(int sheet, double phi, double psi) const;
+
+ private:
   double Fan(double phi) const;
   double Across(double psi, double sigma) const;
 
