@@ -13,11 +13,13 @@ namespace lt {
 
 namespace {
 
+// The window takes each hit's angular reach with this margin, so that points a
+// little nearer the projector than the hits are still covered.
 constexpr double kWindowMargin = 1.05;
 // A new segment starts where the normal turns by more than ~25 degrees or
 // neighbouring hits are farther apart than kSegmentGap patch sizes.
 constexpr double kSegmentCos = 0.9;
-constexpr double kSegmentGap = 4.0;  // on the angular reach, for the curvature of the sheet's lines
+constexpr double kSegmentGap = 4.0;
 
 double AngularReach(double reach, double r) { return std::asin(std::min(1.0, reach / r)); }
 
@@ -51,10 +53,6 @@ struct LaserEntryTree::Segment {
     *this = Segment();
   }
 };
-
-namespace {
-
-}  // namespace
 
 SheetWindow SheetWindowOfHits(const PointEmitter& e, int sheet, std::span<const ChiefHit> hits,
                               std::span<const double> reach_m) {
@@ -233,24 +231,23 @@ bool LaserEntryTree::Covers(const Eigen::Vector3d& p, double r_max) const {
 double LaserEntryTree::Sum(const Eigen::Vector3d& x_world, const Eigen::Vector3d& n_world, uint32_t material,
                            const BurleyProfile& profile, double r_max) const {
   if (nodes_.empty()) return 0.0;
-  // R(r) = A (t^3 + t) / (8 pi d r), t = exp(-r / (3 d)).
+  // R(r) = A (t^3 + t) / (8 pi d r), t = exp(-r / (3 d)): BurleyProfile::Evaluate
+  // in float, for the hot path. Within s = sqrt(kSmoothing m2) of a node's
+  // centroid, the profile's light inside radius s spread evenly over the disc:
+  // A CDF(s) / (pi s^2).
   const float inv_3d = float(1.0 / (3.0 * profile.d()));
   const float scale = float(profile.albedo() / (8.0 * M_PI * profile.d()));
-  const float albedo = float(profile.albedo());
-  // Within s = sqrt(kSmoothing m2) of a node's centroid, the profile's light
-  // inside radius s spread evenly over the disc: A CDF(s) / (pi s^2).
   auto R = [&](float r2, float m2) {
     const float s2 = kSmoothing * m2;
     if (r2 >= s2 && r2 > 0) {
       const float r = std::sqrt(r2), t = std::exp(-r * inv_3d);
       return scale * (t * t * t + t) / r;
     }
-    const float s = std::sqrt(s2), t = std::exp(-s * inv_3d);
-    return s > 0 ? albedo * (1.0f - 0.25f * t * t * t - 0.75f * t) / (float(M_PI) * s2) : 0.0f;
+    return s2 > 0 ? float(profile.albedo() * profile.Cdf(std::sqrt(s2)) / (M_PI * s2)) : 0.0f;
   };
   const Eigen::Vector3f x = (x_world - origin_).cast<float>();
   const Eigen::Vector3f n_o = n_world.cast<float>();
-  const float r_max_f = float(r_max), r_max2 = r_max_f * r_max_f;
+  const float r_max2 = float(r_max) * float(r_max);
   const int32_t mat = int32_t(material);
   constexpr float kOpening2 = float(kOpeningRatio * kOpeningRatio);
   double sum = 0;
@@ -262,27 +259,25 @@ double LaserEntryTree::Sum(const Eigen::Vector3d& x_world, const Eigen::Vector3d
     if (node.material >= 0 && node.material != mat) continue;
     const Eigen::Vector3f below = (node.lo - x).cwiseMax(0.0f), above = (x - node.hi).cwiseMax(0.0f);
     if ((below + above).squaredNorm() >= r_max2) continue;
+    const float r2 = (node.c - x).squaredNorm();
     if (node.right == 0) {
-      if (node.n.dot(n_o) < 0) continue;
-      const float r2 = (node.c - x).squaredNorm();
-      if (r2 < r_max2) sum += node.w * R(r2, node.m2);
-      continue;
-    }
-    const float cb = node.n.dot(n_o), sb = std::sqrt(std::max(0.0f, 1.0f - cb * cb));
-    const float cg = node.cos_cone, sg = std::sqrt(std::max(0.0f, 1.0f - cg * cg));
-    // Angle beta of n_o from the cone's axis, gamma the cone's half-angle.
-    if (cb < cg && cb * cg + sb * sg < 0) continue;  // beta - gamma > 90 deg: every normal faces away
-    const bool all_facing = cb >= 0 && cg >= 0 && cb * cg - sb * sg >= 0;  // beta + gamma <= 90 deg
-    if (node.material >= 0 && all_facing) {
-      const float r2 = (node.c - x).squaredNorm();
-      if (node.m2 < kOpening2 * r2) {
-        if (r2 < r_max2) sum += node.w * R(r2, node.m2);
+      if (node.n.dot(n_o) < 0) continue;  // a leaf lit on the face turned away
+    } else {
+      const float cb = node.n.dot(n_o), sb = std::sqrt(std::max(0.0f, 1.0f - cb * cb));
+      const float cg = node.cos_cone, sg = std::sqrt(std::max(0.0f, 1.0f - cg * cg));
+      // Angle beta of n_o from the cone's axis, gamma the cone's half-angle.
+      if (cb < cg && cb * cg + sb * sg < 0) continue;  // beta - gamma > 90 deg: every normal faces away
+      const bool all_facing = cb >= 0 && cg >= 0 && cb * cg - sb * sg >= 0;  // beta + gamma <= 90 deg
+      // The centroid stands for the node only when its entry points share one
+      // material, all face n_o and it is small seen from x; else descend.
+      if (!(node.material >= 0 && all_facing && node.m2 < kOpening2 * r2)) {
+        const uint32_t self = uint32_t(&node - nodes_.data());
+        stack[top++] = node.right;
+        stack[top++] = self + 1;
         continue;
       }
     }
-    const uint32_t self = uint32_t(&node - nodes_.data());
-    stack[top++] = node.right;
-    stack[top++] = self + 1;
+    if (r2 < r_max2) sum += node.w * R(r2, node.m2);
   }
   return sum;
 }
