@@ -127,6 +127,11 @@ bool PathTracer::EmitterIrradiance(const PointEmitter& e, const Eigen::Vector3d&
   return true;
 }
 
+BsdfParams PathTracer::EmitterReflection(const Material& m, bool subsurface, float albedo_at_wavelength) {
+  return {Eigen::Vector3f::Constant(subsurface ? 0.0f : albedo_at_wavelength), subsurface ? 0.0f : m.metallic,
+          m.roughness};
+}
+
 void PathTracer::AddEmitterLight(const Vertex& v, const FrameLights& lights, std::span<const float> beta_mono,
                                  const Eigen::Vector3d* prev_p, float prev_bsdf_pdf, std::span<float> mono,
                                  TraceStats* stats) const {
@@ -138,9 +143,7 @@ void PathTracer::AddEmitterLight(const Vertex& v, const FrameLights& lights, std
     double cos_s = 0;
     std::span<double> ch(irr.data(), size_t(e.channels));
     if (!EmitterIrradiance(e, v.p, v.n_geo, v.n_shade, &wi, &cos_s, ch, stats)) continue;
-    float a = v.subsurface ? 0.0f : v.albedo_mono[size_t(e.group)];
-    BsdfParams params{Eigen::Vector3f::Constant(a), v.subsurface ? 0.0f : v.material->metallic,
-                      v.material->roughness};
+    const BsdfParams params = EmitterReflection(*v.material, v.subsurface, v.albedo_mono[size_t(e.group)]);
     float f = Bsdf(params).Evaluate(v.wo, v.ToLocal(wi)).x();
     if (f <= 0) continue;
     double scale = double(beta) * f * cos_s;
@@ -234,7 +237,7 @@ void PathTracer::Trace(const Ray& camera_ray, const FrameLights& lights, Rng& rn
     for (int g = 0; g < lights.groups && g < kMaxGroups; ++g) {
       v.albedo_mono[size_t(g)] = ValueAtWavelength(v.base_color, group_wavelength[size_t(g)]);
     }
-    v.subsurface = options_.subsurface && v.material->subsurface.has_value();
+    v.subsurface = ScattersBelowSurface(*v.material);
 
     if (v.material->emissive.maxCoeff() > 0) *rgb += beta.cwiseProduct(v.material->emissive);
     if (!lights.emitters.empty()) {

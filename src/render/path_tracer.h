@@ -34,6 +34,7 @@
 
 #include "core/image.h"
 #include "core/random.h"
+#include "render/bsdf.h"
 #include "render/frame_lights.h"
 #include "scene/embree_scene.h"
 #include "scene/material.h"
@@ -87,6 +88,12 @@ class PathTracer {
 
  private:
   struct Vertex;
+  // Whether a material scatters light below its surface in this render.
+  bool ScattersBelowSurface(const Material& m) const { return options_.subsurface && m.subsurface.has_value(); }
+  // The BSDF with which a surface reflects an emitter's light directly (next-event
+  // estimation and the laser-lit connection): the material's at the emitter's
+  // wavelength, or only its specular lobe when subsurface light replaces the diffuse one.
+  static BsdfParams EmitterReflection(const Material& m, bool subsurface, float albedo_at_wavelength);
   // Directions of one laser sheet drawn toward a path vertex x0 for the
   // connection through laser-lit points (render/path_tracer_laser_connection.cpp):
   // fan angle phi from a Cauchy density centred on x0's (spread: x0's angle out

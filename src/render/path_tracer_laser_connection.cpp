@@ -111,7 +111,6 @@ void PathTracer::ConnectToLaserLight(const Vertex& v, const FrameLights& lights,
       if (v.n_geo.dot(-w1) <= 0 || cos0 <= 0) continue;
       // The reflection at x1, as next-event estimation computes it there.
       const Material& m1 = materials_[hit->material_id];
-      const bool sss1 = options_.subsurface && m1.subsurface.has_value();
       Eigen::Vector3d ns1 = hit->shading_normal;
       if (ns1.dot(n1) < 0) ns1 = -ns1;
       const Frame frame1 = Frame::FromNormal(ns1.cast<float>());
@@ -120,10 +119,8 @@ void PathTracer::ConnectToLaserLight(const Vertex& v, const FrameLights& lights,
       wo1.normalize();
       const Eigen::Vector3f wl1 = frame1.ToLocal(wl.cast<float>());
       if (wl1.z() <= 0) continue;
-      const float a1 = sss1 ? 0.0f : float(ValueAtWavelength(m1.BaseColorAt(hit->uv), e.wavelength_m));
-      const float f1 = Bsdf({Eigen::Vector3f::Constant(a1), sss1 ? 0.0f : m1.metallic, m1.roughness})
-                           .Evaluate(wo1, wl1)
-                           .x();
+      const float a1 = float(ValueAtWavelength(m1.BaseColorAt(hit->uv), e.wavelength_m));
+      const float f1 = Bsdf(EmitterReflection(m1, ScattersBelowSurface(m1), a1)).Evaluate(wo1, wl1).x();
       if (f1 <= 0) continue;
       const double intensity = e.laser->SheetIntensityAt(k, e.projector_from_world * x1);
       const double l1 = f1 * intensity * e.weight * wl1.z() / r_l2;
