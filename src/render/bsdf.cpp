@@ -27,15 +27,21 @@ void BsdfParams::Check(const std::string& where) const {
   CheckUnit(where, "roughness", roughness);
 }
 
-Bsdf::Bsdf(const BsdfParams& p) {
-  const Eigen::Vector3f base(Clamp01(p.base_color.x()), Clamp01(p.base_color.y()), Clamp01(p.base_color.z()));
-  const float metallic = Clamp01(p.metallic);
-  const float roughness = Clamp01(p.roughness);
-  alpha_ = std::max(roughness * roughness, kMinGgxAlpha);
+GgxAlpha::GgxAlpha(float roughness) {
+  const float r = Clamp01(roughness);
+  alpha = std::max(r * r, kMinGgxAlpha);
+  row = SpecularAlbedoRow(alpha);
+}
+
+Bsdf::Bsdf(const BsdfParams& p) : Bsdf(p.base_color, p.metallic, GgxAlpha(p.roughness)) {}
+
+Bsdf::Bsdf(const Eigen::Vector3f& base_color, float metallic_factor, const GgxAlpha& alpha) : ggx_(alpha) {
+  const Eigen::Vector3f base(Clamp01(base_color.x()), Clamp01(base_color.y()), Clamp01(base_color.z()));
+  const float metallic = Clamp01(metallic_factor);
   f0_ = (1.0f - metallic) * Eigen::Vector3f::Constant(kDielectricF0) + metallic * base;
   const Eigen::Vector3f c_diff = (1.0f - metallic) * base;
   // 1 - E_avg >= 1 - (largest dielectric albedo) > 0.9: no division hazard.
-  diffuse_ = c_diff * (kInvPi / (1.0f - DielectricSpecularAlbedoAverage(alpha_)));
+  diffuse_ = c_diff * (kInvPi / (1.0f - DielectricSpecularAlbedoAverage(ggx_.row)));
   diffuse_weight_ = c_diff.mean();
 }
 
@@ -43,7 +49,7 @@ float Bsdf::SpecularProbability(float cos_o) const {
   const float mu = std::clamp(cos_o, 0.0f, 1.0f);
   if (diffuse_weight_ <= 0.0f) return 1.0f;
   const float spec = (SchlickFresnel(f0_.x(), mu) + SchlickFresnel(f0_.y(), mu) + SchlickFresnel(f0_.z(), mu)) / 3;
-  const float diff = diffuse_weight_ * (1.0f - DielectricSpecularAlbedo(mu, alpha_));
+  const float diff = diffuse_weight_ * (1.0f - DielectricSpecularAlbedo(mu, ggx_.row));
   return std::clamp(spec / (spec + diff), kMinSpecularProbability, kMaxSpecularProbability);
 }
 
@@ -52,15 +58,15 @@ Eigen::Vector3f Bsdf::EvaluateWithHalf(const Eigen::Vector3f& wo, const Eigen::V
   const float wo_h = std::clamp(wo.dot(h), 0.0f, 1.0f);
   const float m = 1.0f - wo_h, m2 = m * m, m5 = m2 * m2 * m;
   const Eigen::Vector3f fresnel = f0_ + (Eigen::Vector3f::Ones() - f0_) * m5;
-  const float dv = GgxD(h, alpha_, alpha_) * GgxVisibility(wo, wi, alpha_, alpha_);
+  const float dv = GgxD(h, ggx_.alpha, ggx_.alpha) * GgxVisibility(wo, wi, ggx_.alpha, ggx_.alpha);
   const float coupling =
-      (1.0f - DielectricSpecularAlbedo(wo.z(), alpha_)) * (1.0f - DielectricSpecularAlbedo(wi.z(), alpha_));
+      (1.0f - DielectricSpecularAlbedo(wo.z(), ggx_.row)) * (1.0f - DielectricSpecularAlbedo(wi.z(), ggx_.row));
   return fresnel * dv + diffuse_ * coupling;
 }
 
 float Bsdf::PdfWithHalf(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi, const Eigen::Vector3f& h) const {
   const float ps = SpecularProbability(wo.z());
-  return ps * GgxReflectionPdf(wo, h, alpha_, alpha_) + (1.0f - ps) * CosineHemispherePdf(wi.z());
+  return ps * GgxReflectionPdf(wo, h, ggx_.alpha, ggx_.alpha) + (1.0f - ps) * CosineHemispherePdf(wi.z());
 }
 
 Eigen::Vector3f Bsdf::Evaluate(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi) const {
@@ -79,7 +85,7 @@ BsdfSample Bsdf::Sample(const Eigen::Vector3f& wo, float u1, float u2, float u3)
   const float ps = SpecularProbability(wo.z());
   Eigen::Vector3f wi, h;
   if (u3 < ps) {
-    h = SampleGgxVisibleNormal(wo, alpha_, alpha_, u1, u2);
+    h = SampleGgxVisibleNormal(wo, ggx_.alpha, ggx_.alpha, u1, u2);
     wi = 2.0f * wo.dot(h) * h - wo;
     if (wi.z() < kMinCos) return s;
     wi.normalize();  // remove the rounding of the reflection

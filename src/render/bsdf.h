@@ -23,6 +23,8 @@
 #include <Eigen/Core>
 #include <string>
 
+#include "render/specular_albedo.h"
+
 namespace lt {
 
 struct BsdfParams {
@@ -44,6 +46,17 @@ struct BsdfSample {
   bool valid() const { return pdf > 0.0f; }
 };
 
+// A surface's GGX alpha, roughness^2 clamped to [kMinGgxAlpha, 1] (a roughness
+// outside [0, 1] is clamped first), with its row in the specular albedo table:
+// made once per path vertex and shared by the BSDFs built there. The default
+// is the smoothest alpha.
+struct GgxAlpha {
+  GgxAlpha() = default;
+  explicit GgxAlpha(float roughness);
+  float alpha = kMinGgxAlpha;
+  SpecularAlbedoRow row;  // of alpha
+};
+
 class Bsdf {
  public:
   // Cosines below this count as below the horizon: f = 0, no sample.
@@ -56,6 +69,8 @@ class Bsdf {
   // Parameters outside their ranges are clamped (textures can push factors
   // out); roughness is clamped to alpha >= kMinGgxAlpha (render/specular_albedo.h).
   explicit Bsdf(const BsdfParams& params);
+  // The same with the roughness given as its GgxAlpha.
+  Bsdf(const Eigen::Vector3f& base_color, float metallic, const GgxAlpha& alpha);
 
   Eigen::Vector3f Evaluate(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi) const;
 
@@ -73,7 +88,7 @@ class Bsdf {
   // the two lobes at cos_o.
   float SpecularProbability(float cos_o) const;
 
-  float alpha() const { return alpha_; }
+  float alpha() const { return ggx_.alpha; }
 
  private:
   Eigen::Vector3f EvaluateWithHalf(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi,
@@ -82,7 +97,7 @@ class Bsdf {
 
   Eigen::Vector3f diffuse_;  // (1 - metallic) base_color / (pi (1 - E_avg))
   Eigen::Vector3f f0_;       // mix(0.04, base_color, metallic)
-  float alpha_;
+  GgxAlpha ggx_;
   float diffuse_weight_;  // mean of (1 - metallic) base_color, for the lobe choice
 };
 

@@ -8,7 +8,6 @@
 #include "render/bsdf.h"
 #include "render/sampling.h"
 #include "render/spectrum.h"
-#include "render/specular_albedo.h"
 #include "render/subsurface_profile.h"
 
 namespace lt {
@@ -144,7 +143,7 @@ void PathTracer::AddEmitterLight(const Vertex& v, const FrameLights& lights, std
     std::span<double> ch(irr.data(), size_t(e.channels));
     if (!EmitterIrradiance(e, v.p, v.n_geo, v.n_shade, &wi, &cos_s, ch, stats)) continue;
     const BsdfParams params = EmitterReflection(*v.material, v.subsurface, v.albedo_mono[size_t(e.group)]);
-    float f = Bsdf(params).Evaluate(v.wo, v.ToLocal(wi)).x();
+    float f = Bsdf(params.base_color, params.metallic, v.ggx).Evaluate(v.wo, v.ToLocal(wi)).x();
     if (f <= 0) continue;
     double scale = double(beta) * f * cos_s;
     const bool connected = prev_p && e.laser;
@@ -174,7 +173,7 @@ void PathTracer::AddLedLight(const Vertex& v, const LedLight& led, const Eigen::
   if (!(pdf_light > 0)) return;
   Eigen::Vector3f L = LedRadiance(led, -wi);
   if (L.maxCoeff() <= 0) return;
-  Bsdf bsdf({v.base_color, v.material->metallic, v.material->roughness});
+  Bsdf bsdf(v.base_color, v.material->metallic, v.ggx);
   Eigen::Vector3f wi_local = v.ToLocal(wi);
   Eigen::Vector3f f = bsdf.Evaluate(v.wo, wi_local);
   float cos_s = wi_local.z();
@@ -233,7 +232,7 @@ void PathTracer::Trace(const Ray& camera_ray, const FrameLights& lights, Rng& rn
     if (v.wo.z() <= 0) v.wo.z() = 1e-6f;  // shading normal bent away from the viewer
     v.wo.normalize();
     v.base_color = v.material->BaseColorAt(hit->uv);
-    v.alpha = std::max(v.material->roughness * v.material->roughness, kMinGgxAlpha);
+    v.ggx = GgxAlpha(v.material->roughness);
     for (int g = 0; g < lights.groups && g < kMaxGroups; ++g) {
       v.albedo_mono[size_t(g)] = ValueAtWavelength(v.base_color, group_wavelength[size_t(g)]);
     }
@@ -256,7 +255,7 @@ void PathTracer::Trace(const Ray& camera_ray, const FrameLights& lights, Rng& rn
     if (lights.led) AddLedLight(v, *lights.led, beta, rng, rgb, stats);
 
     if (depth >= options_.max_bounces) return;
-    Bsdf bsdf({v.base_color, v.material->metallic, v.material->roughness});
+    Bsdf bsdf(v.base_color, v.material->metallic, v.ggx);
     float u1 = rng.NextFloat(), u2 = rng.NextFloat(), u3 = rng.NextFloat();
     BsdfSample bs = bsdf.Sample(v.wo, u1, u2, u3);
     if (!bs.valid()) return;
@@ -267,9 +266,7 @@ void PathTracer::Trace(const Ray& camera_ray, const FrameLights& lights, Rng& rn
     for (int g = 0; g < lights.groups && g < kMaxGroups; ++g) {
       if (beta_mono[size_t(g)] <= 0) continue;
       float a = v.albedo_mono[size_t(g)];
-      float f = Bsdf({Eigen::Vector3f::Constant(a), v.material->metallic, v.material->roughness})
-                    .Evaluate(v.wo, bs.wi)
-                    .x();
+      float f = Bsdf(Eigen::Vector3f::Constant(a), v.material->metallic, v.ggx).Evaluate(v.wo, bs.wi).x();
       beta_mono[size_t(g)] *= f * cos_i / bs.pdf;
     }
     prev_bsdf_pdf = bs.pdf;

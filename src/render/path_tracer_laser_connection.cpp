@@ -81,7 +81,7 @@ double PathTracer::LaserConnectionDensity(const PointEmitter& e, int sheet, cons
 
 void PathTracer::ConnectToLaserLight(const Vertex& v, const FrameLights& lights, std::span<const float> beta_mono,
                                      Rng& rng, std::span<float> mono, TraceStats* stats) const {
-  const Bsdf bsdf0({v.base_color, v.material->metallic, v.material->roughness});
+  const Bsdf bsdf0(v.base_color, v.material->metallic, v.ggx);
   for (const PointEmitter& e : lights.emitters) {
     const float beta = beta_mono[size_t(e.group)];
     if (!e.laser || beta <= 0) continue;
@@ -125,10 +125,10 @@ void PathTracer::ConnectToLaserLight(const Vertex& v, const FrameLights& lights,
       const double intensity = e.laser->SheetIntensityAt(k, e.projector_from_world * x1);
       const double l1 = f1 * intensity * e.weight * wl1.z() / r_l2;
       if (!(l1 > 0)) continue;
-      const float f0 = Bsdf({Eigen::Vector3f::Constant(v.albedo_mono[size_t(e.group)]), v.material->metallic,
-                             v.material->roughness})
-                           .Evaluate(v.wo, wi0)
-                           .x();
+      const float f0 =
+          Bsdf(Eigen::Vector3f::Constant(v.albedo_mono[size_t(e.group)]), v.material->metallic, v.ggx)
+              .Evaluate(v.wo, wi0)
+              .x();
       if (f0 <= 0) continue;
       Ray shadow;
       shadow.origin = SpawnOrigin(v.p, v.n_geo, -w1);

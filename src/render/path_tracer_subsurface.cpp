@@ -112,8 +112,8 @@ void PathTracer::AddSubsurfaceEmitter(const Vertex& v, const PointEmitter& e, fl
   const BurleyProfile profile(pp);
   const double r_max = profile.SampleRadius(kProfileTruncation);
   const float cos_o = std::clamp(v.wo.z(), 0.0f, 1.0f);
-  const double exit = (1.0 - DielectricSpecularAlbedo(cos_o, v.alpha)) /
-                      (M_PI * (1.0 - DielectricSpecularAlbedoAverage(v.alpha)));
+  const double exit = (1.0 - DielectricSpecularAlbedo(cos_o, v.ggx.row)) /
+                      (M_PI * (1.0 - DielectricSpecularAlbedoAverage(v.ggx.row)));
   const double scale = double(beta) * exit;
   // Channels whose frame cache covers the profile's reach around x_o: no noise.
   std::array<bool, kMaxChannels> cached{};
@@ -149,7 +149,7 @@ void PathTracer::AddSubsurfaceEmitter(const Vertex& v, const PointEmitter& e, fl
   auto entry = [&](const Eigen::Vector3d& x, double cos_i) {
     double d = (x - v.p).norm();
     if (d >= r_max || cos_i <= 0) return 0.0;
-    return profile.Evaluate(d) * (1.0 - DielectricSpecularAlbedo(float(std::min(cos_i, 1.0)), v.alpha));
+    return profile.Evaluate(d) * (1.0 - DielectricSpecularAlbedo(float(std::min(cos_i, 1.0)), v.ggx.row));
   };
 
   // Windows of the emitter-ray strategy, one per channel.

@@ -3,6 +3,7 @@
 
 #include <array>
 
+#include "render/bsdf.h"
 #include "render/path_tracer.h"
 #include "render/sampling.h"
 
@@ -17,7 +18,7 @@ struct PathTracer::Vertex {
   const Material* material = nullptr;
   uint32_t material_id = 0;
   Eigen::Vector3f base_color;
-  float alpha = 1;  // GGX alpha (clamped)
+  GgxAlpha ggx;  // the material's GGX alpha
   std::array<float, kMaxGroups> albedo_mono{};  // base colour at each emitter's wavelength
   bool subsurface = false;
 

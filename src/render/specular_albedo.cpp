@@ -58,24 +58,28 @@ const Averages& GetAverages() {
 
 float DielectricSpecularAlbedoNode(int i, int j) { return kTable[j * kN + i]; }
 
-float DielectricSpecularAlbedo(float cos_theta, float alpha) {
-  int i, j;
-  float fi, fj;
+SpecularAlbedoRow::SpecularAlbedoRow(float alpha) { Locate(AlphaCoordinate(alpha), &j, &f); }
+
+float DielectricSpecularAlbedo(float cos_theta, const SpecularAlbedoRow& alpha) {
+  int i;
+  float fi;
   Locate(MuCoordinate(cos_theta), &i, &fi);
-  Locate(AlphaCoordinate(alpha), &j, &fj);
-  const float* r0 = kTable + j * kN;
+  const float* r0 = kTable + alpha.j * kN;
   const float* r1 = r0 + kN;
   const float e0 = r0[i] + fi * (r0[i + 1] - r0[i]);
   const float e1 = r1[i] + fi * (r1[i + 1] - r1[i]);
-  return e0 + fj * (e1 - e0);
+  return e0 + alpha.f * (e1 - e0);
 }
 
-float DielectricSpecularAlbedoAverage(float alpha) {
-  const Averages& avg = GetAverages();
-  int j;
-  float fj;
-  Locate(AlphaCoordinate(alpha), &j, &fj);
-  return avg.row[j] + fj * (avg.row[j + 1] - avg.row[j]);
+float DielectricSpecularAlbedo(float cos_theta, float alpha) {
+  return DielectricSpecularAlbedo(cos_theta, SpecularAlbedoRow(alpha));
 }
+
+float DielectricSpecularAlbedoAverage(const SpecularAlbedoRow& alpha) {
+  const Averages& avg = GetAverages();
+  return avg.row[alpha.j] + alpha.f * (avg.row[alpha.j + 1] - avg.row[alpha.j]);
+}
+
+float DielectricSpecularAlbedoAverage(float alpha) { return DielectricSpecularAlbedoAverage(SpecularAlbedoRow(alpha)); }
 
 }  // namespace lt

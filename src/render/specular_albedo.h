@@ -36,9 +36,22 @@ inline float SchlickFresnel(float f0, float cos_theta) {
   return f0 + (1.0f - f0) * m2 * m2 * m;
 }
 
+// The place of one alpha between the table's rows: row j and the fraction f
+// toward row j + 1. Locating an alpha costs a cube root, so a BSDF or a path
+// vertex locates its alpha once and reads the table with it at every cosine.
+// The default is the row of kMinGgxAlpha.
+struct SpecularAlbedoRow {
+  SpecularAlbedoRow() = default;
+  explicit SpecularAlbedoRow(float alpha);
+  int j = 0;
+  float f = 0.0f;
+};
+
 // The tabulated E(mu, alpha), mu = cos(theta_o) in [0, 1], alpha in [kMinGgxAlpha, 1].
+float DielectricSpecularAlbedo(float cos_theta, const SpecularAlbedoRow& alpha);
 float DielectricSpecularAlbedo(float cos_theta, float alpha);
 // E_avg(alpha) of the interpolated table.
+float DielectricSpecularAlbedoAverage(const SpecularAlbedoRow& alpha);
 float DielectricSpecularAlbedoAverage(float alpha);
 // The raw table entry at column i, row j.
 float DielectricSpecularAlbedoNode(int i, int j);

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
@@ -97,6 +98,26 @@ TEST(SpecularAlbedo, AverageIsCosineWeightedIntegral) {
       sum += DielectricSpecularAlbedo(mu, alpha) * mu;
     }
     EXPECT_NEAR(DielectricSpecularAlbedoAverage(alpha), 2 * sum / n, 2e-5) << alpha;
+  }
+}
+
+// A GgxAlpha holds the clamped alpha of a roughness and that alpha's table
+// row; the default is the smoothest alpha, and a BSDF built from it evaluates
+// to the same bits as one built from the roughness.
+TEST(SpecularAlbedo, GgxAlphaLocatesItsRow) {
+  const GgxAlpha smooth;
+  EXPECT_EQ(smooth.alpha, kMinGgxAlpha);
+  EXPECT_EQ(smooth.row.j, SpecularAlbedoRow(kMinGgxAlpha).j);
+  EXPECT_EQ(smooth.row.f, SpecularAlbedoRow(kMinGgxAlpha).f);
+  const Vector3f wo = Dir(60, 10), wi = Dir(30, 200);
+  for (float roughness : {-0.5f, 0.0f, 0.02f, 0.3f, 0.77f, 1.0f, 2.0f}) {
+    const GgxAlpha g(roughness);
+    const float r = std::clamp(roughness, 0.0f, 1.0f);
+    EXPECT_EQ(g.alpha, std::max(r * r, kMinGgxAlpha)) << roughness;
+    EXPECT_EQ(DielectricSpecularAlbedo(0.4f, g.row), DielectricSpecularAlbedo(0.4f, g.alpha)) << roughness;
+    EXPECT_EQ(DielectricSpecularAlbedoAverage(g.row), DielectricSpecularAlbedoAverage(g.alpha)) << roughness;
+    const Vector3f base(0.8f, 0.5f, 0.2f);
+    EXPECT_EQ(Bsdf(base, 0.3f, g).Evaluate(wo, wi), Bsdf(Params(base, 0.3f, roughness)).Evaluate(wo, wi));
   }
 }
 
