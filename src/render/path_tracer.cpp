@@ -60,6 +60,7 @@ PathTracer::PathTracer(const EmbreeScene& scene, const Environment& environment,
       environment_map_(environment_map),
       options_(options),
       channels_(channels) {
+  for (const Material& m : materials_) material_ggx_.emplace_back(m.roughness);
   if (channels > kMaxChannels) {
     throw std::invalid_argument("at most " + std::to_string(kMaxChannels) + " laser sheets are supported");
   }
@@ -232,7 +233,7 @@ void PathTracer::Trace(const Ray& camera_ray, const FrameLights& lights, Rng& rn
     if (v.wo.z() <= 0) v.wo.z() = 1e-6f;  // shading normal bent away from the viewer
     v.wo.normalize();
     v.base_color = v.material->BaseColorAt(hit->uv);
-    v.ggx = GgxAlpha(v.material->roughness);
+    v.ggx = material_ggx_[hit->material_id];
     for (int g = 0; g < lights.groups && g < kMaxGroups; ++g) {
       v.albedo_mono[size_t(g)] = ValueAtWavelength(v.base_color, group_wavelength[size_t(g)]);
     }

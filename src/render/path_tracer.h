@@ -131,6 +131,7 @@ class PathTracer {
 
   const EmbreeScene& scene_;
   const std::vector<Material>& materials_;
+  std::vector<GgxAlpha> material_ggx_;  // per material
   const Environment& environment_;
   const Image<float>* environment_map_;
   PathTracerOptions options_;
