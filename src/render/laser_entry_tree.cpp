@@ -208,6 +208,7 @@ uint32_t LaserEntryTree::BuildNode(std::vector<Point>& pts, size_t begin, size_t
     float cone = 1;
     for (size_t i = begin; i < end; ++i) cone = std::min(cone, node.n.dot(pts[i].n));
     node.cos_cone = std::clamp(cone, -1.0f, 1.0f);
+    node.sin_cone = std::sqrt(std::max(0.0f, 1.0f - node.cos_cone * node.cos_cone));
   } else {
     node.n = Eigen::Vector3f::UnitZ();
     node.cos_cone = -1;
@@ -263,14 +264,18 @@ double LaserEntryTree::Sum(const Eigen::Vector3d& x_world, const Eigen::Vector3d
     if (node.right == 0) {
       if (node.n.dot(n_o) < 0) continue;  // a leaf lit on the face turned away
     } else {
-      const float cb = node.n.dot(n_o), sb = std::sqrt(std::max(0.0f, 1.0f - cb * cb));
-      const float cg = node.cos_cone, sg = std::sqrt(std::max(0.0f, 1.0f - cg * cg));
       // Angle beta of n_o from the cone's axis, gamma the cone's half-angle.
-      if (cb < cg && cb * cg + sb * sg < 0) continue;  // beta - gamma > 90 deg: every normal faces away
-      const bool all_facing = cb >= 0 && cg >= 0 && cb * cg - sb * sg >= 0;  // beta + gamma <= 90 deg
+      // sin beta is taken only where a test needs it: beta - gamma > 90 deg
+      // needs beta > 90 deg (cb < 0).
+      const float cb = node.n.dot(n_o), cg = node.cos_cone, sg = node.sin_cone;
+      auto sin_beta = [cb] { return std::sqrt(std::max(0.0f, 1.0f - cb * cb)); };
+      if (cb < 0 && cb < cg && cb * cg + sin_beta() * sg < 0) continue;  // every normal faces away
       // The centroid stands for the node only when its entry points share one
-      // material, all face n_o and it is small seen from x; else descend.
-      if (!(node.material >= 0 && all_facing && node.m2 < kOpening2 * r2)) {
+      // material, it is small seen from x and all face n_o (beta + gamma <= 90
+      // deg); else descend.
+      const bool stands = node.material >= 0 && node.m2 < kOpening2 * r2 && cb >= 0 && cg >= 0 &&
+                          cb * cg - sin_beta() * sg >= 0;
+      if (!stands) {
         const uint32_t self = uint32_t(&node - nodes_.data());
         stack[top++] = node.right;
         stack[top++] = self + 1;

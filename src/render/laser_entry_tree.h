@@ -92,6 +92,7 @@ class LaserEntryTree {
     Eigen::Vector3f c;       // weighted centroid
     Eigen::Vector3f n;       // mean normal (unit) of the cone
     float cos_cone = -1;     // cos of the cone's half-angle
+    float sin_cone = 0;      // its sin
     float w = 0;             // summed weight W
     float m2 = 0;            // weighted mean squared distance from c (m^2)
     int32_t material = -1;   // -1: mixed
