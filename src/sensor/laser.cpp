@@ -98,11 +98,16 @@ LaserProjector::LaserProjector(const LaserParams& params) : params_(params) {
 
 Eigen::Vector3d LaserProjector::SheetDirection(int sheet) const { return sheet_center_.at(size_t(sheet)); }
 
+double LaserProjector::Phi(int sheet, const Eigen::Vector3d& w) const {
+  return std::atan2(w.x(), w.dot(sheet_center_[size_t(sheet)]));
+}
+
+double LaserProjector::Psi(int sheet, const Eigen::Vector3d& w) const {
+  return std::asin(std::clamp(w.dot(sheet_normal_[size_t(sheet)]), -1.0, 1.0));
+}
+
 LaserProjector::SheetAngles LaserProjector::Angles(int sheet, const Eigen::Vector3d& w) const {
-  const Eigen::Vector3d& c = sheet_center_[size_t(sheet)];
-  const Eigen::Vector3d& n = sheet_normal_[size_t(sheet)];
-  double a = w.x(), b = w.dot(n), z = w.dot(c);
-  return {std::atan2(a, z), std::asin(std::clamp(b, -1.0, 1.0))};
+  return {Phi(sheet, w), Psi(sheet, w)};
 }
 
 Eigen::Vector3d LaserProjector::DirectionAt(int sheet, double phi, double psi) const {
@@ -171,7 +176,7 @@ double LaserProjector::IrradianceAt(const Eigen::Vector3d& p_in_cam, const Eigen
 }
 
 double LaserProjector::SheetOffsetAngle(int sheet, const Eigen::Vector3d& dir) const {
-  return Angles(sheet, dir.normalized()).psi;
+  return Psi(sheet, dir.normalized());
 }
 
 double LaserProjector::FanHalfWidth(double k_sigma) const {
@@ -185,9 +190,9 @@ bool LaserProjector::MayIlluminate(const Eigen::Vector3d& p, double k_sigma) con
   double sigma = SheetSigma(r);
   Eigen::Vector3d w = p / r;
   for (int k = 0; k < sheet_count(); ++k) {
-    SheetAngles a = Angles(k, w);
-    if (std::abs(a.psi) > k_sigma * sigma) continue;
-    if (std::abs(a.phi) > FanHalfWidth(k_sigma)) continue;
+    // Across the sheet first: most points lie off every sheet.
+    if (std::abs(Psi(k, w)) > k_sigma * sigma) continue;
+    if (std::abs(Phi(k, w)) > FanHalfWidth(k_sigma)) continue;
     return true;
   }
   return false;

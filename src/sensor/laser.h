@@ -114,6 +114,9 @@ class LaserProjector {
   Eigen::Vector3d DirectionAt(int sheet, double phi, double psi) const;
 
  private:
+  // The two angles of SheetAngles, each alone.
+  double Phi(int sheet, const Eigen::Vector3d& unit_dir) const;
+  double Psi(int sheet, const Eigen::Vector3d& unit_dir) const;
   double Fan(double phi) const;
   double Across(double psi, double sigma) const;
 
