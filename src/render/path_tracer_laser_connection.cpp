@@ -81,7 +81,6 @@ double PathTracer::LaserConnectionDensity(const PointEmitter& e, int sheet, cons
 
 void PathTracer::ConnectToLaserLight(const Vertex& v, const FrameLights& lights, std::span<const float> beta_mono,
                                      Rng& rng, std::span<float> mono, TraceStats* stats) const {
-  const Bsdf bsdf0(v.base_color, v.material->metallic, v.ggx);
   for (const PointEmitter& e : lights.emitters) {
     const float beta = beta_mono[size_t(e.group)];
     if (!e.laser || beta <= 0) continue;
@@ -138,7 +137,7 @@ void PathTracer::ConnectToLaserLight(const Vertex& v, const FrameLights& lights,
       ++stats->rays;
       if (scene_.Occluded(shadow)) continue;
       const double p_connect = sc.Pdf(w) * cos_1l / r_l2 * d2 / cos_1;
-      const double p_bsdf = bsdf0.Pdf(v.wo, wi0);
+      const double p_bsdf = Bsdf(v.base_color, v.material->metallic, v.ggx).Pdf(v.wo, wi0);
       if (!(p_connect + p_bsdf > 0)) continue;
       mono[size_t(e.first_channel + k)] += float(double(beta) * f0 * cos0 * l1 / (p_connect + p_bsdf));
     }
