@@ -2,7 +2,8 @@
 //  - DimFrame640/spp/adaptive: a 640x480 dim (laser) frame at several sample
 //    counts, with and without the adaptive stop, with the error of a
 //    centre-of-mass extraction on its laser radiance against a 256-spp
-//    reference (counters com_*_px; wide_rms_px with a 24 px window): run time
+//    reference (counters com_*_px; wide_rms_px with a 24 px window) and its
+//    noise against a second render with another seed (noise_rms_px): run time
 //    against error;
 //  - DimFrame640Noise/bounces: the noise of one 16-spp render of that frame, per
 //    max_bounces (two seeds against each other);
@@ -182,7 +183,14 @@ void BM_DimFrame640(benchmark::State& state) {
   RenderedFrame frame;
   for (auto _ : state) frame = renderer.Render(1);
   const Image<float> laser = LaserImage(frame.radiance);
-  const std::vector<double> e = Differences(ComAtReference(laser, ref.threshold, ref.centers), ref.v);
+  const std::vector<double> v = ComAtReference(laser, ref.threshold, ref.centers);
+  const std::vector<double> e = Differences(v, ref.v);
+  // The frame's own noise, free of the reference's: a second render with
+  // another seed (outside the timing), |v - v2| / sqrt(2).
+  o.seed = 7;
+  const Image<float> laser2 = LaserImage(FrameRenderer(scene, *d.embree, o).Render(1).radiance);
+  state.counters["noise_rms_px"] =
+      Rms(Differences(v, ComAtReference(laser2, ref.threshold, ref.centers))) / std::sqrt(2.0);
   state.counters["wide_rms_px"] = Rms(ComErrors(Com(laser, ref.threshold, kWideWindow), ref.wide));
   state.counters["com_rms_px"] = Rms(e);
   state.counters["com_median_px"] = e.empty() ? -1 : e[e.size() / 2];
