@@ -224,7 +224,7 @@ bool LaserEntryTree::Covers(const Eigen::Vector3d& p, double r_max) const {
   const Eigen::Vector3d q = projector_from_world_ * (p - origin_);
   const double r = q.norm();
   if (!(r > 0)) return false;
-  const double phi = laser_->Angles(sheet_, q / r).phi;
+  const double phi = laser_->Phi(sheet_, q / r);
   const double m = AngularReach(r_max, r);
   return (window_.closed_lo || phi - m >= window_.phi_lo) && (window_.closed_hi || phi + m <= window_.phi_hi);
 }

@@ -112,11 +112,11 @@ class LaserProjector {
   };
   SheetAngles Angles(int sheet, const Eigen::Vector3d& unit_dir) const;
   Eigen::Vector3d DirectionAt(int sheet, double phi, double psi) const;
-
- private:
-  // The two angles of SheetAngles, each alone.
+  // Each of the two angles alone (the same values as Angles).
   double Phi(int sheet, const Eigen::Vector3d& unit_dir) const;
   double Psi(int sheet, const Eigen::Vector3d& unit_dir) const;
+
+ private:
   double Fan(double phi) const;
   double Across(double psi, double sigma) const;
 
