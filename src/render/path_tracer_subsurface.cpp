@@ -110,7 +110,8 @@ void PathTracer::AddSubsurfaceEmitter(const Vertex& v, const PointEmitter& e, fl
   pp.albedo = albedo;
   pp.mean_free_path = sss.mean_free_path_laser_m;
   const BurleyProfile profile(pp);
-  const double r_max = profile.SampleRadius(kProfileTruncation);
+  static const double truncation_log_root = BurleyProfile::LogRoot(kProfileTruncation);
+  const double r_max = profile.RadiusOfLogRoot(truncation_log_root);  // = SampleRadius(kProfileTruncation)
   const float cos_o = std::clamp(v.wo.z(), 0.0f, 1.0f);
   const double exit = (1.0 - DielectricSpecularAlbedo(cos_o, v.ggx.row)) /
                       (M_PI * (1.0 - DielectricSpecularAlbedoAverage(v.ggx.row)));

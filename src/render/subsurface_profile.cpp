@@ -63,11 +63,14 @@ double BurleyProfile::RadialPdf(double r) const {
   return (e * e * e + e) / (4.0 * d_);
 }
 
-double BurleyProfile::SampleRadius(double u) const {
+double BurleyProfile::LogRoot(double u) {
   u = std::clamp(u, 0.0, std::nextafter(1.0, 0.0));
-  const double y = 2.0 * std::sinh(std::asinh(2.0 * (1.0 - u)) / 3.0);
-  return std::max(0.0, -3.0 * d_ * std::log(y));
+  return std::log(2.0 * std::sinh(std::asinh(2.0 * (1.0 - u)) / 3.0));
 }
+
+double BurleyProfile::RadiusOfLogRoot(double log_root) const { return std::max(0.0, -3.0 * d_ * log_root); }
+
+double BurleyProfile::SampleRadius(double u) const { return RadiusOfLogRoot(LogRoot(u)); }
 
 double BurleyProfile::LineSpread(double x) const {
   const double ax = std::max(std::abs(x), kMinRadiusFraction * d_);

@@ -67,6 +67,10 @@ class BurleyProfile {
   // cubic y^3 + 3y = 4(1 - u), whose real root is y = 2 sinh(asinh(2(1 - u))/3).
   // u >= 1 is clamped to the largest double below 1.
   double SampleRadius(double u) const;
+  // SampleRadius(u) = -3 d log y(u) in two steps, log y(u) depending on u
+  // alone: a caller that asks for one u at every point takes its LogRoot once.
+  static double LogRoot(double u);
+  double RadiusOfLogRoot(double log_root) const;
   // LSF(x) [1/m] in closed form (K0); |x| clamped like r in Evaluate.
   double LineSpread(double x) const;
   // The line-spread function convolved with a Gaussian of standard deviation

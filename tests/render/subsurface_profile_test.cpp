@@ -90,6 +90,17 @@ TEST(BurleyProfile, InverseCdfRoundTrips) {
   EXPECT_GT(p.SampleRadius(1.0), 100 * p.d());
 }
 
+// The radius from a LogRoot taken once is SampleRadius to the bit, for any d.
+TEST(BurleyProfile, RadiusOfLogRootIsSampleRadius) {
+  for (double u : {0.0, 0.3, 0.999, 1.0}) {
+    const double log_root = BurleyProfile::LogRoot(u);
+    for (double d : {1e-5, 1.3e-4, 2e-3}) {
+      const BurleyProfile p = BurleyProfile::FromShapeDistance(0.8, d);
+      EXPECT_EQ(p.RadiusOfLogRoot(log_root), p.SampleRadius(u)) << u << " " << d;
+    }
+  }
+}
+
 // Radii drawn with SampleRadius(u) follow the radial pdf: chi-square over 40
 // bins of width d/4 plus a tail bin, expected counts from the CDF; 200k samples.
 TEST(BurleyProfile, SampledRadiiMatchPdf) {
