@@ -221,56 +221,74 @@ void FrameRenderer::SamplePass(const RenderedFrame& frame, const FrameLights& fi
   const ShutterFrame& sf = frame.shutter;
   const bool moving = !IsStaticWithin(scene_.motion, sf.t_start_s, sf.t_end_s);
   // Batches of a pixel's samples: one of spp, or (adaptive) a first batch and
-  // then batches that double the count, each stratified on its own, until the
-  // pixel's noise is low enough or spp is reached.
+  // then batches that double the count, each stratified on its own. With the
+  // adaptive stop, every pixel first takes its first batch; then each takes the
+  // count its neighbours' first batches call for (SampleNoise::TargetCount).
   const bool adaptive = noise.fraction > 0;
   const int first_batch = adaptive ? std::min(spp_, std::max(4, spp_ / 16)) : spp_;
+  auto has_budget = [&](int x, int y) { return all_pixels || frame.near_mask.At(x, y) > 0; };
   tbb::enumerable_thread_specific<TraceStats> tstats;
   tbb::enumerable_thread_specific<uint64_t> tsamples(0);
-  tbb::parallel_for(
-      tbb::blocked_range2d<int>(0, cam.height(), kTile, 0, cam.width(), kTile), [&](const auto& range) {
-        TraceStats& ts = tstats.local();
-        uint64_t& ns = tsamples.local();
-        std::vector<float> mono(size_t(layout_.channels));
-        for (int y = range.rows().begin(); y < range.rows().end(); ++y) {
-          for (int x = range.cols().begin(); x < range.cols().end(); ++x) {
-            const bool full = all_pixels || frame.near_mask.At(x, y) > 0;
-            const int budget = full ? spp_ : 1;
-            const uint64_t pixel = uint64_t(y) * uint64_t(cam.width()) + uint64_t(x);
-            int taken = 0;
-            for (int batch = 0; taken < budget; ++batch) {
-              if (batch > 0 && noise.Converged(*film, x, y)) break;
-              const int n = std::min(batch == 0 ? std::min(first_batch, budget) : taken, budget - taken);
-              const uint32_t pattern =
-                  uint32_t(HashKey(seed_, uint64_t(sf.index), pixel, kPixelPatternPurpose, uint64_t(batch)));
-              for (int i = 0; i < n; ++i) {
-                const int s = taken + i;
-                Rng rng = Rng::For(seed_, uint64_t(sf.index), pixel, uint64_t(s), kPixelSamplePurpose);
-                const Eigen::Vector2d j = MultiJitter2D(uint32_t(i), uint32_t(n), pattern);
-                Eigen::Vector2d lens(0.5, 0.5);
-                if (!cam.is_pinhole()) lens = Eigen::Vector2d(rng.NextDouble(), rng.NextDouble());
-                Pose world_from_cam = frame.world_from_cam;
-                FrameLights moving_lights;
-                const FrameLights* lights = &fixed_lights;
-                if (moving) {
-                  double t = sf.t_start_s + rng.NextDouble() * (sf.t_end_s - sf.t_start_s);
-                  world_from_cam = WorldFromCamAt(scene_.motion, t);
-                  moving_lights = MakeFrameLights(scene_.sensor, world_from_cam, sf.laser_fraction,
-                                                  sf.pattern_fraction, sf.led_fraction);
-                  lights = &moving_lights;
-                }
-                auto cam_ray = cam.GenerateRay(Eigen::Vector2d(x - 0.5 + j.x(), y - 0.5 + j.y()), lens);
-                Eigen::Vector3f rgb = Eigen::Vector3f::Zero();
-                std::fill(mono.begin(), mono.end(), 0.0f);
-                if (cam_ray) tracer_->Trace(WorldRay(world_from_cam, *cam_ray), *lights, rng, &rgb, mono, &ts, full);
-                film->AddSample(x, y, rgb, mono);
-                ++ns;
-              }
-              taken += n;
-            }
-          }
+  // Samples of pixel (x, y) from its film count up to `target`.
+  auto sample_pixel = [&](int x, int y, int target, std::vector<float>& mono, TraceStats& ts, uint64_t& ns) {
+    const bool full = has_budget(x, y);
+    const uint64_t pixel = uint64_t(y) * uint64_t(cam.width()) + uint64_t(x);
+    int taken = int(film->SampleCount(x, y));
+    int batch = 0;  // batch b > 0 starts at first_batch * 2^(b - 1)
+    for (int start = first_batch; start <= taken && batch < 31 && taken > 0; start *= 2) ++batch;
+    for (; taken < target; ++batch) {
+      const int n = std::min(batch == 0 ? first_batch : taken, target - taken);
+      const uint32_t pattern =
+          uint32_t(HashKey(seed_, uint64_t(sf.index), pixel, kPixelPatternPurpose, uint64_t(batch)));
+      for (int i = 0; i < n; ++i) {
+        const int s = taken + i;
+        Rng rng = Rng::For(seed_, uint64_t(sf.index), pixel, uint64_t(s), kPixelSamplePurpose);
+        const Eigen::Vector2d j = MultiJitter2D(uint32_t(i), uint32_t(n), pattern);
+        Eigen::Vector2d lens(0.5, 0.5);
+        if (!cam.is_pinhole()) lens = Eigen::Vector2d(rng.NextDouble(), rng.NextDouble());
+        Pose world_from_cam = frame.world_from_cam;
+        FrameLights moving_lights;
+        const FrameLights* lights = &fixed_lights;
+        if (moving) {
+          double t = sf.t_start_s + rng.NextDouble() * (sf.t_end_s - sf.t_start_s);
+          world_from_cam = WorldFromCamAt(scene_.motion, t);
+          moving_lights = MakeFrameLights(scene_.sensor, world_from_cam, sf.laser_fraction, sf.pattern_fraction,
+                                          sf.led_fraction);
+          lights = &moving_lights;
         }
-      });
+        auto cam_ray = cam.GenerateRay(Eigen::Vector2d(x - 0.5 + j.x(), y - 0.5 + j.y()), lens);
+        Eigen::Vector3f rgb = Eigen::Vector3f::Zero();
+        std::fill(mono.begin(), mono.end(), 0.0f);
+        if (cam_ray) tracer_->Trace(WorldRay(world_from_cam, *cam_ray), *lights, rng, &rgb, mono, &ts, full);
+        film->AddSample(x, y, rgb, mono);
+        ++ns;
+      }
+      taken += n;
+    }
+  };
+  // One pass over the image; target(x, y) is the pixel's count after it.
+  auto pass = [&](auto&& target) {
+    tbb::parallel_for(
+        tbb::blocked_range2d<int>(0, cam.height(), kTile, 0, cam.width(), kTile), [&](const auto& range) {
+          TraceStats& ts = tstats.local();
+          uint64_t& ns = tsamples.local();
+          std::vector<float> mono(size_t(layout_.channels));
+          for (int y = range.rows().begin(); y < range.rows().end(); ++y)
+            for (int x = range.cols().begin(); x < range.cols().end(); ++x) sample_pixel(x, y, target(x, y), mono, ts, ns);
+        });
+  };
+  pass([&](int x, int y) { return has_budget(x, y) ? first_batch : 1; });
+  if (adaptive && first_batch < spp_) {
+    // Decided for every pixel from the film after the first pass, before any
+    // pixel takes more: the same counts whatever the threads' order.
+    Image<int32_t> target(cam.width(), cam.height(), 1, 1);
+    tbb::parallel_for(tbb::blocked_range<int>(0, cam.height()), [&](const tbb::blocked_range<int>& rows) {
+      for (int y = rows.begin(); y < rows.end(); ++y)
+        for (int x = 0; x < cam.width(); ++x)
+          if (has_budget(x, y)) target.At(x, y) = noise.TargetCount(*film, x, y, first_batch, spp_, has_budget);
+    });
+    pass([&](int x, int y) { return target.At(x, y); });
+  }
   for (const auto& t : tstats) stats->rays += t.rays;
   for (uint64_t s : tsamples) stats->samples += s;
 }
