@@ -235,7 +235,7 @@ void FrameRenderer::SamplePass(const RenderedFrame& frame, const FrameLights& fi
     const uint64_t pixel = uint64_t(y) * uint64_t(cam.width()) + uint64_t(x);
     int taken = int(film->SampleCount(x, y));
     int batch = 0;  // batch b > 0 starts at first_batch * 2^(b - 1)
-    for (int start = first_batch; start <= taken && batch < 31 && taken > 0; start *= 2) ++batch;
+    for (int start = first_batch; start <= taken && batch < 31; start *= 2) ++batch;
     for (; taken < target; ++batch) {
       const int n = std::min(batch == 0 ? first_batch : taken, target - taken);
       const uint32_t pattern =
