@@ -150,6 +150,16 @@ struct ReferenceStripe {
   std::vector<StripePoint> wide;     // com over kWideWindow
 };
 
+// The noise of one render from two with different seeds: the RMS of their
+// centres' difference (ComAtReference) over sqrt(2); `columns`: how many
+// columns both have.
+double NoiseRms(const Image<float>& a, const Image<float>& b, const ReferenceStripe& ref, size_t* columns = nullptr) {
+  const std::vector<double> e =
+      Differences(ComAtReference(a, ref.threshold, ref.centers), ComAtReference(b, ref.threshold, ref.centers));
+  if (columns) *columns = e.size();
+  return Rms(e) / std::sqrt(2.0);
+}
+
 // 256 samples in every pixel (no adaptive stop), another seed.
 const ReferenceStripe& Reference() {
   static ReferenceStripe ref = [] {
@@ -189,8 +199,7 @@ void BM_DimFrame640(benchmark::State& state) {
   // another seed (outside the timing), |v - v2| / sqrt(2).
   o.seed = 7;
   const Image<float> laser2 = LaserImage(FrameRenderer(scene, *d.embree, o).Render(1).radiance);
-  state.counters["noise_rms_px"] =
-      Rms(Differences(v, ComAtReference(laser2, ref.threshold, ref.centers))) / std::sqrt(2.0);
+  state.counters["noise_rms_px"] = NoiseRms(laser, laser2, ref);
   state.counters["wide_rms_px"] = Rms(ComErrors(Com(laser, ref.threshold, kWideWindow), ref.wide));
   state.counters["com_rms_px"] = Rms(e);
   state.counters["com_median_px"] = e.empty() ? -1 : e[e.size() / 2];
@@ -229,12 +238,11 @@ void BM_DimFrame640Noise(benchmark::State& state) {
     o.seed = 12;
     b = LaserImage(FrameRenderer(scene, *d.embree, o).Render(1).radiance);
   }
-  const std::vector<double> e =
-      Differences(ComAtReference(a, ref.threshold, ref.centers), ComAtReference(b, ref.threshold, ref.centers));
-  state.counters["com_rms_px"] = Rms(e) / std::sqrt(2.0);
+  size_t columns = 0;
+  state.counters["com_rms_px"] = NoiseRms(a, b, ref, &columns);
   state.counters["wide_rms_px"] =
       Rms(ComErrors(Com(a, ref.threshold, kWideWindow), Com(b, ref.threshold, kWideWindow))) / std::sqrt(2.0);
-  state.counters["columns"] = double(e.size());
+  state.counters["columns"] = double(columns);
 }
 BENCHMARK(BM_DimFrame640Noise)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 
