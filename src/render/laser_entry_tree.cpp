@@ -21,6 +21,10 @@ constexpr double kWindowMargin = 1.05;
 constexpr double kSegmentCos = 0.9;
 constexpr double kSegmentGap = 4.0;
 
+LaserEntryTree::Moment ToMoment(const Eigen::Matrix3d& m) {
+  return {float(m(0, 0)), float(m(1, 1)), float(m(2, 2)), float(m(0, 1)), float(m(0, 2)), float(m(1, 2))};
+}
+
 double AngularReach(double reach, double r) { return std::asin(std::min(1.0, reach / r)); }
 
 }  // namespace
@@ -28,15 +32,17 @@ double AngularReach(double reach, double r) { return std::asin(std::min(1.0, rea
 // Accumulates the entry points of one segment: weight, weighted position and
 // second moment (each point a disc of its patch's area), normals.
 struct LaserEntryTree::Segment {
-  double w = 0, m2 = 0;
-  Eigen::Vector3d wp = Eigen::Vector3d::Zero(), wpp = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::Zero();
+  double w = 0;
+  Eigen::Vector3d wp = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d wpp = Eigen::Matrix3d::Zero(), disc = Eigen::Matrix3d::Zero();
   Eigen::Vector3d n0 = Eigen::Vector3d::Zero();
   uint32_t material = 0;
   void Add(const Eigen::Vector3d& p, const Eigen::Vector3d& ni, double wi, double disc_m2) {
     w += wi;
     wp += wi * p;
-    wpp += wi * p.cwiseProduct(p);
-    m2 += wi * disc_m2;
+    wpp += wi * p * p.transpose();
+    // A disc's moment: disc_m2 / 2 along each axis in its plane.
+    disc += (0.5 * wi * disc_m2) * (Eigen::Matrix3d::Identity() - ni * ni.transpose());
     n += wi * ni;
   }
   void Flush(std::vector<Point>* out) {
@@ -46,7 +52,8 @@ struct LaserEntryTree::Segment {
       pt.p = c.cast<float>();
       pt.n = n.normalized().cast<float>();
       pt.w = float(w);
-      pt.m2 = float(std::max(0.0, (wpp / w - c.cwiseProduct(c)).sum()) + m2 / w);
+      pt.m = ToMoment((wpp + disc) / w - c * c.transpose());
+      pt.m2 = std::max(0.0f, pt.m[0] + pt.m[1] + pt.m[2]);
       pt.material = material;
       out->push_back(pt);
     }
@@ -193,9 +200,18 @@ uint32_t LaserEntryTree::BuildNode(std::vector<Point>& pts, size_t begin, size_t
   node.w = float(w);
   const Eigen::Vector3d c = w > 0 ? Eigen::Vector3d(wp / w) : 0.5 * (node.lo + node.hi).cast<double>();
   node.c = c.cast<float>();
-  double m2 = 0;  // parallel axes: each point's own moment plus its offset from c
-  for (size_t i = begin; i < end; ++i) m2 += pts[i].w * (pts[i].m2 + (pts[i].p.cast<double>() - c).squaredNorm());
-  node.m2 = w > 0 ? float(m2 / w) : 0.0f;
+  // Parallel axes: each point's own moment plus its offset from c.
+  Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+  for (size_t i = begin; i < end; ++i) {
+    const Point& p = pts[i];
+    const Eigen::Vector3d d = p.p.cast<double>() - c;
+    Eigen::Matrix3d own;
+    own << p.m[0], p.m[3], p.m[4], p.m[3], p.m[1], p.m[5], p.m[4], p.m[5], p.m[2];
+    m += double(p.w) * (own + d * d.transpose());
+  }
+  if (w > 0) m /= w;
+  node.m = ToMoment(m);
+  node.m2 = std::max(0.0f, node.m[0] + node.m[1] + node.m[2]);
   if (end - begin == 1) {
     node.n = pts[begin].n;
     node.cos_cone = 1;
@@ -236,13 +252,23 @@ double LaserEntryTree::Sum(const Eigen::Vector3d& x_world, const Eigen::Vector3d
   // in float, for the hot path. Within s = sqrt(kSmoothing m2) of a node's
   // centroid, the profile's light inside radius s spread evenly over the disc:
   // A CDF(s) / (pi s^2).
+  constexpr float kOpening2 = float(kOpeningRatio * kOpeningRatio);
   const float inv_3d = float(1.0 / (3.0 * profile.d()));
   const float scale = float(profile.albedo() / (8.0 * M_PI * profile.d()));
-  auto R = [&](float r2, float m2) {
-    const float s2 = kSmoothing * m2;
+  auto R = [&](const Node& node, const Eigen::Vector3f& d, float r2) {
+    const float s2 = kSmoothing * node.m2;
     if (r2 >= s2 && r2 > 0) {
-      const float r = std::sqrt(r2), t = std::exp(-r * inv_3d);
-      return scale * (t * t * t + t) / r;
+      const float r = std::sqrt(r2), t = std::exp(-r * inv_3d), t3 = t * t * t;
+      const float value = scale * (t3 + t) / r;
+      const Moment& m = node.m;
+      const float q = (d.x() * (m[0] * d.x() + 2 * (m[3] * d.y() + m[4] * d.z())) +
+                       d.y() * (m[1] * d.y() + 2 * m[5] * d.z()) + d.z() * m[2] * d.z()) / r2;
+      const float br = r * inv_3d, ar = 3 * br;
+      // Near a leaf (r2 close to m2) the expansion is only approximate; it
+      // never makes light negative.
+      return std::max(0.0f, value + 0.5f * scale / (r2 * r) *
+                                        (q * (t3 * (ar * ar + 3 * ar + 3) + t * (br * br + 3 * br + 3)) -
+                                         node.m2 * (t3 * (ar + 1) + t * (br + 1))));
     }
     return s2 > 0 ? float(profile.albedo() * profile.Cdf(std::sqrt(s2)) / (M_PI * s2)) : 0.0f;
   };
@@ -250,7 +276,6 @@ double LaserEntryTree::Sum(const Eigen::Vector3d& x_world, const Eigen::Vector3d
   const Eigen::Vector3f n_o = n_world.cast<float>();
   const float r_max2 = float(r_max) * float(r_max);
   const int32_t mat = int32_t(material);
-  constexpr float kOpening2 = float(kOpeningRatio * kOpeningRatio);
   double sum = 0;
   std::array<uint32_t, 64> stack;
   int top = 0;
@@ -260,7 +285,8 @@ double LaserEntryTree::Sum(const Eigen::Vector3d& x_world, const Eigen::Vector3d
     if (node.material >= 0 && node.material != mat) continue;
     const Eigen::Vector3f below = (node.lo - x).cwiseMax(0.0f), above = (x - node.hi).cwiseMax(0.0f);
     if ((below + above).squaredNorm() >= r_max2) continue;
-    const float r2 = (node.c - x).squaredNorm();
+    const Eigen::Vector3f d = node.c - x;
+    const float r2 = d.squaredNorm();
     if (node.right == 0) {
       if (node.n.dot(n_o) < 0) continue;  // a leaf lit on the face turned away
     } else {
@@ -282,7 +308,7 @@ double LaserEntryTree::Sum(const Eigen::Vector3d& x_world, const Eigen::Vector3d
         continue;
       }
     }
-    if (r2 < r_max2) sum += node.w * R(r2, node.m2);
+    if (r2 < r_max2) sum += node.w * R(node, d, r2);
   }
   return sum;
 }

@@ -17,21 +17,28 @@
 // dA_j = r^2 dw / cos_i around it. Along psi, neighbouring entry points on one
 // surface (same material, normals within ~25 degrees, no gap) merge into
 // segments kSegmentSigmas sigma wide: a segment keeps its weight, weighted
-// centroid and second moment m2 (each patch counted as a disc of its area).
-// R is evaluated at the distance to a segment's centroid; within
-// s = sqrt(kSmoothing m2) of it the profile's light inside s is spread evenly
-// over the disc, A CDF(s) / (pi s^2), so no light is lost to the 1/r peak.
+// centroid c and second moment M about c (3x3; each patch counted as a disc
+// of its area), m2 = trace M.
+// A segment or node stands for its entry points by the Taylor expansion of R
+// about c to second order: with d = c - x_o, r = |d|, u = d / r,
+//   mean of R ~= R(r) + 1/2 tr(H M),  H = R'' u u^T + (R' / r)(I - u u^T),
+// R being Burley's two exponentials over r, whose derivatives are closed form.
+// Without the second-order term the centroid alone reads R low (R is convex):
+// 1% of the glow in the demo frame. Within s = sqrt(kSmoothing m2) of c the
+// profile's light inside s is spread evenly over the disc,
+// A CDF(s) / (pi s^2), so no light is lost to the 1/r peak.
 //
 // The tree (segments in grid order, split in halves) stores per node the
 // summed weight, the weighted centroid and second moment, the bounding box,
 // the material (or mixed) and a cone bounding the normals. A query opens a node
 // unless it is beyond the profile's reach, of another material, faces away,
 // or is small seen from x_o (m2 < kOpeningRatio^2 |c - x_o|^2), in which case
-// its centroid stands for it.
+// it stands for its entry points as above.
 // Entry points count as in the Monte Carlo estimator: the same material as x_o,
 // within the profile's radius r_max, and lit on the side that x_o's normal faces.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -64,8 +71,10 @@ SheetWindow SheetWindowOfHits(const PointEmitter& e, int sheet, std::span<const 
 
 class LaserEntryTree {
  public:
+  // A symmetric 3x3 second moment: xx yy zz xy xz yz.
+  using Moment = std::array<float, 6>;
   static constexpr double kAcrossSigmas = 4.5;
-  static constexpr double kOpeningRatio = 0.15;
+  static constexpr double kOpeningRatio = 0.25;
   static constexpr double kSegmentSigmas = 1.0;
   static constexpr float kSmoothing = 1.0f;
   static constexpr size_t kMaxPoints = size_t(1) << 22;
@@ -94,13 +103,15 @@ class LaserEntryTree {
     float cos_cone = -1;     // cos of the cone's half-angle
     float sin_cone = 0;      // its sin
     float w = 0;             // summed weight W
-    float m2 = 0;            // weighted mean squared distance from c (m^2)
+    float m2 = 0;            // weighted mean squared distance from c (m^2): trace of m
+    Moment m{};              // weighted second moment about c (m^2)
     int32_t material = -1;   // -1: mixed
     uint32_t right = 0;      // right child (left child: this + 1); 0 for a leaf
   };
   struct Point {
     Eigen::Vector3f p, n;
     float w, m2;
+    Moment m;
     uint32_t material;
   };
   struct Segment;
