@@ -38,7 +38,7 @@ struct ShutterFrameSpec {
   bool laser = true;    // all laser projectors
   bool pattern = false;  // the pattern projector
   bool led = false;     // the LED flood light
-  std::optional<double> analog_gain_db;  // overrides the image sensor's gain in this frame
+  std::optional<double> analog_gain_db = std::nullopt;  // overrides the image sensor's gain in this frame
 };
 
 struct ShutterParams {
