@@ -260,12 +260,13 @@ double LaserEntryTree::Sum(const Eigen::Vector3d& x_world, const Eigen::Vector3d
     if (r2 >= s2 && r2 > 0) {
       const float r = std::sqrt(r2), t = std::exp(-r * inv_3d), t3 = t * t * t;
       const float value = scale * (t3 + t) / r;
+      // The expansion holds where the node is small seen from x (the
+      // opening test); a leaf nearer than that is taken at its centroid.
+      if (!(node.m2 < kOpening2 * r2)) return value;
       const Moment& m = node.m;
       const float q = (d.x() * (m[0] * d.x() + 2 * (m[3] * d.y() + m[4] * d.z())) +
                        d.y() * (m[1] * d.y() + 2 * m[5] * d.z()) + d.z() * m[2] * d.z()) / r2;
       const float br = r * inv_3d, ar = 3 * br;
-      // Near a leaf (r2 close to m2) the expansion is only approximate; it
-      // never makes light negative.
       return std::max(0.0f, value + 0.5f * scale / (r2 * r) *
                                         (q * (t3 * (ar * ar + 3 * ar + 3) + t * (br * br + 3 * br + 3)) -
                                          node.m2 * (t3 * (ar + 1) + t * (br + 1))));

@@ -19,12 +19,14 @@
 // segments kSegmentSigmas sigma wide: a segment keeps its weight, weighted
 // centroid c and second moment M about c (3x3; each patch counted as a disc
 // of its area), m2 = trace M.
-// A segment or node stands for its entry points by the Taylor expansion of R
-// about c to second order: with d = c - x_o, r = |d|, u = d / r,
+// A segment or node small seen from x_o (m2 < kOpeningRatio^2 r^2) stands for
+// its entry points by the Taylor expansion of R about c to second order: with
+// d = c - x_o, r = |d|, u = d / r,
 //   mean of R ~= R(r) + 1/2 tr(H M),  H = R'' u u^T + (R' / r)(I - u u^T),
-// R being Burley's two exponentials over r, whose derivatives are closed form.
-// Without the second-order term the centroid alone reads R low (R is convex):
-// 1% of the glow in the demo frame. Within s = sqrt(kSmoothing m2) of c the
+// R being Burley's two exponentials over r, whose derivatives are closed form
+// (a nearer leaf: R(r) at its centroid). Without the second-order term the
+// centroid alone reads R low (R is convex): 1% of the glow in the demo frame.
+// Within s = sqrt(kSmoothing m2) of c the
 // profile's light inside s is spread evenly over the disc,
 // A CDF(s) / (pi s^2), so no light is lost to the 1/r peak.
 //
