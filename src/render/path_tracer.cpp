@@ -241,10 +241,11 @@ void PathTracer::Trace(const Ray& camera_ray, const FrameLights& lights, Rng& rn
 
     if (v.material->emissive.maxCoeff() > 0) *rgb += beta.cwiseProduct(v.material->emissive);
     if (!lights.emitters.empty()) {
-      // The camera's vertex also connects to laser-lit points (see ConnectToLaserLight);
-      // the vertex after it weighs its next-event estimate against that connection.
-      const bool connects = connection && depth == 0 && depth < options_.max_bounces;
-      const bool connected = connection && depth == 1;
+      // Every vertex that may bounce also connects to laser-lit points (see
+      // ConnectToLaserLight); the vertex after it weighs its next-event
+      // estimate against that connection.
+      const bool connects = connection && depth < options_.max_bounces;
+      const bool connected = connection && depth > 0;
       AddEmitterLight(v, lights, beta_mono_span, connected ? &prev_p : nullptr, prev_bsdf_pdf, mono, stats);
       if (connects) ConnectToLaserLight(v, lights, beta_mono_span, rng, mono, stats);
       if (v.subsurface) {

@@ -20,8 +20,8 @@
 //    and leaves at the shading point with the profile's weight R(|x_i − x_o|);
 //    broadband light, which varies slowly across the profile's few hundred
 //    micrometres, uses the local diffuse lobe (docs/rendering.md);
-//  - at the camera's vertex, a connection through a point the laser lights
-//    directly (a direction of the sheet drawn near the vertex, its first hit),
+//  - at every vertex that may bounce, a connection through a point the laser
+//    lights directly (a direction of the sheet drawn near the vertex, its first hit),
 //    combined with the BSDF bounce by the balance heuristic: the stripe on the
 //    print bed and its glint on a wall are thin lines a BSDF bounce rarely meets;
 //  - the path continues by BSDF sampling up to max_bounces, with Russian
@@ -49,7 +49,7 @@ struct PathTracerOptions {
   // Emitter rays per emitter channel for the subsurface light of the first
   // surface the camera sees (render/path_tracer_subsurface.cpp); one at bounces.
   int subsurface_emitter_rays = 8;
-  // The camera's vertex connects to points the lasers light directly
+  // Path vertices connect to points the lasers light directly
   // (render/path_tracer_laser_connection.cpp).
   bool laser_connection = true;
 };

@@ -2,9 +2,9 @@
 // connection through the laser-lit point (see path_tracer.h).
 //
 // The laser lights thin lines: the stripe on the print bed, its glint on a
-// wall. A bounce drawn from the BSDF at x0 meets them only by chance. So the
-// camera's vertex x0 (PathTracerOptions::laser_connection; deeper vertices add
-// cost for little: their light is a small share of the pixel's) also draws a direction w of the sheet from the projector, near the fan angle
+// wall. A bounce drawn from the BSDF at x0 meets them only by chance. So each
+// path vertex x0 that may bounce (PathTracerOptions::laser_connection) also
+// draws a direction w of the sheet from the projector, near the fan angle
 // of x0 (density in w known in closed form, SheetConnection), casts it to its
 // first hit x1, the lit point, and connects x1 to x0 with a shadow ray. The
 // light x1 sends to x0 is f1 I(w) cos_s1 / r1^2 (the same reflection of the

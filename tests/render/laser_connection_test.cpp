@@ -1,8 +1,9 @@
 // The connection through laser-lit points (render/path_tracer_laser_connection.cpp)
-// changes how light scattered once off the stripe is sampled, not how much
-// arrives: a wall beside the stripe on a floor, which only that light reaches,
-// has the same mean radiance with and without the connection, and less noise
-// with it.
+// changes how light scattered off the stripe is sampled, not how much arrives:
+// a wall beside the stripe on a floor, which only that light reaches, has the
+// same mean radiance with and without the connection, and less noise with it;
+// so has a wall that a second wall facing it lights with what it receives from
+// the stripe (the connection at the second vertex of the path).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,16 +18,18 @@ struct Estimate {
   double mean = 0, standard_error = 0;
 };
 
-Estimate WallRadiance(const test::World& world, const FrameLights& lights, bool connection, int n) {
+// A ray onto the face of the wall at x = 5 mm turned toward the stripe, 5 mm
+// above the floor, from x = origin_x.
+Estimate WallRadiance(const test::World& world, const FrameLights& lights, bool connection, int max_bounces,
+                      double origin_x, int n) {
   PathTracerOptions options;
-  options.max_bounces = 1;
+  options.max_bounces = max_bounces;
   options.laser_connection = connection;
   const Environment dark;
   const PathTracer tracer(*world.embree, dark, nullptr, options, 1);
-  // A ray onto the wall's face turned toward the stripe, 5 mm above the floor.
   Ray ray;
-  ray.origin = Eigen::Vector3d(-0.02, 0.0, 0.095);
-  ray.direction = Eigen::Vector3d(0.025, 0.001, 0.0).normalized();
+  ray.origin = Eigen::Vector3d(origin_x, 0.0, 0.095);
+  ray.direction = Eigen::Vector3d(0.005 - origin_x, 0.001, 0.0).normalized();
   TraceStats stats;
   double sum = 0, sum2 = 0;
   for (int i = 0; i < n; ++i) {
@@ -56,8 +59,8 @@ TEST(LaserConnection, LightScatteredOffTheStripeKeepsItsMeanAndLosesNoise) {
   const FrameLights lights = MakeFrameLights(world.scene.sensor, Pose::Identity(), 1.0, 0.0, 0.0);
 
   // The BSDF bounce alone is the noisier estimate: it gets ten times the samples.
-  const Estimate with = WallRadiance(world, lights, true, 40000);
-  const Estimate without = WallRadiance(world, lights, false, 400000);
+  const Estimate with = WallRadiance(world, lights, true, 1, -0.02, 40000);
+  const Estimate without = WallRadiance(world, lights, false, 1, -0.02, 400000);
   std::printf("wall radiance: connection %.5g +- %.2g, BSDF bounce only %.5g +- %.2g\n", with.mean,
               with.standard_error, without.mean, without.standard_error);
   ASSERT_GT(without.mean, 0.0);
@@ -65,6 +68,34 @@ TEST(LaserConnection, LightScatteredOffTheStripeKeepsItsMeanAndLosesNoise) {
   // some 16 000 runs for normal means; the seeds are fixed, so it is decided once).
   EXPECT_NEAR(with.mean, without.mean, 4 * std::hypot(with.standard_error, without.standard_error));
   // The point of the connection: the stripe is a thin line the BSDF bounce rarely meets.
+  EXPECT_LT(with.standard_error * std::sqrt(40000.0), 0.25 * without.standard_error * std::sqrt(400000.0));
+}
+
+TEST(LaserConnection, LightScatteredTwiceBetweenWallsKeepsItsMeanAndLosesNoise) {
+  test::World world;
+  const double D = 0.1;
+  world.Add(test::Rectangle({0, 0, D}, Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 0.05, 0.05));  // floor
+  // Two walls from z = 90 to 100 mm facing each other across the stripe (x = 0):
+  // A at x = 5 mm, B at x = -5 mm. The sheet passes in front of A (z = 83 mm at
+  // x = 5 mm) and meets the floor before B, so neither is lit directly.
+  world.Add(test::Rectangle({0.005, 0, D - 0.005}, Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitY(), 0.005, 0.02));
+  world.Add(test::Rectangle({-0.005, 0, D - 0.005}, Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitY(), 0.005, 0.02));
+  world.Build();
+  world.scene.sensor.lasers = {test::TestLaser(0.03, D, 5e-3, 2e-3)};
+  const FrameLights lights = MakeFrameLights(world.scene.sensor, Pose::Identity(), 1.0, 0.0, 0.0);
+
+  // Seen from between the walls: A's light from the stripe, and (second bounce)
+  // from B, which the stripe lights.
+  const Estimate with = WallRadiance(world, lights, true, 2, -0.004, 40000);
+  const Estimate without = WallRadiance(world, lights, false, 2, -0.004, 400000);
+  const Estimate one_bounce = WallRadiance(world, lights, true, 1, -0.004, 40000);
+  std::printf("wall radiance, two bounces: connection %.5g +- %.2g, BSDF bounces only %.5g +- %.2g; one bounce %.5g\n",
+              with.mean, with.standard_error, without.mean, without.standard_error, one_bounce.mean);
+  // The second bounce is a share of the light that the comparison can see.
+  EXPECT_GT(with.mean - one_bounce.mean, 10 * std::hypot(with.standard_error, one_bounce.standard_error));
+  EXPECT_NEAR(with.mean, without.mean, 4 * std::hypot(with.standard_error, without.standard_error));
+  // With the connection at the first vertex only, one sample's standard
+  // deviation is 0.43 of the BSDF bounces' alone (measured), and this fails.
   EXPECT_LT(with.standard_error * std::sqrt(40000.0), 0.25 * without.standard_error * std::sqrt(400000.0));
 }
 
