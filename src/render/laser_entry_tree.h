@@ -25,10 +25,10 @@
 //   mean of R ~= R(r) + 1/2 tr(H M),  H = R'' u u^T + (R' / r)(I - u u^T),
 // R being Burley's two exponentials over r, whose derivatives are closed form
 // (a nearer leaf: R(r) at its centroid). Without the second-order term the
-// centroid alone reads R low (R is convex): 1% of the glow in the demo frame.
-// Within s = sqrt(kSmoothing m2) of c the
-// profile's light inside s is spread evenly over the disc,
-// A CDF(s) / (pi s^2), so no light is lost to the 1/r peak.
+// centroid alone reads R low (R is convex): 1.1% of the flat slab's light in
+// SubsurfaceStripe. Within s = sqrt(kSmoothing m2) of c the profile's light
+// inside s is spread evenly over the disc, A CDF(s) / (pi s^2), so no light
+// is lost to the 1/r peak.
 //
 // The tree (segments in grid order, split in halves) stores per node the
 // summed weight, the weighted centroid and second moment, the bounding box,
