@@ -25,6 +25,12 @@ LaserEntryTree::Moment ToMoment(const Eigen::Matrix3d& m) {
   return {float(m(0, 0)), float(m(1, 1)), float(m(2, 2)), float(m(0, 1)), float(m(0, 2)), float(m(1, 2))};
 }
 
+Eigen::Matrix3d FromMoment(const LaserEntryTree::Moment& m) {
+  Eigen::Matrix3d out;
+  out << m[0], m[3], m[4], m[3], m[1], m[5], m[4], m[5], m[2];
+  return out;
+}
+
 double AngularReach(double reach, double r) { return std::asin(std::min(1.0, reach / r)); }
 
 }  // namespace
@@ -53,7 +59,6 @@ struct LaserEntryTree::Segment {
       pt.n = n.normalized().cast<float>();
       pt.w = float(w);
       pt.m = ToMoment((wpp + disc) / w - c * c.transpose());
-      pt.m2 = std::max(0.0f, pt.m[0] + pt.m[1] + pt.m[2]);
       pt.material = material;
       out->push_back(pt);
     }
@@ -205,9 +210,7 @@ uint32_t LaserEntryTree::BuildNode(std::vector<Point>& pts, size_t begin, size_t
   for (size_t i = begin; i < end; ++i) {
     const Point& p = pts[i];
     const Eigen::Vector3d d = p.p.cast<double>() - c;
-    Eigen::Matrix3d own;
-    own << p.m[0], p.m[3], p.m[4], p.m[3], p.m[1], p.m[5], p.m[4], p.m[5], p.m[2];
-    m += double(p.w) * (own + d * d.transpose());
+    m += double(p.w) * (FromMoment(p.m) + d * d.transpose());
   }
   if (w > 0) m /= w;
   node.m = ToMoment(m);

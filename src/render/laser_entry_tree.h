@@ -112,8 +112,8 @@ class LaserEntryTree {
   };
   struct Point {
     Eigen::Vector3f p, n;
-    float w, m2;
-    Moment m;
+    float w;
+    Moment m;  // second moment about p
     uint32_t material;
   };
   struct Segment;
