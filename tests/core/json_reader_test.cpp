@@ -4,22 +4,14 @@
 
 #include "core/error.h"
 #include "core/pose.h"
+#include "error_of.h"
 
 namespace lt::json {
 namespace {
 
 Document Doc(const std::string& text) { return Document::Parse(text, "scene.json", "/base"); }
 
-// Runs f and returns the InputError message it throws ("" when none).
-template <typename F>
-std::string ErrorOf(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::ErrorOf;
 
 TEST(JsonReader, RangeErrorNamesFileAndPointer) {
   auto doc = Doc(R"({"sensor": {"camera": {"f_number": 0}}})");

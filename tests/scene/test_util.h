@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "error_of.h"
 #include "scene/gltf_writer.h"
 
 namespace lt::test {
@@ -42,17 +43,6 @@ inline void WriteText(const std::filesystem::path& path, const std::string& text
 
 inline void WriteBytes(const std::filesystem::path& path, const std::vector<uint8_t>& bytes) {
   std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-}
-
-// Runs f and returns the lt::InputError message it throws ("" when none).
-template <typename F>
-std::string ErrorOf(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
 }
 
 // A unit square in the z = 0 plane, [0,1]^2, as two counter-clockwise triangles

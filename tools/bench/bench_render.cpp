@@ -1,6 +1,7 @@
 // Renderer benchmarks on the demo scene (scenes/demo/scene.json):
-//  - DimFrame640/spp/adaptive: a 640x480 dim (laser) frame at several sample
-//    counts, with and without the adaptive stop, with the error of a
+//  - DimFrame640/spp/noise: a 640x480 dim (laser) frame at several sample
+//    counts, with the adaptive stop at several fractions of the sensor noise
+//    (render.adaptive_noise in hundredths) and without it (0), with the error of a
 //    centre-of-mass extraction on its laser radiance against a 256-spp
 //    reference (counters com_*_px; wide_rms_px with a 24 px window) and its
 //    noise against a second render with another seed (noise_rms_px): run time
@@ -185,7 +186,9 @@ void BM_DimFrame640(benchmark::State& state) {
   Demo& d = Demo640();
   const auto& ref = Reference();
   SceneFile scene = d.scene;
-  if (state.range(1) == 0) scene.render.adaptive_noise = 0;  // every near pixel takes spp samples
+  // range(1): the adaptive stop's fraction of the sensor noise in hundredths
+  // (render.adaptive_noise; 0: every near pixel takes spp samples).
+  scene.render.adaptive_noise = double(state.range(1)) / 100.0;
   RenderOverrides o;
   o.spp = int(state.range(0));
   o.threads = BenchThreads();
@@ -210,12 +213,14 @@ void BM_DimFrame640(benchmark::State& state) {
   state.counters["gt_ms"] = frame.stats.ground_truth_ms;
   state.counters["samples"] = double(frame.stats.samples);
 }
-// Arguments: samples per pixel, and 1 for the scene's adaptive stop (render.adaptive_noise) or 0 without it.
+// Arguments: samples per pixel, and render.adaptive_noise in hundredths (25:
+// the default; 0: no adaptive stop).
 BENCHMARK(BM_DimFrame640)
-    ->Args({1, 1})
-    ->Args({4, 1})
-    ->Args({16, 1})
-    ->Args({64, 1})
+    ->Args({1, 25})
+    ->Args({4, 25})
+    ->Args({16, 25})
+    ->Args({64, 25})
+    ->Args({128, 25})
     ->Args({16, 0})
     ->Args({64, 0})->Unit(benchmark::kMillisecond)->UseRealTime();
 
