@@ -116,6 +116,11 @@ class FrameRenderer {
   // laser sheet (null where the grid would be too large), attached to `lights`.
   std::vector<std::unique_ptr<LaserEntryTree>> BuildEntryTrees(std::span<const ChiefHit> hits, FrameLights* lights,
                                                                FrameStats* stats) const;
+  // The radiance images from the film (laser speckle applied, the laser total in
+  // radiance channel 3) and the ground truth of the sheet that lights each pixel.
+  void RadianceFromFilm(const Film& film, const FrameLights& lights, int64_t frame_index, RenderedFrame* out) const;
+  // The sensor's input for a frame: energy per pixel over the exposure.
+  SensorExposure ExposureOf(const RenderedFrame& frame) const;
   // The adaptive stop of a frame (render.adaptive_noise); sets the film's tracked value to electrons.
   SampleNoise MakeSampleNoise(const ShutterFrame& sf, FilmOptions* film_options) const;
 

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <tbb/parallel_for.h>
+
 #include "core/error.h"
 #include "core/random.h"
 #include "sensor/param_error.h"
@@ -164,7 +166,8 @@ Image<float> ImageSensor::MeanPhotoElectrons(const SensorExposure& in) const {
       band_gain[c][b] = QuantumEfficiency(c, l) * PhotonsFromEnergy(1.0, l);
     }
   }
-  for (int y = 0; y < in.height; ++y) {
+  // Rows in parallel (in the caller's task arena): each pixel is independent.
+  tbb::parallel_for(0, in.height, [&](int y) {
     for (int x = 0; x < in.width; ++x) {
       int c = Channel(x, y);
       double e = 0;
@@ -176,7 +179,7 @@ Image<float> ImageSensor::MeanPhotoElectrons(const SensorExposure& in) const {
       }
       out.At(x, y) = float(std::max(0.0, e));
     }
-  }
+  });
   return out;
 }
 
@@ -198,7 +201,9 @@ Image<uint16_t> ImageSensor::Expose(const SensorExposure& in, uint64_t seed, uin
   const double K = SystemGain(in.analog_gain_db);
   const double dark_mean = params_.dark_current_e_per_s * in.exposure_s;
   const double max_value = max_dn();
-  for (int y = 0; y < in.height; ++y) {
+  // Each pixel draws from its own counter-based stream, so rows run in parallel
+  // and the frame is the same with any number of threads.
+  tbb::parallel_for(0, in.height, [&](int y) {
     for (int x = 0; x < in.width; ++x) {
       uint64_t i = uint64_t(y) * uint64_t(in.width) + uint64_t(x);
       Rng rng = Rng::For(seed, frame, i, 0, kSensorNoisePurpose);
@@ -209,7 +214,7 @@ Image<uint16_t> ImageSensor::Expose(const SensorExposure& in, uint64_t seed, uin
       double dn = std::round(params_.black_level_dn + K * signal);
       out.At(x, y) = uint16_t(std::clamp(dn, 0.0, max_value));
     }
-  }
+  });
   return out;
 }
 
@@ -217,7 +222,7 @@ Image<float> ImageSensor::ExpectedDn(const SensorExposure& in, bool fixed_patter
   Image<float> mu = MeanPhotoElectrons(in);
   const double K = SystemGain(in.analog_gain_db);
   const double dark_mean = params_.dark_current_e_per_s * in.exposure_s;
-  for (int y = 0; y < in.height; ++y) {
+  tbb::parallel_for(0, in.height, [&](int y) {
     for (int x = 0; x < in.width; ++x) {
       uint64_t i = uint64_t(y) * uint64_t(in.width) + uint64_t(x);
       double gain = fixed_pattern ? PrnuFactor(i) : 1.0;
@@ -225,7 +230,7 @@ Image<float> ImageSensor::ExpectedDn(const SensorExposure& in, bool fixed_patter
       double charge = std::min(double(mu.At(x, y)) * gain + dark_mean, params_.full_well_e);
       mu.At(x, y) = float(std::clamp(params_.black_level_dn + K * (charge + offset), 0.0, max_dn()));
     }
-  }
+  });
   return mu;
 }
 
