@@ -188,18 +188,19 @@ uint32_t LaserEntryTree::BuildNode(std::vector<Point>& pts, size_t begin, size_t
   const uint32_t index = uint32_t(nodes_.size());
   nodes_.emplace_back();
   Node node;
-  node.lo = Eigen::Vector3f::Constant(INFINITY);
-  node.hi = Eigen::Vector3f::Constant(-INFINITY);
-  Eigen::Vector3d wp = Eigen::Vector3d::Zero(), nsum = Eigen::Vector3d::Zero();
+  node.lo = node.n_lo = Eigen::Vector3f::Constant(INFINITY);
+  node.hi = node.n_hi = Eigen::Vector3f::Constant(-INFINITY);
+  Eigen::Vector3d wp = Eigen::Vector3d::Zero();
   double w = 0;
   node.material = int32_t(pts[begin].material);
   for (size_t i = begin; i < end; ++i) {
     const Point& p = pts[i];
     node.lo = node.lo.cwiseMin(p.p);
     node.hi = node.hi.cwiseMax(p.p);
+    node.n_lo = node.n_lo.cwiseMin(p.n);
+    node.n_hi = node.n_hi.cwiseMax(p.n);
     wp += double(p.w) * p.p.cast<double>();
     w += p.w;
-    nsum += p.n.cast<double>();
     if (int32_t(p.material) != node.material) node.material = -1;
   }
   node.w = float(w);
@@ -216,21 +217,8 @@ uint32_t LaserEntryTree::BuildNode(std::vector<Point>& pts, size_t begin, size_t
   node.m = ToMoment(m);
   node.m2 = std::max(0.0f, node.m[0] + node.m[1] + node.m[2]);
   if (end - begin == 1) {
-    node.n = pts[begin].n;
-    node.cos_cone = 1;
     nodes_[index] = node;
     return index;
-  }
-  const double len = nsum.norm();
-  if (len > 1e-6) {
-    node.n = (nsum / len).cast<float>();
-    float cone = 1;
-    for (size_t i = begin; i < end; ++i) cone = std::min(cone, node.n.dot(pts[i].n));
-    node.cos_cone = std::clamp(cone, -1.0f, 1.0f);
-    node.sin_cone = std::sqrt(std::max(0.0f, 1.0f - node.cos_cone * node.cos_cone));
-  } else {
-    node.n = Eigen::Vector3f::UnitZ();
-    node.cos_cone = -1;
   }
   const size_t mid = begin + (end - begin) / 2;
   BuildNode(pts, begin, mid);
@@ -249,13 +237,13 @@ bool LaserEntryTree::Covers(const Eigen::Vector3d& p, double r_max) const {
 }
 
 double LaserEntryTree::Sum(const Eigen::Vector3d& x_world, const Eigen::Vector3d& n_world, uint32_t material,
-                           const BurleyProfile& profile, double r_max) const {
+                           const BurleyProfile& profile, double r_max, double opening_ratio) const {
   if (nodes_.empty()) return 0.0;
   // R(r) = A (t^3 + t) / (8 pi d r), t = exp(-r / (3 d)): BurleyProfile::Evaluate
   // in float, for the hot path. Within s = sqrt(kSmoothing m2) of a node's
   // centroid, the profile's light inside radius s spread evenly over the disc:
   // A CDF(s) / (pi s^2).
-  constexpr float kOpening2 = float(kOpeningRatio * kOpeningRatio);
+  const float opening2 = float(opening_ratio * opening_ratio);
   const float inv_3d = float(1.0 / (3.0 * profile.d()));
   const float scale = float(profile.albedo() / (8.0 * M_PI * profile.d()));
   auto R = [&](const Node& node, const Eigen::Vector3f& d, float r2) {
@@ -265,7 +253,7 @@ double LaserEntryTree::Sum(const Eigen::Vector3d& x_world, const Eigen::Vector3d
       const float value = scale * (t3 + t) / r;
       // The expansion holds where the node is small seen from x (the
       // opening test); a leaf nearer than that is taken at its centroid.
-      if (!(node.m2 < kOpening2 * r2)) return value;
+      if (!(node.m2 < opening2 * r2)) return value;
       const Moment& m = node.m;
       const float q = (d.x() * (m[0] * d.x() + 2 * (m[3] * d.y() + m[4] * d.z())) +
                        d.y() * (m[1] * d.y() + 2 * m[5] * d.z()) + d.z() * m[2] * d.z()) / r2;
@@ -291,26 +279,21 @@ double LaserEntryTree::Sum(const Eigen::Vector3d& x_world, const Eigen::Vector3d
     if ((below + above).squaredNorm() >= r_max2) continue;
     const Eigen::Vector3f d = node.c - x;
     const float r2 = d.squaredNorm();
-    if (node.right == 0) {
-      if (node.n.dot(n_o) < 0) continue;  // a leaf lit on the face turned away
-    } else {
-      // Angle beta of n_o from the cone's axis, gamma the cone's half-angle.
-      // sin beta is taken only where a test needs it: beta - gamma > 90 deg
-      // needs beta > 90 deg (cb < 0).
-      const float cb = node.n.dot(n_o), cg = node.cos_cone, sg = node.sin_cone;
-      auto sin_beta = [cb] { return std::sqrt(std::max(0.0f, 1.0f - cb * cb)); };
-      if (cb < 0 && cb < cg && cb * cg + sin_beta() * sg < 0) continue;  // every normal faces away
-      // The centroid stands for the node only when its entry points share one
-      // material, it is small seen from x and all face n_o (beta + gamma <= 90
-      // deg); else descend.
-      const bool stands = node.material >= 0 && node.m2 < kOpening2 * r2 && cb >= 0 && cg >= 0 &&
-                          cb * cg - sin_beta() * sg >= 0;
-      if (!stands) {
-        const uint32_t self = uint32_t(&node - nodes_.data());
-        stack[top++] = node.right;
-        stack[top++] = self + 1;
-        continue;
-      }
+    // Bounds of n . n_o over the node's normals, from their bounding box (a
+    // leaf's: its normal). Entry points count where n . n_o >= 0.
+    float cos_lo = 0, cos_hi = 0;
+    for (int i = 0; i < 3; ++i) {
+      const float a = n_o[i] * node.n_lo[i], b = n_o[i] * node.n_hi[i];
+      cos_lo += std::min(a, b), cos_hi += std::max(a, b);
+    }
+    if (cos_hi < 0) continue;  // every entry point lit on a face turned away
+    // The centroid stands for an inner node only when its entry points share
+    // one material, it is small seen from x and all count; else descend.
+    if (node.right != 0 && !(node.material >= 0 && node.m2 < opening2 * r2 && cos_lo >= 0)) {
+      const uint32_t self = uint32_t(&node - nodes_.data());
+      stack[top++] = node.right;
+      stack[top++] = self + 1;
+      continue;
     }
     if (r2 < r_max2) sum += node.w * R(node, d, r2);
   }

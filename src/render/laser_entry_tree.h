@@ -32,10 +32,15 @@
 //
 // The tree (segments in grid order, split in halves) stores per node the
 // summed weight, the weighted centroid and second moment, the bounding box,
-// the material (or mixed) and a cone bounding the normals. A query opens a node
-// unless it is beyond the profile's reach, of another material, faces away,
-// or is small seen from x_o (m2 < kOpeningRatio^2 |c - x_o|^2), in which case
-// it stands for its entry points as above.
+// the material (or mixed) and the bounding box of the normals, which bounds
+// n . n_o over them (a cone about the mean normal was looser: where the stripe
+// crosses a step, top and wall normals 90 degrees apart, its bound put the wall
+// beyond 90 degrees of a top point's normal and every node holding both was
+// opened down to its leaves). A query skips a node beyond the profile's reach,
+// of another material, or whose normals all face away from n_o; it opens one
+// unless it is small seen from x_o (m2 < kOpeningRatio^2 |c - x_o|^2), of one
+// material, and all its normals face n_o, in which case it stands for its
+// entry points as above.
 // Entry points count as in the Monte Carlo estimator: the same material as x_o,
 // within the profile's radius r_max, and lit on the side that x_o's normal faces.
 #pragma once
@@ -92,8 +97,10 @@ class LaserEntryTree {
   bool Covers(const Eigen::Vector3d& p, double r_max) const;
   // sum_j R(r_eff,j) W_j over the entry points on `material` within r_max of x
   // (world) whose normal, oriented toward the projector, has n_o . n >= 0.
+  // `opening_ratio` 0 opens every node down to the segments (the sum the
+  // expansion approximates).
   double Sum(const Eigen::Vector3d& x, const Eigen::Vector3d& n_o, uint32_t material, const BurleyProfile& profile,
-             double r_max) const;
+             double r_max, double opening_ratio = kOpeningRatio) const;
 
   size_t points() const { return points_; }
 
@@ -101,9 +108,7 @@ class LaserEntryTree {
   struct Node {
     Eigen::Vector3f lo, hi;  // bounding box, relative to origin_
     Eigen::Vector3f c;       // weighted centroid
-    Eigen::Vector3f n;       // mean normal (unit) of the cone
-    float cos_cone = -1;     // cos of the cone's half-angle
-    float sin_cone = 0;      // its sin
+    Eigen::Vector3f n_lo, n_hi;  // bounding box of the unit normals
     float w = 0;             // summed weight W
     float m2 = 0;            // weighted mean squared distance from c (m^2): trace of m
     Moment m{};              // weighted second moment about c (m^2)

@@ -86,6 +86,77 @@ TEST(LaserEntryTree, SumAcrossAStraightStripeIsTheLineSpreadOfTheProfile) {
   EXPECT_EQ(tree->Sum(p0, -n_o, 0, profile, r_max), 0.0);
 }
 
+TEST(LaserEntryTree, SumAcrossAStepMatchesTheSumOverEverySegment) {
+  // The stripe crosses a step: the slab at z = kD for y < y0, raised by h for
+  // y > y0, and the wall between them facing the laser. Near the edge a node
+  // holds entry points of two faces whose normals are 90 degrees apart; the
+  // node's bound on n . n_o must neither drop the wall's light for a point on
+  // a face (n . n_o = 0 counts) nor count light from faces turned away. The
+  // tree's sum (nodes standing for their points to second order) against the
+  // sum over every segment (opening ratio 0): within 1%, the expansion's
+  // accuracy on the flat slab (SumAcrossAStraightStripe...: 0.3%) with margin.
+  constexpr double y0 = 0.01, h = 1e-3;
+  test::World world;
+  world.Add(test::Rectangle({0, y0 - 0.05, kD}, Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 0.05, 0.05));
+  world.Add(test::Rectangle({0, y0 + 0.05, kD - h}, Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 0.05, 0.05));
+  world.Add(test::Rectangle({0, y0, kD - 0.5 * h}, Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitZ(), 0.05, 0.5 * h));
+  Material pla = test::Plastic(0.8f, 0.5f);
+  pla.subsurface = Subsurface{Eigen::Vector3d::Constant(kMfp), kMfp};
+  world.geometry->materials = {pla};
+  world.Build();
+  world.scene.sensor.lasers = {test::TestLaser(kBaseline, kD, kPower, 2e-3)};
+  const FrameLights lights = MakeFrameLights(world.scene.sensor, Pose::Identity(), 1.0, 0.0, 0.0);
+  DiffusionProfileParams pp;
+  pp.albedo = 0.8;
+  pp.mean_free_path = kMfp;
+  const BurleyProfile profile(pp);
+  const double r_max = profile.SampleRadius(0.999);
+  // Hits on both faces and the wall, each beside the stripe, which lies where
+  // the sheet x / kBaseline + z / kD = 1 meets the surface.
+  struct Query {
+    Eigen::Vector3d p, n;
+  };
+  const double x_raised = kBaseline * h / kD;
+  const std::vector<Query> queries = {
+      {{0.2e-3, y0 - 0.3e-3, kD}, -Eigen::Vector3d::UnitZ()},
+      {{0.0, y0 - 1e-3, kD}, -Eigen::Vector3d::UnitZ()},
+      {{x_raised + 0.2e-3, y0 + 0.3e-3, kD - h}, -Eigen::Vector3d::UnitZ()},
+      {{0.5 * x_raised, y0, kD - 0.5 * h}, -Eigen::Vector3d::UnitY()},
+      {{0.5 * x_raised + 0.5e-3, y0, kD - 0.2 * h}, -Eigen::Vector3d::UnitY()},
+      {{1e-3, y0 - 1e-3, kD}, -Eigen::Vector3d::UnitZ()},  // 1 mm from the stripe and from the wall
+  };
+  std::vector<ChiefHit> hits;
+  for (const Query& q : queries) {
+    ChiefHit hit;
+    hit.valid = true;
+    hit.p_world = q.p;
+    hit.normal = q.n;
+    hits.push_back(hit);
+  }
+  const std::vector<double> reach_m = {r_max};
+  const SheetWindow window = SheetWindowOfHits(lights.emitters[0], 0, hits, reach_m);
+  uint64_t rays = 0;
+  auto tree = LaserEntryTree::Build(*world.embree, lights.emitters[0], 0, window, kMfp / 8, &rays);
+  ASSERT_TRUE(tree);
+  for (const Query& q : queries) {
+    ASSERT_TRUE(tree->Covers(q.p, r_max));
+    const double exact = tree->Sum(q.p, q.n, 0, profile, r_max, 0.0);
+    ASSERT_GT(exact, 0.0);
+    EXPECT_NEAR(tree->Sum(q.p, q.n, 0, profile, r_max) / exact, 1.0, 0.01) << q.p.transpose() * 1e3 << " mm";
+  }
+  // A point on the wall sees the faces' light (their normals at 90 degrees to
+  // its own count). Tilting its normal by 1 mrad toward +z turns both faces
+  // away: then only the wall's own light counts, a small part, and every node
+  // that holds face and wall points must open rather than stand (0.17 of the
+  // light is the wall's; letting mixed nodes stand read 2.07 times that).
+  const Query& wall = queries[3];
+  const double with_faces = tree->Sum(wall.p, wall.n, 0, profile, r_max, 0.0);
+  const Eigen::Vector3d tilted = (wall.n + 1e-3 * Eigen::Vector3d::UnitZ()).normalized();
+  const double wall_only = tree->Sum(wall.p, tilted, 0, profile, r_max, 0.0);
+  EXPECT_LT(wall_only, 0.5 * with_faces);
+  EXPECT_NEAR(tree->Sum(wall.p, tilted, 0, profile, r_max) / wall_only, 1.0, 0.01);
+}
+
 TEST(LaserEntryTree, CoversOnlyPointsWhoseReachLiesInTheWindow) {
   Slab slab;
   // The window of a hit on the stripe's middle: the stripe runs along y.
