@@ -109,24 +109,26 @@ FrameRenderer::FrameRenderer(const SceneFile& scene, const EmbreeScene& embree, 
   for (const Material& m : embree.geometry().materials) {
     if (m.emissive.maxCoeff() > 0) has_emission_ = true;
     max_emission_ = std::max(max_emission_, double(m.emissive.maxCoeff()));
-    double reach = 0;
+    double reach = 0, half = 0;
     if (m.subsurface && scene.render.subsurface) {
       DiffusionProfileParams p;
       p.albedo = 1.0;  // the widest profile for this mean free path
       p.mean_free_path = m.subsurface->mean_free_path_laser_m;
+      half = BurleyProfile(p).SampleRadius(0.5);
       reach = BurleyProfile(p).SampleRadius(0.999);
       if (!(min_subsurface_mfp_m_ > 0) || p.mean_free_path < min_subsurface_mfp_m_) {
         min_subsurface_mfp_m_ = p.mean_free_path;
       }
     }
     subsurface_reach_m_.push_back(reach);
+    subsurface_half_m_.push_back(half);
   }
 }
 
 FrameRenderer::~FrameRenderer() = default;
 
 void FrameRenderer::GroundTruthPass(const Pose& world_from_cam, const FrameLights& lights, RenderedFrame* out,
-                                    std::vector<ChiefHit>* hits) const {
+                                    std::vector<ChiefHit>* hits, Image<uint8_t>* reach) const {
   const Camera& cam = scene_.sensor.camera;
   const int w = cam.width(), h = cam.height();
   GroundTruthBuffers& gt = out->gt;
@@ -134,7 +136,8 @@ void FrameRenderer::GroundTruthPass(const Pose& world_from_cam, const FrameLight
   gt.normal = Image<float>(w, h, 3, 0.0f);
   gt.instance = Image<float>(w, h, 1, -1.0f);
   gt.material = Image<float>(w, h, 1, -1.0f);
-  Image<uint8_t> near(w, h, 1, 0);
+  Image<uint8_t>& near = *reach;
+  near = Image<uint8_t>(w, h, 1, kFar);
   hits->assign(size_t(w) * size_t(h), ChiefHit{});
   const Pose cam_from_world = world_from_cam.inverse();
   const double footprint_per_m = cam.pixel_pitch_m() / cam.image_distance_m();  // metres per pixel per metre depth
@@ -163,58 +166,37 @@ void FrameRenderer::GroundTruthPass(const Pose& world_from_cam, const FrameLight
       for (int c = 0; c < 3; ++c) gt.normal.At(x, y, c) = float(n[c]);
       gt.instance.At(x, y) = float(hit->instance_id);
       gt.material.At(x, y) = float(hit->material_id);
-      // Can an emitter reach the neighbourhood of this point?
+      // Can an emitter's beam, or the glow it makes below the surface, reach the
+      // neighbourhood of this point?
       double distance = (hit->position - ray.origin).norm();
+      uint8_t& r_class = near.At(x, y);
       for (const PointEmitter& e : lights.emitters) {
         if (e.pattern) {
-          near.At(x, y) = 1;
+          r_class = kInBeam;
           break;
         }
         Eigen::Vector3d p_proj = e.projector_from_world * hit->position;
         double r = p_proj.norm();
         if (!(r > 0)) continue;
-        double margin = (2.0 * distance * footprint_per_m + subsurface_reach_m_[hit->material_id]) / r;
-        double sigma = e.laser->SheetSigma(r);
-        for (int k = 0; k < e.channels; ++k) {
-          if (std::abs(e.laser->SheetOffsetAngle(k, p_proj)) <= kNearSigmas * sigma + margin) {
-            near.At(x, y) = 1;
-            break;
-          }
+        const uint32_t m = hit->material_id;
+        const double beam =
+            kNearSigmas * e.laser->SheetSigma(r) + (2.0 * distance * footprint_per_m + subsurface_half_m_[m]) / r;
+        const double glow = subsurface_reach_m_[m] / r;
+        for (int k = 0 ; k < e.channels && r_class != kInBeam; ++k) {
+          const double offset = std::abs(e.laser->SheetOffsetAngle(k, p_proj));
+          if (offset <= beam) r_class = kInBeam;
+          else if (offset <= beam + glow) r_class = kInGlow;
         }
-        if (near.At(x, y)) break;
+        if (r_class == kInBeam) break;
       }
     }
   });
   for (uint64_t r : rays) out->stats.rays += r;
-  // Dilate by one pixel plus the largest defocus blur radius seen in the frame.
-  double max_coc = 0;
-  if (!cam.is_pinhole()) {
-    for (float z : gt.depth.pixels)
-      if (z > 0) max_coc = std::max(max_coc, cam.CircleOfConfusionPx(z));
-  }
-  int radius = 1 + int(std::ceil(0.5 * max_coc));
-  out->near_mask = Image<float>(w, h, 1, 0.0f);
-  tbb::parallel_for(0, h, [&](int y) {
-    for (int x = 0; x < w; ++x) {
-      bool any = false;
-      for (int dy = -radius; dy <= radius && !any; ++dy) {
-        int yy = y + dy;
-        if (yy < 0 || yy >= h) continue;
-        for (int dx = -radius; dx <= radius; ++dx) {
-          int xx = x + dx;
-          if (xx >= 0 && xx < w && near.At(xx, yy)) {
-            any = true;
-            break;
-          }
-        }
-      }
-      out->near_mask.At(x, y) = any ? 1.0f : 0.0f;
-    }
-  });
 }
 
-void FrameRenderer::SamplePass(const RenderedFrame& frame, const FrameLights& fixed_lights, bool all_pixels,
-                               const SampleNoise& noise, Film* film, FrameStats* stats) const {
+void FrameRenderer::SamplePass(const RenderedFrame& frame, const FrameLights& fixed_lights,
+                               const Image<uint8_t>& budget, const SampleNoise& noise, Film* film,
+                               FrameStats* stats) const {
   const Camera& cam = scene_.sensor.camera;
   const ShutterFrame& sf = frame.shutter;
   const bool moving = !IsStaticWithin(scene_.motion, sf.t_start_s, sf.t_end_s);
@@ -222,9 +204,16 @@ void FrameRenderer::SamplePass(const RenderedFrame& frame, const FrameLights& fi
   // then batches that double the count, each stratified on its own. With the
   // adaptive stop, every pixel first takes its first batch; then each takes the
   // count its neighbours' first batches call for (SampleNoise::TargetCount).
+  // The first batch is min(spp, max(4, spp / 16)) in a beam, where it samples
+  // the stripe's sharp profile across the pixel, and 2 in the glow beyond, the
+  // least that estimates a variance.
   const bool adaptive = noise.fraction > 0;
-  const int first_batch = adaptive ? std::min(spp_, std::max(4, spp_ / 16)) : spp_;
-  auto has_budget = [&](int x, int y) { return all_pixels || frame.near_mask.At(x, y) > 0; };
+  const int beam_first_batch = adaptive ? std::min(spp_, std::max(4, spp_ / 16)) : spp_;
+  const int glow_first_batch = adaptive ? std::min(spp_, 2) : spp_;
+  auto has_budget = [&](int x, int y) { return budget.At(x, y) != kOneSample; };
+  auto first_batch_of = [&](int x, int y) {
+    return budget.At(x, y) == kGlowBudget ? glow_first_batch : beam_first_batch;
+  };
   tbb::enumerable_thread_specific<TraceStats> tstats;
   tbb::enumerable_thread_specific<uint64_t> tsamples(0);
   // Samples of pixel (x, y) from its film count up to `target`.
@@ -232,6 +221,7 @@ void FrameRenderer::SamplePass(const RenderedFrame& frame, const FrameLights& fi
     const bool full = has_budget(x, y);
     const uint64_t pixel = uint64_t(y) * uint64_t(cam.width()) + uint64_t(x);
     int taken = int(film->SampleCount(x, y));
+    const int first_batch = first_batch_of(x, y);
     int batch = 0;  // batch b > 0 starts at first_batch * 2^(b - 1)
     for (int start = first_batch; start <= taken && batch < 31; start *= 2) ++batch;
     for (; taken < target; ++batch) {
@@ -275,15 +265,15 @@ void FrameRenderer::SamplePass(const RenderedFrame& frame, const FrameLights& fi
             for (int x = range.cols().begin(); x < range.cols().end(); ++x) sample_pixel(x, y, target(x, y), mono, ts, ns);
         });
   };
-  pass([&](int x, int y) { return has_budget(x, y) ? first_batch : 1; });
-  if (adaptive && first_batch < spp_) {
+  pass([&](int x, int y) { return has_budget(x, y) ? first_batch_of(x, y) : 1; });
+  if (adaptive && std::min(beam_first_batch, glow_first_batch) < spp_) {
     // Decided for every pixel from the film after the first pass, before any
     // pixel takes more: the same counts whatever the threads' order.
     Image<int32_t> target(cam.width(), cam.height(), 1, 1);
     tbb::parallel_for(tbb::blocked_range<int>(0, cam.height()), [&](const tbb::blocked_range<int>& rows) {
       for (int y = rows.begin(); y < rows.end(); ++y)
         for (int x = 0; x < cam.width(); ++x)
-          if (has_budget(x, y)) target.At(x, y) = noise.TargetCount(*film, x, y, first_batch, spp_, has_budget);
+          if (has_budget(x, y)) target.At(x, y) = noise.TargetCount(*film, x, y, first_batch_of(x, y), spp_, has_budget);
     });
     pass([&](int x, int y) { return target.At(x, y); });
   }
@@ -377,11 +367,13 @@ RenderedFrame FrameRenderer::Render(int64_t frame_index) const {
   std::vector<ChiefHit> chief_hits;
   std::vector<std::unique_ptr<LaserEntryTree>> entry_trees;
   InArena(threads_, [&] {
-    GroundTruthPass(out.world_from_cam, lights, &out, &chief_hits);
+    Image<uint8_t> reach;
+    GroundTruthPass(out.world_from_cam, lights, &out, &chief_hits, &reach);
     if (IsStaticWithin(scene_.motion, sf.t_start_s, sf.t_end_s)) {
       entry_trees = BuildEntryTrees(chief_hits, &lights, &out.stats);
     }
-    SamplePass(out, lights, broadband || !scene_.render.adaptive_sampling, noise, &film, &out.stats);
+    const Image<uint8_t> budget = SampleBudgets(reach, broadband || !scene_.render.adaptive_sampling, &out);
+    SamplePass(out, lights, budget, noise, &film, &out.stats);
   });
   for (float v : out.near_mask.pixels) out.stats.near_pixels += v > 0;
 

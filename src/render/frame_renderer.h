@@ -4,18 +4,22 @@
 // Passes:
 //  1. Chief rays through every pixel centre at mid-exposure give the per-pixel
 //     ground truth (depth, normal, instance, material) and decide, cheaply and
-//     geometrically, which pixels a laser sheet can reach: a pixel is "near" when
-//     its surface point lies within 8 sigma of a sheet's plane (plus the pixel's
-//     footprint and the reach of its own material's subsurface profile: light
-//     that enters a surface leaves it only from the same material), dilated by
-//     the defocus blur and by one pixel. Far pixels need one sample; near pixels get the budget.
-//     When broadband light shows in the image (the LED, or environment and
-//     emission bright enough for half a digital number), every pixel gets the
-//     full budget. With render.adaptive_noise > 0 a pixel with the budget takes
-//     its samples in batches (a first of min(spp, max(4, spp/16)), then batches
-//     that double its count, each stratified) and stops once the Monte Carlo
-//     standard error of its mean is below that fraction of the sensor's temporal
-//     noise at its signal (render/sample_noise.h).
+//     geometrically, which pixels a laser sheet can reach. A pixel is in a beam
+//     when its surface point lies within 8 sigma of a sheet's plane, plus the
+//     pixel's footprint and the radius holding half the energy of its own
+//     material's subsurface profile (light that enters a surface leaves it only
+//     from the same material), dilated by the defocus blur and by one pixel; it is
+//     in the glow when it lies within the radius holding 99.9% of that energy.
+//     Other pixels need one sample; pixels in a beam or a glow get the budget
+//     ("near", RenderedFrame::near_mask). When broadband light shows in the image
+//     (the LED, or environment and emission bright enough for half a digital
+//     number), every pixel gets the full budget. With render.adaptive_noise > 0 a
+//     pixel with the budget takes its samples in batches (a first of
+//     min(spp, max(4, spp/16)) in a beam, where it samples the stripe's sharp
+//     profile across the pixel, and of 2 in a glow, then batches that double its
+//     count, each stratified) and stops once the Monte Carlo standard error of its
+//     mean is below that fraction of the sensor's temporal noise at its signal
+//     (render/sample_noise.h).
 //  2. When the scanner holds still during the exposure: per laser sheet, the
 //     laser light entering subsurface materials over the fan angles the camera
 //     sees, cast once and kept in a tree (render/laser_entry_tree.h), so that
@@ -108,10 +112,21 @@ class FrameRenderer {
 
  private:
   struct Impl;
+  // What a pixel's chief hit may receive from the lasers directly: nothing, the
+  // glow of their light below a subsurface surface (within the profile's reach
+  // of a sheet), or the beam itself (within 8 sigma and the pixel's footprint).
+  enum Reach : uint8_t { kFar = 0, kInGlow = 1, kInBeam = 2 };
+  // Pass 1: ground truth, chief hits, and each pixel's Reach.
   void GroundTruthPass(const Pose& world_from_cam, const FrameLights& lights, RenderedFrame* out,
-                       std::vector<ChiefHit>* hits) const;
-  void SamplePass(const RenderedFrame& frame, const FrameLights& lights, bool all_pixels, const SampleNoise& noise,
-                  Film* film, FrameStats* stats) const;
+                       std::vector<ChiefHit>* hits, Image<uint8_t>* reach) const;
+  // Each pixel's samples (render/frame_renderer_budgets.cpp): one, or the budget
+  // with the first batch of a glow, or of a beam (pixels within one pixel and
+  // the defocus blur of a kInBeam pixel; every pixel when `all_pixels`). Sets
+  // RenderedFrame::near_mask to the pixels with a budget.
+  enum Budget : uint8_t { kOneSample = 0, kGlowBudget = 1, kBeamBudget = 2 };
+  Image<uint8_t> SampleBudgets(const Image<uint8_t>& reach, bool all_pixels, RenderedFrame* out) const;
+  void SamplePass(const RenderedFrame& frame, const FrameLights& lights, const Image<uint8_t>& budget,
+                  const SampleNoise& noise, Film* film, FrameStats* stats) const;
   // The frame's caches of laser light entering subsurface materials, one per
   // laser sheet (null where the grid would be too large), attached to `lights`.
   std::vector<std::unique_ptr<LaserEntryTree>> BuildEntryTrees(std::span<const ChiefHit> hits, FrameLights* lights,
@@ -141,6 +156,8 @@ class FrameRenderer {
   double max_radiance_to_irradiance_ = 0;  // its largest value
   // Per material: the radius holding 99.9% of its widest subsurface profile (0 without one).
   std::vector<double> subsurface_reach_m_;
+  // Per material: the radius holding half of that profile's energy (0 without one).
+  std::vector<double> subsurface_half_m_;
   double min_subsurface_mfp_m_ = 0;  // smallest laser mean free path of a subsurface material (0: none)
   bool has_emission_ = false;
   double max_emission_ = 0;              // brightest emissive radiance, W/(m² sr)

@@ -24,9 +24,11 @@ namespace {
 // entry points (render/laser_entry_tree.h) and Monte Carlo probe and emitter rays.
 class SubsurfaceStripe : public ::testing::TestWithParam<bool> {};
 
-TEST_P(SubsurfaceStripe, ProfileOnAFlatSlabMatchesTheDiffusionPrediction) {
-  const double D = 0.1, b = 0.03, fx = 1000, P = 5e-3, fan = 60.0 * M_PI / 180.0, mfp = 0.5e-3;
-  test::World world;
+constexpr double D = 0.1, b = 0.03, P = 5e-3, fan = 60.0 * M_PI / 180.0, mfp = 0.5e-3;
+
+// The slab at depth D seen by a 160x40 camera of focal length fx (pixels), lit by
+// one sheet; 64 spp, no bounce.
+void BuildSlab(test::World& world, bool cache, double fx) {
   world.Add(test::Rectangle({0, 0, D}, Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 0.2, 0.2));
   Material pla = test::Plastic(0.8f, 0.5f);
   pla.subsurface = Subsurface{Eigen::Vector3d::Constant(mfp), mfp};
@@ -40,7 +42,15 @@ TEST_P(SubsurfaceStripe, ProfileOnAFlatSlabMatchesTheDiffusionPrediction) {
   rig.shutter = ShutterSchedule(sh);
   world.scene.render.spp = 64;
   world.scene.render.max_bounces = 0;
-  world.scene.render.subsurface_cache = GetParam();
+  world.scene.render.subsurface_cache = cache;
+}
+
+TEST_P(SubsurfaceStripe, ProfileOnAFlatSlabMatchesTheDiffusionPrediction) {
+  const double fx = 1000;
+  test::World world;
+  BuildSlab(world, GetParam(), fx);
+  const SensorRig& rig = world.scene.sensor;
+  const Material& pla = world.geometry->materials[0];
   RenderedFrame frame = FrameRenderer(world.scene, *world.embree).Render(0);
 
   // Prediction.
@@ -101,6 +111,38 @@ TEST_P(SubsurfaceStripe, ProfileOnAFlatSlabMatchesTheDiffusionPrediction) {
 
 INSTANTIATE_TEST_SUITE_P(Estimators, SubsurfaceStripe, ::testing::Values(true, false),
                          [](const auto& info) { return info.param ? "Cache" : "MonteCarlo"; });
+
+// Pixels that only the glow reaches (beyond the beam and the radius holding half
+// the profile's energy, within the one holding 99.9%) get the sample budget
+// with a first batch of 2; the beam's pixels with one of max(4, spp / 16) = 4.
+// With a laser too faint for any pixel to need more (adaptive stop), the frame
+// takes fewer than 4 samples per budget pixel, and at least 2.
+TEST(SubsurfaceStripe, GlowBeyondTheBeamStartsWithTwoSamples) {
+  const double fx = 250;  // 0.4 mm pixels: the glow's reach within the image
+  test::World world;
+  BuildSlab(world, true, fx);
+  // A faint laser: its light is under the sensor's read noise, so that every
+  // budget pixel stops after its first batch.
+  world.scene.sensor.lasers = {test::TestLaser(b, D, 1e-3 * P, 2e-3)};
+  const Camera& cam = world.scene.sensor.camera;
+  const RenderedFrame frame = FrameRenderer(world.scene, *world.embree).Render(0);
+  // The budget spans the profile's reach either side of the stripe (the stripe
+  // lies at the image's centre column; the pixel footprint is D / fx).
+  DiffusionProfileParams widest;
+  widest.albedo = 1.0;
+  widest.mean_free_path = mfp;
+  const double reach_px = BurleyProfile(widest).SampleRadius(0.999) * fx / D;
+  const int v = cam.height() / 2, c = int(std::lround(cam.cx()));
+  EXPECT_EQ(frame.near_mask.At(c + int(0.9 * reach_px), v), 1.0f);
+  EXPECT_EQ(frame.near_mask.At(c - int(0.9 * reach_px), v), 1.0f);
+  EXPECT_EQ(frame.near_mask.At(c + int(1.2 * reach_px) + 5, v), 0.0f);
+  const uint64_t near = uint64_t(frame.stats.near_pixels), all = uint64_t(cam.width() * cam.height());
+  ASSERT_GT(near, all / 4);
+  EXPECT_GE(frame.stats.samples, 2 * near + (all - near));
+  EXPECT_LT(frame.stats.samples, 4 * near + (all - near));
+  std::printf("budget pixels %llu of %llu, samples %llu\n", (unsigned long long)near, (unsigned long long)all,
+              (unsigned long long)frame.stats.samples);
+}
 
 }  // namespace
 }  // namespace lt
