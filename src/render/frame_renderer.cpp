@@ -136,8 +136,7 @@ void FrameRenderer::GroundTruthPass(const Pose& world_from_cam, const FrameLight
   gt.normal = Image<float>(w, h, 3, 0.0f);
   gt.instance = Image<float>(w, h, 1, -1.0f);
   gt.material = Image<float>(w, h, 1, -1.0f);
-  Image<uint8_t>& near = *reach;
-  near = Image<uint8_t>(w, h, 1, kFar);
+  *reach = Image<uint8_t>(w, h, 1, kFar);
   hits->assign(size_t(w) * size_t(h), ChiefHit{});
   const Pose cam_from_world = world_from_cam.inverse();
   const double footprint_per_m = cam.pixel_pitch_m() / cam.image_distance_m();  // metres per pixel per metre depth
@@ -169,7 +168,7 @@ void FrameRenderer::GroundTruthPass(const Pose& world_from_cam, const FrameLight
       // Can an emitter's beam, or the glow it makes below the surface, reach the
       // neighbourhood of this point?
       double distance = (hit->position - ray.origin).norm();
-      uint8_t& r_class = near.At(x, y);
+      uint8_t& r_class = reach->At(x, y);
       for (const PointEmitter& e : lights.emitters) {
         if (e.pattern) {
           r_class = kInBeam;
@@ -182,7 +181,7 @@ void FrameRenderer::GroundTruthPass(const Pose& world_from_cam, const FrameLight
         const double beam =
             kNearSigmas * e.laser->SheetSigma(r) + (2.0 * distance * footprint_per_m + subsurface_half_m_[m]) / r;
         const double glow = subsurface_reach_m_[m] / r;
-        for (int k = 0 ; k < e.channels && r_class != kInBeam; ++k) {
+        for (int k = 0; k < e.channels && r_class != kInBeam; ++k) {
           const double offset = std::abs(e.laser->SheetOffsetAngle(k, p_proj));
           if (offset <= beam) r_class = kInBeam;
           else if (offset <= beam + glow) r_class = kInGlow;
