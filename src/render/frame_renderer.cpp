@@ -73,6 +73,7 @@ FrameRenderer::FrameRenderer(const SceneFile& scene, const EmbreeScene& embree, 
       embree_(embree),
       mutable_embree_(mutable_embree),
       spp_(overrides.spp.value_or(scene.render.spp)),
+      edge_spp_(spp_ * scene.render.edge_spp_factor),
       threads_(overrides.threads.value_or(scene.render.threads)),
       seed_(overrides.seed.value_or(scene.seed)),
       layout_(MakeEmitterLayout(scene.sensor)) {
@@ -206,12 +207,18 @@ void FrameRenderer::SamplePass(const RenderedFrame& frame, const FrameLights& fi
   // The first batch is min(spp, max(4, spp / 16)) in a beam, where it samples
   // the stripe's sharp profile across the pixel, and 2 in the glow beyond, the
   // least that estimates a variance.
+  // A beam pixel at a geometric edge takes edge_spp_ samples, all of them: its
+  // first batch is a beam's, and its count is not the neighbours' to decide.
   const bool adaptive = noise.fraction > 0;
   const int beam_first_batch = adaptive ? std::min(spp_, std::max(4, spp_ / 16)) : spp_;
   const int glow_first_batch = adaptive ? std::min(spp_, 2) : spp_;
   auto has_budget = [&](int x, int y) { return budget.At(x, y) != kOneSample; };
   auto first_batch_of = [&](int x, int y) {
-    return budget.At(x, y) == kGlowBudget ? glow_first_batch : beam_first_batch;
+    switch (budget.At(x, y)) {
+      case kGlowBudget: return glow_first_batch;
+      case kEdgeBudget: return adaptive ? beam_first_batch : edge_spp_;
+      default: return beam_first_batch;
+    }
   };
   tbb::enumerable_thread_specific<TraceStats> tstats;
   tbb::enumerable_thread_specific<uint64_t> tsamples(0);
@@ -265,14 +272,19 @@ void FrameRenderer::SamplePass(const RenderedFrame& frame, const FrameLights& fi
         });
   };
   pass([&](int x, int y) { return has_budget(x, y) ? first_batch_of(x, y) : 1; });
-  if (adaptive && std::min(beam_first_batch, glow_first_batch) < spp_) {
+  if (adaptive && (std::min(beam_first_batch, glow_first_batch) < spp_ || edge_spp_ > beam_first_batch)) {
     // Decided for every pixel from the film after the first pass, before any
     // pixel takes more: the same counts whatever the threads' order.
     Image<int32_t> target(cam.width(), cam.height(), 1, 1);
     tbb::parallel_for(tbb::blocked_range<int>(0, cam.height()), [&](const tbb::blocked_range<int>& rows) {
       for (int y = rows.begin(); y < rows.end(); ++y)
-        for (int x = 0; x < cam.width(); ++x)
-          if (has_budget(x, y)) target.At(x, y) = noise.TargetCount(*film, x, y, first_batch_of(x, y), spp_, has_budget);
+        for (int x = 0; x < cam.width(); ++x) {
+          if (budget.At(x, y) == kEdgeBudget) {
+            target.At(x, y) = edge_spp_;
+          } else if (has_budget(x, y)) {
+            target.At(x, y) = noise.TargetCount(*film, x, y, first_batch_of(x, y), spp_, has_budget);
+          }
+        }
     });
     pass([&](int x, int y) { return target.At(x, y); });
   }
@@ -371,7 +383,9 @@ RenderedFrame FrameRenderer::Render(int64_t frame_index) const {
     if (IsStaticWithin(scene_.motion, sf.t_start_s, sf.t_end_s)) {
       entry_trees = BuildEntryTrees(chief_hits, &lights, &out.stats);
     }
-    const Image<uint8_t> budget = SampleBudgets(reach, broadband || !scene_.render.adaptive_sampling, &out);
+    const Image<uint8_t> budget =
+        SampleBudgets(reach, chief_hits, broadband || !scene_.render.adaptive_sampling, &out);
+    for (uint8_t b : budget.pixels) out.stats.edge_pixels += b == kEdgeBudget;
     SamplePass(out, lights, budget, noise, &film, &out.stats);
   });
   for (float v : out.near_mask.pixels) out.stats.near_pixels += v > 0;

@@ -19,7 +19,13 @@
 //     profile across the pixel, and of 2 in a glow, then batches that double its
 //     count, each stratified) and stops once the Monte Carlo standard error of its
 //     mean is below that fraction of the sensor's temporal noise at its signal
-//     (render/sample_noise.h).
+//     (render/sample_noise.h). A beam pixel within kEdgeDilation pixels of a
+//     geometric edge (two neighbouring chief hits on surfaces that meet at more
+//     than kCreaseDegrees, or one off the other's plane by more than a pixel's
+//     footprint, or a hit beside a miss) takes render.edge_spp_factor times spp,
+//     all of them: where the stripe crosses an edge, the laser's reflection off
+//     one face onto the other makes glints finer than a pixel, rare bright paths
+//     that a first batch does not reveal.
 //  2. When the scanner holds still during the exposure: per laser sheet, the
 //     laser light entering subsurface materials over the fan angles the camera
 //     sees, cast once and kept in a tree (render/laser_entry_tree.h), so that
@@ -75,6 +81,7 @@ struct FrameStats {
   uint64_t rays = 0;
   uint64_t samples = 0;
   int64_t near_pixels = 0;
+  int64_t edge_pixels = 0;  // of them, beam pixels at a geometric edge (render.edge_spp_factor)
   double render_ms = 0;        // passes 1-3
   double ground_truth_ms = 0;  // stripe centres
   // The printed part (scenes with "print"): chunks and triangles rebuilt for this
@@ -121,10 +128,15 @@ class FrameRenderer {
                        std::vector<ChiefHit>* hits, Image<uint8_t>* reach) const;
   // Each pixel's samples (render/frame_renderer_budgets.cpp): one, or the budget
   // with the first batch of a glow, or of a beam (pixels within one pixel and
-  // the defocus blur of a kInBeam pixel; every pixel when `all_pixels`). Sets
-  // RenderedFrame::near_mask to the pixels with a budget.
-  enum Budget : uint8_t { kOneSample = 0, kGlowBudget = 1, kBeamBudget = 2 };
-  Image<uint8_t> SampleBudgets(const Image<uint8_t>& reach, bool all_pixels, RenderedFrame* out) const;
+  // the defocus blur of a kInBeam pixel; every pixel when `all_pixels`), or a
+  // beam pixel at a geometric edge, which takes edge_spp_ (not when
+  // `all_pixels`). Sets RenderedFrame::near_mask to the pixels with a budget.
+  enum Budget : uint8_t { kOneSample = 0, kGlowBudget = 1, kBeamBudget = 2, kEdgeBudget = 3 };
+  Image<uint8_t> SampleBudgets(const Image<uint8_t>& reach, std::span<const ChiefHit> hits, bool all_pixels,
+                               RenderedFrame* out) const;
+  // 1 where a pixel's chief hit and a neighbour's (4-neighbourhood) lie across a
+  // geometric edge (see the header comment), else 0.
+  Image<uint8_t> EdgePixels(std::span<const ChiefHit> hits, const Eigen::Vector3d& camera_origin) const;
   void SamplePass(const RenderedFrame& frame, const FrameLights& lights, const Image<uint8_t>& budget,
                   const SampleNoise& noise, Film* film, FrameStats* stats) const;
   // The frame's caches of laser light entering subsurface materials, one per
@@ -147,6 +159,7 @@ class FrameRenderer {
   EmbreeScene* mutable_embree_ = nullptr;
   std::unique_ptr<PrintedPart> print_;  // state across frames (which chunks are built)
   int spp_;
+  int edge_spp_;  // samples of a beam pixel at a geometric edge
   int threads_;
   uint64_t seed_;
   EmitterLayout layout_;

@@ -1,5 +1,6 @@
 // Which pixels get the sample budget, and with what first batch
-// (FrameRenderer::SampleBudgets).
+// (FrameRenderer::SampleBudgets), and which of the beam's pixels lie at a
+// geometric edge (FrameRenderer::EdgePixels).
 #include <tbb/parallel_for.h>
 
 #include <cmath>
@@ -8,7 +9,65 @@
 
 namespace lt {
 
-Image<uint8_t> FrameRenderer::SampleBudgets(const Image<uint8_t>& reach, bool all_pixels, RenderedFrame* out) const {
+namespace {
+
+// Surfaces that meet at more than this angle make an edge (a printed bead's
+// curvature turns its normal by less between neighbouring pixels at the
+// scanner's resolutions).
+constexpr double kCreaseDegrees = 30.0;
+// Beam pixels within this many pixels of an edge take the edge budget: a grazing
+// wall between two faces can span two pixels.
+constexpr int kEdgeDilation = 2;
+
+// Whether chief hits a and b (their normals oriented toward the camera) lie
+// across an edge: a crease, or one off the other's plane by more than the
+// pixel's footprint there (a step between faces of equal normals).
+bool AcrossEdge(const ChiefHit& a, const Eigen::Vector3d& na, const ChiefHit& b, const Eigen::Vector3d& nb,
+                double footprint_per_m) {
+  static const double kCosCrease = std::cos(kCreaseDegrees * M_PI / 180.0);
+  if (a.valid != b.valid) return true;
+  if (!a.valid) return false;
+  if (na.dot(nb) < kCosCrease) return true;
+  const Eigen::Vector3d d = b.p_world - a.p_world;
+  return std::abs(na.dot(d)) > a.depth * footprint_per_m || std::abs(nb.dot(d)) > b.depth * footprint_per_m;
+}
+
+}  // namespace
+
+Image<uint8_t> FrameRenderer::EdgePixels(std::span<const ChiefHit> hits, const Eigen::Vector3d& camera_origin) const {
+  const Camera& cam = scene_.sensor.camera;
+  const int w = cam.width(), h = cam.height();
+  const double footprint_per_m = cam.pixel_pitch_m() / cam.image_distance_m();
+  auto hit = [&](int x, int y) -> const ChiefHit& { return hits[size_t(y) * size_t(w) + size_t(x)]; };
+  // Normals facing the camera, so that the two sides of a thin surface agree.
+  std::vector<Eigen::Vector3d> normal(hits.size(), Eigen::Vector3d::Zero());
+  tbb::parallel_for(0, h, [&](int y) {
+    for (int x = 0; x < w; ++x) {
+      const ChiefHit& c = hit(x, y);
+      Eigen::Vector3d& n = normal[size_t(y) * size_t(w) + size_t(x)];
+      n = c.normal;
+      if (c.valid && n.dot(camera_origin - c.p_world) < 0) n = -n;
+    }
+  });
+  auto n_at = [&](int x, int y) -> const Eigen::Vector3d& { return normal[size_t(y) * size_t(w) + size_t(x)]; };
+  Image<uint8_t> edge(w, h, 1, 0);
+  tbb::parallel_for(0, h, [&](int y) {
+    for (int x = 0; x < w; ++x) {
+      const int nx[4] = {x - 1, x + 1, x, x}, ny[4] = {y, y, y - 1, y + 1};
+      for (int k = 0; k < 4; ++k) {
+        if (nx[k] < 0 || ny[k] < 0 || nx[k] >= w || ny[k] >= h) continue;
+        if (AcrossEdge(hit(x, y), n_at(x, y), hit(nx[k], ny[k]), n_at(nx[k], ny[k]), footprint_per_m)) {
+          edge.At(x, y) = 1;
+          break;
+        }
+      }
+    }
+  });
+  return edge;
+}
+
+Image<uint8_t> FrameRenderer::SampleBudgets(const Image<uint8_t>& reach, std::span<const ChiefHit> hits,
+                                            bool all_pixels, RenderedFrame* out) const {
   const Camera& cam = scene_.sensor.camera;
   const int w = cam.width(), h = cam.height();
   Image<uint8_t> budget(w, h, 1, all_pixels ? kBeamBudget : kOneSample);
@@ -38,6 +97,27 @@ Image<uint8_t> FrameRenderer::SampleBudgets(const Image<uint8_t>& reach, bool al
         budget.At(x, y) = beam ? kBeamBudget : reach.At(x, y) == kInGlow ? kGlowBudget : kOneSample;
       }
     });
+    if (edge_spp_ > spp_) {
+      // Beam pixels within kEdgeDilation of an edge pixel (a separable box dilation).
+      const Image<uint8_t> edge = EdgePixels(hits, out->world_from_cam.translation());
+      Image<uint8_t> across(w, h, 1, 0);
+      tbb::parallel_for(0, h, [&](int y) {
+        for (int x = 0; x < w; ++x)
+          for (int dx = -kEdgeDilation; dx <= kEdgeDilation && !across.At(x, y); ++dx)
+            if (x + dx >= 0 && x + dx < w && edge.At(x + dx, y)) across.At(x, y) = 1;
+      });
+      tbb::parallel_for(0, h, [&](int y) {
+        for (int x = 0; x < w; ++x) {
+          if (budget.At(x, y) != kBeamBudget) continue;
+          for (int dy = -kEdgeDilation; dy <= kEdgeDilation; ++dy) {
+            if (y + dy >= 0 && y + dy < h && across.At(x, y + dy)) {
+              budget.At(x, y) = kEdgeBudget;
+              break;
+            }
+          }
+        }
+      });
+    }
   }
   out->near_mask = Image<float>(w, h, 1, 0.0f);
   for (size_t i = 0; i < budget.pixels.size(); ++i) out->near_mask.pixels[i] = budget.pixels[i] != kOneSample;

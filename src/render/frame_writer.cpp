@@ -74,6 +74,7 @@ nlohmann::json WriteFrame(const RunFolder& run, const RenderedFrame& frame, int 
        {{"rays", frame.stats.rays},
         {"samples", frame.stats.samples},
         {"near_pixels", frame.stats.near_pixels},
+        {"edge_pixels", frame.stats.edge_pixels},
         {"render_ms", frame.stats.render_ms},
         {"ground_truth_ms", frame.stats.ground_truth_ms}}}};
   // The robot tool (flange) pose when the camera rides on one (hand-eye calibration).

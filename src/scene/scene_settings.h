@@ -21,6 +21,10 @@ struct RenderSettings {
   // standard error of its mean is below this fraction of the sensor's temporal
   // noise at its signal, [0, 10]; 0 = every sampled pixel takes spp samples.
   double adaptive_noise = 0.25;
+  // With adaptive_sampling, in frames lit only by the lasers: pixels in a laser
+  // beam near a geometric edge (a crease or a step between neighbouring pixels'
+  // surfaces) take this many times spp samples, [1, 64]; 1 = no more than spp.
+  int edge_spp_factor = 8;
   bool subsurface = true;          // false renders subsurface materials as surfaces only
   // Laser light entering subsurface materials from a per-frame cache of the lit
   // surface (render/laser_entry_tree.h) where the frame allows; false: Monte Carlo everywhere.

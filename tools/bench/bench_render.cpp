@@ -4,8 +4,9 @@
 //    (render.adaptive_noise in hundredths) and without it (0), with the error of a
 //    centre-of-mass extraction on its laser radiance against a 256-spp
 //    reference (counters com_*_px; wide_rms_px with a 24 px window) and its
-//    noise against a second render with another seed (noise_rms_px): run time
-//    against error;
+//    noise against a second render with another seed (noise_rms_px; the share
+//    of its variance in the noisiest 4% of the columns, noise_top4_share): run
+//    time against error;
 //  - DimFrame640Noise/bounces: the noise of one 16-spp render of that frame, per
 //    max_bounces (three pairs of seeds, pooled);
 //  - BrightFrame1280: the 1280x1024 bright frame (LED, 2 bounces, 16 spp);
@@ -153,12 +154,28 @@ struct ReferenceStripe {
 
 // The noise of one render from two with different seeds: the RMS of their
 // centres' difference (ComAtReference) over sqrt(2); `columns`: how many
-// columns both have.
-double NoiseRms(const Image<float>& a, const Image<float>& b, const ReferenceStripe& ref, size_t* columns = nullptr) {
+// columns both have; `differences`: the sorted |v_a - v_b| behind it.
+double NoiseRms(const Image<float>& a, const Image<float>& b, const ReferenceStripe& ref, size_t* columns = nullptr,
+                std::vector<double>* differences = nullptr) {
   const std::vector<double> e =
       Differences(ComAtReference(a, ref.threshold, ref.centers), ComAtReference(b, ref.threshold, ref.centers));
   if (columns) *columns = e.size();
+  if (differences) *differences = e;
   return Rms(e) / std::sqrt(2.0);
+}
+
+// The share of the squared differences (sorted ascending) held by the largest
+// 4% of them: about 0.04 for noise spread evenly over the columns, near 1 when a
+// few columns' heavy-tailed pixels make the RMS (docs/performance.md).
+double TopShare(const std::vector<double>& sorted) {
+  if (sorted.empty()) return -1;
+  const size_t top = std::max<size_t>(1, (sorted.size() * 4 + 99) / 100);
+  double all = 0, largest = 0;
+  for (size_t i = 0; i < sorted.size(); ++i) {
+    all += sorted[i] * sorted[i];
+    if (i + top >= sorted.size()) largest += sorted[i] * sorted[i];
+  }
+  return all > 0 ? largest / all : 0;
 }
 
 // 256 samples in every pixel (no adaptive stop), another seed.
@@ -202,7 +219,9 @@ void BM_DimFrame640(benchmark::State& state) {
   // another seed (outside the timing), |v - v2| / sqrt(2).
   o.seed = 7;
   const Image<float> laser2 = LaserImage(FrameRenderer(scene, *d.embree, o).Render(1).radiance);
-  state.counters["noise_rms_px"] = NoiseRms(laser, laser2, ref);
+  std::vector<double> noise_differences;
+  state.counters["noise_rms_px"] = NoiseRms(laser, laser2, ref, nullptr, &noise_differences);
+  state.counters["noise_top4_share"] = TopShare(noise_differences);
   state.counters["wide_rms_px"] = Rms(ComErrors(Com(laser, ref.threshold, kWideWindow), ref.wide));
   state.counters["com_rms_px"] = Rms(e);
   state.counters["com_median_px"] = e.empty() ? -1 : e[e.size() / 2];
