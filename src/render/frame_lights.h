@@ -51,6 +51,9 @@ struct FrameLights {
   std::vector<PointEmitter> emitters;  // only those lit during the exposure
   std::optional<LedLight> led;         // only when lit during the exposure
   int groups = 0;
+  // Laser light reflected on from grazing incidence is carried by light paths
+  // (PathTracer::TraceLightPaths), which camera paths then leave out.
+  bool grazing_by_light_paths = false;
 };
 
 // Lights at the camera pose world_from_cam, weighted by the lit fractions of the

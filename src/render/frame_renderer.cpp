@@ -18,6 +18,8 @@ namespace lt {
 
 namespace {
 
+// Light paths per laser sheet and frame at most (render.light_paths times spp).
+constexpr int64_t kMaxLightPaths = int64_t(1) << 28;
 constexpr uint64_t kPixelSamplePurpose = 0x504958454c53414dull;  // camera samples
 constexpr uint64_t kPixelPatternPurpose = 0x504958454c504154ull;  // multi-jitter pattern of a pixel
 constexpr int kTile = 16;
@@ -377,21 +379,36 @@ RenderedFrame FrameRenderer::Render(int64_t frame_index) const {
   Film film(film_options);
   std::vector<ChiefHit> chief_hits;
   std::vector<std::unique_ptr<LaserEntryTree>> entry_trees;
+  // Laser light reflected on from grazing incidence comes from light paths in a
+  // frame where the scanner holds still (render/path_tracer_light_paths.cpp).
+  const bool is_static = IsStaticWithin(scene_.motion, sf.t_start_s, sf.t_end_s);
+  const bool has_laser = std::any_of(lights.emitters.begin(), lights.emitters.end(),
+                                     [](const PointEmitter& e) { return e.laser != nullptr; });
+  const bool fisheye_lens = !cam.is_pinhole() && cam.distortion_model() == DistortionModel::kFisheye;
+  lights.grazing_by_light_paths =
+      is_static && has_laser && scene_.render.light_paths > 0 && scene_.render.max_bounces > 0 && !fisheye_lens;
+  Image<float> splat;
   InArena(threads_, [&] {
     Image<uint8_t> reach;
     GroundTruthPass(out.world_from_cam, lights, &out, &chief_hits, &reach);
-    if (IsStaticWithin(scene_.motion, sf.t_start_s, sf.t_end_s)) {
-      entry_trees = BuildEntryTrees(chief_hits, &lights, &out.stats);
-    }
+    if (is_static) entry_trees = BuildEntryTrees(chief_hits, &lights, &out.stats);
     const Image<uint8_t> budget =
         SampleBudgets(reach, chief_hits, broadband || !scene_.render.adaptive_sampling, &out);
     for (uint8_t b : budget.pixels) out.stats.edge_pixels += b == kEdgeBudget;
     SamplePass(out, lights, budget, noise, &film, &out.stats);
+    if (lights.grazing_by_light_paths) {
+      const int64_t paths = std::min<int64_t>(int64_t(scene_.render.light_paths) * spp_, kMaxLightPaths);
+      splat = Image<float>(w, h, std::max(layout_.channels, 1), 0.0f);
+      TraceStats ts;
+      tracer_->TraceLightPaths(lights, cam, out.world_from_cam, paths, seed_, frame_index, &splat, &ts);
+      out.stats.rays += ts.rays;
+      for (const PointEmitter& e : lights.emitters) out.stats.light_paths += e.laser ? paths * e.channels : 0;
+    }
   });
   for (float v : out.near_mask.pixels) out.stats.near_pixels += v > 0;
 
   InArena(threads_, [&] {
-    RadianceFromFilm(film, lights, frame_index, &out);
+    RadianceFromFilm(film, splat, lights, frame_index, &out);
     out.raw = rig.image_sensor.Expose(ExposureOf(out), seed_, uint64_t(frame_index));
   });
   auto t1 = std::chrono::steady_clock::now();

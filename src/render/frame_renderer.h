@@ -82,6 +82,7 @@ struct FrameStats {
   uint64_t samples = 0;
   int64_t near_pixels = 0;
   int64_t edge_pixels = 0;  // of them, beam pixels at a geometric edge (render.edge_spp_factor)
+  int64_t light_paths = 0;  // traced from the lasers (render.light_paths), all sheets
   double render_ms = 0;        // passes 1-3
   double ground_truth_ms = 0;  // stripe centres
   // The printed part (scenes with "print"): chunks and triangles rebuilt for this
@@ -145,7 +146,9 @@ class FrameRenderer {
                                                                FrameStats* stats) const;
   // The radiance images from the film (laser speckle applied, the laser total in
   // radiance channel 3) and the ground truth of the sheet that lights each pixel.
-  void RadianceFromFilm(const Film& film, const FrameLights& lights, int64_t frame_index, RenderedFrame* out) const;
+  // `splat`: the light paths' radiance per film laser channel, or empty.
+  void RadianceFromFilm(const Film& film, const Image<float>& splat, const FrameLights& lights, int64_t frame_index,
+                        RenderedFrame* out) const;
   // The sensor's input for a frame: energy per pixel over the exposure.
   SensorExposure ExposureOf(const RenderedFrame& frame) const;
   // The adaptive stop of a frame (render.adaptive_noise); sets the film's tracked value to electrons.

@@ -17,8 +17,8 @@ constexpr uint64_t kSpecklePurpose = 0x535045434b4c4531ull;
 
 }  // namespace
 
-void FrameRenderer::RadianceFromFilm(const Film& film, const FrameLights& lights, int64_t frame_index,
-                                     RenderedFrame* out) const {
+void FrameRenderer::RadianceFromFilm(const Film& film, const Image<float>& splat, const FrameLights& lights,
+                                     int64_t frame_index, RenderedFrame* out) const {
   const Camera& cam = scene_.sensor.camera;
   const int w = cam.width(), h = cam.height();
   out->radiance = Image<float>(w, h, 4, 0.0f);
@@ -27,7 +27,9 @@ void FrameRenderer::RadianceFromFilm(const Film& film, const FrameLights& lights
     for (int x = 0; x < w; ++x) {
       Eigen::Vector3f rgb = film.MeanRgb(x, y);
       for (int c = 0; c < 3; ++c) out->radiance.At(x, y, c) = rgb[c];
-      for (int c = 0; c < layout_.channels; ++c) out->laser_radiance.At(x, y, c) = film.MeanLaser(x, y, c);
+      for (int c = 0; c < layout_.channels; ++c) {
+        out->laser_radiance.At(x, y, c) = film.MeanLaser(x, y, c) + (splat.empty() ? 0.0f : splat.At(x, y, c));
+      }
     }
   });
   // Laser speckle: one fully developed field per frame over all monochromatic channels.

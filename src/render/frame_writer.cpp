@@ -75,6 +75,7 @@ nlohmann::json WriteFrame(const RunFolder& run, const RenderedFrame& frame, int 
         {"samples", frame.stats.samples},
         {"near_pixels", frame.stats.near_pixels},
         {"edge_pixels", frame.stats.edge_pixels},
+        {"light_paths", frame.stats.light_paths},
         {"render_ms", frame.stats.render_ms},
         {"ground_truth_ms", frame.stats.ground_truth_ms}}}};
   // The robot tool (flange) pose when the camera rides on one (hand-eye calibration).

@@ -133,12 +133,16 @@ BsdfParams PathTracer::EmitterReflection(const Material& m, bool subsurface, flo
 }
 
 void PathTracer::AddEmitterLight(const Vertex& v, const FrameLights& lights, std::span<const float> beta_mono,
-                                 const Eigen::Vector3d* prev_p, float prev_bsdf_pdf, std::span<float> mono,
-                                 TraceStats* stats) const {
+                                 bool after_bounce, const Eigen::Vector3d* prev_p, float prev_bsdf_pdf,
+                                 std::span<float> mono, TraceStats* stats) const {
   std::array<double, kMaxChannels> irr{};
   for (const PointEmitter& e : lights.emitters) {
     float beta = beta_mono[size_t(e.group)];
     if (beta <= 0) continue;
+    if (after_bounce && e.laser && lights.grazing_by_light_paths &&
+        std::abs(v.n_geo.dot((e.origin_world - v.p).normalized())) < kGrazingCosine) {
+      continue;  // the light paths' part
+    }
     Eigen::Vector3d wi;
     double cos_s = 0;
     std::span<double> ch(irr.data(), size_t(e.channels));
@@ -246,7 +250,8 @@ void PathTracer::Trace(const Ray& camera_ray, const FrameLights& lights, Rng& rn
       // estimate against that connection.
       const bool connects = connection && depth < options_.max_bounces;
       const bool connected = connection && depth > 0;
-      AddEmitterLight(v, lights, beta_mono_span, connected ? &prev_p : nullptr, prev_bsdf_pdf, mono, stats);
+      AddEmitterLight(v, lights, beta_mono_span, depth > 0, connected ? &prev_p : nullptr, prev_bsdf_pdf, mono,
+                      stats);
       if (connects) ConnectToLaserLight(v, lights, beta_mono_span, rng, mono, stats);
       if (v.subsurface) {
         const int emitter_rays = depth == 0 ? options_.subsurface_emitter_rays : 1;

@@ -26,6 +26,12 @@
 //    print bed and its glint on a wall are thin lines a BSDF bounce rarely meets;
 //  - the path continues by BSDF sampling up to max_bounces, with Russian
 //    roulette from russian_roulette_depth.
+//
+// Laser light that a surface receives at grazing incidence and reflects on is
+// the light paths' (TraceLightPaths, render/path_tracer_light_paths.cpp) in
+// frames that trace them (FrameLights::grazing_by_light_paths): camera paths
+// then leave out every path whose laser-lit vertex, reached after a bounce,
+// meets the laser at a cosine below kGrazingCosine.
 #pragma once
 
 #include <cstdint>
@@ -33,12 +39,14 @@
 #include <vector>
 
 #include "core/image.h"
+#include "core/pose.h"
 #include "core/random.h"
 #include "render/bsdf.h"
 #include "render/frame_lights.h"
 #include "scene/embree_scene.h"
 #include "scene/material.h"
 #include "scene/scene_settings.h"
+#include "sensor/camera.h"
 
 namespace lt {
 
@@ -63,6 +71,9 @@ class PathTracer {
  public:
   static constexpr int kMaxGroups = 8;     // monochromatic emitters per rig
   static constexpr int kMaxChannels = 64;  // film laser channels (sheets) per rig
+  // The laser meets a surface at grazing incidence where the cosine of its
+  // angle with the geometric normal is below this (78.5 degrees and more).
+  static constexpr double kGrazingCosine = 0.2;
 
   // `environment_map` is the lat-long map (3 channels) when the environment is a
   // map, else null. The scene, materials and map must outlive the tracer.
@@ -76,6 +87,17 @@ class PathTracer {
   // pixels that get the sample budget).
   void Trace(const Ray& ray, const FrameLights& lights, Rng& rng, Eigen::Vector3f* rgb, std::span<float> mono,
              TraceStats* stats, bool laser_connection = true) const;
+
+  // Light paths from every laser sheet of a static frame through a reflection
+  // at grazing incidence, connected to the camera at world_from_cam: adds their
+  // radiance estimate (paths_per_sheet paths per sheet) to `splat` (the film's
+  // size, one channel per film laser channel). The camera paths of the frame
+  // must leave those paths out (FrameLights::grazing_by_light_paths). The
+  // camera must not be a fisheye with a thin lens. Deterministic for a seed and
+  // frame, at any thread count.
+  void TraceLightPaths(const FrameLights& lights, const Camera& camera, const Pose& world_from_cam,
+                       int64_t paths_per_sheet, uint64_t seed, int64_t frame, Image<float>* splat,
+                       TraceStats* stats) const;
 
   // Radiance of the environment in a world direction.
   Eigen::Vector3f EnvironmentRadiance(const Eigen::Vector3d& dir) const;
@@ -107,17 +129,29 @@ class PathTracer {
     double Pdf(const Eigen::Vector3d& w) const;  // per steradian, w unit
     bool Sample(Rng& rng, Eigen::Vector3d* w) const;
   };
+  // The fan angles a sheet's light paths are drawn from: a grid of kFanCells
+  // cells over the fan; `grazing` (sorted) lists the cells whose ends meet a
+  // surface at grazing incidence, or a crease, a jump or a miss between them;
+  // sigma: the Gaussian across the sheet.
+  struct FanCells {
+    double half_width = 0, step = 0, sigma = 0;
+    std::vector<int> grazing;
+    double PhiDensity(double phi) const;  // per radian
+    double SamplePhi(Rng& rng) const;
+  };
+  FanCells FindGrazingCells(const PointEmitter& e, int sheet, TraceStats* stats) const;
   // Solid-angle density at x0 of reaching the lit point x1 by the connection
   // (cos_1l: x1's normal to the laser, cos_1: to x0).
   double LaserConnectionDensity(const PointEmitter& e, int sheet, const Eigen::Vector3d& x0,
                                 const Eigen::Vector3d& x1, double cos_1l, double cos_1) const;
   void ConnectToLaserLight(const Vertex& v, const FrameLights& lights, std::span<const float> beta_mono, Rng& rng,
                            std::span<float> mono, TraceStats* stats) const;
-  // prev_p: the previous path vertex when it connected to laser-lit points
-  // (balance heuristic against that connection, with prev_bsdf_pdf), else null.
+  // after_bounce: v was reached by a bounce (not seen by the camera). prev_p:
+  // the previous path vertex when it connected to laser-lit points (balance
+  // heuristic against that connection, with prev_bsdf_pdf), else null.
   void AddEmitterLight(const Vertex& v, const FrameLights& lights, std::span<const float> beta_mono,
-                       const Eigen::Vector3d* prev_p, float prev_bsdf_pdf, std::span<float> mono,
-                       TraceStats* stats) const;
+                       bool after_bounce, const Eigen::Vector3d* prev_p, float prev_bsdf_pdf,
+                       std::span<float> mono, TraceStats* stats) const;
   void AddLedLight(const Vertex& v, const LedLight& led, const Eigen::Vector3f& beta, Rng& rng,
                    Eigen::Vector3f* rgb, TraceStats* stats) const;
   // Subsurface light of one emitter (render/path_tracer_subsurface.cpp).

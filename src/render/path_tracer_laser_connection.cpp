@@ -105,6 +105,7 @@ void PathTracer::ConnectToLaserLight(const Vertex& v, const FrameLights& lights,
       const Eigen::Vector3d w1 = to0 / std::sqrt(d2);  // x1 -> x0
       const double cos_1l = n1.dot(wl), cos_1 = n1.dot(w1);
       if (!(cos_1l > 0) || !(cos_1 > 0)) continue;
+      if (lights.grazing_by_light_paths && cos_1l < kGrazingCosine) continue;  // the light paths' part
       const Eigen::Vector3f wi0 = v.ToLocal(-w1);
       const float cos0 = wi0.z();
       if (v.n_geo.dot(-w1) <= 0 || cos0 <= 0) continue;

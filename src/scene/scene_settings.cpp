@@ -13,6 +13,7 @@ void RenderSettings::Check() const {
   if (spp < 1 || spp > 65536) throw std::invalid_argument("render.spp must be in [1, 65536]");
   if (!(adaptive_noise >= 0 && adaptive_noise <= 10)) throw std::invalid_argument("render.adaptive_noise must be in [0, 10]");
   if (edge_spp_factor < 1 || edge_spp_factor > 64) throw std::invalid_argument("render.edge_spp_factor must be in [1, 64]");
+  if (light_paths < 0 || light_paths > 65536) throw std::invalid_argument("render.light_paths must be in [0, 65536]");
   if (max_bounces < 0 || max_bounces > 64) throw std::invalid_argument("render.max_bounces must be in [0, 64]");
   if (russian_roulette_depth < 1 || russian_roulette_depth > 64) {
     throw std::invalid_argument("render.russian_roulette_depth must be in [1, 64]");
@@ -45,6 +46,7 @@ RenderSettings ParseRenderSettings(const json::Value& value) {
   s.adaptive_sampling = o.Bool("adaptive_sampling", s.adaptive_sampling);
   s.adaptive_noise = o.Number("adaptive_noise", s.adaptive_noise, Range::Closed(0, 10));
   s.edge_spp_factor = int(o.Integer("edge_spp_factor", s.edge_spp_factor, Range::Closed(1, 64)));
+  s.light_paths = int(o.Integer("light_paths", s.light_paths, Range::Closed(0, 65536)));
   s.subsurface = o.Bool("subsurface", s.subsurface);
   s.subsurface_cache = o.Bool("subsurface_cache", s.subsurface_cache);
   s.threads = int(o.Integer("threads", s.threads, Range::Closed(0, 1024)));
@@ -98,6 +100,7 @@ nlohmann::json ToJson(const RenderSettings& s) {
           {"adaptive_sampling", s.adaptive_sampling},
           {"adaptive_noise", s.adaptive_noise},
           {"edge_spp_factor", s.edge_spp_factor},
+          {"light_paths", s.light_paths},
           {"subsurface", s.subsurface},
           {"subsurface_cache", s.subsurface_cache},
           {"threads", s.threads},

@@ -25,6 +25,10 @@ struct RenderSettings {
   // beam near a geometric edge (a crease or a step between neighbouring pixels'
   // surfaces) take this many times spp samples, [1, 64]; 1 = no more than spp.
   int edge_spp_factor = 8;
+  // In frames where the scanner holds still: light paths per laser sheet and per
+  // spp that carry laser light reflected on from grazing incidence
+  // (render/path_tracer_light_paths.cpp), [0, 65536]; 0 = camera paths carry it.
+  int light_paths = 4096;
   bool subsurface = true;          // false renders subsurface materials as surfaces only
   // Laser light entering subsurface materials from a per-frame cache of the lit
   // surface (render/laser_entry_tree.h) where the frame allows; false: Monte Carlo everywhere.
