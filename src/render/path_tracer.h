@@ -72,8 +72,11 @@ class PathTracer {
   static constexpr int kMaxGroups = 8;     // monochromatic emitters per rig
   static constexpr int kMaxChannels = 64;  // film laser channels (sheets) per rig
   // The laser meets a surface at grazing incidence where the cosine of its
-  // angle with the geometric normal is below this (78.5 degrees and more).
-  static constexpr double kGrazingCosine = 0.2;
+  // angle with the geometric normal is below this (60 degrees and more). Slot
+  // walls across a 40 degree fan meet it at cosines up to 0.34; at 0.2, the
+  // walls beyond 12 degrees stayed with camera paths and held the demo's
+  // noisiest pixels (docs/performance.md).
+  static constexpr double kGrazingCosine = 0.5;
 
   // `environment_map` is the lat-long map (3 channels) when the environment is a
   // map, else null. The scene, materials and map must outlive the tracer.
