@@ -39,6 +39,7 @@ TEST(SceneFile, MinimalSceneGetsTheDefaults) {
   EXPECT_TRUE(s.render.adaptive_sampling);
   EXPECT_EQ(s.render.adaptive_noise, 0.25);
   EXPECT_EQ(s.render.edge_spp_factor, 8);
+  EXPECT_EQ(s.render.light_paths, 4096);
   EXPECT_TRUE(s.render.subsurface);
   EXPECT_TRUE(s.render.subsurface_cache);
   EXPECT_EQ(s.render.threads, 0);
@@ -90,6 +91,7 @@ TEST(SceneFile, FullSceneValuesLandWhereTheyShould) {
   EXPECT_FALSE(s.render.adaptive_sampling);
   EXPECT_EQ(s.render.adaptive_noise, 0.5);
   EXPECT_EQ(s.render.edge_spp_factor, 3);
+  EXPECT_EQ(s.render.light_paths, 100);
   EXPECT_FALSE(s.render.subsurface);
   EXPECT_FALSE(s.render.subsurface_cache);
   EXPECT_EQ(s.render.threads, 2);
@@ -160,6 +162,8 @@ TEST(SceneFile, ErrorsNameTheFileAndPointer) {
             "scene.json: /render/adaptive_noise: must be in [0, 10], got -0.1");
   EXPECT_EQ(ErrorOf([&] { Parse("{" + obj + kSensor + R"(, "render": {"edge_spp_factor": 0}})"); }),
             "scene.json: /render/edge_spp_factor: must be in [1, 64], got 0");
+  EXPECT_EQ(ErrorOf([&] { Parse("{" + obj + kSensor + R"(, "render": {"light_paths": 70000}})"); }),
+            "scene.json: /render/light_paths: must be in [0, 65536], got 70000");
   EXPECT_EQ(ErrorOf([&] { Parse("{" + obj + kSensor + R"(, "materials": {"": {}}})"); }),
             "scene.json: /materials/: material names must not be empty");
   EXPECT_EQ(ErrorOf([&] { Parse("{" + obj + kSensor + R"(, "materials": {"m": {"subsurface": {"mean_free_path_mm": [1, 2]}}}})"); }),
