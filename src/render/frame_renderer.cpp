@@ -22,6 +22,7 @@ namespace {
 constexpr int64_t kMaxLightPaths = int64_t(1) << 28;
 constexpr uint64_t kPixelSamplePurpose = 0x504958454c53414dull;  // camera samples
 constexpr uint64_t kPixelPatternPurpose = 0x504958454c504154ull;  // multi-jitter pattern of a pixel
+constexpr uint64_t kLensPatternPurpose = 0x4c454e5350415454ull;   // multi-jitter pattern of its lens points
 constexpr int kTile = 16;
 constexpr double kNearSigmas = 8.0;
 // Entry points of the frame's subsurface cache this fraction of the smallest
@@ -203,7 +204,10 @@ void FrameRenderer::SamplePass(const RenderedFrame& frame, const FrameLights& fi
   const ShutterFrame& sf = frame.shutter;
   const bool moving = !IsStaticWithin(scene_.motion, sf.t_start_s, sf.t_end_s);
   // Batches of a pixel's samples: one of spp, or (adaptive) a first batch and
-  // then batches that double the count, each stratified on its own. With the
+  // then batches that double the count, each stratified on its own: the pixel
+  // position and, by a second pattern of its own, the lens point (a defocused
+  // stripe finer than its blur moves across the pixel with the lens point; iid
+  // lens points made it the noisiest light on the demo's print bed). With the
   // adaptive stop, every pixel first takes its first batch; then each takes the
   // count its neighbours' first batches call for (SampleNoise::TargetCount).
   // The first batch is min(spp, max(4, spp / 16)) in a beam, where it samples
@@ -236,12 +240,14 @@ void FrameRenderer::SamplePass(const RenderedFrame& frame, const FrameLights& fi
       const int n = std::min(batch == 0 ? first_batch : taken, target - taken);
       const uint32_t pattern =
           uint32_t(HashKey(seed_, uint64_t(sf.index), pixel, kPixelPatternPurpose, uint64_t(batch)));
+      const uint32_t lens_pattern =
+          uint32_t(HashKey(seed_, uint64_t(sf.index), pixel, kLensPatternPurpose, uint64_t(batch)));
       for (int i = 0; i < n; ++i) {
         const int s = taken + i;
         Rng rng = Rng::For(seed_, uint64_t(sf.index), pixel, uint64_t(s), kPixelSamplePurpose);
         const Eigen::Vector2d j = MultiJitter2D(uint32_t(i), uint32_t(n), pattern);
         Eigen::Vector2d lens(0.5, 0.5);
-        if (!cam.is_pinhole()) lens = Eigen::Vector2d(rng.NextDouble(), rng.NextDouble());
+        if (!cam.is_pinhole()) lens = MultiJitter2D(uint32_t(i), uint32_t(n), lens_pattern);
         Pose world_from_cam = frame.world_from_cam;
         FrameLights moving_lights;
         const FrameLights* lights = &fixed_lights;
