@@ -256,7 +256,8 @@ void PathTracer::Trace(const Ray& camera_ray, const FrameLights& lights, Rng& rn
       if (v.subsurface) {
         const int emitter_rays = depth == 0 ? options_.subsurface_emitter_rays : 1;
         for (const PointEmitter& e : lights.emitters)
-          AddSubsurfaceEmitter(v, e, beta_mono[size_t(e.group)], emitter_rays, rng, mono, stats);
+          AddSubsurfaceEmitter(v, lights, e, beta_mono[size_t(e.group)], emitter_rays,
+                               connected ? &prev_p : nullptr, prev_bsdf_pdf, rng, mono, stats);
       }
     }
     if (lights.led) AddLedLight(v, *lights.led, beta, rng, rgb, stats);

@@ -43,6 +43,7 @@
 #include "core/random.h"
 #include "render/bsdf.h"
 #include "render/frame_lights.h"
+#include "render/subsurface_profile.h"
 #include "scene/embree_scene.h"
 #include "scene/material.h"
 #include "scene/scene_settings.h"
@@ -157,9 +158,29 @@ class PathTracer {
                        std::span<float> mono, TraceStats* stats) const;
   void AddLedLight(const Vertex& v, const LedLight& led, const Eigen::Vector3f& beta, Rng& rng,
                    Eigen::Vector3f* rgb, TraceStats* stats) const;
-  // Subsurface light of one emitter (render/path_tracer_subsurface.cpp).
-  void AddSubsurfaceEmitter(const Vertex& v, const PointEmitter& e, float beta, int emitter_rays, Rng& rng,
+  // How light below a subsurface material leaves it: the material's profile at
+  // the laser's mean free path, its reach, and the exit factor toward a
+  // direction at cos_o to the shading normal (render/path_tracer_subsurface.cpp).
+  struct SubsurfaceExit {
+    double albedo;
+    BurleyProfile profile;
+    double r_max = 0, exit = 0;
+    SubsurfaceExit(const Material& m, float albedo_at_wavelength, const GgxAlpha& ggx, float cos_o);
+  };
+  // Sheet k's cache of entry points when it covers the profile's reach about x, else null.
+  static const LaserEntryTree* CoveringTree(const PointEmitter& e, int k, const Eigen::Vector3d& x, double r_max);
+  // Subsurface light of one emitter (render/path_tracer_subsurface.cpp). prev_p:
+  // the previous path vertex when it connected to laser-lit points (the cached
+  // glow is then weighed against the connection's, with prev_bsdf_pdf), else null.
+  void AddSubsurfaceEmitter(const Vertex& v, const FrameLights& lights, const PointEmitter& e, float beta,
+                            int emitter_rays, const Eigen::Vector3d* prev_p, float prev_bsdf_pdf, Rng& rng,
                             std::span<float> mono, TraceStats* stats) const;
+  // Solid-angle density at x0 with which the connection reaches x1 (geometric
+  // normal n1 facing x0) and takes the glow of its cache there: zero unless the
+  // laser lights x1 directly (MayIlluminate, unshadowed: one shadow ray) from the
+  // side that faces x0 and the light paths do not own x1.
+  double GlowConnectionDensity(const PointEmitter& e, int sheet, const Eigen::Vector3d& x0, const Eigen::Vector3d& x1,
+                               const Eigen::Vector3d& n1, bool grazing_by_light_paths, TraceStats* stats) const;
   // Irradiance factor I_k cos/r² at p for each channel of emitter e (written to
   // per_channel), or false when p is unlit (shadowed, outside the beam, facing away).
   bool EmitterIrradiance(const PointEmitter& e, const Eigen::Vector3d& p, const Eigen::Vector3d& n_geo,

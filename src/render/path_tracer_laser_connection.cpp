@@ -18,6 +18,7 @@
 #include <cmath>
 
 #include "render/bsdf.h"
+#include "render/laser_entry_tree.h"
 #include "render/path_tracer.h"
 #include "render/path_vertex.h"
 #include "render/spectrum.h"
@@ -79,6 +80,28 @@ double PathTracer::LaserConnectionDensity(const PointEmitter& e, int sheet, cons
   return sc.Pdf(q / std::sqrt(r2)) * cos_1l / r2 * (x1 - x0).squaredNorm() / cos_1;
 }
 
+double PathTracer::GlowConnectionDensity(const PointEmitter& e, int sheet, const Eigen::Vector3d& x0,
+                                         const Eigen::Vector3d& x1, const Eigen::Vector3d& n1,
+                                         bool grazing_by_light_paths, TraceStats* stats) const {
+  if (!e.laser->MayIlluminate(e.projector_from_world * x1)) return 0.0;
+  const Eigen::Vector3d to_laser = e.origin_world - x1;
+  const double r_l = to_laser.norm();
+  const double cos_1l = n1.dot(to_laser) / r_l;
+  if (!(cos_1l > 0)) return 0.0;
+  if (grazing_by_light_paths && cos_1l < kGrazingCosine) return 0.0;
+  const double cos_1 = n1.dot((x0 - x1).normalized());
+  const double density = LaserConnectionDensity(e, sheet, x0, x1, cos_1l, cos_1);
+  if (!(density > 0)) return 0.0;
+  // The connection reaches x1 only as the first hit from the projector.
+  Ray shadow;
+  shadow.origin = SpawnOrigin(x1, n1, to_laser);
+  shadow.direction = e.origin_world - shadow.origin;
+  shadow.t_min = 0;
+  shadow.t_max = 1.0 - 1e-7;
+  ++stats->rays;
+  return scene_.Occluded(shadow) ? 0.0 : density;
+}
+
 void PathTracer::ConnectToLaserLight(const Vertex& v, const FrameLights& lights, std::span<const float> beta_mono,
                                      Rng& rng, std::span<float> mono, TraceStats* stats) const {
   for (const PointEmitter& e : lights.emitters) {
@@ -109,7 +132,9 @@ void PathTracer::ConnectToLaserLight(const Vertex& v, const FrameLights& lights,
       const Eigen::Vector3f wi0 = v.ToLocal(-w1);
       const float cos0 = wi0.z();
       if (v.n_geo.dot(-w1) <= 0 || cos0 <= 0) continue;
-      // The reflection at x1, as next-event estimation computes it there.
+      // The reflection at x1, as next-event estimation computes it there, and
+      // the glow of the sheet's cache leaving x1 toward x0, as a vertex at x1
+      // would take it (where the laser lights x1 within MayIlluminate).
       const Material& m1 = materials_[hit->material_id];
       Eigen::Vector3d ns1 = hit->shading_normal;
       if (ns1.dot(n1) < 0) ns1 = -ns1;
@@ -118,12 +143,18 @@ void PathTracer::ConnectToLaserLight(const Vertex& v, const FrameLights& lights,
       if (wo1.z() <= 0) wo1.z() = 1e-6f;
       wo1.normalize();
       const Eigen::Vector3f wl1 = frame1.ToLocal(wl.cast<float>());
-      if (wl1.z() <= 0) continue;
       const float a1 = float(ValueAtWavelength(m1.BaseColorAt(hit->uv), e.wavelength_m));
-      const float f1 = Bsdf(EmitterReflection(m1, ScattersBelowSurface(m1), a1)).Evaluate(wo1, wl1).x();
-      if (f1 <= 0) continue;
-      const double intensity = e.laser->SheetIntensityAt(k, e.projector_from_world * x1);
-      const double l1 = f1 * intensity * e.weight * wl1.z() / r_l2;
+      const Eigen::Vector3d p1_proj = e.projector_from_world * x1;
+      double l1 = 0;
+      if (wl1.z() > 0) {
+        const float f1 = Bsdf(EmitterReflection(m1, ScattersBelowSurface(m1), a1)).Evaluate(wo1, wl1).x();
+        l1 = std::max(0.0, f1 * e.laser->SheetIntensityAt(k, p1_proj) * e.weight * wl1.z() / r_l2);
+      }
+      if (ScattersBelowSurface(m1) && e.laser->MayIlluminate(p1_proj)) {
+        const SubsurfaceExit out(m1, a1, material_ggx_[hit->material_id], wo1.z());
+        if (const LaserEntryTree* tree = out.albedo > 0 ? CoveringTree(e, k, x1, out.r_max) : nullptr)
+          l1 += out.exit * tree->Sum(x1, n1, hit->material_id, out.profile, out.r_max);
+      }
       if (!(l1 > 0)) continue;
       const float f0 =
           Bsdf(Eigen::Vector3f::Constant(v.albedo_mono[size_t(e.group)]), v.material->metallic, v.ggx)

@@ -101,28 +101,52 @@ struct EmitterWindow {
 
 }  // namespace
 
-void PathTracer::AddSubsurfaceEmitter(const Vertex& v, const PointEmitter& e, float beta, int emitter_rays,
-                                      Rng& rng, std::span<float> mono, TraceStats* stats) const {
-  const Subsurface& sss = *v.material->subsurface;
-  double albedo = (1.0 - v.material->metallic) * v.albedo_mono[size_t(e.group)];
-  if (beta <= 0 || albedo <= 0) return;
-  DiffusionProfileParams pp;
-  pp.albedo = albedo;
-  pp.mean_free_path = sss.mean_free_path_laser_m;
-  const BurleyProfile profile(pp);
+PathTracer::SubsurfaceExit::SubsurfaceExit(const Material& m, float albedo_at_wavelength, const GgxAlpha& ggx,
+                                           float cos_o)
+    : albedo((1.0 - m.metallic) * albedo_at_wavelength),
+      profile([&] {
+        DiffusionProfileParams pp;
+        pp.albedo = std::max(albedo, 1e-6);
+        pp.mean_free_path = m.subsurface->mean_free_path_laser_m;
+        return pp;
+      }()) {
   static const double truncation_log_root = BurleyProfile::LogRoot(kProfileTruncation);
-  const double r_max = profile.RadiusOfLogRoot(truncation_log_root);  // = SampleRadius(kProfileTruncation)
-  const float cos_o = std::clamp(v.wo.z(), 0.0f, 1.0f);
-  const double exit = (1.0 - DielectricSpecularAlbedo(cos_o, v.ggx.row)) /
-                      (M_PI * (1.0 - DielectricSpecularAlbedoAverage(v.ggx.row)));
-  const double scale = double(beta) * exit;
+  r_max = profile.RadiusOfLogRoot(truncation_log_root);  // = SampleRadius(kProfileTruncation)
+  cos_o = std::clamp(cos_o, 0.0f, 1.0f);
+  exit = (1.0 - DielectricSpecularAlbedo(cos_o, ggx.row)) / (M_PI * (1.0 - DielectricSpecularAlbedoAverage(ggx.row)));
+}
+
+const LaserEntryTree* PathTracer::CoveringTree(const PointEmitter& e, int k, const Eigen::Vector3d& x,
+                                               double r_max) {
+  const LaserEntryTree* tree = size_t(k) < e.entry_trees.size() ? e.entry_trees[size_t(k)] : nullptr;
+  return tree && tree->Covers(x, r_max) ? tree : nullptr;
+}
+
+void PathTracer::AddSubsurfaceEmitter(const Vertex& v, const FrameLights& lights, const PointEmitter& e, float beta,
+                                      int emitter_rays, const Eigen::Vector3d* prev_p, float prev_bsdf_pdf, Rng& rng,
+                                      std::span<float> mono, TraceStats* stats) const {
+  const SubsurfaceExit out(*v.material, v.albedo_mono[size_t(e.group)], v.ggx, v.wo.z());
+  const double albedo = out.albedo;
+  if (beta <= 0 || albedo <= 0) return;
+  const BurleyProfile& profile = out.profile;
+  const double r_max = out.r_max;
+  const double scale = double(beta) * out.exit;
   // Channels whose frame cache covers the profile's reach around x_o: no noise.
+  // After a bounce from a vertex that connected to laser-lit points, the cache's
+  // glow is weighed against the connection's (ConnectToLaserLight), which
+  // reaches x_o when the laser lights it directly.
   std::array<bool, kMaxChannels> cached{};
   bool all_cached = true;
   for (int k = 0; k < e.channels; ++k) {
-    const LaserEntryTree* tree = size_t(k) < e.entry_trees.size() ? e.entry_trees[size_t(k)] : nullptr;
-    if (tree && tree->Covers(v.p, r_max)) {
-      mono[size_t(e.first_channel + k)] += float(scale * tree->Sum(v.p, v.n_geo, v.material_id, profile, r_max));
+    if (const LaserEntryTree* tree = CoveringTree(e, k, v.p, r_max)) {
+      double weight = 1.0;
+      if (prev_p && e.laser) {
+        const double p_connect =
+            GlowConnectionDensity(e, k, *prev_p, v.p, v.n_geo, lights.grazing_by_light_paths, stats);
+        if (prev_bsdf_pdf + p_connect > 0) weight = prev_bsdf_pdf / (prev_bsdf_pdf + p_connect);
+      }
+      mono[size_t(e.first_channel + k)] +=
+          float(scale * weight * tree->Sum(v.p, v.n_geo, v.material_id, profile, r_max));
       cached[size_t(k)] = true;
     } else {
       all_cached = false;
