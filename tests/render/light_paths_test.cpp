@@ -21,7 +21,7 @@ constexpr double kFx = 2000;      // 50 um pixels at D
 // The block of pixels over the foot of the wall, where the wall's reflection
 // lands (within some 25 um of it): the row that ends at the wall, the columns
 // about the stripe (x = 0 at D).
-constexpr int kX0 = 9, kX1 = 14, kY0 = 22, kY1 = 22;
+constexpr int kX0 = 10, kX1 = 13, kY0 = 22, kY1 = 22;
 
 struct Estimate {
   double mean = 0, standard_error = 0;
@@ -110,10 +110,10 @@ struct Setup {
 
 void ExpectSameRadiance(bool thin_lens) {
   const Setup s(thin_lens);
-  const int n_all = 128000, n_rest = 16000;
+  const int n_all = 48000, n_rest = 8000;
   const Estimate all = s.CameraPaths(false, n_all);
   const Estimate rest = s.CameraPaths(true, n_rest);
-  const Estimate glint = s.LightPaths(200000, 8);
+  const Estimate glint = s.LightPaths(100000, 8);
   std::printf("block radiance: camera paths %.6g +- %.2g; without grazing %.6g +- %.2g + light paths %.6g +- %.2g\n",
               all.mean, all.standard_error, rest.mean, rest.standard_error, glint.mean, glint.standard_error);
   const double error = std::sqrt(all.standard_error * all.standard_error + rest.standard_error * rest.standard_error +
