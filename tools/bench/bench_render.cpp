@@ -237,6 +237,7 @@ void BM_DimFrame640(benchmark::State& state) {
 BENCHMARK(BM_DimFrame640)
     ->Args({1, 25})
     ->Args({4, 25})
+    ->Args({6, 25})
     ->Args({8, 25})
     ->Args({16, 25})
     ->Args({64, 25})
