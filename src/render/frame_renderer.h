@@ -34,7 +34,9 @@
 //     aperture (thin lens only) and the exposure time (moving scanner only),
 //     accumulated in the film. Every random number comes from
 //     Rng::For(seed, frame, pixel, sample), so frames are bit-identical whatever
-//     the thread count.
+//     the thread count. Then, when the scanner holds still, light paths from the
+//     lasers carry the laser light that surfaces meet at grazing incidence and
+//     reflect on, splatted to the camera (render/path_tracer_light_paths.cpp).
 //  4. Radiance -> sensor irradiance (Camera::RadianceToIrradiance) -> energy per
 //     pixel over the exposure -> EMVA 1288 image sensor -> digital numbers.
 //  5. Exact stripe centres by ray casting (render/stripe_truth.h).
