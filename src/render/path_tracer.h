@@ -24,6 +24,7 @@
 //    lights directly (a direction of the sheet drawn near the vertex, its first hit),
 //    combined with the BSDF bounce by the balance heuristic: the stripe on the
 //    print bed and its glint on a wall are thin lines a BSDF bounce rarely meets;
+//    on a subsurface material it also takes the glow of the frame's cache there;
 //  - the path continues by BSDF sampling up to max_bounces, with Russian
 //    roulette from russian_roulette_depth.
 //

@@ -14,7 +14,13 @@
 // and the connection and the BSDF bounce combine by the balance heuristic:
 //   connection: f0 L1 cos0 / (p_c + p_bsdf);
 //   next-event estimation at the BSDF-sampled vertex after x0: weight p_bsdf / (p_bsdf + p_c).
-// The subsurface glow around x1 stays with the BSDF bounce (and the frame's cache).
+// On a subsurface material that the frame's cache covers, where the laser lights
+// x1 within MayIlluminate, the connection also takes the glow leaving x1 toward
+// x0 (the cache's sum, as a vertex at x1 would): the glow is brightest on the lit
+// line. The glow a BSDF bounce finds at x1 is then weighed by
+// p_bsdf / (p_bsdf + p_c(x1)), p_c from GlowConnectionDensity (zero where the
+// laser does not reach x1 directly: one shadow ray). The glow beside the lit
+// line stays with the BSDF bounce.
 #include <cmath>
 
 #include "render/bsdf.h"
