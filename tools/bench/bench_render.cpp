@@ -21,6 +21,7 @@
 #include <cstdlib>
 #include <map>
 
+#include "core/heap_reuse.h"
 #include "pipeline/stripe_extractor.h"
 #include "pipeline/window_centroid.h"
 #include "render/frame_renderer.h"
@@ -341,4 +342,11 @@ BENCHMARK(BM_EmbreePrimaryRays)->Unit(benchmark::kMillisecond)->UseRealTime();
 }  // namespace
 }  // namespace lt
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  lt::RetainFreedMemory();  // as the lasertwin command does
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

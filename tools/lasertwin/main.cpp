@@ -3,6 +3,7 @@
 #include <map>
 
 #include "core/error.h"
+#include "core/heap_reuse.h"
 #include "tools/lasertwin/command.h"
 
 namespace lt::cli {
@@ -19,6 +20,7 @@ CommandRegistrar::CommandRegistrar(const std::string& name, AddCommand add) {
 }  // namespace lt::cli
 
 int main(int argc, char** argv) {
+  lt::RetainFreedMemory();
   CLI::App app{"lasertwin: laser-line scanner simulator and measurement pipeline"};
   app.require_subcommand(1);
   for (auto& [name, add] : lt::cli::Registry()) add(app);
