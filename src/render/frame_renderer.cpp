@@ -394,14 +394,26 @@ RenderedFrame FrameRenderer::Render(int64_t frame_index) const {
   lights.grazing_by_light_paths =
       is_static && has_laser && scene_.render.light_paths > 0 && scene_.render.max_bounces > 0 && !fisheye_lens;
   Image<float> splat;
+  FrameStats::PassTimes& pass_ms = out.stats.pass_ms;
+  std::chrono::steady_clock::time_point last;
+  auto lap = [&last](double* ms) {  // adds the time since the last lap to *ms
+    const auto now = std::chrono::steady_clock::now();
+    *ms += Ms(last, now);
+    last = now;
+  };
   InArena(threads_, [&] {
     Image<uint8_t> reach;
+    last = std::chrono::steady_clock::now();
     GroundTruthPass(out.world_from_cam, lights, &out, &chief_hits, &reach);
+    lap(&pass_ms.chief_rays);
     if (is_static) entry_trees = BuildEntryTrees(chief_hits, &lights, &out.stats);
+    lap(&pass_ms.entry_trees);
     const Image<uint8_t> budget =
         SampleBudgets(reach, chief_hits, broadband || !scene_.render.adaptive_sampling, &out);
     for (uint8_t b : budget.pixels) out.stats.edge_pixels += b == kEdgeBudget;
+    lap(&pass_ms.budgets);
     SamplePass(out, lights, budget, noise, &film, &out.stats);
+    lap(&pass_ms.samples);
     if (lights.grazing_by_light_paths) {
       const int64_t paths = std::min<int64_t>(int64_t(scene_.render.light_paths) * spp_, kMaxLightPaths);
       splat = Image<float>(w, h, std::max(layout_.channels, 1), 0.0f);
@@ -410,6 +422,7 @@ RenderedFrame FrameRenderer::Render(int64_t frame_index) const {
       out.stats.rays += ts.rays;
       for (const PointEmitter& e : lights.emitters) out.stats.light_paths += e.laser ? paths * e.channels : 0;
     }
+    lap(&pass_ms.light_paths);
   });
   for (float v : out.near_mask.pixels) out.stats.near_pixels += v > 0;
 
@@ -417,6 +430,7 @@ RenderedFrame FrameRenderer::Render(int64_t frame_index) const {
     RadianceFromFilm(film, splat, lights, frame_index, &out);
     out.raw = rig.image_sensor.Expose(ExposureOf(out), seed_, uint64_t(frame_index));
   });
+  lap(&pass_ms.film_and_sensor);
   auto t1 = std::chrono::steady_clock::now();
   out.stats.render_ms = Ms(t0, t1);
 

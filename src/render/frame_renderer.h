@@ -87,6 +87,14 @@ struct FrameStats {
   int64_t light_paths = 0;  // traced from the lasers (render.light_paths), all sheets
   double render_ms = 0;        // passes 1-3
   double ground_truth_ms = 0;  // stripe centres
+  // Wall time of render_ms's parts, ms (the rest of render_ms: the printed
+  // part's update and the lights): the chief rays and reach (pass 1), the
+  // entry trees, the sample budgets and edges, the camera samples (pass 2),
+  // the light paths, and the film's radiance and the sensor (pass 3).
+  struct PassTimes {
+    double chief_rays = 0, entry_trees = 0, budgets = 0, samples = 0, light_paths = 0, film_and_sensor = 0;
+    double Sum() const { return chief_rays + entry_trees + budgets + samples + light_paths + film_and_sensor; }
+  } pass_ms;
   // The printed part (scenes with "print"): chunks and triangles rebuilt for this
   // frame, and the part's triangles at the frame's time.
   uint64_t print_chunks_rebuilt = 0;

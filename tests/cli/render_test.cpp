@@ -38,6 +38,20 @@ TEST(RenderCommand, WritesTheRunFolderAndResumes) {
   EXPECT_TRUE(fs::exists(dir / "rig.json"));
   EXPECT_FALSE(lines[0]["files"].contains("centers"));  // the laser is off in the bright frame
   EXPECT_GT(lines[1]["stripe_centers"].get<int>(), 40);
+  // The frame's time and its parts: each part within the whole, the samples' pass
+  // a part of it.
+  for (const auto& l : lines) {
+    const auto& stats = l["stats"];
+    const double render_ms = stats["render_ms"].get<double>();
+    double parts = 0;
+    for (const char* k : {"chief_rays", "entry_trees", "budgets", "samples", "light_paths", "film_and_sensor"}) {
+      ASSERT_TRUE(stats["pass_ms"].contains(k)) << k;
+      EXPECT_GE(stats["pass_ms"][k].get<double>(), 0.0) << k;
+      parts += stats["pass_ms"][k].get<double>();
+    }
+    EXPECT_GT(stats["pass_ms"]["samples"].get<double>(), 0.0);
+    EXPECT_LE(parts, render_ms * (1 + 1e-9));
+  }
   auto first_write = fs::last_write_time(dir / "frames/000001.png");
 
   // Without --resume an existing run is refused; with it, only new frames render.
