@@ -5,8 +5,9 @@
 //    centre-of-mass extraction on its laser radiance against a 256-spp
 //    reference (counters com_*_px; wide_rms_px with a 24 px window) and its
 //    noise against a second render with another seed (noise_rms_px; the share
-//    of its variance in the noisiest 4% of the columns, noise_top4_share): run
-//    time against error;
+//    of its variance in the noisiest 4% of the columns, noise_top4_share), and
+//    the camera samples' pass and the other passes' time (samples_ms,
+//    other_passes_ms, the last iteration's): run time against error;
 //  - DimFrame640Noise/bounces: the noise of one 16-spp render of that frame, per
 //    max_bounces (three pairs of seeds, pooled);
 //  - BrightFrame1280: the 1280x1024 bright frame (LED, 2 bounces, 16 spp);
@@ -232,6 +233,10 @@ void BM_DimFrame640(benchmark::State& state) {
   state.counters["near_pixels"] = double(frame.stats.near_pixels);
   state.counters["gt_ms"] = frame.stats.ground_truth_ms;
   state.counters["samples"] = double(frame.stats.samples);
+  // The last iteration's passes (manifest stats.pass_ms): the camera samples
+  // against the rest.
+  state.counters["samples_ms"] = frame.stats.pass_ms.samples;
+  state.counters["other_passes_ms"] = frame.stats.pass_ms.Sum() - frame.stats.pass_ms.samples;
 }
 // Arguments: samples per pixel, and render.adaptive_noise in hundredths (25:
 // the default; 0: no adaptive stop).
