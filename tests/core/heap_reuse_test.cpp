@@ -36,7 +36,7 @@ TEST(HeapReuse, AFreedFrameBufferComesBackWithoutPageFaults) {
   const long faults = MinorFaults() - before;
   EXPECT_EQ(b[kBytes - 1], 2);
   std::free(b);
-  EXPECT_LT(faults, 1000) << "the block's pages were faulted in again ";
+  EXPECT_LT(faults, 1000) << "the block's pages were faulted in again";
 }
 #endif
 
