@@ -93,7 +93,21 @@ struct FrameStats {
   // the light paths, and the film's radiance and the sensor (pass 3).
   struct PassTimes {
     double chief_rays = 0, entry_trees = 0, budgets = 0, samples = 0, light_paths = 0, film_and_sensor = 0;
-    double Sum() const { return chief_rays + entry_trees + budgets + samples + light_paths + film_and_sensor; }
+    // Calls f(name, ms) for each pass, by its manifest name.
+    template <typename F>
+    void ForEach(F&& f) const {
+      f("chief_rays", chief_rays);
+      f("entry_trees", entry_trees);
+      f("budgets", budgets);
+      f("samples", samples);
+      f("light_paths", light_paths);
+      f("film_and_sensor", film_and_sensor);
+    }
+    double Sum() const {
+      double sum = 0;
+      ForEach([&](const char*, double ms) { sum += ms; });
+      return sum;
+    }
   } pass_ms;
   // The printed part (scenes with "print"): chunks and triangles rebuilt for this
   // frame, and the part's triangles at the frame's time.

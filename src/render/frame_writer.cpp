@@ -77,14 +77,8 @@ nlohmann::json WriteFrame(const RunFolder& run, const RenderedFrame& frame, int 
         {"edge_pixels", frame.stats.edge_pixels},
         {"light_paths", frame.stats.light_paths},
         {"render_ms", frame.stats.render_ms},
-        {"pass_ms",
-         {{"chief_rays", frame.stats.pass_ms.chief_rays},
-          {"entry_trees", frame.stats.pass_ms.entry_trees},
-          {"budgets", frame.stats.pass_ms.budgets},
-          {"samples", frame.stats.pass_ms.samples},
-          {"light_paths", frame.stats.pass_ms.light_paths},
-          {"film_and_sensor", frame.stats.pass_ms.film_and_sensor}}},
         {"ground_truth_ms", frame.stats.ground_truth_ms}}}};
+  frame.stats.pass_ms.ForEach([&](const char* name, double ms) { line["stats"]["pass_ms"][name] = ms; });
   // The robot tool (flange) pose when the camera rides on one (hand-eye calibration).
   if (auto tool = WorldFromToolAt(scene.motion, 0.5 * (sf.t_start_s + sf.t_end_s))) {
     line["world_from_tool"] = PoseToJson(*tool);
