@@ -119,18 +119,18 @@ void GcodeReader::Comment(std::string_view comment) {
     auto v = CommentNumber(c.substr(6), "LAYER");
     if (*v != std::floor(*v) || std::abs(*v) > 1e9) Fail("LAYER comment needs an integer, got " + FormatNumber(*v));
     layer_ = int(*v);
-  } else if (c == "LAYER_CHANGE") {
+  } else if (c == "LAYER_CHANGE" || c == "CHANGE_LAYER") {
     layer_ = layer_ == ToolpathSegment::kNoLayer ? 0 : layer_ + 1;
-  } else if (StartsWith(c, "TYPE:")) {
-    std::string type(TrimBlanks(c.substr(5)));
+  } else if (StartsWith(c, "TYPE:") || StartsWith(c, "FEATURE:")) {
+    std::string type(TrimBlanks(c.substr(c.find(':') + 1)));
     int index = path_.TypeIndex(type);
     if (index < 0) {
       index = int(path_.type_names.size());
       path_.type_names.push_back(type);
     }
     type_ = index;
-  } else if (StartsWith(c, "HEIGHT:")) {
-    double h = *CommentNumber(c.substr(7), "HEIGHT");
+  } else if (StartsWith(c, "HEIGHT:") || StartsWith(c, "LAYER_HEIGHT:")) {
+    double h = *CommentNumber(c.substr(c.find(':') + 1), "HEIGHT");
     if (layer_ != ToolpathSegment::kNoLayer) path_.layer_height_m[layer_] = h * unit_mm_ * kMetresPerMm;
   } else if (StartsWith(c, "Layer height:")) {
     path_.header_layer_height_m = *CommentNumber(c.substr(13), "Layer height") * kMetresPerMm;
@@ -384,17 +384,29 @@ void GcodeReader::ReadLine(std::string_view line, int line_no) {
   }
   code = code.substr(0, code.find('*'));
   code = TrimBlanks(code);
+  if (code == "%") return;  // RS-274's program start and end mark
   if (code.empty()) {
     if (semicolon != std::string_view::npos) Comment(line.substr(semicolon + 1));
     return;
   }
   size_t pos = 0;
   // A line number "N123" first.
-  if (Upper(code[0]) == 'N') {
+  if (Upper(code[0]) == 'N' && code.size() > 1 && code[1] >= '0' && code[1] <= '9') {
     ++pos;
     while (pos < code.size() && IsNumberChar(code[pos])) ++pos;
     while (pos < code.size() && IsBlank(code[pos])) ++pos;
     if (pos == code.size()) return;
+  }
+  // An extended command (Klipper's PRINT_START, EXCLUDE_OBJECT_START NAME=...,
+  // SET_PRESSURE_ADVANCE ADVANCE=...): a name of letters, digits and
+  // underscores that does not start with a letter and a number. Skipped, counted by name.
+  if (pos + 1 < code.size() && IsLetter(code[pos]) && (IsLetter(code[pos + 1]) || code[pos + 1] == '_')) {
+    size_t end = pos;
+    while (end < code.size() && !IsBlank(code[end])) ++end;
+    std::string name(code.substr(pos, end - pos));
+    for (char& ch : name) ch = Upper(ch);
+    ++path_.skipped_commands[name];
+    return;
   }
   char letter = Upper(code[pos]);
   if (letter != 'G' && letter != 'M' && letter != 'T') {
@@ -442,7 +454,7 @@ void GcodeReader::ReadLine(std::string_view line, int line_no) {
 
 Toolpath ParseGcode(std::string_view text, const std::string& display_name) {
   GcodeReader reader(display_name);
-  size_t pos = 0;
+  size_t pos = StartsWith(text, "\xEF\xBB\xBF") ? 3 : 0;  // a UTF-8 byte order mark
   int line_no = 0;
   while (pos < text.size()) {
     size_t end = text.find('\n', pos);

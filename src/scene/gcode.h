@@ -19,12 +19,20 @@
 // Comments: ;LAYER:n (Cura) sets the layer; ;LAYER_CHANGE (PrusaSlicer) starts the
 // next layer (0 first); ;TYPE:name names what follows (WALL-OUTER, External
 // perimeter, ...); ;HEIGHT:h (PrusaSlicer) the layer height; header ";Layer height:"
-// (Cura), "; layer_height =" and "; filament_diameter =" (PrusaSlicer). Structured
+// (Cura), "; layer_height =" and "; filament_diameter =" (PrusaSlicer); Bambu Studio's
+// and OrcaSlicer's "; CHANGE_LAYER", "; FEATURE: name" and "; LAYER_HEIGHT: h" are
+// read as LAYER_CHANGE, TYPE: and HEIGHT:. Structured
 // comments count only on lines holding nothing else. Line numbers (N) and checksums
-// (*) are dropped, parenthesised comments too; letters may be lower case.
+// (*) are dropped, parenthesised comments too; letters may be lower case. A UTF-8
+// byte order mark, CR LF line ends and "%" lines (RS-274's program marks) are accepted.
 //
 // The machine starts at the origin with E = 0, absolute XYZ, E following G90/G91,
 // no feed rate (a move before any F is an error, except homing at 50 mm/s).
+//
+// Extended commands (a first word of letters, digits and underscores, not a letter
+// and a number: Klipper's PRINT_START, EXCLUDE_OBJECT_START NAME=..., which
+// OrcaSlicer and PrusaSlicer write for Klipper printers) are skipped and counted
+// by name, as the firmware-only M and G commands are.
 //
 // Errors are lt::InputError naming "file:line": a letter without a number, a number
 // that is not finite or malformed, a parameter the command does not take or given
