@@ -162,6 +162,7 @@ std::vector<std::string> GcodeMotionNotes(const GcodeMotion& m) {
   const Toolpath& path = m.toolpath->path();
   notes.push_back(m.file.string() + ": " + std::to_string(path.segments.size()) + " moves, " +
                   Fixed(path.Duration(), 1) + " s at constant speed, " + Fixed(path.PathLength(), 3) + " m of path");
+  if (!path.skipped_commands.empty()) notes.push_back(m.file.string() + ": " + path.SkippedCommandsNote());
   TurnRates rates = m.toolpath->ComputeTurnRates();
   std::string orientation = "orientation " + OrientationModeName(m.orientation.mode) + ": largest turn rate " +
                             Fixed(rates.MaxRateDegS(), 1) + " deg/s at G-code time " + Fixed(rates.max_rate_time_s, 3) +

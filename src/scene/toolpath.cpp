@@ -62,4 +62,20 @@ int Toolpath::TypeIndex(const std::string& name) const {
   return it == type_names.end() ? -1 : int(it - type_names.begin());
 }
 
+std::string Toolpath::SkippedCommandsNote() const {
+  if (skipped_commands.empty()) return "";
+  std::vector<std::pair<std::string, size_t>> by_count(skipped_commands.begin(), skipped_commands.end());
+  std::stable_sort(by_count.begin(), by_count.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+  size_t total = 0;
+  for (const auto& [name, n] : by_count) total += n;
+  constexpr size_t kNamed = 8;
+  std::string note = "skipped " + std::to_string(total) + " command" + (total == 1 ? "" : "s") +
+                     " without effect on motion: ";
+  for (size_t i = 0; i < by_count.size() && i < kNamed; ++i) {
+    note += (i ? ", " : "") + by_count[i].first + " x" + std::to_string(by_count[i].second);
+  }
+  if (by_count.size() > kNamed) note += " and " + std::to_string(by_count.size() - kNamed) + " other kinds";
+  return note;
+}
+
 }  // namespace lt

@@ -79,6 +79,9 @@ struct Toolpath {
   double PathLength() const;
   // Index of a type name in type_names, -1 when absent.
   int TypeIndex(const std::string& name) const;
+  // "skipped N commands without effect on motion: M104 x3, M106 x2, ..." (the
+  // most frequent first, at most 8 named); empty when none were skipped.
+  std::string SkippedCommandsNote() const;
 };
 
 }  // namespace lt

@@ -258,6 +258,14 @@ TEST(Gcode, KlipperBambuAndSimplify3dDialects) {
             (std::map<std::string, size_t>{{"EXCLUDE_OBJECT_DEFINE", 1}, {"EXCLUDE_OBJECT_END", 1},
                                            {"EXCLUDE_OBJECT_START", 1}, {"M204", 1}, {"NOZZLE_CLEAN", 1},
                                            {"PRINT_START", 1}}));
+  EXPECT_EQ(p.SkippedCommandsNote(),
+            "skipped 6 commands without effect on motion: EXCLUDE_OBJECT_DEFINE x1, EXCLUDE_OBJECT_END x1, "
+            "EXCLUDE_OBJECT_START x1, M204 x1, NOZZLE_CLEAN x1, PRINT_START x1");
+  Toolpath many = ParseGcode("M104 S1\nM104 S2\nM1\nM2\nM3\nM4\nM5\nM6\nM7\nM8\n", "m.gcode");
+  EXPECT_EQ(many.SkippedCommandsNote(),
+            "skipped 10 commands without effect on motion: M104 x2, M1 x1, M2 x1, M3 x1, M4 x1, M5 x1, M6 x1, M7 x1 "
+            "and 1 other kinds");
+  EXPECT_EQ(ParseGcode("G1 X1 F60\n", "g.gcode").SkippedCommandsNote(), "");
   // A line number is N and digits: "N7 G1" is G1, "NOZZLE_CLEAN" a command of its own.
   EXPECT_THAT(ErrorOf([] { ParseGcode("N7 X1\n", "n.gcode"); }), HasSubstr("n.gcode:1: expected a command"));
 }
