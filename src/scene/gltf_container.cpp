@@ -15,6 +15,7 @@ namespace {
 constexpr uint32_t kGlbMagic = 0x46546C67;  // "glTF"
 constexpr uint32_t kChunkJson = 0x4E4F534A;  // "JSON"
 constexpr uint32_t kChunkBin = 0x004E4942;   // "BIN\0"
+constexpr size_t kMaxJsonDepth = 256;        // nested arrays and objects
 
 uint32_t ReadU32(const std::vector<unsigned char>& b, size_t offset) {
   uint32_t v;
@@ -46,6 +47,45 @@ void CheckExternal(const nlohmann::json& uri, const std::string& where, const st
     if (!ec && size != uint64_t(byte_length)) {
       throw InputError(where, what + " file " + p.string() + " has " + std::to_string(size) +
                                   " bytes, byteLength says " + std::to_string(byte_length));
+    }
+  }
+}
+
+// Fails when arrays and objects nest deeper than kMaxJsonDepth. tinygltf converts
+// extras and extensions recursively, so a file nested 100 000 levels deep would
+// overflow its stack; this scan (strings skipped) runs before any parser sees the text.
+void CheckJsonDepth(const std::string& text, const std::string& file) {
+  size_t depth = 0, line = 1, line_start = 0;
+  bool in_string = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\') {
+        ++i;
+      } else if (c == '"') {
+        in_string = false;
+      }
+      continue;
+    }
+    switch (c) {
+      case '"': in_string = true; break;
+      case '\n':
+        ++line;
+        line_start = i + 1;
+        break;
+      case '[':
+      case '{':
+        if (++depth > kMaxJsonDepth) {
+          throw InputError(file + ":" + std::to_string(line) + ":" + std::to_string(i - line_start + 1),
+                           "invalid glTF: JSON nesting depth exceeds the limit of " + std::to_string(kMaxJsonDepth) +
+                               " levels");
+        }
+        break;
+      case ']':
+      case '}':
+        if (depth > 0) --depth;
+        break;
+      default: break;
     }
   }
 }
@@ -126,6 +166,7 @@ GltfContainer ParseGltfContainer(const std::vector<unsigned char>& bytes, const 
 }
 
 void CheckGltfJson(const GltfContainer& container, const std::string& file, const std::filesystem::path& base_dir) {
+  CheckJsonDepth(container.json_text, file);
   json::Document doc = json::Document::Parse(container.json_text, file, base_dir);
   const nlohmann::json& root = doc.Root().raw();
   if (!root.is_object()) throw InputError(file, "invalid glTF: the top level must be a JSON object");

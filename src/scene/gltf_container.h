@@ -1,7 +1,8 @@
 // The outer layer of a glTF file: reading the bytes, the GLB container (header and
 // chunks, checked completely before tinygltf sees them) and a first pass over the
-// JSON that checks the version, required extensions and that every external buffer
-// and image file exists, so a missing file is reported with the path looked for.
+// JSON that checks the nesting depth (at most 256 levels: tinygltf recurses), the
+// version, required extensions and that every external buffer and image file
+// exists, so a missing file is reported with the path looked for.
 #pragma once
 
 #include <cstdint>

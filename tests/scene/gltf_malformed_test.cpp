@@ -59,6 +59,24 @@ TEST(GltfMalformed, InvalidJson) {
   EXPECT_THAT(ErrorOf([&] { LoadGltf(dir / "bad.gltf", "bad.gltf"); }), HasSubstr("bad.gltf:2:"));
 }
 
+// tinygltf converts extras recursively: 100 000 nested arrays would overflow its
+// stack, so the nesting depth is checked first. Brackets inside strings do not count.
+TEST(GltfMalformed, DeeplyNestedJsonIsRefusedBeforeTinygltf) {
+  TempDir dir;
+  const std::string square = test::SquareBuilder().ToGltf();
+  auto with_extras = [&](const std::string& extras) {
+    std::string text = square;
+    text.insert(text.rfind('}'), ",\"extras\": " + extras);
+    test::WriteText(dir / "deep.gltf", text);
+  };
+  with_extras(std::string(100000, '[') + std::string(100000, ']'));
+  EXPECT_THAT(ErrorOf([&] { LoadGltf(dir / "deep.gltf", "deep.gltf"); }),
+              ::testing::AllOf(::testing::StartsWith("deep.gltf:"),
+                               HasSubstr("invalid glTF: JSON nesting depth exceeds the limit of 256 levels")));
+  with_extras(std::string(250, '[') + "\"[[[[[[[[[[{{{{{{{{{{\\\"[[[[[[[[[\"" + std::string(250, ']'));
+  EXPECT_EQ(LoadGltf(dir / "deep.gltf", "deep.gltf").instances.size(), 1u);
+}
+
 TEST(GltfMalformed, WrongVersion) {
   GltfBuilder b = test::SquareBuilder();
   b.json()["asset"]["version"] = "1.0";
