@@ -12,7 +12,11 @@ namespace {
 std::unique_ptr<OIIO::ImageInput> OpenInput(const std::filesystem::path& path, OIIO::ImageSpec* spec) {
   if (!std::filesystem::exists(path)) throw InputError(path.string(), "no such file");
   if (std::filesystem::is_directory(path)) throw InputError(path.string(), "is a folder, not an image");
-  auto in = OIIO::ImageInput::open(path.string());
+  // Straight (unassociated) alpha: without this OpenImageIO multiplies PNG's and
+  // TIFF's colour by alpha, so a pixel of 200 with alpha 128 would read 100.
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::open(path.string(), &config);
   if (!in) {
     std::string err = OIIO::geterror();
     throw InputError(path.string(), "cannot read image" + (err.empty() ? "" : ": " + err));
@@ -24,18 +28,58 @@ std::unique_ptr<OIIO::ImageInput> OpenInput(const std::filesystem::path& path, O
                                         std::to_string(spec->nchannels) + " channels)");
   }
   if (spec->depth > 1) throw InputError(path.string(), "volume images are not supported");
+  (void)in->geterror();  // open succeeded: whatever it noted is not a pixel error (see ReadAs)
   return in;
+}
+
+// Reads the pixels into `data` as `type`. OpenImageIO 2.4 returns true from
+// read_image for a truncated TIFF or JPEG and leaves the missing rows zero, with
+// only an error message left behind: that message is an error here too.
+void ReadPixels(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, OIIO::TypeDesc type, void* data,
+                const std::filesystem::path& path) {
+  const bool ok = in.read_image(0, 0, 0, spec.nchannels, type, data);
+  std::string err = in.geterror();
+  if (!ok || !err.empty()) {
+    while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
+    throw InputError(path.string(), "cannot decode image" + (err.empty() ? "" : ": " + err));
+  }
 }
 
 template <typename T>
 Image<T> ReadAs(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
                 const std::filesystem::path& path) {
   Image<T> img(spec.width, spec.height, spec.nchannels);
-  if (!in.read_image(0, 0, 0, spec.nchannels, type, img.pixels.data())) {
-    std::string err = in.geterror();
-    throw InputError(path.string(), "cannot decode image" + (err.empty() ? "" : ": " + err));
-  }
+  ReadPixels(in, spec, type, img.pixels.data(), path);
   return img;
+}
+
+// Reads integer samples in their own type and converts them to float with their
+// raw values. (Asking OpenImageIO for UINT8/UINT16/FLOAT instead would rescale:
+// an int16 goes through 0..65535 doubled with negatives clamped, a uint32 comes
+// back divided by 2^32 - 1.)
+template <typename S>
+Image<float> ReadRawAsFloat(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
+                            const std::filesystem::path& path) {
+  std::vector<S> raw(size_t(spec.width) * spec.height * spec.nchannels);
+  ReadPixels(in, spec, type, raw.data(), path);
+  Image<float> img(spec.width, spec.height, spec.nchannels);
+  for (size_t i = 0; i < raw.size(); ++i) img.pixels[i] = float(raw[i]);
+  return img;
+}
+
+// Every sample type other than UINT8/UINT16 as float in the file's own units.
+Image<float> ReadFloatRaw(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, const std::filesystem::path& path) {
+  switch (spec.format.basetype) {
+    case OIIO::TypeDesc::UINT8: return ReadRawAsFloat<uint8_t>(in, spec, OIIO::TypeDesc::UINT8, path);
+    case OIIO::TypeDesc::INT8: return ReadRawAsFloat<int8_t>(in, spec, OIIO::TypeDesc::INT8, path);
+    case OIIO::TypeDesc::UINT16: return ReadRawAsFloat<uint16_t>(in, spec, OIIO::TypeDesc::UINT16, path);
+    case OIIO::TypeDesc::INT16: return ReadRawAsFloat<int16_t>(in, spec, OIIO::TypeDesc::INT16, path);
+    case OIIO::TypeDesc::UINT32: return ReadRawAsFloat<uint32_t>(in, spec, OIIO::TypeDesc::UINT32, path);
+    case OIIO::TypeDesc::INT32: return ReadRawAsFloat<int32_t>(in, spec, OIIO::TypeDesc::INT32, path);
+    case OIIO::TypeDesc::UINT64: return ReadRawAsFloat<uint64_t>(in, spec, OIIO::TypeDesc::UINT64, path);
+    case OIIO::TypeDesc::INT64: return ReadRawAsFloat<int64_t>(in, spec, OIIO::TypeDesc::INT64, path);
+    default: return ReadAs<float>(in, spec, OIIO::TypeDesc::FLOAT, path);
+  }
 }
 
 template <typename T>
@@ -55,6 +99,8 @@ void Write(const std::filesystem::path& path, const Image<T>& image, OIIO::TypeD
       }
       spec.channelnames = channel_names;
     }
+    // The pixels are written as given: an alpha channel is straight, not divided out.
+    spec.attribute("oiio:UnassociatedAlpha", 1);
     if (!out->open(tmp.string(), spec)) throw std::runtime_error("cannot create " + tmp.string() + ": " + out->geterror());
     if (!out->write_image(mem_type, image.pixels.data())) {
       throw std::runtime_error("cannot write " + tmp.string() + ": " + out->geterror());
@@ -68,7 +114,7 @@ void Write(const std::filesystem::path& path, const Image<T>& image, OIIO::TypeD
 Image<float> ReadImageChannels(const std::filesystem::path& path, const std::vector<std::string>& names) {
   OIIO::ImageSpec spec;
   auto in = OpenInput(path, &spec);
-  Image<float> all = ReadAs<float>(*in, spec, OIIO::TypeDesc::FLOAT, path);
+  Image<float> all = ReadFloatRaw(*in, spec, path);
   std::vector<int> index;
   for (const std::string& name : names) {
     int found = -1;
@@ -88,14 +134,10 @@ Image<float> ReadImageChannels(const std::filesystem::path& path, const std::vec
 AnyImage ReadImage(const std::filesystem::path& path) {
   OIIO::ImageSpec spec;
   auto in = OpenInput(path, &spec);
-  OIIO::TypeDesc f = spec.format;
-  if (f == OIIO::TypeDesc::UINT8 || f == OIIO::TypeDesc::INT8) {
-    return ReadAs<uint8_t>(*in, spec, OIIO::TypeDesc::UINT8, path);
-  }
-  if (f == OIIO::TypeDesc::UINT16 || f == OIIO::TypeDesc::INT16) {
-    return ReadAs<uint16_t>(*in, spec, OIIO::TypeDesc::UINT16, path);
-  }
-  return ReadAs<float>(*in, spec, OIIO::TypeDesc::FLOAT, path);
+  const OIIO::TypeDesc f = spec.format;
+  if (f == OIIO::TypeDesc::UINT8) return ReadAs<uint8_t>(*in, spec, OIIO::TypeDesc::UINT8, path);
+  if (f == OIIO::TypeDesc::UINT16) return ReadAs<uint16_t>(*in, spec, OIIO::TypeDesc::UINT16, path);
+  return ReadFloatRaw(*in, spec, path);
 }
 
 Image<float> ReadImageFloat(const std::filesystem::path& path) {
@@ -115,7 +157,7 @@ Image<float> ReadImageFloat(const std::filesystem::path& path, std::vector<std::
     channel_names->clear();
     for (int c = 0; c < spec.nchannels; ++c) channel_names->push_back(spec.channel_name(c));
   }
-  return ReadAs<float>(*in, spec, OIIO::TypeDesc::FLOAT, path);
+  return ReadFloatRaw(*in, spec, path);
 }
 
 void WriteImage(const std::filesystem::path& path, const Image<uint8_t>& image) {

@@ -1,5 +1,7 @@
 // Reading and writing image files (PNG, TIFF, EXR, ... through OpenImageIO).
-// Errors (missing, unreadable, truncated file) are lt::InputError naming the file.
+// Errors (missing, unreadable, truncated file) are lt::InputError naming the file;
+// a file OpenImageIO decodes only in part (a truncated TIFF or JPEG) is one too.
+// Alpha is read as stored (straight, not multiplied into the colour).
 #pragma once
 
 #include <filesystem>
@@ -10,8 +12,10 @@
 
 namespace lt {
 
-// Reads any image in its own sample type (see AnyImage). 8-bit files give
-// Image<uint8_t>, 9..16-bit give Image<uint16_t>, everything else Image<float>.
+// Reads any image in its own sample type (see AnyImage). Unsigned 8-bit files give
+// Image<uint8_t>, unsigned 9..16-bit give Image<uint16_t>, everything else
+// Image<float>: half/float as stored, signed and 32/64-bit integers with their raw
+// values (an int16 -5 is -5.0f, a uint32 70000 is 70000.0f; no normalisation).
 AnyImage ReadImage(const std::filesystem::path& path);
 
 // Reads an image as float in its own units (no scaling: an 8-bit 255 is 255.0f).
@@ -29,6 +33,7 @@ Image<float> ReadImageChannels(const std::filesystem::path& path, const std::vec
 // Writes atomically (temporary name, then rename). The format follows the
 // extension; PNG takes uint8/uint16, EXR takes float (stored as half unless
 // full_float). channel_names (optional) name EXR channels, e.g. {"R","G","B"}.
+// Values are written as given (a fourth channel is straight alpha).
 void WriteImage(const std::filesystem::path& path, const Image<uint8_t>& image);
 void WriteImage(const std::filesystem::path& path, const Image<uint16_t>& image);
 void WriteImage(const std::filesystem::path& path, const Image<float>& image, bool full_float = true,

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <OpenImageIO/imageio.h>
+
 #include <fstream>
 
 #include "core/error.h"
@@ -67,6 +69,81 @@ TEST_F(ImageIo, MissingTruncatedAndEmptyFilesAreInputErrors) {
   std::ofstream(dir_ / "empty.png").close();
   EXPECT_THROW(ReadImage(dir_ / "empty.png"), InputError);
   EXPECT_THROW(ReadImage(dir_), InputError);
+}
+
+// Writes `values` (w x h x c) to `path` through OpenImageIO as `type`.
+template <typename T>
+void WriteRaw(const std::filesystem::path& path, int w, int h, int c, OIIO::TypeDesc type,
+              const std::vector<T>& values) {
+  auto out = OIIO::ImageOutput::create(path.string());
+  ASSERT_TRUE(out);
+  OIIO::ImageSpec spec(w, h, c, type);
+  if (c == 4) spec.alpha_channel = 3;
+  ASSERT_TRUE(out->open(path.string(), spec)) << out->geterror();
+  ASSERT_TRUE(out->write_image(type, values.data())) << out->geterror();
+  ASSERT_TRUE(out->close());
+}
+
+// OpenImageIO 2.4 reads a truncated TIFF "successfully" with the missing rows
+// zero and only an error message left behind: that must be an InputError.
+TEST_F(ImageIo, TruncatedTiffIsAnInputErrorNamingTheFile) {
+  auto img = Ramp<uint8_t>(100, 80, 1, 1);
+  for (auto& v : img.pixels) v = uint8_t(v | 1);  // no zero pixels
+  WriteImage(dir_ / "a.tif", img);
+  AnyImage whole = ReadImage(dir_ / "a.tif");
+  EXPECT_EQ(std::get<Image<uint8_t>>(whole).pixels, img.pixels);
+  std::filesystem::resize_file(dir_ / "a.tif", std::filesystem::file_size(dir_ / "a.tif") * 6 / 10);
+  try {
+    ReadImage(dir_ / "a.tif");
+    FAIL() << "a truncated TIFF was read without an error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("a.tif"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("cannot decode image"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ReadImageFloat(dir_ / "a.tif"), InputError);
+}
+
+// PNG stores straight alpha; OpenImageIO's default multiplies it into the colour.
+TEST_F(ImageIo, AlphaIsNotMultipliedIntoTheColour) {
+  Image<uint8_t> rgba(4, 3, 4);
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 4; ++x) {
+      rgba.At(x, y, 0) = 200;
+      rgba.At(x, y, 1) = 100;
+      rgba.At(x, y, 2) = 10;
+      rgba.At(x, y, 3) = 128;
+    }
+  WriteImage(dir_ / "a.png", rgba);
+  AnyImage back = ReadImage(dir_ / "a.png");
+  ASSERT_TRUE(std::holds_alternative<Image<uint8_t>>(back));
+  EXPECT_EQ(std::get<Image<uint8_t>>(back).pixels, rgba.pixels);
+  Image<float> f = ReadImageFloat(dir_ / "a.png");
+  EXPECT_EQ(f.At(1, 2, 0), 200.0f);
+  EXPECT_EQ(f.At(1, 2, 3), 128.0f);
+}
+
+// Signed and 32-bit integers come back as float with their own values: no
+// conversion through uint16 (doubled, negatives clamped) or to 0..1.
+TEST_F(ImageIo, SignedAndWideIntegerTiffsKeepTheirRawValues) {
+  const std::vector<int16_t> s16 = {-1234, 0, 7, 25699, -32768, 32767};
+  WriteRaw(dir_ / "s16.tif", 3, 2, 1, OIIO::TypeDesc::INT16, s16);
+  AnyImage a = ReadImage(dir_ / "s16.tif");
+  ASSERT_TRUE(std::holds_alternative<Image<float>>(a));
+  const auto& fa = std::get<Image<float>>(a);
+  ASSERT_EQ(fa.pixels.size(), s16.size());
+  for (size_t i = 0; i < s16.size(); ++i) EXPECT_EQ(fa.pixels[i], float(s16[i])) << i;
+
+  const std::vector<uint32_t> u32 = {0, 1, 51399, 70000, 1u << 24, 4000000000u};
+  WriteRaw(dir_ / "u32.tif", 2, 3, 1, OIIO::TypeDesc::UINT32, u32);
+  AnyImage b = ReadImage(dir_ / "u32.tif");
+  ASSERT_TRUE(std::holds_alternative<Image<float>>(b));
+  const auto& fb = std::get<Image<float>>(b);
+  ASSERT_EQ(fb.pixels.size(), u32.size());
+  for (size_t i = 0; i < u32.size(); ++i) EXPECT_EQ(fb.pixels[i], float(u32[i])) << i;
+  // The overload that also returns channel names reads the same values.
+  std::vector<std::string> names;
+  EXPECT_EQ(ReadImageFloat(dir_ / "u32.tif", &names).pixels, fb.pixels);
+  EXPECT_EQ(ReadImageFloat(dir_ / "s16.tif", &names).pixels, fa.pixels);
 }
 
 TEST_F(ImageIo, ErrorNamesTheFile) {
