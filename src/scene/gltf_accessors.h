@@ -18,6 +18,9 @@ namespace lt {
 struct GltfSource {
   const tinygltf::Model& model;
   std::string file;  // as shown in messages
+  // Why image i could not be decoded (empty when it was, or when never tried);
+  // the error is raised only when a texture uses the image. May be null.
+  const std::vector<std::string>* image_errors = nullptr;
 };
 
 // Reads accessor `index` as `components` floats per element (count * components

@@ -46,14 +46,33 @@ bool WriteWholeFileCallback(std::string* err, const std::string&, const std::vec
 }
 
 // Decodes images through tinygltf's stb-based loader, after checking that an
-// image stored in a buffer view lies inside its buffer (tinygltf does not).
+// image stored in a buffer view lies inside its buffer (tinygltf does not). An
+// image that cannot be decoded (WebP, KTX2, DDS, ... or corrupt bytes) is left
+// empty and its reason kept: it is an error only if a texture uses it (an unused
+// image, or an extension's alternative source with a PNG fallback, is fine).
 struct ImageLoadContext {
   const tinygltf::Model* model = nullptr;
+  std::vector<std::string> errors;  // by image index
 };
+
+// A name for the format of undecodable image bytes: their signature, else the mimeType.
+std::string ImageFormatName(const unsigned char* bytes, int size, const std::string& mime_type) {
+  auto starts = [&](const char* magic, size_t n, size_t at = 0) {
+    return bytes != nullptr && size_t(size) >= at + n && std::memcmp(bytes + at, magic, n) == 0;
+  };
+  if (starts("RIFF", 4) && starts("WEBP", 4, 8)) return "WebP";
+  if (starts("\xABKTX 20\xBB", 8)) return "KTX2";
+  if (starts("\xABKTX 11\xBB", 8)) return "KTX";
+  if (starts("DDS ", 4)) return "DDS";
+  if (starts("\x89PNG", 4)) return "a corrupt PNG";
+  if (starts("\xFF\xD8", 2)) return "a corrupt or unsupported (progressive 12-bit, arithmetic) JPEG";
+  if (!mime_type.empty()) return "\"" + mime_type + "\" of unknown signature";
+  return "an unknown format";
+}
 
 bool LoadImageCallback(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int, int,
                        const unsigned char* bytes, int size, void* user) {
-  const auto* ctx = static_cast<const ImageLoadContext*>(user);
+  auto* ctx = static_cast<ImageLoadContext*>(user);
   if (image->bufferView >= 0) {
     const auto& m = *ctx->model;
     if (size_t(image->bufferView) >= m.bufferViews.size()) return false;
@@ -69,11 +88,21 @@ bool LoadImageCallback(tinygltf::Image* image, const int index, std::string* err
       return false;
     }
   }
+  if (index < 0) return false;
+  if (ctx->errors.size() <= size_t(index)) ctx->errors.resize(size_t(index) + 1);
+  std::string& failure = ctx->errors[size_t(index)];
   if (bytes == nullptr || size <= 0) {
-    if (err) *err += "image[" + std::to_string(index) + "] is empty";
-    return false;
+    failure = "the image is empty (0 bytes)";
+    return true;
   }
-  return tinygltf::LoadImageData(image, index, err, warn, 0, 0, bytes, size, nullptr);
+  std::string decode_err;
+  if (!tinygltf::LoadImageData(image, index, &decode_err, warn, 0, 0, bytes, size, nullptr)) {
+    failure = "cannot decode the image: " + ImageFormatName(bytes, size, image->mimeType) +
+              " (PNG, JPEG, BMP, TGA, GIF, PSD, HDR and PNM images are read)";
+    image->image.clear();
+    image->width = image->height = 0;
+  }
+  return true;
 }
 
 std::string Trim(std::string s) {
@@ -225,7 +254,7 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
   tinygltf::FsCallbacks fs{&FileExistsCallback, &ExpandFilePathCallback, &ReadWholeFileCallback,
                            &WriteWholeFileCallback, nullptr};
   loader.SetFsCallbacks(fs);
-  ImageLoadContext image_ctx{&model};
+  ImageLoadContext image_ctx{&model, {}};
   loader.SetImageLoader(&LoadImageCallback, &image_ctx);
   std::string err, warn;
   bool ok;
@@ -240,7 +269,8 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
   if (!warn.empty()) asset.warnings.push_back(file + ": " + Trim(warn));
   bytes = {};
 
-  const GltfSource src{model, file};
+  image_ctx.errors.resize(model.images.size());
+  const GltfSource src{model, file, &image_ctx.errors};
   asset.materials = ConvertGltfMaterials(src, &asset.warnings);
   std::vector<NodeUse> uses = WalkScene(src, &asset.warnings);
 

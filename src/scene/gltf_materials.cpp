@@ -32,6 +32,14 @@ std::shared_ptr<Texture> MakeTexture(const GltfSource& src, int texture_index) {
   const auto& m = src.model;
   const std::string tex_where = GltfWhere(src, "textures", texture_index);
   const tinygltf::Texture& tex = m.textures[size_t(texture_index)];
+  if (tex.source == -1) {
+    std::string alternatives;
+    for (const auto& [name, value] : tex.extensions) alternatives += (alternatives.empty() ? "" : ", ") + name;
+    throw InputError(tex_where, alternatives.empty()
+                                    ? "texture has no source image"
+                                    : "texture has no source image that can be read (only an image of " +
+                                          alternatives + ", which is not supported)");
+  }
   if (tex.source < 0 || size_t(tex.source) >= m.images.size()) {
     throw InputError(tex_where + "/source", "image " + std::to_string(tex.source) + " does not exist (" +
                                                 std::to_string(m.images.size()) + " images)");
@@ -40,6 +48,11 @@ std::shared_ptr<Texture> MakeTexture(const GltfSource& src, int texture_index) {
   const std::string img_where = GltfWhere(src, "images", tex.source);
   auto out = std::make_shared<Texture>();
   out->name = !img.name.empty() ? img.name : (!img.uri.empty() && img.uri.rfind("data:", 0) != 0 ? img.uri : "image " + std::to_string(tex.source));
+  if (src.image_errors != nullptr && size_t(tex.source) < src.image_errors->size() &&
+      !(*src.image_errors)[size_t(tex.source)].empty()) {
+    throw InputError(img_where, (*src.image_errors)[size_t(tex.source)] + " (used by texture " +
+                                    std::to_string(texture_index) + ")");
+  }
   if (img.image.empty() || img.width < 1 || img.height < 1) {
     throw InputError(img_where, "image could not be loaded" + (img.uri.empty() ? "" : " from \"" + img.uri.substr(0, 64) + "\""));
   }

@@ -402,6 +402,23 @@ TEST(GltfLoader, BaseColorTextureAsExternalFile) {
   CheckTexture(LoadBuilt(b, dir, Format::kGltfExternal));
 }
 
+// EXT_texture_webp (or KHR_texture_basisu) with a PNG fallback: the texture's
+// `source` is used and the WebP image, which is not decoded, is no error.
+TEST(GltfLoader, ExtensionImageWithPngFallbackUsesTheFallback) {
+  TempDir dir;
+  std::vector<uint8_t> png = TexturePng(dir);
+  GltfBuilder b = test::SquareBuilder(true, true);
+  int view = b.AddBufferView(png.data(), png.size());
+  const char webp[] = "RIFF\x10\0\0\0WEBPVP8 ";
+  int webp_view = b.AddBufferView(webp, sizeof webp - 1);
+  b.json()["images"] = {{{"bufferView", view}, {"mimeType", "image/png"}},
+                        {{"bufferView", webp_view}, {"mimeType", "image/webp"}}};
+  b.json()["extensionsUsed"] = {"EXT_texture_webp"};
+  AddTexturedMaterial(b, 0);
+  b.json()["textures"][0]["extensions"] = {{"EXT_texture_webp", {{"source", 1}}}};
+  CheckTexture(LoadBuilt(b, dir, Format::kGlb));
+}
+
 TEST(GltfLoader, UnsupportedRequiredExtensionIsAnError) {
   GltfBuilder b = test::SquareBuilder();
   b.json()["extensionsRequired"] = {"KHR_draco_mesh_compression"};

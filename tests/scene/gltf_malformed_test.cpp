@@ -168,12 +168,34 @@ TEST(GltfMalformed, ImageBufferViewOutsideItsBuffer) {
   EXPECT_THAT(GlbError(b), HasSubstr("lies outside buffer 0"));
 }
 
-TEST(GltfMalformed, UndecodableImage) {
+// An image that cannot be decoded is an error only when a texture uses it.
+TEST(GltfMalformed, UndecodableImageIsAnErrorOnlyWhenUsed) {
   GltfBuilder b = test::SquareBuilder(true, true);
   std::vector<uint8_t> junk(16, 7);
   int view = b.AddBufferView(junk.data(), junk.size());
-  b.json()["images"] = {{{"bufferView", view}, {"mimeType", "image/png"}}};
-  EXPECT_THAT(GlbError(b), HasSubstr("bad.glb: invalid glTF:"));
+  b.json()["images"] = {{{"bufferView", view}, {"mimeType", "image/vnd-ms.dds"}}};
+  {
+    TempDir dir;
+    b.WriteGlb(dir / "unused.glb");
+    GltfAsset a = LoadGltf(dir / "unused.glb", "unused.glb");
+    EXPECT_EQ(a.instances.size(), 1u);
+  }
+  b.json()["textures"] = {{{"source", 0}}};
+  int mat = b.AddMaterial("painted", {1, 1, 1, 1}, 0, 1);
+  b.json()["materials"][size_t(mat)]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  b.json()["meshes"][0]["primitives"][0]["material"] = mat;
+  EXPECT_EQ(GlbError(b),
+            "bad.glb: /images/0: cannot decode the image: \"image/vnd-ms.dds\" of unknown signature (PNG, JPEG, "
+            "BMP, TGA, GIF, PSD, HDR and PNM images are read) (used by texture 0)");
+  const char webp[] = "RIFF\x10\0\0\0WEBPVP8 ";
+  std::vector<uint8_t> webp_bytes(webp, webp + sizeof webp - 1);
+  int webp_view = b.AddBufferView(webp_bytes.data(), webp_bytes.size());
+  b.json()["images"][0] = {{"bufferView", webp_view}, {"mimeType", "image/webp"}};
+  EXPECT_THAT(GlbError(b), HasSubstr("bad.glb: /images/0: cannot decode the image: WebP (PNG, JPEG"));
+  // A texture whose only image is an extension's.
+  b.json()["textures"][0] = {{"extensions", {{"EXT_texture_webp", {{"source", 0}}}}}};
+  EXPECT_EQ(GlbError(b), "bad.glb: /textures/0: texture has no source image that can be read (only an image of "
+                         "EXT_texture_webp, which is not supported)");
 }
 
 TEST(GltfMalformed, MissingPosition) {
