@@ -179,5 +179,43 @@ TEST_F(ExtractCommand, UnknownMethodAndSeveralImages) {
   ExpectInputError(Quoted(p) + " " + Quoted(bad) + " --out " + Quoted(dir_ / "csv"), bad.string() + ": cannot read image");
 }
 
+// --out FILE.csv in a folder that does not exist is an option error naming --out
+// and the path (not an internal error about a temporary file).
+TEST_F(ExtractCommand, OutInAMissingFolder) {
+  const fs::path p = dir_ / "mono.png";
+  WriteImage(p, StripeImage());
+  const fs::path out = dir_ / "no" / "such" / "x.csv";
+  ExpectInputError(Quoted(p) + " --out " + Quoted(out),
+                   "--out: the folder of " + out.string() + " does not exist (" + out.parent_path().string() + ")");
+  // A file where the folder should be.
+  WriteBytes(dir_ / "plain", "x");
+  ExpectInputError(Quoted(p) + " " + Quoted(dir_ / "other.png") + " --out " + Quoted(dir_ / "plain"),
+                   "--out: cannot create the output folder " + (dir_ / "plain").string());
+}
+
+// One image with --out naming an existing folder writes FOLDER/<image name>.csv,
+// as several images do; a missing folder for several images is created.
+TEST_F(ExtractCommand, OutAsAFolder) {
+  const fs::path p = dir_ / "mono.png";
+  WriteImage(p, StripeImage());
+  fs::create_directories(dir_ / "csv");
+  CliResult r = RunCli("extract " + Quoted(p) + " --out " + Quoted(dir_ / "csv"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "");
+  EXPECT_THAT(ReadFile(dir_ / "csv" / "mono.csv"), HasSubstr("u,v,width,strength\n20.0000,0.0000,"));
+
+  const fs::path q = dir_ / "other.png";
+  WriteImage(q, StripeImage());
+  r = RunCli("extract " + Quoted(p) + " " + Quoted(q) + " --out " + Quoted(dir_ / "new" / "csv"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::is_regular_file(dir_ / "new" / "csv" / "mono.csv"));
+  EXPECT_TRUE(fs::is_regular_file(dir_ / "new" / "csv" / "other.csv"));
+
+  // A file name in an existing folder is the CSV itself.
+  r = RunCli("extract " + Quoted(p) + " --out " + Quoted(dir_ / "csv" / "x.csv"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(ReadFile(dir_ / "csv" / "x.csv"), HasSubstr("u,v,width,strength\n20.0000,0.0000,"));
+}
+
 }  // namespace
 }  // namespace lt::test

@@ -71,16 +71,29 @@ void Run(ExtractArgs& a) {
   namespace fs = std::filesystem;
   const bool several = a.images.size() > 1;
   if (several && a.out.empty()) throw InputError("--out", "several images need --out DIR (one CSV per image)");
-  if (several) {
+  // --out is a folder (one DIR/<image name>.csv per image) for several images,
+  // for an existing folder and for a name ending in '/'; else the CSV file of
+  // the one image, whose folder must exist.
+  std::error_code ec;
+  const bool to_folder = !a.out.empty() && (several || fs::is_directory(a.out, ec) || a.out.back() == '/' ||
+                                            fs::path(a.out).filename().empty());
+  if (to_folder) {
     std::set<std::string> stems;
     for (const auto& image : a.images) {
       if (!stems.insert(fs::path(image).stem().string()).second) {
         throw InputError(image, "another image has the same name; their CSV files would collide in " + a.out);
       }
     }
-    std::error_code ec;
     fs::create_directories(a.out, ec);
-    if (!fs::is_directory(a.out)) throw InputError(a.out, "cannot create the output folder");
+    if (!fs::is_directory(a.out, ec)) {
+      throw InputError("--out", "cannot create the output folder " + a.out +
+                                    (fs::exists(a.out, ec) ? " (a file of that name exists)" : ""));
+    }
+  } else if (!a.out.empty()) {
+    const fs::path parent = fs::path(a.out).parent_path();
+    if (!parent.empty() && !fs::is_directory(parent, ec)) {
+      throw InputError("--out", "the folder of " + a.out + " does not exist (" + parent.string() + ")");
+    }
   }
   size_t total = 0;
   for (const auto& image : a.images) {
@@ -103,7 +116,7 @@ void Run(ExtractArgs& a) {
     if (a.out.empty()) {
       std::cout << FormatStripeCsv(points, a.planes > 0);
     } else {
-      fs::path target = several ? fs::path(a.out) / (fs::path(image).stem().string() + ".csv") : fs::path(a.out);
+      fs::path target = to_folder ? fs::path(a.out) / (fs::path(image).stem().string() + ".csv") : fs::path(a.out);
       WriteStripeCsv(target, points, a.planes > 0);
     }
   }
@@ -121,7 +134,8 @@ void AddExtract(CLI::App& app) {
   cmd->add_option("--axis", args->axis, "rows (stripes run top to bottom) | cols (left to right)")
       ->capture_default_str();
   cmd->add_option("--roi", args->roi, "Search only in X,Y,W,H (pixels)");
-  cmd->add_option("--out", args->out, "CSV file (one image) or folder (several images); default: standard output");
+  cmd->add_option("--out", args->out, "CSV file (one image; its folder must exist) or folder (several images, or an existing folder: "
+                  "FOLDER/<image name>.csv); default: standard output");
   auto& o = args->options;
   cmd->add_option("--threshold", o.threshold,
                   "Minimum stripe peak intensity in image units (default: 10% of full scale)");
