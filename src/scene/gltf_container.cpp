@@ -177,7 +177,8 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
     throw InputError(file + ": /asset/version",
                      "glTF version must be 2.x, got " + (version == asset->end() ? std::string("none") : version->dump()));
   }
-  static const std::set<std::string> kSupported = {"KHR_materials_emissive_strength", "KHR_mesh_quantization"};
+  static const std::set<std::string> kSupported = {"KHR_materials_emissive_strength", "KHR_mesh_quantization",
+                                                     "KHR_texture_transform"};
   if (auto req = root.find("extensionsRequired"); req != root.end() && req->is_array()) {
     for (size_t i = 0; i < req->size(); ++i) {
       const auto& e = (*req)[i];

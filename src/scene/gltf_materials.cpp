@@ -86,6 +86,47 @@ std::shared_ptr<Texture> MakeTexture(const GltfSource& src, int texture_index) {
   return out;
 }
 
+// A number of a tinygltf extension object, `fallback` when absent.
+double ExtNumber(const tinygltf::Value& ext, const char* key, double fallback, const std::string& where) {
+  if (!ext.Has(key)) return fallback;
+  const tinygltf::Value& v = ext.Get(key);
+  const double x = v.IsNumber() ? v.GetNumberAsDouble() : std::nan("");
+  if (!std::isfinite(x)) throw InputError(where + "/" + key, "must be a finite number");
+  return x;
+}
+
+// A [x, y] array of a tinygltf extension object, `fallback` when absent.
+Eigen::Vector2d ExtVec2(const tinygltf::Value& ext, const char* key, const Eigen::Vector2d& fallback,
+                        const std::string& where) {
+  if (!ext.Has(key)) return fallback;
+  const tinygltf::Value& v = ext.Get(key);
+  if (!v.IsArray() || v.ArrayLen() != 2) throw InputError(where + "/" + key, "must be an array of 2 numbers");
+  Eigen::Vector2d out;
+  for (int i = 0; i < 2; ++i) {
+    const tinygltf::Value& x = v.Get(i);
+    out[i] = x.IsNumber() ? x.GetNumberAsDouble() : std::nan("");
+    if (!std::isfinite(out[i])) throw InputError(where + "/" + key + "/" + std::to_string(i), "must be a finite number");
+  }
+  return out;
+}
+
+// Reads KHR_texture_transform of a textureInfo into mat->base_color_uv_transform;
+// returns the TEXCOORD set the texture reads (the extension's texCoord overrides).
+int ReadTextureTransform(const tinygltf::TextureInfo& info, const std::string& where, Material* mat) {
+  auto it = info.extensions.find("KHR_texture_transform");
+  if (it == info.extensions.end()) return info.texCoord;
+  const std::string ext_where = where + "/extensions/KHR_texture_transform";
+  const tinygltf::Value& ext = it->second;
+  if (!ext.IsObject()) throw InputError(ext_where, "must be an object");
+  mat->base_color_uv_transform = UvTransform::FromOffsetRotationScale(
+      ExtVec2(ext, "offset", Eigen::Vector2d::Zero(), ext_where), ExtNumber(ext, "rotation", 0.0, ext_where),
+      ExtVec2(ext, "scale", Eigen::Vector2d::Ones(), ext_where));
+  if (!ext.Has("texCoord")) return info.texCoord;
+  const tinygltf::Value& tc = ext.Get("texCoord");
+  if (!tc.IsInt() || tc.GetNumberAsInt() < 0) throw InputError(ext_where + "/texCoord", "must be an integer >= 0");
+  return tc.GetNumberAsInt();
+}
+
 }  // namespace
 
 std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<std::string>* warnings) {
@@ -136,9 +177,12 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
       }
       if (!textures[size_t(tex)]) textures[size_t(tex)] = MakeTexture(src, tex);
       mat.base_color_texture = textures[size_t(tex)];
-      if (pbr.baseColorTexture.texCoord != 0) {
+      const int texcoord = ReadTextureTransform(pbr.baseColorTexture, where + "/pbrMetallicRoughness/baseColorTexture", &mat);
+      if (texcoord != 0) {
+        const bool from_ext = texcoord != pbr.baseColorTexture.texCoord;
         warnings->push_back(src.file + ": material \"" + mat.name + "\": base colour texture reads TEXCOORD_" +
-                            std::to_string(pbr.baseColorTexture.texCoord) + "; TEXCOORD_0 is used instead");
+                            std::to_string(texcoord) + (from_ext ? " (KHR_texture_transform's texCoord)" : "") +
+                            ", which is not loaded; TEXCOORD_0 is used instead");
       }
     } else if (tex < -1) {
       throw InputError(where + "/pbrMetallicRoughness/baseColorTexture/index", "must be >= 0");

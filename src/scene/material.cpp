@@ -76,9 +76,23 @@ Eigen::Vector4f Texture::Sample(const Eigen::Vector2f& uv) const {
   return (1 - ay) * top + ay * bottom;
 }
 
+UvTransform UvTransform::FromOffsetRotationScale(const Eigen::Vector2d& offset, double rotation,
+                                                 const Eigen::Vector2d& scale) {
+  // The matrix of KHR_texture_transform's implementations and sample model
+  // (three.js, Babylon.js, Blender, CesiumJS); the GLSL listing in the extension's
+  // README is its transpose, a known erratum (KhronosGroup/glTF#1563).
+  const double c = std::cos(rotation), s = std::sin(rotation);
+  Eigen::Matrix2d r;
+  r << c, s, -s, c;
+  UvTransform t;
+  t.linear = (r * scale.asDiagonal()).cast<float>();
+  t.offset = offset.cast<float>();
+  return t;
+}
+
 Eigen::Vector3f Material::BaseColorAt(const Eigen::Vector2f& uv) const {
   if (!base_color_texture) return base_color;
-  return base_color.cwiseProduct(base_color_texture->Sample(uv).head<3>());
+  return base_color.cwiseProduct(base_color_texture->Sample(base_color_uv_transform.Apply(uv)).head<3>());
 }
 
 void Material::Check() const {
@@ -88,6 +102,9 @@ void Material::Check() const {
     if (!std::isfinite(emissive[i]) || emissive[i] < 0) fail("emissive must be finite and >= 0");
   }
   if (!InUnit(metallic)) fail("metallic must be in [0, 1]");
+  if (!base_color_uv_transform.linear.allFinite() || !base_color_uv_transform.offset.allFinite()) {
+    fail("base colour texture transform must be finite");
+  }
   if (!InUnit(roughness)) fail("roughness must be in [0, 1]");
   if (subsurface) {
     if (!(subsurface->mean_free_path_m.array() > 0).all() || !subsurface->mean_free_path_m.allFinite()) {

@@ -31,6 +31,19 @@ struct Texture {
   Eigen::Vector4f Texel(int x, int y) const;
 };
 
+// An affine map of texture coordinates (KHR_texture_transform): uv' = linear * uv + offset.
+struct UvTransform {
+  Eigen::Matrix2f linear = Eigen::Matrix2f::Identity();
+  Eigen::Vector2f offset = Eigen::Vector2f::Zero();
+
+  // KHR_texture_transform's T * R * S: scale, then rotate by `rotation` radians
+  // counter-clockwise in UV space (u right, v down: u' = u cos + v sin,
+  // v' = v cos - u sin), then offset.
+  static UvTransform FromOffsetRotationScale(const Eigen::Vector2d& offset, double rotation,
+                                             const Eigen::Vector2d& scale);
+  Eigen::Vector2f Apply(const Eigen::Vector2f& uv) const { return linear * uv + offset; }
+};
+
 // sRGB transfer function, encoded 8-bit value -> linear [0, 1] (IEC 61966-2-1).
 float SrgbToLinear(uint8_t v);
 
@@ -45,13 +58,15 @@ struct Material {
   Eigen::Vector3f base_color = Eigen::Vector3f::Ones();  // linear, [0, 1]
   std::shared_ptr<const Texture> base_color_texture;     // multiplies base_color; may be null
   int base_color_texcoord = 0;                           // TEXCOORD_n the texture reads (0 only)
+  UvTransform base_color_uv_transform;                   // applied to uv before the texture lookup
   float metallic = 0;                                    // [0, 1]
   float roughness = 1;                                   // [0, 1], perceptual (alpha = roughness^2)
   Eigen::Vector3f emissive = Eigen::Vector3f::Zero();    // radiance, W/(m^2 sr), >= 0
   bool double_sided = false;
   std::optional<Subsurface> subsurface;
 
-  // Linear base colour at a texture coordinate (texture times factor).
+  // Linear base colour at a texture coordinate (texture, read at
+  // base_color_uv_transform(uv), times factor).
   Eigen::Vector3f BaseColorAt(const Eigen::Vector2f& uv) const;
   // Throws std::invalid_argument when a value is out of range or not finite.
   void Check() const;

@@ -419,6 +419,49 @@ TEST(GltfLoader, ExtensionImageWithPngFallbackUsesTheFallback) {
   CheckTexture(LoadBuilt(b, dir, Format::kGlb));
 }
 
+// KHR_texture_transform, uv' = T * R * S * uv. With scale (0.5, 0.25), rotation
+// 90 degrees (counter-clockwise in u-right v-down UV space: (u, v) -> (v, -u)) and
+// offset (0, 1), uv maps to (v / 4, 1 - u / 2): each lookup below lands on the
+// centre of one texel of the 2x2 texture (red, green / blue, white).
+TEST(GltfLoader, TextureTransformMovesTheLookup) {
+  TempDir dir;
+  std::vector<uint8_t> png = TexturePng(dir);
+  GltfBuilder b = test::SquareBuilder(true, true);
+  int view = b.AddBufferView(png.data(), png.size());
+  b.json()["images"] = {{{"bufferView", view}, {"mimeType", "image/png"}}};
+  AddTexturedMaterial(b, 0);
+  b.json()["extensionsUsed"] = {"KHR_texture_transform"};
+  b.json()["extensionsRequired"] = {"KHR_texture_transform"};
+  auto& info = b.json()["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"];
+  info["extensions"]["KHR_texture_transform"] = {
+      {"offset", {0, 1}}, {"rotation", M_PI / 2}, {"scale", {0.5, 0.25}}};
+  GltfAsset a = LoadBuilt(b, dir, Format::kGlb);
+  ASSERT_EQ(a.materials.size(), 1u);
+  const Material& m = a.materials[0];
+  EXPECT_TRUE(m.BaseColorAt({0.5f, 1.0f}).isApprox(Eigen::Vector3f(0, 0, 1), 1e-5f));  // -> (0.25, 0.75) blue
+  EXPECT_TRUE(m.BaseColorAt({0.5f, 3.0f}).isApprox(Eigen::Vector3f(1, 1, 1), 1e-5f));  // -> (0.75, 0.75) white
+  EXPECT_TRUE(m.BaseColorAt({1.5f, 1.0f}).isApprox(Eigen::Vector3f(1, 0, 0), 1e-5f));  // -> (0.25, 0.25) red
+  EXPECT_TRUE(m.BaseColorAt({1.5f, 3.0f}).isApprox(Eigen::Vector3f(0, 1, 0), 1e-5f));  // -> (0.75, 0.25) green
+  EXPECT_TRUE(a.warnings.empty());
+
+  // Offset only (what the probe's files use): the halves swap.
+  info["extensions"]["KHR_texture_transform"] = {{"offset", {0.5, 0}}};
+  const Material m2 = LoadBuilt(b, dir, Format::kGlb).materials[0];
+  EXPECT_TRUE(m2.BaseColorAt({0.25f, 0.25f}).isApprox(Eigen::Vector3f(0, 1, 0), 1e-5f));
+
+  // A texCoord override naming another set is reported (only TEXCOORD_0 is loaded).
+  info["extensions"]["KHR_texture_transform"]["texCoord"] = 1;
+  GltfAsset a3 = LoadBuilt(b, dir, Format::kGlb);
+  ASSERT_EQ(a3.warnings.size(), 1u);
+  EXPECT_THAT(a3.warnings[0], HasSubstr("material \"painted\": base colour texture reads TEXCOORD_1 "
+                                        "(KHR_texture_transform's texCoord), which is not loaded; TEXCOORD_0 is used"));
+
+  info["extensions"]["KHR_texture_transform"] = {{"scale", {1}}};
+  EXPECT_THAT(ErrorOf([&] { LoadBuilt(b, dir, Format::kGlb); }),
+              HasSubstr("model.glb: /materials/0/pbrMetallicRoughness/baseColorTexture/extensions/"
+                        "KHR_texture_transform/scale: must be an array of 2 numbers"));
+}
+
 TEST(GltfLoader, UnsupportedRequiredExtensionIsAnError) {
   GltfBuilder b = test::SquareBuilder();
   b.json()["extensionsRequired"] = {"KHR_draco_mesh_compression"};
