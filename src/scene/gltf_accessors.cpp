@@ -154,13 +154,13 @@ Layout CheckAccessor(const GltfSource& src, int index) {
   if (a.count == 0) throw InputError(where, "count must be >= 1");
   uint64_t elem = uint64_t(csize) * uint64_t(l.components);
   if (a.bufferView < 0) {
-    if (!a.sparse.isSparse) throw InputError(where, "has neither a bufferView nor sparse values");
+    // No bufferView: all zeros (glTF 2.0 3.6.2.1), then the sparse values if any.
     // Without a buffer view nothing in the file bounds the count: cap it.
     if (a.count > kMaxElementsWithoutView) {
       throw InputError(where, "count " + std::to_string(a.count) + " is implausibly large for an accessor without a bufferView (at most " +
                                   std::to_string(kMaxElementsWithoutView) + ")");
     }
-    return l;  // zeros, then sparse substitution
+    return l;
   }
   l.bytes = BufferViewBytes(src, a.bufferView, where);
   const tinygltf::BufferView& bv = m.bufferViews[size_t(a.bufferView)];

@@ -25,7 +25,7 @@ struct GltfSource {
 
 // Reads accessor `index` as `components` floats per element (count * components
 // values), applying `normalized` integer scaling (glTF 2.0 3.11) and sparse
-// substitution. Accepts SCALAR/VEC2/VEC3/VEC4 accessors whose component count is
+// substitution (an accessor without a bufferView starts from zeros). Accepts SCALAR/VEC2/VEC3/VEC4 accessors whose component count is
 // `components`; integer components are converted to their (normalized) value.
 std::vector<float> ReadFloatAccessor(const GltfSource& src, int index, int components);
 

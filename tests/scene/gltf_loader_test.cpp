@@ -222,6 +222,18 @@ TEST(GltfLoader, SparseAccessorWithoutBufferViewStartsFromZeros) {
   EXPECT_EQ(c[2], Eigen::Vector3f(0, 1, 0));
 }
 
+// An accessor with neither a bufferView nor sparse values is all zeros (glTF 2.0 3.6.2.1).
+TEST(GltfLoader, AccessorWithoutBufferViewOrSparseIsZeros) {
+  GltfBuilder b = test::SquareBuilder(true, false);
+  b.json()["accessors"].push_back({{"componentType", 5126}, {"count", 4}, {"type", "VEC2"}});
+  b.json()["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = b.json()["accessors"].size() - 1;
+  TempDir dir;
+  const Mesh m = LoadBuilt(b, dir, Format::kGlb).meshes[0];
+  ASSERT_EQ(m.TriangleCount(), 2u);
+  ASSERT_EQ(m.texcoords.size(), 4u);
+  for (const auto& uv : m.texcoords) EXPECT_EQ(uv, Eigen::Vector2f(0, 0));
+}
+
 TEST(GltfLoader, NodeHierarchyComposesTrsAndMatrixTransforms) {
   GltfBuilder b = test::SquareBuilder();
   // Root (translation) -> child (rotation + scale) -> the square's node becomes a
