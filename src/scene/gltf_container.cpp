@@ -1,5 +1,6 @@
 #include "scene/gltf_container.h"
 
+#include <cctype>
 #include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -28,6 +29,51 @@ int HexValue(char c) {
   if (c >= 'a' && c <= 'f') return c - 'a' + 10;
   if (c >= 'A' && c <= 'F') return c - 'A' + 10;
   return -1;
+}
+
+// Number of bytes a base64 payload decodes to; fails on a character outside the
+// base64 alphabet, padding before the end, or a length no encoder produces.
+size_t Base64DecodedSize(const std::string& uri, size_t start, const std::string& where) {
+  size_t chars = 0, padding = 0;
+  for (size_t i = start; i < uri.size(); ++i) {
+    const char c = uri[i];
+    if (c == '=') {
+      ++padding;
+      continue;
+    }
+    const bool alphabet = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '+' || c == '/';
+    if (!alphabet || padding > 0) {
+      const unsigned char u = static_cast<unsigned char>(c);
+      const std::string shown = u >= 0x20 && u < 0x7f ? std::string("'") + c + "'" : "byte " + std::to_string(u);
+      throw InputError(where, "invalid base64 data: " + (padding > 0 ? "data after the '=' padding" : shown) +
+                                  " at character " + std::to_string(i - start) + " of the data");
+    }
+    ++chars;
+  }
+  if (padding > 2 || chars % 4 == 1 || (padding > 0 && (chars + padding) % 4 != 0)) {
+    throw InputError(where, "invalid base64 data: " + std::to_string(chars) + " characters and " +
+                                std::to_string(padding) + " '=' is not a whole number of bytes");
+  }
+  return chars / 4 * 3 + (chars % 4 == 0 ? 0 : chars % 4 - 1);
+}
+
+// Checks a buffer's data: URI (tinygltf decodes only base64 with these media
+// types, and needs exactly byteLength bytes).
+void CheckBufferDataUri(const std::string& uri, const std::string& where, int64_t byte_length) {
+  static const char* kHeaders[] = {"data:application/octet-stream;base64,", "data:application/gltf-buffer;base64,"};
+  size_t start = 0;
+  for (const char* h : kHeaders) {
+    if (uri.rfind(h, 0) == 0) start = std::strlen(h);
+  }
+  if (start == 0) {
+    throw InputError(where, "a buffer's data URI must start with \"" + std::string(kHeaders[0]) + "\" or \"" +
+                                kHeaders[1] + "\", got \"" + ShortenDataUris(uri) + "\"");
+  }
+  const size_t size = Base64DecodedSize(uri, start, where);
+  if (byte_length >= 0 && size != uint64_t(byte_length)) {
+    throw InputError(where, "data URI holds " + std::to_string(size) + " bytes, byteLength says " +
+                                std::to_string(byte_length) + (size > uint64_t(byte_length) ? " (they must be equal)" : ""));
+  }
 }
 
 // Fails when an external file named by uri does not exist (or is shorter than byte_length).
@@ -92,6 +138,30 @@ void CheckJsonDepth(const std::string& text, const std::string& file) {
 
 }  // namespace
 
+std::string ShortenDataUris(const std::string& text, size_t keep) {
+  std::string out;
+  size_t pos = 0;
+  while (true) {
+    size_t at = text.find("data:", pos);
+    if (at == std::string::npos) break;
+    size_t end = at;
+    while (end < text.size() && !std::isspace(static_cast<unsigned char>(text[end])) && text[end] != '"' &&
+           text[end] != '\'' && text[end] != ']') {
+      ++end;
+    }
+    out.append(text, pos, at - pos);
+    if (end - at > keep + 3) {
+      out.append(text, at, keep);
+      out += "...";
+    } else {
+      out.append(text, at, end - at);
+    }
+    pos = end;
+  }
+  out.append(text, pos, std::string::npos);
+  return out;
+}
+
 std::string DecodeUri(const std::string& uri) {
   std::string out;
   out.reserve(uri.size());
@@ -129,6 +199,18 @@ GltfContainer ParseGltfContainer(const std::vector<unsigned char>& bytes, const 
   GltfContainer c;
   if (bytes.size() < 4 || ReadU32(bytes, 0) != kGlbMagic) {
     if (bytes.empty()) throw InputError(file, "file is empty");
+    // A JSON glTF starts with '{' (after an optional UTF-8 byte order mark and white space).
+    size_t first = bytes.size() >= 3 && bytes[0] == 0xEF && bytes[1] == 0xBB && bytes[2] == 0xBF ? 3 : 0;
+    while (first < bytes.size() && std::strchr(" \t\r\n", bytes[first]) != nullptr && bytes[first] != 0) ++first;
+    if (first == bytes.size() || bytes[first] != '{') {
+      std::string head;
+      for (size_t i = 0; i < 4 && i < bytes.size(); ++i) {
+        static const char* kHex = "0123456789abcdef";
+        head += std::string(i > 0 ? " " : "") + kHex[bytes[i] >> 4] + kHex[bytes[i] & 15];
+      }
+      throw InputError(file, "neither a GLB (bad magic: the first bytes are " + head +
+                                 ", a GLB starts with \"glTF\" = 67 6c 54 46) nor JSON (which starts with '{')");
+    }
     c.json_text.assign(bytes.begin(), bytes.end());
     c.total_length = bytes.size();
     return c;
@@ -196,7 +278,12 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
       if (uri == b.end()) continue;
       auto len = b.find("byteLength");
       int64_t byte_length = len != b.end() && len->is_number_unsigned() ? int64_t(len->get<uint64_t>()) : -1;
-      CheckExternal(*uri, file + ": /buffers/" + std::to_string(i) + "/uri", "buffer", base_dir, byte_length);
+      const std::string where = file + ": /buffers/" + std::to_string(i) + "/uri";
+      if (uri->is_string() && uri->get_ref<const std::string&>().rfind("data:", 0) == 0) {
+        CheckBufferDataUri(uri->get_ref<const std::string&>(), where, byte_length);
+      } else {
+        CheckExternal(*uri, where, "buffer", base_dir, byte_length);
+      }
     }
   }
   if (auto images = root.find("images"); images != root.end() && images->is_array()) {

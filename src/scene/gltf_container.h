@@ -28,6 +28,10 @@ GltfContainer ParseGltfContainer(const std::vector<unsigned char>& bytes, const 
 // Checks the JSON before the full parse (see above). base_dir is the folder of the file.
 void CheckGltfJson(const GltfContainer& container, const std::string& file, const std::filesystem::path& base_dir);
 
+// Cuts every data: URI quoted in a message to its first `keep` characters plus
+// "..." (a message must not carry megabytes of base64).
+std::string ShortenDataUris(const std::string& text, size_t keep = 40);
+
 // Percent-decodes a URI ("my%20file.bin" -> "my file.bin").
 std::string DecodeUri(const std::string& uri);
 

@@ -265,8 +265,8 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
     ok = loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
                                     unsigned(bytes.size()), base.string());
   }
-  if (!ok) throw InputError(file, "invalid glTF: " + Trim(err.empty() ? "parse failed" : err));
-  if (!warn.empty()) asset.warnings.push_back(file + ": " + Trim(warn));
+  if (!ok) throw InputError(file, "invalid glTF: " + Trim(ShortenDataUris(err.empty() ? "parse failed" : err)));
+  if (!warn.empty()) asset.warnings.push_back(file + ": " + Trim(ShortenDataUris(warn)));
   bytes = {};
 
   image_ctx.errors.resize(model.images.size());

@@ -23,13 +23,19 @@ const char* ModeName(int mode) {
   }
 }
 
+// Fails when accessor `index`, referenced at `where`, does not exist.
+void CheckAccessorRef(const GltfSource& src, int index, const std::string& where) {
+  if (index < 0 || size_t(index) >= src.model.accessors.size()) {
+    throw InputError(where, "accessor " + std::to_string(index) + " does not exist (" +
+                                std::to_string(src.model.accessors.size()) + " accessors)");
+  }
+}
+
 // The accessor of an attribute, or -1 when the primitive has none.
-int FindAttribute(const tinygltf::Primitive& p, const char* name, const std::string& where) {
+int FindAttribute(const GltfSource& src, const tinygltf::Primitive& p, const char* name, const std::string& where) {
   auto it = p.attributes.find(name);
   if (it == p.attributes.end()) return -1;
-  if (it->second < 0) {
-    throw InputError(where + "/attributes/" + name, "accessor " + std::to_string(it->second) + " does not exist");
-  }
+  CheckAccessorRef(src, it->second, where + "/attributes/" + name);
   return it->second;
 }
 
@@ -81,7 +87,7 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, uint32_t default_material
 
   bool any_texcoords = false;
   for (size_t pi = 0; pi < gm.primitives.size(); ++pi) {
-    any_texcoords |= FindAttribute(gm.primitives[pi], "TEXCOORD_0", mesh_where + "/primitives/" + std::to_string(pi)) >= 0;
+    any_texcoords |= FindAttribute(src, gm.primitives[pi], "TEXCOORD_0", mesh_where + "/primitives/" + std::to_string(pi)) >= 0;
   }
 
   for (size_t pi = 0; pi < gm.primitives.size(); ++pi) {
@@ -114,7 +120,7 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, uint32_t default_material
       stats->uses_default_material = true;
     }
 
-    const int pos_acc = FindAttribute(prim, "POSITION", where);
+    const int pos_acc = FindAttribute(src, prim, "POSITION", where);
     if (pos_acc < 0) throw InputError(where + "/attributes", "missing required attribute POSITION");
     std::vector<float> pos = ReadFloatAccessor(src, pos_acc, 3);
     CheckFinite(src, pos_acc, pos, 3, "position");
@@ -122,7 +128,7 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, uint32_t default_material
     if (nverts > size_t(UINT32_MAX)) throw InputError(where, "too many vertices");
 
     std::vector<float> nrm;
-    if (int acc = FindAttribute(prim, "NORMAL", where); acc >= 0) {
+    if (int acc = FindAttribute(src, prim, "NORMAL", where); acc >= 0) {
       nrm = ReadFloatAccessor(src, acc, 3);
       CheckFinite(src, acc, nrm, 3, "normal");
       if (nrm.size() != pos.size()) {
@@ -131,7 +137,7 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, uint32_t default_material
       }
     }
     std::vector<float> uv;
-    if (int acc = FindAttribute(prim, "TEXCOORD_0", where); acc >= 0) {
+    if (int acc = FindAttribute(src, prim, "TEXCOORD_0", where); acc >= 0) {
       uv = ReadFloatAccessor(src, acc, 2);
       CheckFinite(src, acc, uv, 2, "texture coordinate");
       if (uv.size() / 2 != nverts) {
@@ -142,6 +148,7 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, uint32_t default_material
 
     std::vector<uint32_t> corners;
     if (prim.indices >= 0) {
+      CheckAccessorRef(src, prim.indices, where + "/indices");
       corners = ReadIndexAccessor(src, prim.indices);
       for (size_t i = 0; i < corners.size(); ++i) {
         if (corners[i] >= nverts) {

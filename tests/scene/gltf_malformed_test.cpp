@@ -3,8 +3,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <random>
 
+#include "scene/gltf_container.h"
 #include "scene/gltf_loader.h"
 #include "test_util.h"
 
@@ -51,6 +53,46 @@ TEST(GltfMalformed, BinChunkLongerThanTheFile) {
   bin_length += 8;
   std::memcpy(&bytes[20 + json_length], &bin_length, 4);
   EXPECT_THAT(BytesError(bytes), HasSubstr("bad.glb: invalid GLB: BIN chunk of"));
+}
+
+TEST(GltfMalformed, WrongMagicIsNeitherGlbNorJson) {
+  auto bytes = test::SquareBuilder().ToGlb();
+  bytes[3] = 'X';
+  EXPECT_EQ(BytesError(bytes), "bad.glb: neither a GLB (bad magic: the first bytes are 67 6c 54 58, a GLB starts "
+                               "with \"glTF\" = 67 6c 54 46) nor JSON (which starts with '{')");
+}
+
+// Embedded buffers are checked before tinygltf: the base64 alphabet and the
+// decoded length against byteLength, each error naming /buffers/N/uri.
+TEST(GltfMalformed, BadDataUriNamesTheBuffer) {
+  TempDir dir;
+  GltfBuilder b = test::SquareBuilder();
+  std::vector<uint8_t> big(300000, 0x55);
+  b.AddBufferView(big.data(), big.size());
+  auto error_of = [&](const std::function<void(nlohmann::json&)>& edit) {
+    nlohmann::json j = nlohmann::json::parse(b.ToGltf());
+    edit(j);
+    test::WriteText(dir / "m.gltf", j.dump());
+    return ErrorOf([&] { LoadGltf(dir / "m.gltf", "m.gltf"); });
+  };
+  auto uri = [](nlohmann::json& j) -> std::string& { return j["buffers"][0]["uri"].get_ref<std::string&>(); };
+  const size_t header = std::string("data:application/octet-stream;base64,").size();
+  const std::string bad_char = error_of([&](nlohmann::json& j) { uri(j)[header + 200000] = '*'; });
+  EXPECT_EQ(bad_char, "m.gltf: /buffers/0/uri: invalid base64 data: '*' at character 200000 of the data");
+  const std::string short_data = error_of([&](nlohmann::json& j) { uri(j).resize(uri(j).size() - 8); });
+  EXPECT_THAT(short_data, ::testing::MatchesRegex("m\\.gltf: /buffers/0/uri: data URI holds [0-9]+ bytes, "
+                                                  "byteLength says [0-9]+"));
+  const std::string media = error_of([&](nlohmann::json& j) { uri(j).replace(5, 24, "text/html"); });
+  EXPECT_THAT(media, HasSubstr("m.gltf: /buffers/0/uri: a buffer's data URI must start with"));
+  EXPECT_LT(media.size(), 300u);
+}
+
+// tinygltf quotes whole data URIs in its messages; they are cut short.
+TEST(GltfMalformed, DataUrisInMessagesAreShortened) {
+  const std::string uri = "data:application/octet-stream;base64," + std::string(100000, 'A');
+  EXPECT_EQ(ShortenDataUris("Failed to decode 'uri' : " + uri + " in Buffer\nnext"),
+            "Failed to decode 'uri' : " + uri.substr(0, 40) + "... in Buffer\nnext");
+  EXPECT_EQ(ShortenDataUris("\"data:,x\" and " + uri), "\"data:,x\" and " + uri.substr(0, 40) + "...");
 }
 
 TEST(GltfMalformed, InvalidJson) {
@@ -242,6 +284,11 @@ TEST(GltfMalformed, DanglingReferences) {
     GltfBuilder b = test::SquareBuilder();
     b.json()["scene"] = 3;
     EXPECT_EQ(GlbError(b), "bad.glb: /scene: scene 3 does not exist (1 scenes)");
+  }
+  {
+    GltfBuilder b = test::SquareBuilder();
+    b.json()["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 99;
+    EXPECT_EQ(GlbError(b), "bad.glb: /meshes/0/primitives/0/attributes/POSITION: accessor 99 does not exist (3 accessors)");
   }
   {
     GltfBuilder b = test::SquareBuilder();
