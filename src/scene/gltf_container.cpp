@@ -76,25 +76,26 @@ void CheckBufferDataUri(const std::string& uri, const std::string& where, int64_
   }
 }
 
-// Fails when an external file named by uri does not exist (or is shorter than byte_length).
-void CheckExternal(const nlohmann::json& uri, const std::string& where, const std::string& what,
-                   const std::filesystem::path& base_dir, int64_t byte_length) {
+// Fails when an external file named by uri does not exist (or is shorter than
+// byte_length). Returns its normalized path and size.
+std::pair<std::filesystem::path, uint64_t> CheckExternal(const nlohmann::json& uri, const std::string& where,
+                                                         const std::string& what,
+                                                         const std::filesystem::path& base_dir, int64_t byte_length) {
   if (!uri.is_string()) throw InputError(where, "uri must be a string");
   const std::string s = uri.get<std::string>();
-  if (s.rfind("data:", 0) == 0) return;
+  if (s.rfind("data:", 0) == 0) return {};
   if (s.empty()) throw InputError(where, "uri must not be empty");
   std::filesystem::path p = (base_dir / DecodeUri(s)).lexically_normal();
   std::error_code ec;
   if (!std::filesystem::is_regular_file(p, ec)) {
     throw InputError(where, what + " file not found (looked for " + p.string() + ")");
   }
-  if (byte_length >= 0) {
-    auto size = std::filesystem::file_size(p, ec);
-    if (!ec && size != uint64_t(byte_length)) {
-      throw InputError(where, what + " file " + p.string() + " has " + std::to_string(size) +
-                                  " bytes, byteLength says " + std::to_string(byte_length));
-    }
+  const uint64_t size = std::filesystem::file_size(p, ec);
+  if (byte_length >= 0 && !ec && size < uint64_t(byte_length)) {
+    throw InputError(where, what + " file " + p.string() + " has " + std::to_string(size) +
+                                " bytes, byteLength says " + std::to_string(byte_length));
   }
+  return {p, ec ? 0 : size};
 }
 
 // Fails when arrays and objects nest deeper than kMaxJsonDepth. tinygltf converts
@@ -247,7 +248,8 @@ GltfContainer ParseGltfContainer(const std::vector<unsigned char>& bytes, const 
   return c;
 }
 
-void CheckGltfJson(const GltfContainer& container, const std::string& file, const std::filesystem::path& base_dir) {
+void CheckGltfJson(const GltfContainer& container, const std::string& file, const std::filesystem::path& base_dir,
+                   std::map<std::filesystem::path, uint64_t>* external_buffer_lengths) {
   CheckJsonDepth(container.json_text, file);
   json::Document doc = json::Document::Parse(container.json_text, file, base_dir);
   const nlohmann::json& root = doc.Root().raw();
@@ -282,7 +284,12 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
       if (uri->is_string() && uri->get_ref<const std::string&>().rfind("data:", 0) == 0) {
         CheckBufferDataUri(uri->get_ref<const std::string&>(), where, byte_length);
       } else {
-        CheckExternal(*uri, where, "buffer", base_dir, byte_length);
+        auto [path, size] = CheckExternal(*uri, where, "buffer", base_dir, byte_length);
+        if (external_buffer_lengths != nullptr && byte_length >= 0 && size > uint64_t(byte_length)) {
+          // Two buffers naming one file with different lengths: left to tinygltf to refuse.
+          auto [it, added] = external_buffer_lengths->emplace(path, uint64_t(byte_length));
+          if (!added && it->second != uint64_t(byte_length)) it->second = size;
+        }
       }
     }
   }

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -26,7 +27,10 @@ std::vector<unsigned char> ReadFileBytes(const std::filesystem::path& path, cons
 GltfContainer ParseGltfContainer(const std::vector<unsigned char>& bytes, const std::string& file);
 
 // Checks the JSON before the full parse (see above). base_dir is the folder of the file.
-void CheckGltfJson(const GltfContainer& container, const std::string& file, const std::filesystem::path& base_dir);
+// external_buffer_lengths (optional) receives the byteLength of each external
+// buffer file, by its normalized path, where it is shorter than the file.
+void CheckGltfJson(const GltfContainer& container, const std::string& file, const std::filesystem::path& base_dir,
+                   std::map<std::filesystem::path, uint64_t>* external_buffer_lengths = nullptr);
 
 // Cuts every data: URI quoted in a message to its first `keep` characters plus
 // "..." (a message must not carry megabytes of base64).

@@ -2,6 +2,7 @@
 
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -30,9 +31,17 @@ bool FileExistsCallback(const std::string& path, void*) {
 
 std::string ExpandFilePathCallback(const std::string& path, void*) { return path; }
 
-bool ReadWholeFileCallback(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+// An external buffer file may be longer than its byteLength (glTF 2.0 only asks
+// that it is not shorter), but tinygltf wants the exact size: such a file is cut
+// to byteLength as it is read. `user` is the map from CheckGltfJson.
+bool ReadWholeFileCallback(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
   try {
     *out = ReadFileBytes(path, path);
+    const auto* lengths = static_cast<const std::map<std::filesystem::path, uint64_t>*>(user);
+    if (lengths != nullptr) {
+      auto it = lengths->find(std::filesystem::path(path).lexically_normal());
+      if (it != lengths->end() && out->size() > it->second) out->resize(size_t(it->second));
+    }
     return true;
   } catch (const InputError& e) {
     if (err) *err += e.what();
@@ -129,10 +138,14 @@ Eigen::Affine3d LocalTransform(const tinygltf::Node& node, const std::string& wh
     for (int c = 0; c < 4; ++c) {
       for (int r = 0; r < 4; ++r) m(r, c) = node.matrix[size_t(4 * c + r)];  // column-major
     }
-    if (std::abs(m(3, 0)) > 1e-9 || std::abs(m(3, 1)) > 1e-9 || std::abs(m(3, 2)) > 1e-9 ||
-        std::abs(m(3, 3) - 1) > 1e-9) {
+    // Exporters write float matrices: allow float noise, relative to the matrix's scale.
+    const double scale = std::max(1.0, m.topRows<3>().cwiseAbs().maxCoeff());
+    const double tol = 1e-5 * scale;
+    if (std::abs(m(3, 0)) > tol || std::abs(m(3, 1)) > tol || std::abs(m(3, 2)) > tol ||
+        std::abs(m(3, 3) - 1) > 1e-5) {
       throw InputError(where + "/matrix", "must be affine (last row 0 0 0 1)");
     }
+    m.row(3) << 0, 0, 0, 1;
     t.matrix() = m;
     return t;
   }
@@ -245,14 +258,15 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
   std::vector<unsigned char> bytes = ReadFileBytes(abs, file);
   GltfContainer container = ParseGltfContainer(bytes, file);
   const std::filesystem::path base = abs.parent_path();
-  CheckGltfJson(container, file, base);
+  std::map<std::filesystem::path, uint64_t> buffer_lengths;
+  CheckGltfJson(container, file, base, &buffer_lengths);
 
   GltfAsset asset;
   asset.path = path;
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
   tinygltf::FsCallbacks fs{&FileExistsCallback, &ExpandFilePathCallback, &ReadWholeFileCallback,
-                           &WriteWholeFileCallback, nullptr};
+                           &WriteWholeFileCallback, &buffer_lengths};
   loader.SetFsCallbacks(fs);
   ImageLoadContext image_ctx{&model, {}};
   loader.SetImageLoader(&LoadImageCallback, &image_ctx);

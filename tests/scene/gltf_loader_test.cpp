@@ -234,6 +234,31 @@ TEST(GltfLoader, AccessorWithoutBufferViewOrSparseIsZeros) {
   for (const auto& uv : m.texcoords) EXPECT_EQ(uv, Eigen::Vector2f(0, 0));
 }
 
+// Exporters write float matrices: a last row off by float noise is accepted (and
+// made exactly 0 0 0 1); a really projective one is refused (gltf_malformed_test).
+TEST(GltfLoader, MatrixWithFloatNoiseInTheLastRowIsAccepted) {
+  GltfBuilder b = test::SquareBuilder();
+  b.json()["nodes"][0]["matrix"] = {2, 0, 0, 1e-7, 0, 2, 0, -1e-7, 0, 0, 2, 2e-7, 5, 6, 7, 1.0000001};
+  TempDir dir;
+  GltfAsset a = LoadBuilt(b, dir, Format::kGlb);
+  ASSERT_EQ(a.instances.size(), 1u);
+  Eigen::Matrix4d expected;
+  expected << 2, 0, 0, 5, 0, 2, 0, 6, 0, 0, 2, 7, 0, 0, 0, 1;
+  EXPECT_EQ(a.instances[0].file_from_mesh.matrix(), expected);
+}
+
+// glTF 2.0 asks only that an external buffer file is not shorter than byteLength.
+TEST(GltfLoader, ExternalBufferLongerThanByteLengthIsAccepted) {
+  TempDir dir;
+  test::SquareBuilder(true, true).WriteGltf(dir / "m.gltf", false);
+  const auto size = std::filesystem::file_size(dir / "m.bin");
+  std::filesystem::resize_file(dir / "m.bin", size + 4);
+  GltfAsset a = LoadGltf(dir / "m.gltf");
+  ASSERT_EQ(a.meshes.size(), 1u);
+  EXPECT_EQ(a.meshes[0].indices, test::SquareIndices());
+  EXPECT_EQ(a.meshes[0].positions[2], Eigen::Vector3f(1, 1, 0));
+}
+
 TEST(GltfLoader, NodeHierarchyComposesTrsAndMatrixTransforms) {
   GltfBuilder b = test::SquareBuilder();
   // Root (translation) -> child (rotation + scale) -> the square's node becomes a

@@ -309,6 +309,8 @@ TEST(GltfMalformed, NonAffineMatrix) {
   GltfBuilder b = test::SquareBuilder();
   b.json()["nodes"][0]["matrix"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 2};
   EXPECT_EQ(GlbError(b), "bad.glb: /nodes/0/matrix: must be affine (last row 0 0 0 1)");
+  b.json()["nodes"][0]["matrix"] = {1, 0, 0, 1e-3, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  EXPECT_EQ(GlbError(b), "bad.glb: /nodes/0/matrix: must be affine (last row 0 0 0 1)");
 }
 
 TEST(GltfMalformed, SparseIndexPastTheCount) {
