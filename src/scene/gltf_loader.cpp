@@ -220,6 +220,11 @@ std::vector<NodeUse> WalkScene(const GltfSource& src, std::vector<std::string>* 
     visited[size_t(index)] = 1;
     const tinygltf::Node& node = m.nodes[size_t(index)];
     Eigen::Affine3d global = parent * LocalTransform(node, where);
+    if (node.extensions.count("EXT_mesh_gpu_instancing") != 0) {
+      warnings->push_back(src.file + ": node \"" + (node.name.empty() ? "node " + std::to_string(index) : node.name) +
+                          "\": EXT_mesh_gpu_instancing ignored: its instances are not created (only the node's "
+                          "own mesh is placed)");
+    }
     if (node.mesh >= 0) {
       if (size_t(node.mesh) >= m.meshes.size()) {
         throw InputError(where + "/mesh", "mesh " + std::to_string(node.mesh) + " does not exist (" +

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <algorithm>
 #include <cstring>
+#include <map>
 #include <memory>
 
 #include "core/error.h"
@@ -127,6 +128,12 @@ int ReadTextureTransform(const tinygltf::TextureInfo& info, const std::string& w
   return tc.GetNumberAsInt();
 }
 
+// Material extensions whose effect is not rendered: one warning each, naming the materials.
+constexpr const char* kIgnoredMaterialExtensions[] = {
+    "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_ior",   "KHR_materials_specular",
+    "KHR_materials_clearcoat",    "KHR_materials_sheen",  "KHR_materials_unlit", "KHR_materials_iridescence",
+    "KHR_materials_anisotropy",   "KHR_materials_dispersion", "KHR_materials_diffuse_transmission"};
+
 }  // namespace
 
 std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<std::string>* warnings) {
@@ -134,6 +141,7 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
   std::vector<std::shared_ptr<const Texture>> textures(m.textures.size());
   std::vector<Material> out;
   out.reserve(m.materials.size());
+  std::map<std::string, std::string> ignored_extensions;  // name -> the materials using it
   for (size_t i = 0; i < m.materials.size(); ++i) {
     const tinygltf::Material& gm = m.materials[i];
     const std::string where = GltfWhere(src, "materials", int(i));
@@ -188,6 +196,61 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
       throw InputError(where + "/pbrMetallicRoughness/baseColorTexture/index", "must be >= 0");
     }
 
+    // KHR_materials_pbrSpecularGlossiness (older exporters, Sketchfab): the diffuse
+    // colour and texture become the base colour, roughness = 1 - glossiness, metallic 0.
+    if (auto it = gm.extensions.find("KHR_materials_pbrSpecularGlossiness"); it != gm.extensions.end()) {
+      const std::string sg_where = where + "/extensions/KHR_materials_pbrSpecularGlossiness";
+      const tinygltf::Value& sg = it->second;
+      if (!sg.IsObject()) throw InputError(sg_where, "must be an object");
+      mat.base_color = Eigen::Vector3f::Ones();
+      if (sg.Has("diffuseFactor")) {
+        const tinygltf::Value& d = sg.Get("diffuseFactor");
+        if (!d.IsArray() || d.ArrayLen() != 4) throw InputError(sg_where + "/diffuseFactor", "must have 4 elements");
+        for (int c = 0; c < 3; ++c) {
+          const tinygltf::Value& x = d.Get(c);
+          mat.base_color[c] = float(UnitFactor(x.IsNumber() ? x.GetNumberAsDouble() : -1.0,
+                                               sg_where + "/diffuseFactor/" + std::to_string(c)));
+        }
+      }
+      mat.metallic = 0;
+      mat.roughness = float(1.0 - UnitFactor(ExtNumber(sg, "glossinessFactor", 1.0, sg_where), sg_where + "/glossinessFactor"));
+      mat.base_color_texture = nullptr;
+      mat.base_color_uv_transform = UvTransform();
+      if (sg.Has("diffuseTexture")) {
+        const std::string dt_where = sg_where + "/diffuseTexture";
+        const tinygltf::Value& dt = sg.Get("diffuseTexture");
+        const tinygltf::Value& index = dt.IsObject() ? dt.Get("index") : dt;
+        if (!index.IsInt() || index.GetNumberAsInt() < 0 || size_t(index.GetNumberAsInt()) >= m.textures.size()) {
+          throw InputError(dt_where + "/index", "must name one of the " + std::to_string(m.textures.size()) + " textures");
+        }
+        tinygltf::TextureInfo info;
+        info.index = index.GetNumberAsInt();
+        if (dt.Has("texCoord")) info.texCoord = dt.Get("texCoord").GetNumberAsInt();
+        if (dt.Has("extensions") && dt.Get("extensions").IsObject()) {
+          const tinygltf::Value& exts = dt.Get("extensions");
+          for (const std::string& key : exts.Keys()) info.extensions[key] = exts.Get(key);
+        }
+        if (!textures[size_t(info.index)]) textures[size_t(info.index)] = MakeTexture(src, info.index);
+        mat.base_color_texture = textures[size_t(info.index)];
+        if (int texcoord = ReadTextureTransform(info, dt_where, &mat); texcoord != 0) {
+          warnings->push_back(src.file + ": material \"" + mat.name + "\": diffuse texture reads TEXCOORD_" +
+                              std::to_string(texcoord) + ", which is not loaded; TEXCOORD_0 is used instead");
+        }
+      }
+      warnings->push_back(src.file + ": material \"" + mat.name +
+                          "\": KHR_materials_pbrSpecularGlossiness converted to metallic-roughness (diffuse as base "
+                          "colour, roughness = 1 - glossiness, metallic 0); the specular colour" +
+                          std::string(sg.Has("specularGlossinessTexture") ? " and the specular-glossiness texture are"
+                                                                          : " is") +
+                          " approximated by a dielectric's");
+    }
+    for (const char* name : kIgnoredMaterialExtensions) {
+      if (gm.extensions.count(name) != 0) {
+        std::string& names = ignored_extensions[name];
+        names += (names.empty() ? "\"" : ", \"") + mat.name + "\"";
+      }
+    }
+
     std::string ignored;
     auto note = [&](bool present, const char* what) {
       if (present) ignored += (ignored.empty() ? "" : ", ") + std::string(what);
@@ -201,6 +264,10 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
       warnings->push_back(src.file + ": material \"" + mat.name + "\": ignored " + ignored);
     }
     out.push_back(std::move(mat));
+  }
+  for (const auto& [name, materials] : ignored_extensions) {
+    warnings->push_back(src.file + ": " + name + " ignored (not rendered), used by material" +
+                        (materials.find(',') != std::string::npos ? "s " : " ") + materials);
   }
   return out;
 }

@@ -85,9 +85,13 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, uint32_t default_material
   Mesh mesh;
   mesh.name = gm.name.empty() ? "mesh " + std::to_string(index) : gm.name;
 
-  bool any_texcoords = false;
+  bool any_texcoords = false, any_colors = false;
   for (size_t pi = 0; pi < gm.primitives.size(); ++pi) {
     any_texcoords |= FindAttribute(src, gm.primitives[pi], "TEXCOORD_0", mesh_where + "/primitives/" + std::to_string(pi)) >= 0;
+    any_colors |= gm.primitives[pi].attributes.count("COLOR_0") != 0;
+  }
+  if (any_colors) {
+    warnings->push_back(src.file + ": mesh \"" + mesh.name + "\": COLOR_0 vertex colours ignored (not rendered)");
   }
 
   for (size_t pi = 0; pi < gm.primitives.size(); ++pi) {

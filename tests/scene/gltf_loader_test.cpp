@@ -499,6 +499,57 @@ TEST(GltfLoader, TextureTransformMovesTheLookup) {
                         "KHR_texture_transform/scale: must be an array of 2 numbers"));
 }
 
+// KHR_materials_pbrSpecularGlossiness is converted: diffuse -> base colour,
+// roughness = 1 - glossiness, metallic 0, with a warning.
+TEST(GltfLoader, SpecularGlossinessIsConvertedWithAWarning) {
+  TempDir dir;
+  std::vector<uint8_t> png = TexturePng(dir);
+  GltfBuilder b = test::SquareBuilder(true, true);
+  int view = b.AddBufferView(png.data(), png.size());
+  b.json()["images"] = {{{"bufferView", view}, {"mimeType", "image/png"}}};
+  AddTexturedMaterial(b, 0);
+  b.json()["materials"][0]["pbrMetallicRoughness"].erase("baseColorTexture");
+  b.json()["materials"][0]["extensions"]["KHR_materials_pbrSpecularGlossiness"] = {
+      {"diffuseFactor", {0.5, 0.25, 1, 1}}, {"glossinessFactor", 0.75}, {"diffuseTexture", {{"index", 0}}}};
+  GltfAsset a = LoadBuilt(b, dir, Format::kGlb);
+  ASSERT_EQ(a.materials.size(), 1u);
+  const Material& m = a.materials[0];
+  EXPECT_EQ(m.base_color, Eigen::Vector3f(0.5f, 0.25f, 1));
+  EXPECT_EQ(m.metallic, 0.0f);
+  EXPECT_FLOAT_EQ(m.roughness, 0.25f);
+  ASSERT_TRUE(m.base_color_texture);
+  EXPECT_TRUE(m.BaseColorAt({0.25f, 0.75f}).isApprox(Eigen::Vector3f(0, 0, 1)));  // blue texel times (.5, .25, 1)
+  ASSERT_EQ(a.warnings.size(), 1u);
+  EXPECT_THAT(a.warnings[0], HasSubstr("model.glb: material \"painted\": KHR_materials_pbrSpecularGlossiness "
+                                       "converted to metallic-roughness"));
+  EXPECT_THAT(a.warnings[0], HasSubstr("the specular colour is approximated"));
+}
+
+// Features that are not rendered are reported, never silently dropped.
+TEST(GltfLoader, IgnoredExtensionsAndVertexColoursAreWarned) {
+  GltfBuilder b = test::SquareBuilder();
+  int glass = b.AddMaterial("glass", {1, 1, 1, 1}, 0, 0);
+  int bottle = b.AddMaterial("bottle", {1, 1, 1, 1}, 0, 0);
+  b.json()["materials"][size_t(glass)]["extensions"] = {{"KHR_materials_transmission", {{"transmissionFactor", 1}}},
+                                                        {"KHR_materials_ior", {{"ior", 1.5}}}};
+  b.json()["materials"][size_t(bottle)]["extensions"] = {{"KHR_materials_transmission", {{"transmissionFactor", 1}}}};
+  b.json()["meshes"][0]["primitives"][0]["material"] = glass;
+  std::vector<float> colours(16, 1.0f);
+  b.json()["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = b.AddFloats(colours, "VEC4");
+  b.json()["extensionsUsed"] = {"EXT_mesh_gpu_instancing"};
+  b.json()["nodes"][0]["extensions"] = {{"EXT_mesh_gpu_instancing", {{"attributes", {{"TRANSLATION", 0}}}}}};
+  TempDir dir;
+  b.WriteGlb(dir / "model.glb");
+  GltfAsset a = LoadGltf(dir / "model.glb", "model.glb");
+  EXPECT_THAT(a.warnings, ::testing::UnorderedElementsAre(
+                              "model.glb: KHR_materials_ior ignored (not rendered), used by material \"glass\"",
+                              "model.glb: KHR_materials_transmission ignored (not rendered), used by materials "
+                              "\"glass\", \"bottle\"",
+                              "model.glb: mesh \"square\": COLOR_0 vertex colours ignored (not rendered)",
+                              "model.glb: node \"square_node\": EXT_mesh_gpu_instancing ignored: its instances are "
+                              "not created (only the node's own mesh is placed)"));
+}
+
 TEST(GltfLoader, UnsupportedRequiredExtensionIsAnError) {
   GltfBuilder b = test::SquareBuilder();
   b.json()["extensionsRequired"] = {"KHR_draco_mesh_compression"};
