@@ -3,11 +3,14 @@
 //
 // What is read: the default scene's node hierarchy (TRS and matrix transforms),
 // meshes with several primitives, triangles / triangle strips / triangle fans,
-// indexed (u8/u16/u32) or not, normalized and sparse accessors, POSITION, NORMAL
-// (flat normals computed where missing, as glTF 2.0 specifies), TEXCOORD_0,
-// metallic-roughness factors, base-colour textures with their samplers, emissive
-// factor (with KHR_materials_emissive_strength). Points and lines are skipped with
-// a warning naming the mesh. Degenerate triangles are counted and dropped.
+// indexed (u8/u16/u32) or not, normalized and sparse accessors (and accessors
+// without data: zeros), POSITION, NORMAL (flat normals computed where missing, as
+// glTF 2.0 specifies), TEXCOORD_0, metallic-roughness factors, base-colour textures
+// with their samplers and KHR_texture_transform, emissive factor (with
+// KHR_materials_emissive_strength), KHR_materials_pbrSpecularGlossiness (converted).
+// Points and lines are skipped with a warning naming the mesh; so are other unrendered
+// features (COLOR_0, material extensions, EXT_mesh_gpu_instancing). Degenerate
+// triangles are counted and dropped. See docs/scene-format.md.
 // A mesh used by several nodes is loaded once and instanced.
 //
 // Every error in the file (truncated, out-of-range buffer view, index past the
