@@ -165,6 +165,13 @@ std::filesystem::path Value::Path() const {
   return p.lexically_normal();
 }
 
+std::filesystem::path Value::ExistingFile(std::string_view what) const {
+  std::filesystem::path p = Path();
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(p, ec)) Fail(std::string(what) + " not found (looked for " + p.string() + ")");
+  return p;
+}
+
 Object Value::AsObject() const { return Object(*this); }
 
 Value Value::Child(std::string_view key) const {

@@ -1,5 +1,8 @@
 #include "render/frame_lights.h"
 
+#include <stdexcept>
+#include <string>
+
 namespace lt {
 
 EmitterLayout MakeEmitterLayout(const SensorRig& rig) {
@@ -14,6 +17,12 @@ EmitterLayout MakeEmitterLayout(const SensorRig& rig) {
     layout.group_wavelength_m.push_back(rig.pattern->wavelength_m());
   }
   layout.groups = int(layout.group_wavelength_m.size());
+  if (layout.groups > kMaxRigEmitters || layout.channels > kMaxRigSheets) {
+    throw std::invalid_argument("a rig holds at most " + std::to_string(kMaxRigEmitters) +
+                                " lasers and pattern projectors and " + std::to_string(kMaxRigSheets) +
+                                " sheets; this one has " + std::to_string(layout.groups) + " and " +
+                                std::to_string(layout.channels));
+  }
   return layout;
 }
 

@@ -49,6 +49,7 @@
 #include "scene/material.h"
 #include "scene/scene_settings.h"
 #include "sensor/camera.h"
+#include "sensor/rig.h"
 
 namespace lt {
 
@@ -71,8 +72,8 @@ struct TraceStats {
 
 class PathTracer {
  public:
-  static constexpr int kMaxGroups = 8;     // monochromatic emitters per rig
-  static constexpr int kMaxChannels = 64;  // film laser channels (sheets) per rig
+  static constexpr int kMaxGroups = kMaxRigEmitters;   // monochromatic emitters per rig
+  static constexpr int kMaxChannels = kMaxRigSheets;   // film laser channels (sheets) per rig
   // The laser meets a surface at grazing incidence where the cosine of its
   // angle with the geometric normal is below this (60 degrees and more). Slot
   // walls across a 40 degree fan meet it at cosines up to 0.34; at 0.2, the

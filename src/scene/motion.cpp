@@ -18,7 +18,7 @@ StaticMotion ParseStatic(const json::Object& o) {
 PoseListMotion ParsePoseListMotion(const json::Object& o) {
   PoseListMotion m;
   json::Value file = o.Get("file");
-  m.file = file.Path();
+  m.file = file.ExistingFile("pose list");
   m.format = o.Enum("format", "csv", {"csv", "tum"}) == "csv" ? PoseFileFormat::kCsv : PoseFileFormat::kTum;
   m.time_from_first_pose = o.Enum("time_origin", "first_pose", {"first_pose", "file"}) == "first_pose";
   if (auto pose = o.Find("tool_from_cam")) m.tool_from_cam = ReadPose(*pose);

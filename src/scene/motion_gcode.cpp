@@ -121,7 +121,7 @@ JointVector GcodeMotion::JointsAt(double time_s) const {
 
 GcodeMotion ParseGcodeMotion(const json::Object& o) {
   GcodeMotion m;
-  m.file = o.Path("file");
+  m.file = o.Get("file").ExistingFile("G-code file");
   m.orientation.mode = ParseOrientationMode(o.Enum("orientation", "caster", {"fixed", "heading", "caster"}));
   m.orientation.caster_window_m = o.Number("caster_window_mm", 10.0, json::Range::Positive()) * kMetresPerMm;
   if (auto v = o.Find("world_from_gcode")) m.world_from_gcode = ReadPose(*v);

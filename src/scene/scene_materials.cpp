@@ -35,7 +35,12 @@ Subsurface ParseSubsurface(const json::Value& value) {
 std::shared_ptr<Texture> LoadTextureFile(const std::filesystem::path& path, const json::Value& value) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) value.Fail("texture not found (looked for " + path.string() + ")");
-  AnyImage any = ReadImage(path);
+  AnyImage any;
+  try {
+    any = ReadImage(path);
+  } catch (const InputError& e) {
+    value.Fail(e.what());
+  }
   auto tex = std::make_shared<Texture>();
   tex->name = path.string();
   auto fill = [&](const auto& img, auto to8) {

@@ -1,6 +1,7 @@
 #include "scene/scene_settings.h"
 
 #include <cmath>
+#include <fstream>
 #include <stdexcept>
 
 #include "core/error.h"
@@ -8,6 +9,18 @@
 namespace lt {
 
 using json::Range;
+
+namespace {
+
+// OpenEXR files begin with the magic number 20000630 (little endian).
+bool IsOpenExrFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  unsigned char magic[4] = {};
+  in.read(reinterpret_cast<char*>(magic), 4);
+  return in.gcount() == 4 && magic[0] == 0x76 && magic[1] == 0x2f && magic[2] == 0x31 && magic[3] == 0x01;
+}
+
+}  // namespace
 
 void RenderSettings::Check() const {
   if (spp < 1 || spp > 65536) throw std::invalid_argument("render.spp must be in [1, 65536]");
@@ -82,11 +95,8 @@ Environment ParseEnvironment(const json::Value& value) {
   } else {
     e.kind = Environment::Kind::kMap;
     json::Value exr = o.Get("exr");
-    e.exr = exr.Path();
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(e.exr, ec)) {
-      exr.Fail("environment map not found (looked for " + e.exr.string() + ")");
-    }
+    e.exr = exr.ExistingFile("environment map");
+    if (!IsOpenExrFile(e.exr)) exr.Fail(e.exr.string() + " is not an OpenEXR file");
     e.scale = o.Number("scale", 1.0, Range::NonNegative());
   }
   o.Finish();

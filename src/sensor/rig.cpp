@@ -222,7 +222,13 @@ LaserProjector ParseLaser(const Object& o) {
 
 PatternProjector ParsePatternProjector(const Object& o) {
   PatternProjectorParams p;
-  p.pattern = ReadImageFloat(o.Path("image"));
+  const Value image = o.Get("image");
+  const std::filesystem::path image_path = image.ExistingFile("pattern image");
+  try {
+    p.pattern = ReadImageFloat(image_path);
+  } catch (const InputError& e) {
+    image.Fail(e.what());
+  }
   Value fov = o.Get("fov_deg");
   if (fov.IsNumber()) {
     p.horizontal_fov_rad = fov.Number(Range::Open(0, 180)) * kDeg;
@@ -303,10 +309,27 @@ SensorRig ParseSensorRig(const Object& s) {
   SensorRig rig;
   rig.camera = ParseCamera(s.GetObject("camera"));
   if (auto o = s.FindObject("image_sensor")) rig.image_sensor = ParseImageSensor(*o);
+  int sheets = 0;
   if (auto l = s.Find("lasers")) {
-    for (const Value& v : l->Array()) rig.lasers.push_back(ParseLaser(v.AsObject()));
+    for (const Value& v : l->Array()) {
+      rig.lasers.push_back(ParseLaser(v.AsObject()));
+      sheets += rig.lasers.back().sheet_count();
+      if (int(rig.lasers.size()) > kMaxRigEmitters) {
+        v.Fail("a rig holds at most " + std::to_string(kMaxRigEmitters) + " lasers and pattern projectors together");
+      }
+      if (sheets > kMaxRigSheets) {
+        v.Fail("the lasers up to this one have " + std::to_string(sheets) + " sheets; a rig holds at most " +
+               std::to_string(kMaxRigSheets) + " (lasers' sheets and the pattern projector together)");
+      }
+    }
   }
-  if (auto o = s.FindObject("pattern_projector")) rig.pattern = ParsePatternProjector(*o);
+  if (auto o = s.FindObject("pattern_projector")) {
+    if (int(rig.lasers.size()) + 1 > kMaxRigEmitters || sheets + 1 > kMaxRigSheets) {
+      o->Fail("the rig is full: a rig holds at most " + std::to_string(kMaxRigEmitters) +
+              " lasers and pattern projectors and " + std::to_string(kMaxRigSheets) + " sheets, the pattern projector's one included");
+    }
+    rig.pattern = ParsePatternProjector(*o);
+  }
   if (auto o = s.FindObject("led")) rig.led = ParseLed(*o);
   if (auto o = s.FindObject("shutter")) rig.shutter = ParseShutter(*o);
   s.Finish();

@@ -18,6 +18,13 @@
 
 namespace lt {
 
+// What one rig may hold: its emitters (lasers and the pattern projector), each
+// carried by the renderer as one monochromatic light, and their sheets (a
+// laser's diffractive orders, the pattern projector's one), each its own film
+// channel. ParseSensorRig refuses more.
+constexpr int kMaxRigEmitters = 8;
+constexpr int kMaxRigSheets = 64;
+
 struct SensorRig {
   Camera camera;
   std::vector<LaserProjector> lasers;

@@ -178,7 +178,8 @@ TEST(GcodeMotion, SceneErrors) {
   EXPECT_THAT(error(R"({"type": "gcode", "file": "square.gcode", "start_time_s": -1})"), HasSubstr("/start_time_s"));
   EXPECT_THAT(error(R"({"type": "gcode", "file": "empty.gcode"})"), HasSubstr("/file: the G-code file has no moves"));
   EXPECT_THAT(error(R"({"type": "gcode", "file": "bad.gcode"})"), HasSubstr("bad.gcode:2: X without a number"));
-  EXPECT_THAT(error(R"({"type": "gcode", "file": "missing.gcode"})"), HasSubstr("missing.gcode: cannot open file"));
+  EXPECT_THAT(error(R"({"type": "gcode", "file": "missing.gcode"})"),
+              HasSubstr("/file: G-code file not found (looked for " + (dir / "missing.gcode").string() + ")"));
   EXPECT_THAT(error(R"({"type": "gcode", "file": "square.gcode", "robot": {"type": "ur10"}})"), HasSubstr("/robot/type"));
   EXPECT_THAT(error(R"({"type": "gcode", "file": "square.gcode", "robot": {"type": "ur5e", "reach": 1}})"),
               HasSubstr("reach"));

@@ -174,6 +174,15 @@ TEST(SceneFile, ErrorsNameTheFileAndPointer) {
             "scene.json: /motion: missing required key \"type\"");
   EXPECT_EQ(ErrorOf([&] { Parse(R"({"objects": [{"name": "", "gltf": "x.glb"}], )" + std::string(kSensor) + "}"); }),
             "scene.json: /objects/0/name: must not be empty");
+  // Files a scene names: missing, or not what the key needs.
+  EXPECT_EQ(ErrorOf([&] { Parse("{" + obj + kSensor + R"(, "environment": {"exr": "checker.png"}})"); }),
+            "scene.json: /environment/exr: " + (kScenes / "checker.png").string() + " is not an OpenEXR file");
+  EXPECT_EQ(ErrorOf([&] { Parse("{" + obj + kSensor + R"(, "environment": {"exr": "nope.exr"}})"); }),
+            "scene.json: /environment/exr: environment map not found (looked for " + (kScenes / "nope.exr").string() + ")");
+  EXPECT_EQ(ErrorOf([&] { Parse("{" + obj + kSensor + R"(, "motion": {"type": "pose_list", "file": "nope.csv"}})"); }),
+            "scene.json: /motion/file: pose list not found (looked for " + (kScenes / "nope.csv").string() + ")");
+  EXPECT_THAT(ErrorOf([&] { Parse("{" + obj + kSensor + R"(, "materials": {"m": {"base_color_texture": "minimal.json"}}})"); }),
+              HasSubstr("scene.json: /materials/m/base_color_texture: " + (kScenes / "minimal.json").string() + ": cannot read image"));
 }
 
 TEST(SceneFile, MotionTypes) {

@@ -109,6 +109,39 @@ TEST(Rig, InvalidParametersNameThePointer) {
   }
 }
 
+// A rig holds at most kMaxRigEmitters lasers and pattern projectors and
+// kMaxRigSheets sheets (the renderer's film channels): more is refused at the
+// laser or projector that goes over, before anything is rendered.
+TEST(Rig, EmitterAndSheetLimitsNameThePointer) {
+  const std::string cam = R"("camera": {"resolution": [64, 48], "focal_length_mm": 4, "pixel_pitch_um": 4.8, "f_number": 4})";
+  auto laser = [](int sheets) {
+    std::string l = R"({"power_mw": 1, "wavelength_nm": 650, "fan_angle_deg": 30, "cam_from_projector": {"translation_m": [0, 0.03, 0]})";
+    if (sheets > 1) l += R"(, "sheet_count": )" + std::to_string(sheets) + R"(, "sheet_spacing_deg": 1)";
+    return l + "}";
+  };
+  auto rig_with = [&](const std::vector<int>& sheets, bool pattern) {
+    std::string j = R"({"sensor": {)" + cam + R"(, "lasers": [)";
+    for (size_t i = 0; i < sheets.size(); ++i) j += (i ? "," : "") + laser(sheets[i]);
+    j += "]";
+    if (pattern) j += R"(, "pattern_projector": {"image": "p.png", "fov_deg": 30, "power_mw": 1, "wavelength_nm": 650})";
+    return j + "}}";
+  };
+  auto error_of = [](const std::string& json) {
+    auto doc = Doc(json);
+    return ErrorOf([&] { ParseSensorRig(doc.Root().AsObject().GetObject("sensor")); });
+  };
+  auto full = Doc(rig_with({60, 4}, false));
+  EXPECT_EQ(ParseSensorRig(full.Root().AsObject().GetObject("sensor")).lasers.size(), 2u);
+  EXPECT_EQ(error_of(rig_with({60, 5}, false)).rfind("scene.json: /sensor/lasers/1: the lasers up to this one have 65 sheets", 0), 0u);
+  EXPECT_EQ(error_of(rig_with({65}, false)).rfind("scene.json: /sensor/lasers/0:", 0), 0u);
+  EXPECT_EQ(error_of(rig_with(std::vector<int>(9, 1), false))
+                .rfind("scene.json: /sensor/lasers/8: a rig holds at most 8 lasers and pattern projectors", 0),
+            0u);
+  EXPECT_EQ(error_of(rig_with({64}, true)).rfind("scene.json: /sensor/pattern_projector: the rig is full", 0), 0u);
+  EXPECT_EQ(error_of(rig_with(std::vector<int>(8, 1), true)).rfind("scene.json: /sensor/pattern_projector: the rig is full", 0), 0u);
+  EXPECT_EQ(error_of(rig_with({1}, true)).rfind("scene.json: /sensor/pattern_projector/image: pattern image not found", 0), 0u);
+}
+
 // The example in docs/scene-format.md parses and means what the text says.
 TEST(Rig, DocumentedExampleParses) {
   std::ifstream in(std::string(LT_SOURCE_DIR) + "/docs/scene-format.md");

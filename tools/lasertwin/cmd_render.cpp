@@ -43,12 +43,13 @@ void Run(const RenderArgs& a) {
   nlohmann::json resolved = scene.resolved;
   if (overrides.spp) resolved["render"]["spp"] = *overrides.spp;
   if (overrides.seed) resolved["seed"] = *overrides.seed;
-  RunFolder run(a.out, resolved, a.resume);
-  WriteFileAtomically(run.dir() / "rig.json", SensorRigToJson(scene.sensor).dump(2) + "\n");
-
+  // Everything that can refuse the scene runs before the run folder is made, so a
+  // refused scene leaves no folder behind that a later render would take for a run.
   auto geometry = std::make_shared<SceneGeometry>(LoadSceneGeometry(scene));
   EmbreeScene embree(geometry);
   FrameRenderer renderer(scene, embree, overrides);
+  RunFolder run(a.out, resolved, a.resume);
+  WriteFileAtomically(run.dir() / "rig.json", SensorRigToJson(scene.sensor).dump(2) + "\n");
   Progress progress(end - begin, a.quiet);
   int rendered = 0;
   double total_ms = 0;
