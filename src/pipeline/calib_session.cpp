@@ -277,6 +277,8 @@ SessionLaserResult CalibrateSessionLaser(const fs::path& run_dir, const Checkerb
                                                           rig.black_level_dn, ImageTypeFullScale(image));
     eo.threshold = levels.threshold;
     eo.background = levels.background;
+    // A colour sensor's raw frame is a mosaic: demosaiced first, as in scan.
+    if (std::visit([](const auto& im) { return im.channels; }, image) == 1) eo.bayer = rig.color_filter;
     StripeExtractor extractor(eo);
     std::vector<StripePoint> points;
     try {

@@ -73,6 +73,13 @@ void ExtractionOptions::Check() const {
     }
     Require(sum > 0, "channel_weights", "must not all be zero");
   }
+  if (bayer != ColorFilter::kMono) {
+    Require(channel < 3, "channel",
+            "a demosaiced Bayer image has 3 channels (R, G, B): must be 0, 1 or 2, got " + std::to_string(channel));
+    Require(channel_weights.empty() || channel_weights.size() == 3, "channel_weights",
+            "a demosaiced Bayer image has 3 channels (R, G, B): give 3 weights, got " +
+                std::to_string(channel_weights.size()));
+  }
   Require(threads >= 0 && threads <= 1024, "threads", "must be in [0, 1024], got " + std::to_string(threads));
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "pipeline/stripe_point.h"
+#include "sensor/image_sensor.h"
 
 namespace lt {
 
@@ -68,6 +69,11 @@ struct ExtractionOptions {
   // channel, e.g. 1,0,0 for a red laser). Mono images need neither.
   int channel = -1;
   std::vector<double> channel_weights;
+  // A raw Bayer mosaic (one channel; kMono: not a mosaic). It is demosaiced
+  // bilinearly to R, G, B (pipeline/demosaic.h) and extracted on their mean
+  // (threshold and background stay in the raw image's units), or on `channel` /
+  // `channel_weights` of the demosaiced R, G, B.
+  ColorFilter bayer = ColorFilter::kMono;
 
   // Worker threads (TBB arena); 0 = all hardware threads.
   int threads = 0;

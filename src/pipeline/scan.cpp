@@ -31,24 +31,25 @@ struct PendingPoint {
   int label;
 };
 
-// Extractors by (threshold, background, axis): a run normally needs one.
+// Extractors by (threshold, background, axis, mosaic): a run normally needs one.
 class ExtractorCache {
  public:
   explicit ExtractorCache(const ExtractionOptions& base) : base_(base) {}
-  StripeExtractor& Get(double threshold, double background, SearchAxis axis) {
-    auto key = std::make_tuple(threshold, background, int(axis));
+  StripeExtractor& Get(double threshold, double background, SearchAxis axis, ColorFilter bayer) {
+    auto key = std::make_tuple(threshold, background, int(axis), int(bayer));
     auto it = cache_.find(key);
     if (it != cache_.end()) return *it->second;
     ExtractionOptions o = base_;
     o.threshold = threshold;
     o.background = background;
     o.axis = axis;
+    o.bayer = bayer;
     return *cache_.emplace(key, std::make_unique<StripeExtractor>(o)).first->second;
   }
 
  private:
   ExtractionOptions base_;
-  std::map<std::tuple<double, double, int>, std::unique_ptr<StripeExtractor>> cache_;
+  std::map<std::tuple<double, double, int, int>, std::unique_ptr<StripeExtractor>> cache_;
 };
 
 std::string Size(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
@@ -140,11 +141,12 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     } catch (const InputError& e) {
       throw InputError(e.where(), e.message() + context);
     }
-    int width = 0, height = 0;
+    int width = 0, height = 0, channels = 0;
     std::visit(
         [&](const auto& im) {
           width = im.width;
           height = im.height;
+          channels = im.channels;
         },
         image);
     const double type_full_scale = ImageTypeFullScale(image);
@@ -160,7 +162,9 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     const SearchAxis axis = options.axis ? *options.axis : frame.gt_axis ? *frame.gt_axis : planes_axis;
     std::vector<StripePoint> points;
     try {
-      points = extractors.Get(threshold, background, axis).Extract(image);
+      // The raw frame of a colour sensor is a mosaic: demosaiced before extraction.
+      const ColorFilter bayer = channels == 1 ? rig.color_filter : ColorFilter::kMono;
+      points = extractors.Get(threshold, background, axis, bayer).Extract(image);
     } catch (const InputError& e) {
       throw InputError(e.where().empty() ? frame.image.string() : e.where(), e.message() + context);
     }

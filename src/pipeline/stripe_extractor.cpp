@@ -8,6 +8,7 @@
 #include <tbb/task_arena.h>
 
 #include "core/error.h"
+#include "pipeline/demosaic.h"
 #include "pipeline/extract_methods.h"
 #include "pipeline/extract_steger.h"
 
@@ -48,6 +49,7 @@ struct StripeExtractor::Impl {
   std::vector<uint8_t> buf8[2];
   std::vector<uint16_t> buf16[2];
   std::vector<float> buf32[2];
+  std::vector<float> demosaiced;  // R, G, B of a Bayer mosaic
 
   explicit Impl(ExtractionOptions o)
       : options((o.Check(), std::move(o))),
@@ -135,16 +137,23 @@ void StripeExtractor::Extract(const ImageView<T>& image, std::vector<StripePoint
     view = image.Crop(r.x, r.y, r.width, r.height);
     region = r;
   }
-  const int C = image.channels;
+  const bool bayer = o.bayer != ColorFilter::kMono;
+  if (bayer && image.channels != 1) {
+    throw InputError("", std::string("a Bayer mosaic (") + BayerPatternName(o.bayer) +
+                             ") has one channel but the image has " + std::to_string(image.channels) +
+                             ": it is not a raw mosaic");
+  }
+  const int C = bayer ? 3 : image.channels;  // channels to choose from (a mosaic's: demosaiced R, G, B)
+  const char* channels_of = bayer ? " but the demosaiced Bayer image has " : " but the image has ";
   if (o.channel >= C) {
-    throw InputError("", "channel " + std::to_string(o.channel) + " requested but the image has " +
+    throw InputError("", "channel " + std::to_string(o.channel) + " requested" + channels_of +
                              std::to_string(C) + (C == 1 ? " channel" : " channels"));
   }
   if (!o.channel_weights.empty() && int(o.channel_weights.size()) != C) {
-    throw InputError("", std::to_string(o.channel_weights.size()) + " channel weights given but the image has " +
+    throw InputError("", std::to_string(o.channel_weights.size()) + " channel weights given" + channels_of +
                              std::to_string(C) + (C == 1 ? " channel" : " channels"));
   }
-  if (C > 1 && o.channel < 0 && o.channel_weights.empty()) {
+  if (!bayer && C > 1 && o.channel < 0 && o.channel_weights.empty()) {
     throw InputError("", "the image has " + std::to_string(C) +
                              " channels: choose the laser's channel or give channel weights");
   }
@@ -152,7 +161,7 @@ void StripeExtractor::Extract(const ImageView<T>& image, std::vector<StripePoint
     for (int y = 0; y < view.height; ++y) {
       const T* row = view.Row(y);
       bool ok = true;
-      for (int i = 0; i < view.width * C; ++i) ok &= std::isfinite(row[i]);
+      for (int i = 0; i < view.width * view.channels; ++i) ok &= std::isfinite(row[i]);
       if (!ok) throw InputError("", "image row " + std::to_string(region.y + y) + " holds NaN or infinite values");
     }
   }
@@ -161,7 +170,23 @@ void StripeExtractor::Extract(const ImageView<T>& image, std::vector<StripePoint
   params.threshold = ThresholdFor<T>();
   params.high_threshold = std::isnan(o.high_threshold) ? 2.0 * params.threshold : o.high_threshold;
   const int W = view.width, H = view.height;
-  if (!o.channel_weights.empty() && !(C == 1 && o.channel_weights[0] == 1.0)) {
+  if (bayer) {
+    // Demosaiced R, G, B (the crop keeps the sensor's mosaic phase), then their
+    // mean, one of them or their weighted sum.
+    std::vector<float>& rgb = impl_->demosaiced;
+    DemosaicBilinear(view, o.bayer, region.x, region.y, &rgb);
+    double w[3] = {1.0 / 3, 1.0 / 3, 1.0 / 3};
+    if (o.channel >= 0) {
+      for (int c = 0; c < 3; ++c) w[c] = c == o.channel ? 1.0 : 0.0;
+    } else if (!o.channel_weights.empty()) {
+      for (int c = 0; c < 3; ++c) w[c] = o.channel_weights[size_t(c)];
+    }
+    auto& buf = impl_->Buffer<float>(0);
+    buf.resize(size_t(W) * H);
+    const float w0 = float(w[0]), w1 = float(w[1]), w2 = float(w[2]);
+    for (size_t i = 0; i < buf.size(); ++i) buf[i] = w0 * rgb[3 * i] + w1 * rgb[3 * i + 1] + w2 * rgb[3 * i + 2];
+    impl_->RunOriented(ImageView<float>{buf.data(), W, H, 1, ptrdiff_t(W)}, params, points);
+  } else if (!o.channel_weights.empty() && !(C == 1 && o.channel_weights[0] == 1.0)) {
     auto& buf = impl_->Buffer<float>(0);
     buf.resize(size_t(W) * H);
     for (int y = 0; y < H; ++y) {

@@ -5,6 +5,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -215,6 +216,31 @@ TEST_F(ExtractCommand, OutAsAFolder) {
   r = RunCli("extract " + Quoted(p) + " --out " + Quoted(dir_ / "csv" / "x.csv"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(ReadFile(dir_ / "csv" / "x.csv"), HasSubstr("u,v,width,strength\n20.0000,0.0000,"));
+}
+
+// --bayer: a raw mosaic of a red laser is found in every row once demosaiced
+// (without it, every peak is narrower than --min-width); an unknown pattern or
+// a colour image is an error.
+TEST_F(ExtractCommand, BayerMosaic) {
+  Image<uint16_t> raw(64, 48, 1, 0);
+  const double gain[2][2] = {{1.0, 0.25}, {0.25, 0.05}};  // RGGB
+  for (int y = 0; y < raw.height; ++y)
+    for (int x = 0; x < raw.width; ++x)
+      raw.At(x, y) = uint16_t(std::lround(3000 * gain[y & 1][x & 1] * std::exp(-0.5 * (x - 20.3) * (x - 20.3) / 4.0)));
+  const fs::path p = dir_ / "raw.png";
+  WriteImage(p, raw);
+  CliResult before = RunCli("extract " + Quoted(p) + " --threshold 300");
+  ASSERT_EQ(before.exit_code, 0) << before.err;
+  EXPECT_EQ(before.out, "u,v,width,strength\n");
+  CliResult r = RunCli("extract " + Quoted(p) + " --threshold 300 --bayer rggb");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1 + raw.height) << r.out;
+  EXPECT_THAT(r.out, HasSubstr("\n20.3"));
+  ExpectInputError(Quoted(p) + " --bayer rgb", "--bayer: unknown Bayer pattern 'rgb' (expected none, rggb, bggr, grbg or gbrg)");
+  Image<uint8_t> rgb(16, 8, 3, 0);
+  const fs::path colour = dir_ / "colour.png";
+  WriteImage(colour, rgb);
+  ExpectInputError(Quoted(colour) + " --bayer gbrg", colour.string() + ": a Bayer mosaic (gbrg) has one channel but the image has 3");
 }
 
 }  // namespace

@@ -108,7 +108,10 @@ struct SyntheticRun {
 
 // Writes a run folder: frame 0 lit by the laser (10-bit DN in a 16-bit PNG),
 // frame 1 a bright frame whose image does not exist (a scan must not read it).
-SyntheticRun MakeRun(const std::string& name, int n_sheets, bool upside_down = false) {
+// With `mosaic` not kMono, the rig's sensor is a colour one and the frame its
+// raw Bayer mosaic of a red laser (R 1.0, G 0.25, B 0.05).
+SyntheticRun MakeRun(const std::string& name, int n_sheets, bool upside_down = false,
+                     ColorFilter mosaic = ColorFilter::kMono) {
   SyntheticRun run;
   run.dir = fs::temp_directory_path() / ("lt_scan_test_" + std::to_string(::getpid())) / name;
   fs::remove_all(run.dir);
@@ -117,7 +120,12 @@ SyntheticRun MakeRun(const std::string& name, int n_sheets, bool upside_down = f
   rig.camera = run.camera;
   rig.lasers.push_back(TestLaser(n_sheets, upside_down));
   for (int k = 0; k < n_sheets; ++k) run.sheets.push_back(rig.lasers[0].SheetPlane(k));
-  std::ofstream(run.dir / "rig.json") << SensorRigToJson(rig).dump(2);
+  nlohmann::json rig_json = SensorRigToJson(rig);
+  if (mosaic != ColorFilter::kMono) {
+    static const char* const kNames[] = {"mono", "rggb", "bggr", "grbg", "gbrg"};
+    rig_json["image_sensor"]["color_filter"] = kNames[int(mosaic)];
+  }
+  std::ofstream(run.dir / "rig.json") << rig_json.dump(2);
   run.world_from_cam.linear() = Eigen::AngleAxisd(3.0, Eigen::Vector3d(0.1, 1, 0.05).normalized()).toRotationMatrix();
   run.world_from_cam.translation() = Eigen::Vector3d(0.3, -0.1, 0.5);
 
@@ -139,6 +147,12 @@ SyntheticRun MakeRun(const std::string& name, int n_sheets, bool upside_down = f
   }
   Image<uint16_t> dn(img.width, img.height, 1);
   for (size_t i = 0; i < img.pixels.size(); ++i) dn.pixels[i] = uint16_t(std::lround(std::min(img.pixels[i], 1023.0f)));
+  if (mosaic != ColorFilter::kMono) {
+    const double gain[3] = {1.0, 0.25, 0.05};
+    for (int y = 0; y < dn.height; ++y)
+      for (int x = 0; x < dn.width; ++x)
+        dn.At(x, y) = uint16_t(std::lround(std::min(img.At(x, y) * gain[FilterChannel(mosaic, x, y)], 1023.0)));
+  }
   WriteImage(run.dir / "frames/000000.png", dn);
 
   nlohmann::json dim = {{"index", 0},
@@ -202,6 +216,40 @@ TEST(Scan, SingleSheetPointsLieOnTheSurface) {
   EXPECT_THAT(header, HasSubstr("element vertex " + std::to_string(points.size()) + "\n"));
   EXPECT_THAT(header, HasSubstr("world frame"));
   EXPECT_THAT(header, ::testing::Not(HasSubstr("red")));
+}
+
+// The raw frames of a colour sensor are demosaiced before extraction: on the
+// raw mosaic every peak of the red stripe is narrower than --min-width.
+TEST(Scan, BayerFramesAreDemosaiced) {
+  SyntheticRun run = MakeRun("bayer", 1, false, ColorFilter::kGRBG);
+  ScanOptions o;
+  o.extraction.method = ExtractionMethod::kCom;
+  o.extraction.threshold = 100;  // the mean of R, G, B peaks near 430 DN
+  ScanSummary s = ScanRun(run.dir, o);
+  std::vector<ScanPoint> points = ReadScanCsv(run.dir / "centers/000000.csv");
+  EXPECT_GE(int(points.size()), 150);
+  double worst = 0;
+  double worst_border = 0;
+  for (const ScanPoint& p : points) {
+    const bool border = p.pixel.u < 1 || p.pixel.u > run.camera.width() - 2;
+    (border ? worst_border : worst) = std::max(border ? worst_border : worst, ErrorInPixels(run, 0, p));
+  }
+  // sigma 1.2 px, the red pixels every second row: within 0.05 px
+  // (tests/pipeline/demosaic_test.cpp). A border column without red pixels
+  // takes its red from the next column, where the stripe (slope 0.07 px per
+  // column there) is elsewhere: 0.14 px measured.
+  EXPECT_LT(worst, 0.05);
+  EXPECT_LT(worst_border, 0.2);
+  // The same frame read as a mono image finds (almost) nothing.
+  SyntheticRun mono = MakeRun("bayer_as_mono", 1, false, ColorFilter::kGRBG);
+  std::ofstream(mono.dir / "rig.json") << SensorRigToJson([&] {
+    SensorRig rig;
+    rig.camera = mono.camera;
+    rig.lasers.push_back(TestLaser(1));
+    return rig;
+  }()).dump(2);
+  EXPECT_LT(ScanRun(mono.dir, o).points, 50);
+  EXPECT_GE(s.points, 150);
 }
 
 TEST(Scan, ThresholdFollowsTheFramesBitDepth) {

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/image_io.h"
+#include "pipeline/demosaic.h"
 #include "pipeline/plane_identification.h"
 #include "pipeline/stripe_csv.h"
 #include "pipeline/stripe_extractor.h"
@@ -23,6 +24,7 @@ struct ExtractArgs {
   std::string axis = "rows";
   std::string roi;
   std::string weights;
+  std::string bayer = "none";
   std::string out;
   ExtractionOptions options;
   int planes = 0;
@@ -61,6 +63,7 @@ void Run(ExtractArgs& a) {
   o.axis = ParseAxis(a.axis, "--axis");
   if (!a.roi.empty()) o.roi = ParseRoi(a.roi);
   if (!a.weights.empty()) o.channel_weights = ParseNumbers(a.weights, "--weights");
+  o.bayer = ParseBayerPattern(a.bayer, "--bayer");
   a.plane_options.axis = o.axis;
   // Edge connectivity must reach past the lines a method cannot measure.
   a.plane_options.edge_margin = std::max(a.plane_options.edge_margin, o.EdgeLinesWithoutPoints() + 2);
@@ -150,6 +153,10 @@ void AddExtract(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--channel", o.channel, "Colour images: channel holding the laser (0-based)");
   cmd->add_option("--weights", args->weights, "Colour images: channel weights, e.g. 1,0,0");
+  cmd->add_option("--bayer", args->bayer,
+                  "Raw Bayer mosaic: rggb | bggr | grbg | gbrg (demosaiced, then extracted on the mean of R, G, B "
+                  "or on --channel/--weights of them) | none")
+      ->capture_default_str();
   cmd->add_option("--threads", o.threads, "Worker threads (0: all)")->capture_default_str();
   cmd->add_option("--planes", args->planes, "Identify N laser planes (adds the plane column)");
   cmd->add_option("--link-distance", args->plane_options.link_distance,
