@@ -198,7 +198,7 @@ LaserProjector ParseLaser(const Object& o) {
     for (double& a : p.sheet_angles_rad) a *= kDeg;
   } else {
     const int64_t count = o.Integer("sheet_count", 1, Range::AtLeast(1));
-    if (count > 1000) o.Get("sheet_count").Fail("must be <= 1000, got " + std::to_string(count));
+    if (count > kMaxRigSheets) o.Get("sheet_count").Fail("must be <= " + std::to_string(kMaxRigSheets) + ", got " + std::to_string(count));
     const int n = int(count);
     double spacing = 0.0;
     if (n > 1) {
