@@ -2,7 +2,10 @@
 
 #include <cmath>
 #include <fstream>
+#include <functional>
+#include <set>
 #include <sstream>
+#include <vector>
 
 #include "core/error.h"
 
@@ -106,7 +109,16 @@ int64_t Value::Integer(Range range) const {
     if (!range.Contains(double(v))) Fail(range.Describe() + ", got " + std::to_string(v));
     return v;
   }
-  if (node_->is_number()) Fail("must be an integer, got " + FormatNumber(node_->get<double>()));
+  if (node_->is_number()) {
+    // 2.0 is an integer, as JSON Schema counts it; 2.5 is not.
+    const double d = node_->get<double>();
+    if (std::isfinite(d) && d == std::floor(d) && std::abs(d) <= 9007199254740992.0) {
+      const int64_t v = int64_t(d);
+      if (!range.Contains(d)) Fail(range.Describe() + ", got " + std::to_string(v));
+      return v;
+    }
+    Fail("must be an integer, got " + FormatNumber(d));
+  }
   Fail(std::string("must be an integer, got ") + TypeName(*node_));
 }
 
@@ -284,13 +296,63 @@ Value Document::Root() const { return Value(ctx_, &ctx_->root, ""); }
 
 const std::string& Document::file() const { return ctx_->file; }
 
+namespace {
+
+// Follows the parser's events to know the JSON pointer of the value being read
+// and the keys each open object has had: JSON leaves a repeated key's meaning
+// open (nlohmann keeps the last), so a repeated key is an error.
+class DuplicateKeyCheck {
+ public:
+  // The parser's callback; sets duplicate_pointer() at the first repeated key.
+  bool operator()(int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+    using E = nlohmann::json::parse_event_t;
+    switch (event) {
+      case E::object_start: frames_.push_back({true}); break;
+      case E::array_start: frames_.push_back({false}); break;
+      case E::key: {
+        Frame& f = frames_.back();
+        f.key = parsed.get<std::string>();
+        if (!f.keys.insert(f.key).second && duplicate_.empty()) duplicate_ = Pointer();
+        break;
+      }
+      case E::object_end:
+      case E::array_end: frames_.pop_back(); Completed(); break;
+      case E::value: Completed(); break;
+    }
+    return true;
+  }
+  const std::string& duplicate_pointer() const { return duplicate_; }
+
+ private:
+  struct Frame {
+    bool object = false;
+    std::set<std::string> keys;
+    std::string key;
+    size_t index = 0;
+  };
+  // A value inside an array was read: the next one has the next index.
+  void Completed() {
+    if (!frames_.empty() && !frames_.back().object) ++frames_.back().index;
+  }
+  std::string Pointer() const {
+    std::string p;
+    for (const Frame& f : frames_) p += "/" + (f.object ? EscapePointerToken(f.key) : std::to_string(f.index));
+    return p;
+  }
+  std::vector<Frame> frames_;
+  std::string duplicate_;
+};
+
+}  // namespace
+
 Document Document::Parse(const std::string& text, std::string display_name,
                          const std::filesystem::path& base_dir) {
   auto ctx = std::make_shared<Context>();
   ctx->file = std::move(display_name);
   ctx->base_dir = base_dir;
+  DuplicateKeyCheck duplicates;
   try {
-    ctx->root = nlohmann::json::parse(text);
+    ctx->root = nlohmann::json::parse(text, std::ref(duplicates));
   } catch (const nlohmann::json::parse_error& e) {
     auto [line, col] = LineColumn(text, e.byte > 0 ? e.byte - 1 : 0);
     // nlohmann's message reads "[json.exception.parse_error.101] parse error at
@@ -305,6 +367,10 @@ Document Document::Parse(const std::string& text, std::string display_name,
     auto pos = msg.find("] ");
     if (pos != std::string::npos) msg = msg.substr(pos + 2);
     throw InputError(ctx->file, "invalid JSON: " + msg);
+  }
+  if (!duplicates.duplicate_pointer().empty()) {
+    const std::string& p = duplicates.duplicate_pointer();
+    throw InputError(ctx->file + ": " + p, "key given twice (JSON leaves a repeated key's meaning open)");
   }
   Document d;
   d.ctx_ = std::move(ctx);

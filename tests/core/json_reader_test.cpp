@@ -45,6 +45,27 @@ TEST(JsonReader, WrongTypes) {
             "scene.json: /e: must be one of \"a\", \"b\", got \"x\"");
 }
 
+TEST(JsonReader, IntegerWrittenWithAFractionOfZero) {
+  auto doc = Doc(R"({"a": 2.0, "b": -3e2, "c": 2.5, "d": 1e300})");
+  Object o = doc.Root().AsObject();
+  EXPECT_EQ(o.Integer("a"), 2);
+  EXPECT_EQ(o.Integer("b"), -300);
+  EXPECT_EQ(ErrorOf([&] { o.Integer("c"); }), "scene.json: /c: must be an integer, got 2.5");
+  EXPECT_EQ(ErrorOf([&] { o.Integer("d"); }), "scene.json: /d: must be an integer, got 1e+300");
+  EXPECT_EQ(ErrorOf([&] { o.Integer("a", Range::AtLeast(3)); }), "scene.json: /a: must be >= 3, got 2");
+}
+
+TEST(JsonReader, RepeatedKeyIsAnErrorNamingItsPointer) {
+  EXPECT_EQ(ErrorOf([] { Doc(R"({"seed": 1, "seed": 5})"); }),
+            "scene.json: /seed: key given twice (JSON leaves a repeated key's meaning open)");
+  EXPECT_EQ(ErrorOf([] { Doc(R"({"a": [1, {"x": 0}, [2, 3], {"y": 1, "z": {"k": 1, "k": 2}}]})"); }).rfind(
+                "scene.json: /a/3/z/k: key given twice", 0),
+            0u);
+  // The same key in different objects is fine.
+  auto doc = Doc(R"({"a": {"k": 1}, "b": {"k": 2}, "c": [{"k": 3}, {"k": 4}]})");
+  EXPECT_EQ(doc.Root().AsObject().GetObject("b").Integer("k"), 2);
+}
+
 TEST(JsonReader, NumberOverflowIsAnInputError) {
   EXPECT_EQ(ErrorOf([] { Doc(R"({"x": 1e999})"); }),
             "scene.json: invalid JSON: number overflow parsing '1e999'");
