@@ -407,6 +407,16 @@ void AddTexturedMaterial(GltfBuilder& b, int image) {
   b.json()["meshes"][0]["primitives"][0]["material"] = mat;
 }
 
+// The square with the 2x2 texture (TexturePng) in its binary buffer as its base colour.
+GltfBuilder SquareWithEmbeddedTexture(const TempDir& dir) {
+  std::vector<uint8_t> png = TexturePng(dir);
+  GltfBuilder b = test::SquareBuilder(true, true);
+  int view = b.AddBufferView(png.data(), png.size());
+  b.json()["images"] = {{{"bufferView", view}, {"mimeType", "image/png"}}};
+  AddTexturedMaterial(b, 0);
+  return b;
+}
+
 void CheckTexture(const GltfAsset& a) {
   ASSERT_EQ(a.materials.size(), 1u);
   ASSERT_TRUE(a.materials[0].base_color_texture);
@@ -422,11 +432,7 @@ void CheckTexture(const GltfAsset& a) {
 
 TEST(GltfLoader, BaseColorTextureInBufferView) {
   TempDir dir;
-  std::vector<uint8_t> png = TexturePng(dir);
-  GltfBuilder b = test::SquareBuilder(true, true);
-  int view = b.AddBufferView(png.data(), png.size());
-  b.json()["images"] = {{{"bufferView", view}, {"mimeType", "image/png"}}};
-  AddTexturedMaterial(b, 0);
+  GltfBuilder b = SquareWithEmbeddedTexture(dir);
   CheckTexture(LoadBuilt(b, dir, Format::kGlb));
 }
 
@@ -462,11 +468,7 @@ TEST(GltfLoader, ExtensionImageWithPngFallbackUsesTheFallback) {
 // centre of one texel of the 2x2 texture (red, green / blue, white).
 TEST(GltfLoader, TextureTransformMovesTheLookup) {
   TempDir dir;
-  std::vector<uint8_t> png = TexturePng(dir);
-  GltfBuilder b = test::SquareBuilder(true, true);
-  int view = b.AddBufferView(png.data(), png.size());
-  b.json()["images"] = {{{"bufferView", view}, {"mimeType", "image/png"}}};
-  AddTexturedMaterial(b, 0);
+  GltfBuilder b = SquareWithEmbeddedTexture(dir);
   b.json()["extensionsUsed"] = {"KHR_texture_transform"};
   b.json()["extensionsRequired"] = {"KHR_texture_transform"};
   auto& info = b.json()["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"];
@@ -503,11 +505,7 @@ TEST(GltfLoader, TextureTransformMovesTheLookup) {
 // roughness = 1 - glossiness, metallic 0, with a warning.
 TEST(GltfLoader, SpecularGlossinessIsConvertedWithAWarning) {
   TempDir dir;
-  std::vector<uint8_t> png = TexturePng(dir);
-  GltfBuilder b = test::SquareBuilder(true, true);
-  int view = b.AddBufferView(png.data(), png.size());
-  b.json()["images"] = {{{"bufferView", view}, {"mimeType", "image/png"}}};
-  AddTexturedMaterial(b, 0);
+  GltfBuilder b = SquareWithEmbeddedTexture(dir);
   b.json()["materials"][0]["pbrMetallicRoughness"].erase("baseColorTexture");
   b.json()["materials"][0]["extensions"]["KHR_materials_pbrSpecularGlossiness"] = {
       {"diffuseFactor", {0.5, 0.25, 1, 1}}, {"glossinessFactor", 0.75}, {"diffuseTexture", {{"index", 0}}}};
