@@ -31,12 +31,13 @@ void ExtractCom(const ImageView<T>& image, const MethodParams& params, BandedPoi
   out->Reset(image.height);
   ForEachBand(image.height, out->band_rows, [&](int band, int y0, int y1) {
     auto& points = out->bands[band];
+    WidthRejections& rejected = out->rejected[band];
     for (int y = y0; y < y1; ++y) {
       const T* row = image.Row(y);
       LinePeak peak = FindRowMaximum(row, n);
       if (!(peak.value >= params.threshold)) continue;
       double fwhm = PeakFwhm(row, n, peak.first, peak.last, peak.value, base);
-      if (!WidthAccepted(fwhm, o)) continue;  // NaN (border) is rejected too
+      if (!WidthAccepted(fwhm, o, &rejected)) continue;  // NaN (border) is rejected too
       const double h = ComHalfWindow(fwhm, peak.last - peak.first + 1, o.window);
       double c = 0;
       // No point when the window leaves the image or holds no light.

@@ -39,13 +39,14 @@ void ExtractMax(const ImageView<T>& image, const MethodParams& params, BandedPoi
   out->Reset(image.height);
   ForEachBand(image.height, out->band_rows, [&](int band, int y0, int y1) {
     auto& points = out->bands[band];
+    WidthRejections& rejected = out->rejected[band];
     for (int y = y0; y < y1; ++y) {
       const T* row = image.Row(y);
       LinePeak peak = FindRowMaximum(row, n);
       if (!(peak.value >= params.threshold)) continue;
       if (peak.first == 0 || peak.last == n - 1) continue;  // runs into the border
       double fwhm = PeakFwhm(row, n, peak.first, peak.last, peak.value, o.background);
-      if (!WidthAccepted(fwhm, o)) continue;
+      if (!WidthAccepted(fwhm, o, &rejected)) continue;
       points.push_back({0.5 * (peak.first + peak.last), double(y), fwhm, peak.value, -1});
     }
   });

@@ -30,16 +30,25 @@ struct MethodParams {
 struct BandedPoints {
   int band_rows = 16;
   std::vector<std::vector<StripePoint>> bands;
+  std::vector<WidthRejections> rejected;  // per band
 
   int Reset(int height) {  // returns the number of bands
     int n = (height + band_rows - 1) / band_rows;
     if (int(bands.size()) < n) bands.resize(n);
-    for (int i = 0; i < n; ++i) bands[i].clear();
+    if (int(rejected.size()) < n) rejected.resize(n);
+    for (int i = 0; i < n; ++i) {
+      bands[i].clear();
+      rejected[i] = {};
+    }
     used = n;
     return n;
   }
-  void AppendTo(std::vector<StripePoint>* out) const {
-    for (int i = 0; i < used; ++i) out->insert(out->end(), bands[i].begin(), bands[i].end());
+  void AppendTo(std::vector<StripePoint>* out, WidthRejections* rejections) const {
+    for (int i = 0; i < used; ++i) {
+      out->insert(out->end(), bands[i].begin(), bands[i].end());
+      rejections->narrow += rejected[i].narrow;
+      rejections->wide += rejected[i].wide;
+    }
   }
   int used = 0;
 };
@@ -91,6 +100,19 @@ double PeakFwhm(const T* line, int n, int first, int last, double peak, double b
 inline bool WidthAccepted(double fwhm, const ExtractionOptions& o) {
   if (!(fwhm >= o.min_width)) return false;  // also rejects NaN
   return o.max_width == 0 || fwhm <= o.max_width;
+}
+// The same, counting a measured width outside [min_width, max_width] (a NaN
+// width, a peak at the border or on another's flank, is not counted).
+inline bool WidthAccepted(double fwhm, const ExtractionOptions& o, WidthRejections* count) {
+  if (fwhm < o.min_width) {
+    ++count->narrow;
+    return false;
+  }
+  if (o.max_width != 0 && fwhm > o.max_width) {
+    ++count->wide;
+    return false;
+  }
+  return fwhm == fwhm;
 }
 
 // Maximum search / maximum centre of mass: one point per row (extract_max.cpp,

@@ -18,7 +18,7 @@ namespace {
 // from the weights (the threshold, or a valley the part was split at).
 template <typename T>
 void EmitPart(const T* row, int n, int a, int b, double floor, int y, const ExtractionOptions& o,
-              std::vector<StripePoint>* points) {
+              std::vector<StripePoint>* points, WidthRejections* rejected) {
   int first = a;
   for (int x = a + 1; x <= b; ++x) {
     if (row[x] > row[first]) first = x;
@@ -27,7 +27,7 @@ void EmitPart(const T* row, int n, int a, int b, double floor, int y, const Extr
   while (last + 1 <= b && row[last + 1] == row[first]) ++last;
   const double peak = double(row[first]);
   double fwhm = PeakFwhm(row, n, first, last, peak, o.background);
-  if (!WidthAccepted(fwhm, o)) return;
+  if (!WidthAccepted(fwhm, o, rejected)) return;
   double sw = 0, swx = 0;
   for (int x = a; x <= b; ++x) {
     double w = std::max(0.0, double(row[x]) - floor);
@@ -42,7 +42,7 @@ void EmitPart(const T* row, int n, int a, int b, double floor, int y, const Extr
 // neighbouring peaks (heights above t), then emit each part.
 template <typename T>
 void ProcessRun(const T* row, int n, int a, int b, double t, int y, const ExtractionOptions& o,
-                std::vector<StripePoint>* points) {
+                std::vector<StripePoint>* points, WidthRejections* rejected) {
   int part_start = a;
   double part_floor = t;
   double cur_max = double(row[a]) - t;
@@ -66,7 +66,7 @@ void ProcessRun(const T* row, int n, int a, int b, double t, int y, const Extrac
       } else if (val > 2.0 * vmin && val > 0.5 * cur_max) {
         // A second peak rises: split at the valley.
         const double valley_level = double(row[vmin_pos]);
-        if (part_start > 0) EmitPart(row, n, part_start, vmin_pos, std::max(part_floor, valley_level), y, o, points);
+        if (part_start > 0) EmitPart(row, n, part_start, vmin_pos, std::max(part_floor, valley_level), y, o, points, rejected);
         part_start = vmin_pos;
         part_floor = valley_level;
         cur_max = val;
@@ -74,7 +74,7 @@ void ProcessRun(const T* row, int n, int a, int b, double t, int y, const Extrac
       }
     }
   }
-  if (part_start > 0 && b < n - 1) EmitPart(row, n, part_start, b, part_floor, y, o, points);
+  if (part_start > 0 && b < n - 1) EmitPart(row, n, part_start, b, part_floor, y, o, points, rejected);
 }
 
 }  // namespace
@@ -87,6 +87,7 @@ void ExtractMultiCom(const ImageView<T>& image, const MethodParams& params, Band
   out->Reset(image.height);
   ForEachBand(image.height, out->band_rows, [&](int band, int y0, int y1) {
     auto& points = out->bands[band];
+    WidthRejections* rejected = &out->rejected[band];
     constexpr int kChunk = 64;
     for (int y = y0; y < y1; ++y) {
       const T* row = image.Row(y);
@@ -97,7 +98,7 @@ void ExtractMultiCom(const ImageView<T>& image, const MethodParams& params, Band
 #pragma omp simd reduction(max : m)
         for (int x = c0 + 1; x < c1; ++x) m = row[x] > m ? row[x] : m;
         if (!(double(m) >= t)) {  // nothing above the threshold in this chunk
-          if (run_start >= 0) ProcessRun(row, n, run_start, c0 - 1, t, y, o, &points);
+          if (run_start >= 0) ProcessRun(row, n, run_start, c0 - 1, t, y, o, &points, rejected);
           run_start = -1;
           continue;
         }
@@ -106,12 +107,12 @@ void ExtractMultiCom(const ImageView<T>& image, const MethodParams& params, Band
           if (above && run_start < 0) {
             run_start = x;
           } else if (!above && run_start >= 0) {
-            ProcessRun(row, n, run_start, x - 1, t, y, o, &points);
+            ProcessRun(row, n, run_start, x - 1, t, y, o, &points, rejected);
             run_start = -1;
           }
         }
       }
-      if (run_start >= 0) ProcessRun(row, n, run_start, n - 1, t, y, o, &points);
+      if (run_start >= 0) ProcessRun(row, n, run_start, n - 1, t, y, o, &points, rejected);
     }
   });
 }

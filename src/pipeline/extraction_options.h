@@ -2,6 +2,7 @@
 // and parameter).
 #pragma once
 
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <string>
@@ -23,6 +24,13 @@ enum class ExtractionMethod {
 // row is searched across (one point per stripe and row). kCols: stripes run
 // roughly left to right and each column is searched.
 enum class SearchAxis { kRows, kCols };
+
+// Candidate peaks (above the threshold) that max, com and multicom dropped
+// because their FWHM was outside [min_width, max_width].
+struct WidthRejections {
+  int64_t narrow = 0;  // narrower than min_width (hot pixels, or a thinner stripe)
+  int64_t wide = 0;    // wider than max_width
+};
 
 const char* MethodName(ExtractionMethod method);
 const char* AxisName(SearchAxis axis);

@@ -164,7 +164,10 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     try {
       // The raw frame of a colour sensor is a mosaic: demosaiced before extraction.
       const ColorFilter bayer = channels == 1 ? rig.color_filter : ColorFilter::kMono;
-      points = extractors.Get(threshold, background, axis, bayer).Extract(image);
+      StripeExtractor& extractor = extractors.Get(threshold, background, axis, bayer);
+      points = extractor.Extract(image);
+      summary.width_rejected.narrow += extractor.last_rejections().narrow;
+      summary.width_rejected.wide += extractor.last_rejections().wide;
     } catch (const InputError& e) {
       throw InputError(e.where().empty() ? frame.image.string() : e.where(), e.message() + context);
     }

@@ -64,6 +64,7 @@ struct ScanSummary {
   int other_frames = 0;    // frames in range without laser light (bright frames), skipped
   int points = 0;          // stripe points
   int triangulated = 0;    // points in the cloud
+  WidthRejections width_rejected;  // candidate peaks dropped for their width, all frames
   TriangulationStats stats;  // summed over frames
   bool world_frame = true;   // cloud.ply is in the world frame (every frame had a pose)
   int planes = 0;

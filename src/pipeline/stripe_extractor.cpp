@@ -1,6 +1,7 @@
 #include "pipeline/stripe_extractor.h"
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <memory>
 #include <string>
@@ -50,6 +51,7 @@ struct StripeExtractor::Impl {
   std::vector<uint16_t> buf16[2];
   std::vector<float> buf32[2];
   std::vector<float> demosaiced;  // R, G, B of a Bayer mosaic
+  WidthRejections rejections;     // of the last Extract
 
   explicit Impl(ExtractionOptions o)
       : options((o.Check(), std::move(o))),
@@ -72,15 +74,15 @@ struct StripeExtractor::Impl {
       switch (options.method) {
         case ExtractionMethod::kMax:
           ExtractMax(work, params, &banded);
-          banded.AppendTo(points);
+          banded.AppendTo(points, &rejections);
           break;
         case ExtractionMethod::kCom:
           ExtractCom(work, params, &banded);
-          banded.AppendTo(points);
+          banded.AppendTo(points, &rejections);
           break;
         case ExtractionMethod::kMultiCom:
           ExtractMultiCom(work, params, &banded);
-          banded.AppendTo(points);
+          banded.AppendTo(points, &rejections);
           break;
         case ExtractionMethod::kSteger:
           steger->Run(work, params, points);
@@ -109,6 +111,7 @@ StripeExtractor::StripeExtractor(ExtractionOptions options) : impl_(std::make_un
 StripeExtractor::~StripeExtractor() = default;
 
 const ExtractionOptions& StripeExtractor::options() const { return impl_->options; }
+const WidthRejections& StripeExtractor::last_rejections() const { return impl_->rejections; }
 
 template <typename T>
 double StripeExtractor::ThresholdFor() const {
@@ -120,6 +123,7 @@ template <typename T>
 void StripeExtractor::Extract(const ImageView<T>& image, std::vector<StripePoint>* points) {
   const ExtractionOptions& o = impl_->options;
   points->clear();
+  impl_->rejections = {};
   if (image.data == nullptr || image.empty()) {
     throw InputError("", "image is empty (" + Size(image.width, image.height) + ")");
   }
@@ -216,6 +220,36 @@ void StripeExtractor::Extract(const ImageView<T>& image, std::vector<StripePoint
     p.u += region.x;
     p.v += region.y;
   }
+}
+
+std::vector<std::string> WidthRejectionNotes(const WidthRejections& rejected, const ExtractionOptions& o) {
+  std::vector<std::string> notes;
+  auto num = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return std::string(buf);
+  };
+  if (rejected.narrow > 0) {
+    notes.push_back(std::to_string(rejected.narrow) + " candidate peak" + (rejected.narrow == 1 ? " was" : "s were") +
+                    " narrower than --min-width " + num(o.min_width) +
+                    " px and rejected (hot pixels, or a stripe thinner than that: lower --min-width)");
+  }
+  if (rejected.wide > 0) {
+    notes.push_back(std::to_string(rejected.wide) + " candidate peak" + (rejected.wide == 1 ? " was" : "s were") +
+                    " wider than --max-width " + num(o.max_width) +
+                    " px and rejected (blobs of ambient light, or a stripe wider than that: raise --max-width)");
+  }
+  return notes;
+}
+
+std::string NoStripePointsNote(const ExtractionOptions& o) {
+  std::string note = "no stripe points found; check --threshold (the default is 10% of the image's full scale), --roi and --axis";
+  if (o.method == ExtractionMethod::kSteger) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%g", o.expected_width);
+    note += ", and --width (" + std::string(buf) + " px): steger finds only stripes of about that width";
+  }
+  return note;
 }
 
 std::vector<StripePoint> StripeExtractor::Extract(const AnyImage& image) {

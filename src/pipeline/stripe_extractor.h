@@ -5,6 +5,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "core/image.h"
@@ -38,6 +39,10 @@ class StripeExtractor {
   }
   std::vector<StripePoint> Extract(const AnyImage& image);
 
+  // Candidate peaks the last Extract dropped for their width (max, com,
+  // multicom; zero for steger), so callers can tell the user.
+  const WidthRejections& last_rejections() const;
+
   // The threshold used for images of sample type T (resolves kAuto).
   template <typename T>
   double ThresholdFor() const;
@@ -46,5 +51,14 @@ class StripeExtractor {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// Notes for the user (one line each, without "note: "; none when nothing was
+// rejected) naming the counts of `rejected` and the option to change, e.g. "312
+// candidate peaks narrower than --min-width 1.5 px were rejected (hot pixels or
+// a stripe thinner than that: lower --min-width)".
+std::vector<std::string> WidthRejectionNotes(const WidthRejections& rejected, const ExtractionOptions& options);
+// The note when no stripe point was found at all: what to check (for steger,
+// also --width).
+std::string NoStripePointsNote(const ExtractionOptions& options);
 
 }  // namespace lt

@@ -232,6 +232,11 @@ TEST_F(ExtractCommand, BayerMosaic) {
   CliResult before = RunCli("extract " + Quoted(p) + " --threshold 300");
   ASSERT_EQ(before.exit_code, 0) << before.err;
   EXPECT_EQ(before.out, "u,v,width,strength\n");
+  // Not silent: the rejected peaks are counted and the option named.
+  EXPECT_THAT(before.err, HasSubstr("lasertwin: note: 48 candidate peaks were narrower than --min-width 1.5 px and "
+                                    "rejected (hot pixels, or a stripe thinner than that: lower --min-width)"));
+  CliResult steger = RunCli("extract " + Quoted(p) + " --threshold 300 --method steger --width 30");
+  EXPECT_THAT(steger.err, HasSubstr("and --width (30 px): steger finds only stripes of about that width"));
   CliResult r = RunCli("extract " + Quoted(p) + " --threshold 300 --bayer rggb");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1 + raw.height) << r.out;

@@ -311,5 +311,40 @@ TEST(ExtractionBadInput, OptionsAreChecked) {
   EXPECT_THROW(ParseAxis("diagonal", "--axis"), InputError);
 }
 
+// Candidate peaks dropped by the width checks are counted, and the notes name
+// the counts and the option; steger's "nothing found" note names --width.
+TEST(ExtractionRejections, CountedAndNamedInNotes) {
+  Image<uint8_t> img(40, 10, 1, 0);
+  for (int y = 0; y < 10; ++y) img.At(7, y) = 200;  // one-pixel peaks: hot pixels
+  ExtractionOptions o;
+  o.method = ExtractionMethod::kMultiCom;
+  StripeExtractor e(o);
+  EXPECT_TRUE(e.Extract(img.View()).empty());
+  EXPECT_EQ(e.last_rejections().narrow, 10);
+  EXPECT_EQ(e.last_rejections().wide, 0);
+  auto notes = WidthRejectionNotes(e.last_rejections(), o);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_EQ(notes[0], "10 candidate peaks were narrower than --min-width 1.5 px and rejected (hot pixels, or a stripe "
+                      "thinner than that: lower --min-width)");
+  // A wide plateau with --max-width (com, one candidate per row).
+  for (int y = 0; y < 10; ++y)
+    for (int x = 15; x < 30; ++x) img.At(x, y) = 250;
+  o.method = ExtractionMethod::kCom;
+  o.max_width = 8;
+  StripeExtractor wide(o);
+  EXPECT_TRUE(wide.Extract(img.View()).empty());
+  EXPECT_EQ(wide.last_rejections().wide, 10);
+  EXPECT_EQ(wide.last_rejections().narrow, 0);
+  notes = WidthRejectionNotes(wide.last_rejections(), o);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("10 candidate peaks were wider than --max-width 8 px"), std::string::npos) << notes[0];
+  // Counts are per call.
+  Image<uint8_t> dark(40, 10, 1, 0);
+  wide.Extract(dark.View());
+  EXPECT_EQ(wide.last_rejections().wide, 0);
+  o.method = ExtractionMethod::kSteger;
+  EXPECT_NE(NoStripePointsNote(o).find("--width (5 px)"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace lt::test

@@ -99,6 +99,7 @@ void Run(ExtractArgs& a) {
     }
   }
   size_t total = 0;
+  WidthRejections rejected;
   for (const auto& image : a.images) {
     AnyImage img = ReadImage(image);
     std::vector<StripePoint> points;
@@ -106,6 +107,8 @@ void Run(ExtractArgs& a) {
     try {
       std::visit([&](const auto& im) { width = im.width, height = im.height; }, img);
       points = extractor.Extract(img);
+      rejected.narrow += extractor.last_rejections().narrow;
+      rejected.wide += extractor.last_rejections().wide;
     } catch (const InputError& e) {
       throw InputError(image, e.message());
     }
@@ -123,10 +126,8 @@ void Run(ExtractArgs& a) {
       WriteStripeCsv(target, points, a.planes > 0);
     }
   }
-  if (total == 0) {
-    std::cerr << "lasertwin: note: no stripe points found; check --threshold (the default is 10% of the "
-                 "image's full scale), --roi and --axis\n";
-  }
+  for (const std::string& note : WidthRejectionNotes(rejected, o)) std::cerr << "lasertwin: note: " << note << "\n";
+  if (total == 0) std::cerr << "lasertwin: note: " << NoStripePointsNote(o) << "\n";
 }
 
 void AddExtract(CLI::App& app) {

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "pipeline/scan.h"
+#include "pipeline/stripe_extractor.h"
 #include "tools/lasertwin/frame_range.h"
 #include "tools/lasertwin/command.h"
 
@@ -57,6 +58,11 @@ void Run(ScanArgs& a) {
   if (!a.calib.empty()) o.calibration = a.calib;
   if (!a.frames.empty()) ParseFrameRange(a.frames, &o.frames_begin, &o.frames_end);
   ScanSummary s = ScanRun(a.run_dir, o, [](const std::string& w) { std::cerr << "lasertwin: warning: " << w << "\n"; });
+  // Points lost to the width checks, or none at all, are said even with --quiet.
+  for (const std::string& note : WidthRejectionNotes(s.width_rejected, o.extraction)) {
+    std::cerr << "lasertwin: note: " << note << "\n";
+  }
+  if (s.stats.points == 0) std::cerr << "lasertwin: note: " << NoStripePointsNote(o.extraction) << "\n";
   if (a.quiet) return;
   const TriangulationStats& st = s.stats;
   std::cerr << "scanned " << s.laser_frames << " laser frame" << (s.laser_frames == 1 ? "" : "s");
