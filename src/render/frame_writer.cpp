@@ -1,5 +1,7 @@
 #include "render/frame_writer.h"
 
+#include <filesystem>
+
 #include "core/atomic_file.h"
 #include "core/image_io.h"
 
@@ -24,11 +26,14 @@ nlohmann::json WriteFrame(const RunFolder& run, const RenderedFrame& frame, int 
   } else {
     WriteImage(dir / RunFolder::FrameImageName(index), RawTo8Bit(frame.raw, bits));
   }
+  // radiance/ and gt/ exist only in runs that write them.
   if (output.write_radiance) {
+    std::filesystem::create_directories(dir / "radiance");
     files["radiance"] = RunFolder::RadianceName(index);
     WriteImage(dir / RunFolder::RadianceName(index), frame.radiance, true, {"R", "G", "B", "laser"});
   }
   if (output.write_ground_truth) {
+    std::filesystem::create_directories(dir / "gt");
     const auto& gt = frame.gt;
     const int w = gt.depth.width, h = gt.depth.height;
     Image<float> buffers(w, h, 7);

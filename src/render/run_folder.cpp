@@ -109,7 +109,7 @@ RunFolder::RunFolder(const std::filesystem::path& dir, const nlohmann::json& res
     }
     if (std::filesystem::exists(dir / "manifest.jsonl")) manifest_ = ReadManifest(dir);
   }
-  for (const char* sub : {"frames", "radiance", "gt"}) std::filesystem::create_directories(dir / sub);
+  std::filesystem::create_directories(dir / "frames");
   if (!std::filesystem::exists(scene_path)) WriteFileAtomically(scene_path, resolved_scene.dump(2) + "\n");
 }
 

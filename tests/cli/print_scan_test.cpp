@@ -115,7 +115,10 @@ TEST_F(PrintScan, InfoListsTheMotionNotesAndThePrint) {
   r = RunCli("info --json " + Quoted(fs::path(LT_SOURCE_DIR) / "scenes/print/scene.json"));
   const nlohmann::json j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["print"]["chunks"], 6);
-  EXPECT_EQ(j["motion"]["notes"].size(), 3u);
+  ASSERT_EQ(j["motion"]["notes"].size(), 4u);  // moves, skipped commands, orientation, robot
+  EXPECT_THAT(j["motion"]["notes"][1].get<std::string>(),
+              HasSubstr("part.gcode: skipped 9 commands without effect on motion: M104 x2, M107 x2, M140 x2, "
+                        "M106 x1, M109 x1, M190 x1"));
 }
 
 TEST_F(PrintScan, CoverageOfTheBeadsPrintedDuringTheRun) {

@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <functional>
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
@@ -72,6 +74,42 @@ TEST(RenderCommand, WritesTheRunFolderAndResumes) {
   for (const auto& e : fs::recursive_directory_iterator(dir)) {
     EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
   }
+  fs::remove_all(dir);
+}
+
+// tiny_scan.json with its objects' paths made absolute and `edit` applied, written to `path`.
+void WriteEditedScene(const fs::path& path, const std::function<void(nlohmann::json&)>& edit) {
+  nlohmann::json scene = nlohmann::json::parse(ReadFile(kScene));
+  for (auto& o : scene["objects"]) o["gltf"] = (kScene.parent_path() / o["gltf"].get<std::string>()).lexically_normal().string();
+  edit(scene);
+  std::ofstream(path) << scene.dump(2);
+}
+
+// A run without radiance and ground truth has no radiance/ or gt/ folder; a
+// scene the renderer refuses (more sheets than a rig holds) leaves no folder.
+TEST(RenderCommand, WritesOnlyWhatTheSceneAsksFor) {
+  fs::path dir = TestFolder("render_outputs");
+  fs::create_directories(dir);
+  WriteEditedScene(dir / "frames_only.json", [](nlohmann::json& s) {
+    s["output"]["write_radiance"] = false;
+    s["output"]["write_ground_truth"] = false;
+  });
+  CliResult r = RunCli("render " + Quoted(dir / "frames_only.json") + " --out " + Quoted(dir / "run") +
+                       " --frames 1:2 --spp 1 --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir / "run/frames/000001.png"));
+  EXPECT_FALSE(fs::exists(dir / "run/radiance"));
+  EXPECT_FALSE(fs::exists(dir / "run/gt"));
+
+  WriteEditedScene(dir / "too_many_sheets.json", [](nlohmann::json& s) {
+    auto& laser = s["sensor"]["lasers"][0];
+    laser["sheet_count"] = 65;
+    laser["sheet_spacing_deg"] = 0.5;
+  });
+  r = RunCli("render " + Quoted(dir / "too_many_sheets.json") + " --out " + Quoted(dir / "refused") + " --quiet");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("/sensor/lasers/0/sheet_count: must be <= 64"));
+  EXPECT_FALSE(fs::exists(dir / "refused"));
   fs::remove_all(dir);
 }
 
