@@ -7,17 +7,13 @@
 namespace lt {
 
 ColorFilter ParseBayerPattern(const std::string& text, const std::string& where) {
-  if (text == "none" || text == "mono") return ColorFilter::kMono;
-  if (text == "rggb") return ColorFilter::kRGGB;
-  if (text == "bggr") return ColorFilter::kBGGR;
-  if (text == "grbg") return ColorFilter::kGRBG;
-  if (text == "gbrg") return ColorFilter::kGBRG;
+  if (text == "none") return ColorFilter::kMono;
+  if (auto filter = ParseColorFilter(text)) return *filter;
   throw InputError(where, "unknown Bayer pattern '" + text + "' (expected none, rggb, bggr, grbg or gbrg)");
 }
 
 const char* BayerPatternName(ColorFilter filter) {
-  static const char* const kNames[] = {"none", "rggb", "bggr", "grbg", "gbrg"};
-  return kNames[int(filter)];
+  return filter == ColorFilter::kMono ? "none" : ColorFilterName(filter);
 }
 
 namespace {

@@ -141,12 +141,7 @@ RunRig ReadRigJson(const fs::path& path) {
   if (auto s = root.FindObject("image_sensor")) {
     rig.bit_depth = int(s->Integer("bit_depth", 0, Range::Closed(1, 16)));
     rig.black_level_dn = s->Number("black_level_dn", 0.0, Range::NonNegative());
-    const std::string cfa = s->Enum("color_filter", "mono", {"mono", "rggb", "bggr", "grbg", "gbrg"});
-    rig.color_filter = cfa == "rggb"   ? ColorFilter::kRGGB
-                       : cfa == "bggr" ? ColorFilter::kBGGR
-                       : cfa == "grbg" ? ColorFilter::kGRBG
-                       : cfa == "gbrg" ? ColorFilter::kGBRG
-                                       : ColorFilter::kMono;
+    rig.color_filter = *ParseColorFilter(s->Enum("color_filter", "mono", {"mono", "rggb", "bggr", "grbg", "gbrg"}));
     s->Accept({"full_well_e", "system_gain_dn_per_e", "dark_noise_e"});
     s->Finish();
   }

@@ -116,6 +116,19 @@ double ImageSensor::SystemGain(std::optional<double> analog_gain_db) const {
   return params_.system_gain_dn_per_e * std::pow(10.0, analog_gain_db.value_or(params_.analog_gain_db) / 20.0);
 }
 
+namespace {
+constexpr const char* kColorFilterNames[] = {"mono", "rggb", "bggr", "grbg", "gbrg"};  // by ColorFilter
+}  // namespace
+
+const char* ColorFilterName(ColorFilter filter) { return kColorFilterNames[int(filter)]; }
+
+std::optional<ColorFilter> ParseColorFilter(std::string_view name) {
+  for (int i = 0; i < int(std::size(kColorFilterNames)); ++i) {
+    if (name == kColorFilterNames[i]) return ColorFilter(i);
+  }
+  return std::nullopt;
+}
+
 int FilterChannel(ColorFilter filter, int x, int y) {
   // Colour of the 2x2 tile position (row-major: (0,0) (1,0) (0,1) (1,1)).
   static const int kTiles[5][4] = {{0, 0, 0, 0}, {0, 1, 1, 2}, {2, 1, 1, 0}, {1, 0, 2, 1}, {1, 2, 0, 1}};

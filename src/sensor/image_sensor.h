@@ -30,6 +30,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <string_view>
 #include <vector>
 
 #include "core/image.h"
@@ -38,6 +39,11 @@
 namespace lt {
 
 enum class ColorFilter { kMono, kRGGB, kBGGR, kGRBG, kGBRG };
+
+// The scene file's and rig.json's names: "mono", "rggb", "bggr", "grbg", "gbrg".
+const char* ColorFilterName(ColorFilter filter);
+// The filter ColorFilterName names `name`; nullopt for any other text.
+std::optional<ColorFilter> ParseColorFilter(std::string_view name);
 
 // Colour channel (0 R, 1 G, 2 B; 0 for mono) of pixel (x, y) under a filter array
 // (x, y >= 0).

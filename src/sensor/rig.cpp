@@ -118,12 +118,7 @@ Camera ParseCamera(const Object& o) {
 
 ImageSensor ParseImageSensor(const Object& o) {
   ImageSensorParams p;
-  std::string cfa = o.Enum("color_filter", "mono", {"mono", "rggb", "bggr", "grbg", "gbrg"});
-  p.color_filter = cfa == "mono"   ? ColorFilter::kMono
-                   : cfa == "rggb" ? ColorFilter::kRGGB
-                   : cfa == "bggr" ? ColorFilter::kBGGR
-                   : cfa == "grbg" ? ColorFilter::kGRBG
-                                   : ColorFilter::kGBRG;
+  p.color_filter = *ParseColorFilter(o.Enum("color_filter", "mono", {"mono", "rggb", "bggr", "grbg", "gbrg"}));
   const bool mono = p.color_filter == ColorFilter::kMono;
   if (auto q = o.Find("quantum_efficiency")) {
     if (q->IsNumber()) {
@@ -375,8 +370,7 @@ nlohmann::json SensorRigToJson(const SensorRig& rig) {
                            {"system_gain_dn_per_e", rig.image_sensor.SystemGain()},
                            {"dark_noise_e", s.dark_noise_e},
                            {"black_level_dn", s.black_level_dn}};
-  static const char* kFilters[] = {"mono", "rggb", "bggr", "grbg", "gbrg"};
-  sensor["color_filter"] = kFilters[int(s.color_filter)];
+  sensor["color_filter"] = ColorFilterName(s.color_filter);
   return {{"camera", cam}, {"lasers", lasers}, {"image_sensor", sensor}};
 }
 

@@ -38,17 +38,6 @@ std::string Vec(Eigen::Vector3d v, double scale = 1.0) {
 
 nlohmann::json JsonVec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
-const char* FilterName(ColorFilter f) {
-  switch (f) {
-    case ColorFilter::kMono: return "mono";
-    case ColorFilter::kRGGB: return "rggb";
-    case ColorFilter::kBGGR: return "bggr";
-    case ColorFilter::kGRBG: return "grbg";
-    case ColorFilter::kGBRG: return "gbrg";
-  }
-  return "?";
-}
-
 const char* DistortionName(DistortionModel m) {
   switch (m) {
     case DistortionModel::kNone: return "none";
@@ -145,7 +134,7 @@ nlohmann::json Describe(const SceneFile& scene, const EmbreeScene& embree) {
   }
   j["sensor"] = {{"camera", cam},
                  {"image_sensor",
-                  {{"color_filter", FilterName(is.color_filter())},
+                  {{"color_filter", ColorFilterName(is.color_filter())},
                    {"bit_depth", is.bit_depth()},
                    {"full_well_e", is.params().full_well_e},
                    {"system_gain_dn_per_e", is.SystemGain()}}},
