@@ -142,6 +142,21 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
   std::vector<Material> out;
   out.reserve(m.materials.size());
   std::map<std::string, std::string> ignored_extensions;  // name -> the materials using it
+  // Makes texture info.index (in range) mat's base colour texture, each texture
+  // decoded once, with info's KHR_texture_transform; warns when it reads a
+  // TEXCOORD set other than the one loaded.
+  auto use_texture = [&](const tinygltf::TextureInfo& info, const std::string& info_where, const char* what,
+                         Material* mat) {
+    if (!textures[size_t(info.index)]) textures[size_t(info.index)] = MakeTexture(src, info.index);
+    mat->base_color_texture = textures[size_t(info.index)];
+    const int texcoord = ReadTextureTransform(info, info_where, mat);
+    if (texcoord != 0) {
+      const bool from_ext = texcoord != info.texCoord;
+      warnings->push_back(src.file + ": material \"" + mat->name + "\": " + what + " reads TEXCOORD_" +
+                          std::to_string(texcoord) + (from_ext ? " (KHR_texture_transform's texCoord)" : "") +
+                          ", which is not loaded; TEXCOORD_0 is used instead");
+    }
+  };
   for (size_t i = 0; i < m.materials.size(); ++i) {
     const tinygltf::Material& gm = m.materials[i];
     const std::string where = GltfWhere(src, "materials", int(i));
@@ -183,15 +198,7 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
                          "texture " + std::to_string(tex) + " does not exist (" + std::to_string(m.textures.size()) +
                              " textures)");
       }
-      if (!textures[size_t(tex)]) textures[size_t(tex)] = MakeTexture(src, tex);
-      mat.base_color_texture = textures[size_t(tex)];
-      const int texcoord = ReadTextureTransform(pbr.baseColorTexture, where + "/pbrMetallicRoughness/baseColorTexture", &mat);
-      if (texcoord != 0) {
-        const bool from_ext = texcoord != pbr.baseColorTexture.texCoord;
-        warnings->push_back(src.file + ": material \"" + mat.name + "\": base colour texture reads TEXCOORD_" +
-                            std::to_string(texcoord) + (from_ext ? " (KHR_texture_transform's texCoord)" : "") +
-                            ", which is not loaded; TEXCOORD_0 is used instead");
-      }
+      use_texture(pbr.baseColorTexture, where + "/pbrMetallicRoughness/baseColorTexture", "base colour texture", &mat);
     } else if (tex < -1) {
       throw InputError(where + "/pbrMetallicRoughness/baseColorTexture/index", "must be >= 0");
     }
@@ -230,12 +237,7 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
           const tinygltf::Value& exts = dt.Get("extensions");
           for (const std::string& key : exts.Keys()) info.extensions[key] = exts.Get(key);
         }
-        if (!textures[size_t(info.index)]) textures[size_t(info.index)] = MakeTexture(src, info.index);
-        mat.base_color_texture = textures[size_t(info.index)];
-        if (int texcoord = ReadTextureTransform(info, dt_where, &mat); texcoord != 0) {
-          warnings->push_back(src.file + ": material \"" + mat.name + "\": diffuse texture reads TEXCOORD_" +
-                              std::to_string(texcoord) + ", which is not loaded; TEXCOORD_0 is used instead");
-        }
+        use_texture(info, dt_where, "diffuse texture", &mat);
       }
       warnings->push_back(src.file + ": material \"" + mat.name +
                           "\": KHR_materials_pbrSpecularGlossiness converted to metallic-roughness (diffuse as base "
