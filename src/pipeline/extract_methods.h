@@ -46,8 +46,7 @@ struct BandedPoints {
   void AppendTo(std::vector<StripePoint>* out, WidthRejections* rejections) const {
     for (int i = 0; i < used; ++i) {
       out->insert(out->end(), bands[i].begin(), bands[i].end());
-      rejections->narrow += rejected[i].narrow;
-      rejections->wide += rejected[i].wide;
+      *rejections += rejected[i];
     }
   }
   int used = 0;
@@ -97,12 +96,9 @@ double PeakFwhm(const T* line, int n, int first, int last, double peak, double b
   return right - left;
 }
 
-inline bool WidthAccepted(double fwhm, const ExtractionOptions& o) {
-  if (!(fwhm >= o.min_width)) return false;  // also rejects NaN
-  return o.max_width == 0 || fwhm <= o.max_width;
-}
-// The same, counting a measured width outside [min_width, max_width] (a NaN
-// width, a peak at the border or on another's flank, is not counted).
+// Whether a peak's FWHM lies in [min_width, max_width] (max_width 0: no upper
+// bound); counts a measured width outside it. A NaN width (a peak at the border
+// or on another's flank) is rejected and not counted.
 inline bool WidthAccepted(double fwhm, const ExtractionOptions& o, WidthRejections* count) {
   if (fwhm < o.min_width) {
     ++count->narrow;
@@ -112,7 +108,7 @@ inline bool WidthAccepted(double fwhm, const ExtractionOptions& o, WidthRejectio
     ++count->wide;
     return false;
   }
-  return fwhm == fwhm;
+  return !std::isnan(fwhm);
 }
 
 // Maximum search / maximum centre of mass: one point per row (extract_max.cpp,

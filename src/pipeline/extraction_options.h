@@ -30,6 +30,12 @@ enum class SearchAxis { kRows, kCols };
 struct WidthRejections {
   int64_t narrow = 0;  // narrower than min_width (hot pixels, or a thinner stripe)
   int64_t wide = 0;    // wider than max_width
+
+  WidthRejections& operator+=(const WidthRejections& o) {
+    narrow += o.narrow;
+    wide += o.wide;
+    return *this;
+  }
 };
 
 const char* MethodName(ExtractionMethod method);

@@ -166,8 +166,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
       const ColorFilter bayer = channels == 1 ? rig.color_filter : ColorFilter::kMono;
       StripeExtractor& extractor = extractors.Get(threshold, background, axis, bayer);
       points = extractor.Extract(image);
-      summary.width_rejected.narrow += extractor.last_rejections().narrow;
-      summary.width_rejected.wide += extractor.last_rejections().wide;
+      summary.width_rejected += extractor.last_rejections();
     } catch (const InputError& e) {
       throw InputError(e.where().empty() ? frame.image.string() : e.where(), e.message() + context);
     }

@@ -1,7 +1,6 @@
 #include "pipeline/stripe_extractor.h"
 
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <memory>
 #include <string>
@@ -224,19 +223,14 @@ void StripeExtractor::Extract(const ImageView<T>& image, std::vector<StripePoint
 
 std::vector<std::string> WidthRejectionNotes(const WidthRejections& rejected, const ExtractionOptions& o) {
   std::vector<std::string> notes;
-  auto num = [](double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%g", v);
-    return std::string(buf);
-  };
   if (rejected.narrow > 0) {
     notes.push_back(std::to_string(rejected.narrow) + " candidate peak" + (rejected.narrow == 1 ? " was" : "s were") +
-                    " narrower than --min-width " + num(o.min_width) +
+                    " narrower than --min-width " + FormatNumber(o.min_width) +
                     " px and rejected (hot pixels, or a stripe thinner than that: lower --min-width)");
   }
   if (rejected.wide > 0) {
     notes.push_back(std::to_string(rejected.wide) + " candidate peak" + (rejected.wide == 1 ? " was" : "s were") +
-                    " wider than --max-width " + num(o.max_width) +
+                    " wider than --max-width " + FormatNumber(o.max_width) +
                     " px and rejected (blobs of ambient light, or a stripe wider than that: raise --max-width)");
   }
   return notes;
@@ -245,9 +239,7 @@ std::vector<std::string> WidthRejectionNotes(const WidthRejections& rejected, co
 std::string NoStripePointsNote(const ExtractionOptions& o) {
   std::string note = "no stripe points found; check --threshold (the default is 10% of the image's full scale), --roi and --axis";
   if (o.method == ExtractionMethod::kSteger) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%g", o.expected_width);
-    note += ", and --width (" + std::string(buf) + " px): steger finds only stripes of about that width";
+    note += ", and --width (" + FormatNumber(o.expected_width) + " px): steger finds only stripes of about that width";
   }
   return note;
 }

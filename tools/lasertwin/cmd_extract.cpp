@@ -107,8 +107,7 @@ void Run(ExtractArgs& a) {
     try {
       std::visit([&](const auto& im) { width = im.width, height = im.height; }, img);
       points = extractor.Extract(img);
-      rejected.narrow += extractor.last_rejections().narrow;
-      rejected.wide += extractor.last_rejections().wide;
+      rejected += extractor.last_rejections();
     } catch (const InputError& e) {
       throw InputError(image, e.message());
     }
