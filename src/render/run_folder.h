@@ -12,21 +12,9 @@
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <optional>
 #include <string>
 
 namespace lt {
-
-// A half-open range of frame indices [begin, end); end = nullopt means "to the last frame".
-struct FrameRange {
-  int begin = 0;
-  std::optional<int> end;
-
-  // Parses "A:B", "A:", ":B" or "N" (a single frame). Throws InputError naming `option`.
-  static FrameRange Parse(const std::string& text, const std::string& option = "--frames");
-  // Clamps to [0, count); throws InputError when the range selects no frame.
-  std::pair<int, int> Resolve(int count, const std::string& option = "--frames") const;
-};
 
 class RunFolder {
  public:

@@ -92,7 +92,7 @@ TEST(EvalCommand, BadInput) {
   EXPECT_EQ(results[1].exit_code, 2);
   EXPECT_THAT(results[1].err, HasSubstr("max_match_px: must be a finite number > 0"));
   EXPECT_EQ(results[2].exit_code, 2);
-  EXPECT_THAT(results[2].err, HasSubstr("--frames: empty range"));
+  EXPECT_THAT(results[2].err, HasSubstr("--frames: empty frame range"));
 }
 
 }  // namespace

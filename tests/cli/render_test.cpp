@@ -60,8 +60,10 @@ TEST(RenderCommand, WritesTheRunFolderAndResumes) {
   r = RunCli("render " + Quoted(kScene) + " --out " + Quoted(dir) + " --quiet");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.err, HasSubstr("already holds a run"));
-  r = RunCli("render " + Quoted(kScene) + " --out " + Quoted(dir) + " --resume");
+  // A range past the scene's end renders what there is, and says so.
+  r = RunCli("render " + Quoted(kScene) + " --out " + Quoted(dir) + " --resume --frames 0:100");
   ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("note: --frames 0:100: the scene has 4 frames; rendering 0..3"));
   EXPECT_THAT(r.err, HasSubstr("rendered 2 frames"));
   EXPECT_THAT(r.err, HasSubstr("2 already complete"));
   EXPECT_EQ(Manifest(dir).size(), 4u);

@@ -21,19 +21,6 @@ class RunFolderTest : public ::testing::Test {
   nlohmann::json scene_ = {{"seed", 3}};
 };
 
-TEST(FrameRangeTest, ParsesForms) {
-  auto r = FrameRange::Parse("2:5");
-  EXPECT_EQ(r.Resolve(10), std::make_pair(2, 5));
-  EXPECT_EQ(FrameRange::Parse("3").Resolve(10), std::make_pair(3, 4));
-  EXPECT_EQ(FrameRange::Parse("4:").Resolve(6), std::make_pair(4, 6));
-  EXPECT_EQ(FrameRange::Parse(":2").Resolve(6), std::make_pair(0, 2));
-  EXPECT_EQ(FrameRange::Parse("0:100").Resolve(6), std::make_pair(0, 6));
-  EXPECT_THROW(FrameRange::Parse("5:2"), InputError);
-  EXPECT_THROW(FrameRange::Parse("a:2"), InputError);
-  EXPECT_THROW(FrameRange::Parse("-1"), InputError);
-  EXPECT_THROW(FrameRange::Parse("7").Resolve(6), InputError);
-}
-
 TEST_F(RunFolderTest, RefusesExistingRunWithoutResume) {
   { RunFolder run(dir_, scene_, false); }
   EXPECT_THROW(RunFolder(dir_, scene_, false), InputError);

@@ -6,10 +6,10 @@
 #include <iostream>
 #include <memory>
 
+#include "core/frame_range.h"
 #include "pipeline/eval_metrics.h"
 #include "pipeline/eval_report.h"
 #include "tools/lasertwin/command.h"
-#include "tools/lasertwin/frame_range.h"
 
 namespace lt::cli {
 namespace {
@@ -36,7 +36,10 @@ std::string Val(const ErrorStats& s, double ErrorStats::*field, const char* form
 }
 
 void Run(EvalArgs& a) {
-  if (!a.frames.empty()) ParseFrameRange(a.frames, &a.options.frames_begin, &a.options.frames_end);
+  if (!a.frames.empty()) {
+    const FrameRange r = FrameRange::Parse(a.frames);
+    a.options.frames_begin = r.begin, a.options.frames_end = r.EndOrMinusOne();
+  }
   const RunMetrics m = EvaluateRun(a.run_dir, a.options);
   const auto json = WriteMetricsJson(a.run_dir, m);
   const auto report = WriteEvalReport(a.run_dir, m);

@@ -6,6 +6,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/frame_range.h"
 #include "render/frame_renderer.h"
 #include "render/frame_writer.h"
 #include "render/progress.h"
@@ -34,8 +35,13 @@ void Run(const RenderArgs& a) {
   if (a.spp > 0) overrides.spp = a.spp;
   if (a.threads >= 0) overrides.threads = a.threads;
   if (a.seed >= 0) overrides.seed = uint64_t(a.seed);
-  auto [begin, end] = FrameRange::Parse(a.frames).Resolve(scene.render.frames);
+  const FrameRange range = FrameRange::Parse(a.frames);
+  auto [begin, end] = range.Resolve(scene.render.frames);
   if (!a.quiet) {
+    if (range.Exceeds(scene.render.frames)) {
+      std::cerr << "lasertwin: note: --frames " << a.frames << ": the scene has " << scene.render.frames
+                << " frames; rendering " << begin << ".." << end - 1 << "\n";
+    }
     for (const std::string& note : MotionNotes(scene.motion)) std::cerr << "motion: " << note << "\n";
   }
 

@@ -8,9 +8,9 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/frame_range.h"
 #include "pipeline/scan.h"
 #include "pipeline/stripe_extractor.h"
-#include "tools/lasertwin/frame_range.h"
 #include "tools/lasertwin/command.h"
 
 namespace lt::cli {
@@ -56,7 +56,10 @@ void Run(ScanArgs& a) {
   }
   if (!a.weights.empty()) o.extraction.channel_weights = ParseNumbers(a.weights, "--weights");
   if (!a.calib.empty()) o.calibration = a.calib;
-  if (!a.frames.empty()) ParseFrameRange(a.frames, &o.frames_begin, &o.frames_end);
+  if (!a.frames.empty()) {
+    const FrameRange r = FrameRange::Parse(a.frames);
+    o.frames_begin = r.begin, o.frames_end = r.EndOrMinusOne();
+  }
   ScanSummary s = ScanRun(a.run_dir, o, [](const std::string& w) { std::cerr << "lasertwin: warning: " << w << "\n"; });
   // Points lost to the width checks, or none at all, are said even with --quiet.
   for (const std::string& note : WidthRejectionNotes(s.width_rejected, o.extraction)) {
