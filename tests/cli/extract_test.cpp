@@ -20,6 +20,7 @@ namespace {
 namespace fs = std::filesystem;
 
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 void WriteBytes(const fs::path& p, const std::string& bytes) { std::ofstream(p, std::ios::binary) << bytes; }
 
@@ -174,10 +175,30 @@ TEST_F(ExtractCommand, UnknownMethodAndSeveralImages) {
   WriteImage(p, StripeImage());
   ExpectInputError(Quoted(p) + " --method fastest",
                    "--method: unknown extraction method 'fastest' (expected max, com, multicom or steger)");
-  // With several images, the bad one is named.
-  const fs::path bad = dir_ / "bad.png";
+}
+
+// A batch goes on past a bad image: the good images before and after it get
+// their CSV files, the bad one is named and gets none, and the command then
+// fails as a whole (exit 2) saying how many failed.
+TEST_F(ExtractCommand, SeveralImagesWithABadOne) {
+  const fs::path first = dir_ / "a.png", last = dir_ / "c.png", bad = dir_ / "b.png";
+  WriteImage(first, StripeImage());
+  WriteImage(last, StripeImage());
   WriteBytes(bad, "nope");
-  ExpectInputError(Quoted(p) + " " + Quoted(bad) + " --out " + Quoted(dir_ / "csv"), bad.string() + ": cannot read image");
+  const fs::path out = dir_ / "csv";
+  CliResult r = RunCli("extract " + Quoted(first) + " " + Quoted(bad) + " " + Quoted(last) + " --out " + Quoted(out));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(r.out, "");
+  EXPECT_THAT(r.err, HasSubstr("lasertwin: error: " + bad.string() + ": cannot read image"));
+  EXPECT_THAT(r.err, HasSubstr("lasertwin: error: 1 of 3 images failed"));
+  EXPECT_THAT(ReadFile(out / "a.csv"), HasSubstr("u,v,width,strength\n20.0000,0.0000,"));
+  EXPECT_THAT(ReadFile(out / "c.csv"), HasSubstr("u,v,width,strength\n20.0000,0.0000,"));
+  EXPECT_FALSE(fs::exists(out / "b.csv"));
+  // Every image bad: no "no stripe points" note on top of the errors.
+  r = RunCli("extract " + Quoted(bad) + " " + Quoted(dir_ / "missing.png") + " --out " + Quoted(out));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("2 of 2 images failed"));
+  EXPECT_THAT(r.err, Not(HasSubstr("note:")));
 }
 
 // --out FILE.csv in a folder that does not exist is an option error naming --out

@@ -100,7 +100,8 @@ void Run(ExtractArgs& a) {
   }
   size_t total = 0;
   WidthRejections rejected;
-  for (const auto& image : a.images) {
+  // One image's points, identified and written (or printed).
+  auto extract_one = [&](const std::string& image) {
     AnyImage img = ReadImage(image);
     std::vector<StripePoint> points;
     int width = 0, height = 0;
@@ -124,9 +125,30 @@ void Run(ExtractArgs& a) {
       fs::path target = to_folder ? fs::path(a.out) / (fs::path(image).stem().string() + ".csv") : fs::path(a.out);
       WriteStripeCsv(target, points, a.planes > 0);
     }
+  };
+  // A batch goes on past an image it cannot read or measure (each is named on
+  // stderr, and gets no CSV), then fails as a whole, so one bad file among
+  // thousands costs only its own result.
+  std::vector<std::string> failed;
+  for (const auto& image : a.images) {
+    if (!several) {
+      extract_one(image);
+      continue;
+    }
+    try {
+      extract_one(image);
+    } catch (const InputError& e) {
+      std::cerr << "lasertwin: error: " << e.what() << "\n";
+      failed.push_back(image);
+    }
   }
   for (const std::string& note : WidthRejectionNotes(rejected, o)) std::cerr << "lasertwin: note: " << note << "\n";
-  if (total == 0) std::cerr << "lasertwin: note: " << NoStripePointsNote(o) << "\n";
+  if (total == 0 && failed.size() < a.images.size()) std::cerr << "lasertwin: note: " << NoStripePointsNote(o) << "\n";
+  if (!failed.empty()) {
+    throw InputError("", std::to_string(failed.size()) + " of " + std::to_string(a.images.size()) +
+                             " images failed (named above; the others' CSV files are in " + a.out + "), first " +
+                             failed.front());
+  }
 }
 
 void AddExtract(CLI::App& app) {
