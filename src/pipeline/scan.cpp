@@ -54,6 +54,24 @@ class ExtractorCache {
 
 std::string Size(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
 
+// The calibration's hand-eye pose turns the run's tool poses into the camera
+// poses the cloud is stitched with, world_from_cam = world_from_tool ·
+// tool_from_cam, as a real scanner on a robot or printer knows its pose. A frame
+// without a tool pose then has no camera pose. A run without tool poses keeps
+// its world_from_cam (and is warned about). Returns the poses' source.
+std::string UseHandEye(const Pose& tool_from_cam, const fs::path& calibration, std::vector<RunFrame>* frames,
+                       const std::function<void(const std::string&)>& warn) {
+  const bool any_tool = std::any_of(frames->begin(), frames->end(), [](const RunFrame& f) { return f.world_from_tool.has_value(); });
+  if (!any_tool) {
+    warn(calibration.string() + ": tool_from_cam is not used: the run's frames have no world_from_tool");
+    return "world_from_cam";
+  }
+  for (RunFrame& f : *frames) {
+    f.world_from_cam = f.world_from_tool ? std::optional<Pose>(*f.world_from_tool * tool_from_cam) : std::nullopt;
+  }
+  return "world_from_tool · tool_from_cam of " + calibration.string();
+}
+
 }  // namespace
 
 std::string ScanCentersName(int index) {
@@ -79,7 +97,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
   auto warn = [&](const std::string& message) {
     if (warn_fn) warn_fn(message);
   };
-  const std::vector<RunFrame> frames = ReadRunManifest(run_dir);
+  std::vector<RunFrame> frames = ReadRunManifest(run_dir);
   RunRig rig = ReadRunRig(run_dir);
   ScanSummary summary;
   Camera camera = rig.camera;
@@ -106,6 +124,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     }
     planes = cal.laser_planes;
     summary.plane_source = path;
+    if (cal.tool_from_cam) summary.pose_source = UseHandEye(*cal.tool_from_cam, path, &frames, warn);
   }
   if (planes.empty()) throw InputError(rig.source.string(), "the rig has no laser plane: nothing to triangulate");
   summary.planes = int(planes.size());
@@ -247,7 +266,11 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
   }
   PointCloud cloud;
   cloud.world_frame = all_posed;
-  if (!all_posed && any_posed) warn("some frames have no pose (world_from_cam): cloud.ply is in the camera frame");
+  if (!any_posed && std::any_of(frames.begin(), frames.end(), [](const RunFrame& f) { return f.world_from_tool.has_value(); })) {
+    warn("the frames have tool poses (world_from_tool) but no camera poses: a calibration file with the hand-eye "
+         "pose (tool_from_cam, --calib) places the cloud in the world frame");
+  }
+  if (!all_posed && any_posed) warn("some frames have no pose (" + summary.pose_source + "): cloud.ply is in the camera frame");
   cloud.points.reserve(pending.size());
   cloud.has_label = all_labelled;
   for (const PendingPoint& p : pending) {

@@ -36,7 +36,9 @@ struct ScanOptions {
   PlaneIdOptions plane_id;
   TriangulationOptions triangulation;
   // Calibration file (pipeline/calibration_file.h): its laser planes replace
-  // the run's ground-truth planes, its camera (when present) the run's camera.
+  // the run's ground-truth planes, its camera (when present) the run's camera,
+  // and its hand-eye pose (when present) with the run's tool poses the
+  // manifest's camera poses.
   std::optional<std::filesystem::path> calibration;
   // Frames [frames_begin, frames_end) of the manifest (by index); -1: to the end.
   int frames_begin = 0;
@@ -69,6 +71,10 @@ struct ScanSummary {
   bool world_frame = true;   // cloud.ply is in the world frame (every frame had a pose)
   int planes = 0;
   std::filesystem::path plane_source;  // rig.json, scene.json or the calibration file
+  // The camera poses of the cloud: the manifest's world_from_cam, or, when the
+  // calibration file has tool_from_cam and the run has tool poses,
+  // world_from_tool · tool_from_cam (docs/pipeline.md).
+  std::string pose_source = "world_from_cam";
   std::vector<ScanFrameSummary> frames;
   // Colour (cloud in the world frame and the run has bright frames with poses):
   // points coloured and contaminated by laser light (pipeline/colorize.h).

@@ -102,6 +102,7 @@ Pose WorldFromCamAt(const Motion& motion, double time_s) {
 
 std::optional<Pose> WorldFromToolAt(const Motion& motion, double time_s) {
   if (const auto* m = std::get_if<PoseListMotion>(&motion)) return m->WorldFromTool(time_s);
+  if (const auto* m = std::get_if<GcodeMotion>(&motion)) return m->WorldFromTool(time_s);
   return std::nullopt;
 }
 

@@ -54,8 +54,10 @@ std::string MotionTypeName(const Motion& motion);
 std::vector<std::string> MotionTypeNames();
 // The camera pose at time t (seconds from the start of the sequence).
 Pose WorldFromCamAt(const Motion& motion, double time_s);
-// The robot tool (flange) pose at time t, for motions that carry the camera on
-// a tool: a pose list of world_from_tool poses. Empty otherwise.
+// The pose at time t of the tool that carries the camera, for motions that have
+// one: a pose list of world_from_tool poses (tool_from_cam given), and G-code
+// (the robot's tool frame, or the printer's nozzle). Empty for a static scanner
+// and a pose list of camera poses.
 std::optional<Pose> WorldFromToolAt(const Motion& motion, double time_s);
 // The motion written back as scene-file JSON (for the resolved scene.json), with
 // every default written out and file paths absolute.

@@ -107,6 +107,11 @@ Pose GcodeMotion::GcodeFromNozzle(double time_s) const {
 
 Pose GcodeMotion::WorldFromCam(double time_s) const { return world_from_gcode * GcodeFromNozzle(time_s) * nozzle_from_cam; }
 
+Pose GcodeMotion::WorldFromTool(double time_s) const {
+  if (robot) return WorldFromCam(time_s) * robot->tool_from_cam.inverse();
+  return world_from_gcode * GcodeFromNozzle(time_s);
+}
+
 JointVector GcodeMotion::JointsAt(double time_s) const {
   const JointPath& jp = robot->program->path;
   if (jp.q.empty()) return robot->initial_joints;

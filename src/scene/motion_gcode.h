@@ -65,6 +65,10 @@ struct GcodeMotion {
   // Poses at sequence time t (clamped to the toolpath's start and end).
   Pose GcodeFromNozzle(double time_s) const;
   Pose WorldFromCam(double time_s) const;
+  // The tool that carries the camera: the robot's tool frame (world_from_cam ·
+  // tool_from_cam⁻¹) with a robot, else the nozzle frame (world_from_gcode ·
+  // gcode_from_nozzle), whose hand-eye pose is nozzle_from_cam.
+  Pose WorldFromTool(double time_s) const;
   // The robot's joints at sequence time t, linear between waypoints (requires a robot).
   JointVector JointsAt(double time_s) const;
 };

@@ -101,6 +101,10 @@ TEST_F(PrintScan, RenderReportsTheMotionAndThePrintedPart) {
   ASSERT_EQ(lines.size(), 12u);
   EXPECT_GT(lines[0]["stats"]["print_chunks_rebuilt"].get<int>(), 1);
   for (size_t i = 1; i < lines.size(); ++i) {
+    // The tool that carries the camera (the nozzle, on a printer) is recorded
+    // for the hand-eye chain; its origin is the nozzle tip, on the toolpath.
+    ASSERT_TRUE(lines[i].contains("world_from_tool")) << i;
+    EXPECT_EQ(lines[i]["world_from_tool"]["translation_m"].size(), 3u) << i;
     EXPECT_EQ(lines[i]["stats"]["print_chunks_rebuilt"].get<int>(), 1) << i;
     EXPECT_LT(lines[i]["stats"]["print_triangles_rebuilt"].get<int>(), lines[i]["stats"]["print_triangles"].get<int>());
   }

@@ -356,6 +356,65 @@ TEST(Scan, CalibrationFileReplacesThePlanes) {
   }
 }
 
+// A calibration file with a hand-eye pose: the cloud is stitched with
+// world_from_tool · tool_from_cam (what a real scanner on a robot knows), not
+// the manifest's world_from_cam; a run without tool poses keeps world_from_cam
+// and says that tool_from_cam went unused.
+TEST(Scan, HandEyePoseWithToolPosesPlacesTheCloud) {
+  SyntheticRun run = MakeRun("hand_eye", 1);
+  Pose tool_from_cam = Pose::Identity();
+  tool_from_cam.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 0.2, 0).normalized()).toRotationMatrix();
+  tool_from_cam.translation() = Eigen::Vector3d(0.02, -0.01, 0.07);
+  // The calibrated hand-eye pose is off by 1 mm along x from the one the tool
+  // poses were made with, so the cloud must move by exactly that.
+  Pose calibrated = tool_from_cam;
+  calibrated.translation().x() += 0.001;
+  const Pose world_from_tool = run.world_from_cam * tool_from_cam.inverse();
+  CalibrationFile cal;
+  cal.laser_planes = run.sheets;
+  cal.tool_from_cam = calibrated;
+  const fs::path file = run.dir / "calib.yml";
+  WriteCalibrationFile(file, cal);
+  ScanOptions o;
+  o.calibration = file;
+
+  // Without tool poses in the manifest: world_from_cam, and a warning.
+  std::vector<std::string> warnings;
+  ScanSummary s = ScanRun(run.dir, o, [&](const std::string& w) { warnings.push_back(w); });
+  EXPECT_EQ(s.pose_source, "world_from_cam");
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_THAT(warnings[0], HasSubstr("tool_from_cam is not used: the run's frames have no world_from_tool"));
+
+  // With them: world_from_tool · tool_from_cam.
+  std::ifstream in(run.dir / "manifest.jsonl");
+  std::string manifest((std::istreambuf_iterator<char>(in)), {});
+  in.close();
+  const std::string key = "\"gt_axis\"";
+  manifest.replace(manifest.find(key), key.size(), "\"world_from_tool\":" + PoseToJson(world_from_tool).dump() + "," + key);
+  std::ofstream(run.dir / "manifest.jsonl") << manifest;
+  warnings.clear();
+  s = ScanRun(run.dir, o, [&](const std::string& w) { warnings.push_back(w); });
+  EXPECT_TRUE(warnings.empty());
+  EXPECT_TRUE(s.world_frame);
+  EXPECT_EQ(s.pose_source, "world_from_tool · tool_from_cam of " + file.string());
+  const Pose world_from_cam_measured = world_from_tool * calibrated;
+  std::vector<ScanPoint> points = ReadScanCsv(run.dir / "centers/000000.csv");
+  ASSERT_GT(points.size(), 100u);
+  for (const ScanPoint& p : points) {
+    ASSERT_TRUE(p.p_in_cam && p.p_in_world);
+    EXPECT_LT((*p.p_in_world - world_from_cam_measured * *p.p_in_cam).norm(), 1e-9);
+    // The hand-eye error moves the point by 1 mm along the tool's x axis.
+    const Eigen::Vector3d moved = *p.p_in_world - run.world_from_cam * *p.p_in_cam;
+    EXPECT_NEAR((moved - world_from_tool.linear() * Eigen::Vector3d(0.001, 0, 0)).norm(), 0.0, 1e-9);
+  }
+
+  // Tool poses without a hand-eye pose: the cloud keeps the manifest's camera poses.
+  cal.tool_from_cam.reset();
+  WriteCalibrationFile(file, cal);
+  s = ScanRun(run.dir, o);
+  EXPECT_EQ(s.pose_source, "world_from_cam");
+}
+
 TEST(Scan, BadRunsGiveInputErrors) {
   SyntheticRun run = MakeRun("bad", 1);
   ScanOptions o;

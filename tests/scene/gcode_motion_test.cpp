@@ -47,12 +47,17 @@ TEST(GcodeMotion, NozzleFrameAndCameraAlongTheSquare) {
   // The nozzle frame: x along the heading (fixed: +x), z down, y = z x x = -y.
   EXPECT_TRUE(cam.linear().isApprox((Eigen::Matrix3d() << 1, 0, 0, 0, -1, 0, 0, 0, -1).finished(), 1e-15));
   EXPECT_TRUE(WorldFromCamAt(fixed, t1 + 2).linear().isApprox(cam.linear(), 1e-15));  // fixed never turns
+  // Without a robot the tool is the nozzle: world_from_cam = world_from_tool · nozzle_from_cam.
+  EXPECT_TRUE(WorldFromToolAt(fixed, t1)->isApprox(cam * AsGcode(fixed).nozzle_from_cam.inverse(), 1e-12));
 
   // Heading, and a camera 40 mm behind the nozzle and 60 mm above it (nozzle z points
   // down, so "above" is -z).
   Motion heading = ParseMotionText(R"({"type": "gcode", "file": "square.gcode", "orientation": "heading",
       "nozzle_from_cam": {"translation_m": [-0.04, 0, -0.06]}})", dir);
   Pose c2 = WorldFromCamAt(heading, t1 + 2);  // halfway up the second side, moving +y
+  const Pose tool2 = *WorldFromToolAt(heading, t1 + 2);
+  EXPECT_TRUE(tool2.translation().isApprox(Eigen::Vector3d(50, 20, 0.2) * kMm, 1e-12));  // the nozzle tip
+  EXPECT_TRUE((tool2 * AsGcode(heading).nozzle_from_cam).isApprox(c2, 1e-12));
   EXPECT_TRUE(c2.translation().isApprox(Eigen::Vector3d(50, 20 - 40, 0.2 + 60) * kMm, 1e-12));
   EXPECT_TRUE((c2.linear() * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d(0, 1, 0), 1e-15));
   EXPECT_TRUE((c2.linear() * Eigen::Vector3d::UnitY()).isApprox(Eigen::Vector3d(1, 0, 0), 1e-15));
@@ -120,6 +125,9 @@ TEST(GcodeMotion, RobotJointsReproduceTheCameraPose) {
   for (size_t k = 0; k < jp.q.size(); ++k) {
     Pose by_robot = g.robot->world_from_base * Ur5eForward(jp.q[k]) * cam_from_flange.inverse();
     EXPECT_LT((by_robot.matrix() - g.WorldFromCam(jp.t_s[k]).matrix()).cwiseAbs().maxCoeff(), 1e-9) << k;
+    // The tool pose the manifest records is the robot's tool frame (flange · flange_from_tool).
+    const Pose tool_by_robot = g.robot->world_from_base * Ur5eForward(jp.q[k]) * g.robot->flange_from_tool;
+    EXPECT_LT((tool_by_robot.matrix() - WorldFromToolAt(m, jp.t_s[k])->matrix()).cwiseAbs().maxCoeff(), 1e-9) << k;
     // No branch flips: the caster turns at most 2 v / w = 2 rad/s, 0.2 rad per 2 mm step.
     if (k > 0) {
       EXPECT_LT((jp.q[k] - jp.q[k - 1]).cwiseAbs().maxCoeff(), 0.25) << k;

@@ -91,7 +91,7 @@ void Run(ScanArgs& a) {
               << ")\n";
   }
   std::cerr << "wrote " << a.run_dir << "/centers/ and " << a.run_dir << "/cloud.ply ("
-            << (s.world_frame ? "world" : "camera") << " frame)\n";
+            << (s.world_frame ? "world frame, poses " + s.pose_source : std::string("camera frame")) << ")\n";
 }
 
 void Add(CLI::App& app) {
@@ -102,7 +102,8 @@ void Add(CLI::App& app) {
       ->required();
   cmd->add_option("--method", args->method, "max | com | multicom | steger")->capture_default_str();
   cmd->add_option("--calib", args->calib,
-                  "Calibration file (OpenCV YAML): its laser planes (and camera) replace the run's ground truth");
+                  "Calibration file (OpenCV YAML): its laser planes (and camera, and hand-eye pose tool_from_cam with the "
+                  "run's world_from_tool) replace the run's ground truth");
   cmd->add_option("--axis", args->axis, "rows | cols (default: the manifest's gt_axis, else from the laser planes)");
   cmd->add_option("--frames", args->frames, "Frames to scan: A:B (A inclusive, B exclusive), A:, :B or N");
   cmd->add_option("--roi", args->roi, "Search only in X,Y,W,H (pixels)");
