@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cmath>
 #include <filesystem>
 #include <future>
 #include <fstream>
@@ -52,6 +53,24 @@ TEST(InfoCommand, DemoSceneLoads) {
   EXPECT_EQ(j["sensor"]["camera"]["resolution"], nlohmann::json({1280, 1024}));
   EXPECT_EQ(j["sensor"]["lasers"][0]["wavelength_nm"].get<double>(), 650.0);
   EXPECT_EQ(j["warnings"].size(), 0u);
+}
+
+// The horizontal field of view includes the lens distortion: the test scene's
+// barrel distortion (k1 = -0.2, k2 = 0.05) sees more than its pinhole would.
+// Closed form on the principal row: the edge's distorted normalised coordinate
+// x_d = (width / 2) / fx is x_u (1 + k1 x_u^2 + k2 x_u^4), solved by fixed-point
+// iteration; the tangential terms (p1, p2 ~ 1e-3) move both edges the same
+// way and change the angle between them by well under 0.001 deg.
+TEST(InfoCommand, FieldOfViewIncludesDistortion) {
+  Result r = RunLasertwin("info --json " + Quoted(kData / "scenes/scan_distorted.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto cam = nlohmann::json::parse(r.out)["sensor"]["camera"];
+  const double x_d = 0.5 * cam["resolution"][0].get<double>() / cam["fx"].get<double>();
+  double x_u = x_d;
+  for (int i = 0; i < 50; ++i) x_u = x_d / (1 - 0.2 * x_u * x_u + 0.05 * x_u * x_u * x_u * x_u);
+  const double expected = 2 * std::atan(x_u) * 180 / M_PI, pinhole = 2 * std::atan(x_d) * 180 / M_PI;
+  EXPECT_NEAR(cam["horizontal_fov_deg"].get<double>(), expected, 0.002);
+  EXPECT_GT(expected - pinhole, 0.05);
 }
 
 TEST(InfoCommand, TextOutputNamesEverySection) {

@@ -48,6 +48,15 @@ const char* DistortionName(DistortionModel m) {
 }
 
 // Everything `info` reports, as JSON (printed as is with --json, as text otherwise).
+// The angle between the rays through the left and right edges of the image on
+// the principal row, lens distortion included (barrel distortion widens it);
+// the pinhole's angle when the edges lie outside the distortion model's domain.
+double HorizontalFovDeg(const Camera& c) {
+  const auto left = c.Unproject({-0.5, c.cy()}), right = c.Unproject({c.width() - 0.5, c.cy()});
+  if (!left || !right) return 2 * std::atan(0.5 * c.width() / c.fx()) * kRadToDeg;
+  return (std::atan2(-left->x(), left->z()) + std::atan2(right->x(), right->z())) * kRadToDeg;
+}
+
 nlohmann::json Describe(const SceneFile& scene, const EmbreeScene& embree) {
   const SceneGeometry& g = embree.geometry();
   nlohmann::json j;
@@ -112,7 +121,7 @@ nlohmann::json Describe(const SceneFile& scene, const EmbreeScene& embree) {
                         {"focal_length_mm", c.focal_length_m() * 1e3},
                         {"f_number", c.f_number()},
                         {"distortion", DistortionName(c.distortion_model())},
-                        {"horizontal_fov_deg", 2 * std::atan(0.5 * c.width() / c.fx()) * kRadToDeg}};
+                        {"horizontal_fov_deg", HorizontalFovDeg(c)}};
   if (!c.is_pinhole()) {
     const double s = c.focus_distance_m(), v = c.image_distance_m();
     cam["focus_distance_m"] = s;
