@@ -34,10 +34,9 @@ void ExtractCom(const ImageView<T>& image, const MethodParams& params, BandedPoi
     WidthRejections& rejected = out->rejected[band];
     for (int y = y0; y < y1; ++y) {
       const T* row = image.Row(y);
-      LinePeak peak = FindRowMaximum(row, n);
-      if (!(peak.value >= params.threshold)) continue;
-      double fwhm = PeakFwhm(row, n, peak.first, peak.last, peak.value, base);
-      if (!WidthAccepted(fwhm, o, &rejected)) continue;  // NaN (border) is rejected too
+      LinePeak peak;
+      double fwhm = 0;
+      if (!FindRowPeak(row, n, params.threshold, o, &peak, &fwhm, &rejected)) continue;
       const double h = ComHalfWindow(fwhm, peak.last - peak.first + 1, o.window);
       double c = 0;
       // No point when the window leaves the image or holds no light.

@@ -1,5 +1,7 @@
 // Maximum search (thesis Algorithm 2), with a threshold, a width check and the
-// centre of a saturated plateau instead of its last pixel.
+// centre of a saturated plateau instead of its last pixel; the row's peak
+// (FindRowPeak) is the brightest one that passes the width check, so a hot
+// pixel brighter than the stripe does not cost the row its point.
 #include <algorithm>
 
 #include "pipeline/extract_methods.h"
@@ -32,6 +34,56 @@ LinePeak FindRowMaximum(const T* row, int n) {
   return {first, last, double(best)};
 }
 
+namespace {
+
+// Plateaus [first, last] of row values at or above `threshold` that are local
+// maxima (both neighbours lower), not touching the line's ends, brightest
+// first (ties: leftmost first), except the one starting at `skip`.
+template <typename T>
+void LocalMaxima(const T* row, int n, double threshold, int skip, std::vector<LinePeak>* out) {
+  out->clear();
+  for (int x = 1; x < n - 1;) {
+    if (!(double(row[x]) >= threshold) || !(row[x] > row[x - 1])) {
+      ++x;
+      continue;
+    }
+    int last = x;
+    while (last + 1 < n && row[last + 1] == row[x]) ++last;
+    if (last + 1 < n && row[last + 1] < row[x] && x != skip) out->push_back({x, last, double(row[x])});
+    x = last + 1;
+  }
+  std::stable_sort(out->begin(), out->end(), [](const LinePeak& a, const LinePeak& b) { return a.value > b.value; });
+}
+
+}  // namespace
+
+template <typename T>
+bool FindRowPeak(const T* row, int n, double threshold, const ExtractionOptions& o, LinePeak* peak, double* fwhm,
+                 WidthRejections* rejected) {
+  *peak = FindRowMaximum(row, n);
+  if (!(peak->value >= threshold)) return false;
+  if (peak->first == 0 || peak->last == n - 1) return false;  // runs into the border
+  *fwhm = PeakFwhm(row, n, peak->first, peak->last, peak->value, o.background);
+  if (WidthAccepted(*fwhm, o, rejected)) return true;
+  if (std::isnan(*fwhm)) return false;  // width not measurable: not a peak that hides another
+  // Rare (a row whose brightest peak has the wrong width): try the others.
+  // Only the row maximum is counted as rejected (one candidate per row, as
+  // before; a Bayer mosaic's row would otherwise count each of its pixels).
+  thread_local std::vector<LinePeak> others;
+  LocalMaxima(row, n, threshold, peak->first, &others);
+  WidthRejections uncounted;
+  for (const LinePeak& p : others) {
+    const double w = PeakFwhm(row, n, p.first, p.last, p.value, o.background);
+    if (std::isnan(w)) continue;  // the flank of a higher peak
+    if (WidthAccepted(w, o, &uncounted)) {
+      *peak = p;
+      *fwhm = w;
+      return true;
+    }
+  }
+  return false;
+}
+
 template <typename T>
 void ExtractMax(const ImageView<T>& image, const MethodParams& params, BandedPoints* out) {
   const ExtractionOptions& o = *params.options;
@@ -42,11 +94,9 @@ void ExtractMax(const ImageView<T>& image, const MethodParams& params, BandedPoi
     WidthRejections& rejected = out->rejected[band];
     for (int y = y0; y < y1; ++y) {
       const T* row = image.Row(y);
-      LinePeak peak = FindRowMaximum(row, n);
-      if (!(peak.value >= params.threshold)) continue;
-      if (peak.first == 0 || peak.last == n - 1) continue;  // runs into the border
-      double fwhm = PeakFwhm(row, n, peak.first, peak.last, peak.value, o.background);
-      if (!WidthAccepted(fwhm, o, &rejected)) continue;
+      LinePeak peak;
+      double fwhm = 0;
+      if (!FindRowPeak(row, n, params.threshold, o, &peak, &fwhm, &rejected)) continue;
       points.push_back({0.5 * (peak.first + peak.last), double(y), fwhm, peak.value, -1});
     }
   });
@@ -54,6 +104,8 @@ void ExtractMax(const ImageView<T>& image, const MethodParams& params, BandedPoi
 
 #define LT_INSTANTIATE(T)                                           \
   template LinePeak FindRowMaximum<T>(const T*, int);               \
+  template bool FindRowPeak<T>(const T*, int, double, const ExtractionOptions&, LinePeak*, double*, \
+                               WidthRejections*);                   \
   template void ExtractMax<T>(const ImageView<T>&, const MethodParams&, BandedPoints*);
 LT_INSTANTIATE(uint8_t)
 LT_INSTANTIATE(uint16_t)

@@ -120,6 +120,17 @@ void ExtractCom(const ImageView<T>& image, const MethodParams& params, BandedPoi
 // Brightest plateau of a row (first maximum); false if the row is empty.
 template <typename T>
 LinePeak FindRowMaximum(const T* row, int n);
+// The peak max and com measure in a row: the brightest plateau at or above
+// `threshold`, not touching the line's ends, whose FWHM (above o.background)
+// passes the width check. When the row maximum is rejected for its measured
+// width (a hot pixel or glint narrower than min_width, or a blob wider than
+// max_width, brighter than the stripe), the row's other local-maximum plateaus
+// are tried, brightest first, rather than losing the row. False when none
+// passes or the maximum touches a line end (the stripe may continue outside).
+// Only the row maximum's rejection is counted (one candidate per row).
+template <typename T>
+bool FindRowPeak(const T* row, int n, double threshold, const ExtractionOptions& o, LinePeak* peak, double* fwhm,
+                 WidthRejections* rejected);
 
 // Multi-maximum centre of mass: every peak of each row (extract_multicom.cpp).
 template <typename T>
