@@ -15,6 +15,8 @@ namespace {
 
 constexpr double kMetresPerMm = 1e-3;
 constexpr double kHomingFeedMmS = 50.0;  // Marlin's default homing speed
+// Marlin's feed rate at power-on (1500 mm/min), for moves before the file's first F.
+constexpr double kPowerOnFeedMmS = 25.0;
 // An arc's end may lie off its circle by this much (rounding of I/J and X/Y).
 constexpr double kArcRadiusToleranceMm = 0.01;
 constexpr double kArcRadiusToleranceRel = 1e-3;
@@ -80,6 +82,9 @@ class GcodeReader {
   void Home();
   void SetPosition();
   void SetFeed();
+  // The feed rate of a G0-G3 move: the modal F, or before any F the firmware's
+  // power-on rate (such moves are counted for a note).
+  double MoveFeed(double length_mm, double extruded_mm);
   // Appends a segment from the current position to `end` (machine mm) and advances
   // the state; `geometry` completes arc fields. Returns nothing when nothing moves.
   void AddSegment(int gcode, const Eigen::Vector3d& end_mm, double extruded_mm, double length_mm,
@@ -244,14 +249,21 @@ void GcodeReader::AddSegment(int gcode, const Eigen::Vector3d& end_mm, double ex
   pos_mm_ = end_mm;
 }
 
+double GcodeReader::MoveFeed(double length_mm, double extruded_mm) {
+  if (feed_mm_s_ > 0) return feed_mm_s_;
+  if (length_mm > 0 || extruded_mm != 0) {
+    if (path_.moves_at_power_on_feed++ == 0) path_.first_power_on_feed_line = line_no_;
+  }
+  return kPowerOnFeedMmS;
+}
+
 void GcodeReader::Move(int gcode) {
   Expect("XYZEF", CommandName('G', gcode));
   SetFeed();
   Eigen::Vector3d end = Target();
   double extruded = ExtrudedFrom(Find('E'));
   double length = (end - pos_mm_).norm();
-  if ((length > 0 || extruded != 0) && feed_mm_s_ <= 0) Fail("move before any feed rate (F) was given");
-  AddSegment(gcode, end, extruded, length, (end - pos_mm_).head<2>().norm(), nullptr, feed_mm_s_);
+  AddSegment(gcode, end, extruded, length, (end - pos_mm_).head<2>().norm(), nullptr, MoveFeed(length, extruded));
 }
 
 void GcodeReader::Arc(int gcode) {
@@ -315,8 +327,7 @@ void GcodeReader::Arc(int gcode) {
   double xy_length = 0.5 * (r0 + r1) * std::abs(sweep);
   double length = std::hypot(xy_length, end.z() - pos_mm_.z());
   double extruded = ExtrudedFrom(Find('E'));
-  if (feed_mm_s_ <= 0) Fail("move before any feed rate (F) was given");
-  AddSegment(gcode, end, extruded, length, xy_length, &arc, feed_mm_s_);
+  AddSegment(gcode, end, extruded, length, xy_length, &arc, MoveFeed(length, extruded));
 }
 
 void GcodeReader::Dwell() {

@@ -27,7 +27,9 @@
 // byte order mark, CR LF line ends and "%" lines (RS-274's program marks) are accepted.
 //
 // The machine starts at the origin with E = 0, absolute XYZ, E following G90/G91,
-// no feed rate (a move before any F is an error, except homing at 50 mm/s).
+// no feed rate: moves before the first F run at Marlin's power-on feed rate,
+// 1500 mm/min (counted in Toolpath::moves_at_power_on_feed), homing at Marlin's
+// homing speed, 50 mm/s, until an F is given.
 //
 // Extended commands (a first word of letters, digits and underscores, not a letter
 // and a number: Klipper's PRINT_START, EXCLUDE_OBJECT_START NAME=..., which
@@ -36,7 +38,7 @@
 //
 // Errors are lt::InputError naming "file:line": a letter without a number, a number
 // that is not finite or malformed, a parameter the command does not take or given
-// twice, a move before any feed rate, F <= 0, an arc without I/J or R, with both,
+// twice, F <= 0, an arc without I/J or R, with both,
 // with zero radius, whose end is not on its circle (0.01 mm + 0.1 % of the radius),
 // or an R arc whose chord is longer than its diameter.
 #pragma once

@@ -168,6 +168,11 @@ std::vector<std::string> GcodeMotionNotes(const GcodeMotion& m) {
   notes.push_back(m.file.string() + ": " + std::to_string(path.segments.size()) + " moves, " +
                   Fixed(path.Duration(), 1) + " s at constant speed, " + Fixed(path.PathLength(), 3) + " m of path");
   if (!path.skipped_commands.empty()) notes.push_back(m.file.string() + ": " + path.SkippedCommandsNote());
+  if (path.moves_at_power_on_feed > 0) {
+    notes.push_back(m.file.string() + ":" + std::to_string(path.first_power_on_feed_line) + ": " +
+                    std::to_string(path.moves_at_power_on_feed) + " move" + (path.moves_at_power_on_feed == 1 ? "" : "s") +
+                    " before the first feed rate (F) timed at Marlin's power-on 1500 mm/min");
+  }
   TurnRates rates = m.toolpath->ComputeTurnRates();
   std::string orientation = "orientation " + OrientationModeName(m.orientation.mode) + ": largest turn rate " +
                             Fixed(rates.MaxRateDegS(), 1) + " deg/s at G-code time " + Fixed(rates.max_rate_time_s, 3) +

@@ -65,6 +65,10 @@ struct Toolpath {
   std::map<int, double> layer_height_m;
   double header_layer_height_m = 0;
   double filament_diameter_m = 0;  // "; filament_diameter = d" (PrusaSlicer), 0 when absent
+  // Moves (G0-G3) before the file's first F, timed at the firmware's power-on feed
+  // rate, and the line of the first of them.
+  int moves_at_power_on_feed = 0;
+  int first_power_on_feed_line = 0;
 
   double Duration() const { return segments.empty() ? 0.0 : segments.back().t_end_s; }
   // The segment running at time t: the first whose end is >= t (clamped to the

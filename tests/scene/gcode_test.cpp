@@ -182,6 +182,22 @@ TEST(Gcode, ModesUnitsOffsetsAndSyntax) {
   EXPECT_NEAR(h.segments[2].Duration(), 4.0, 1e-12);  // 4 mm at 1 mm/s (F60)
 }
 
+// Moves before the first F run at Marlin's power-on feed rate (1500 mm/min =
+// 25 mm/s) and are counted with the line of the first; homing keeps Marlin's
+// homing speed (50 mm/s); moves after an F use it.
+TEST(Gcode, MovesBeforeAnyFeedRateRunAtThePowerOnRate) {
+  Toolpath p = ParseGcode("G28\nG1 X10\nG0 Y5\nG1 Z0 F600\nG1 X20\n", "g.gcode");
+  ASSERT_EQ(p.segments.size(), 3u);  // homing from the origin and the F-only line do not move
+  EXPECT_NEAR(p.segments[0].t_end_s - p.segments[0].t_start_s, 10.0 / 25.0, 1e-12);
+  EXPECT_NEAR(p.segments[1].t_end_s - p.segments[1].t_start_s, 5.0 / 25.0, 1e-12);
+  EXPECT_NEAR(p.segments[2].t_end_s - p.segments[2].t_start_s, 10.0 / 10.0, 1e-12);
+  EXPECT_EQ(p.moves_at_power_on_feed, 2);
+  EXPECT_EQ(p.first_power_on_feed_line, 2);
+  Toolpath homed = ParseGcode("G1 X10 F1200\nG28 X\n", "g.gcode");
+  EXPECT_EQ(homed.moves_at_power_on_feed, 0);
+  EXPECT_NEAR(homed.segments[1].t_end_s - homed.segments[1].t_start_s, 10.0 / 20.0, 1e-12);
+}
+
 TEST(Gcode, MalformedLinesAreErrorsAtFileAndLine) {
   struct Case {
     const char* text;
@@ -194,7 +210,6 @@ TEST(Gcode, MalformedLinesAreErrorsAtFileAndLine) {
       {"G1 X10 F600\nG1 X1 X2\n", "g.gcode:2: X given twice"},
       {"G1 X10 F600\nG1 X1 Q2\n", "g.gcode:2: G1 takes no parameter Q"},
       {"G1 X10 F600\nG1 X1 G4\n", "g.gcode:2: one command per line"},
-      {"G1 X10\n", "g.gcode:1: move before any feed rate (F) was given"},
       {"G1 X10 F0\n", "g.gcode:1: feed rate F must be > 0, got 0"},
       {"G1 X10 F600\n\nG2 X20 Y10\n", "g.gcode:3: G2 needs I/J (centre offset) or R (radius)"},
       {"G1 X10 F600\nG3 X20 I5 R5\n", "g.gcode:2: G3 takes I/J or R, not both"},
