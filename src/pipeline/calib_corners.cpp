@@ -152,17 +152,27 @@ bool RefineSaddle(const ImageView<float>& img, double sigma, int radius, double 
 
 // Four dark/bright changes on a circle around the corner, at two pairs of
 // nearly opposite angles: the two edges.
-bool EdgeDirections(const Smoothed& s, const Eigen::Vector2d& p, double radius, double min_range, Candidate* c) {
-  constexpr int kSamples = 48;
-  double v[kSamples];
+constexpr int kCircleSamples = 48;
+
+// The smoothed image on a circle around p; returns its range (max − min).
+double CircleSamples(const Smoothed& s, const Eigen::Vector2d& p, double radius, double* v) {
   double lo = HUGE_VAL, hi = -HUGE_VAL;
-  for (int k = 0; k < kSamples; ++k) {
-    const double a = 2 * M_PI * k / kSamples;
+  for (int k = 0; k < kCircleSamples; ++k) {
+    const double a = 2 * M_PI * k / kCircleSamples;
     v[k] = s.Sample(p.x() + radius * std::cos(a), p.y() + radius * std::sin(a));
     lo = std::min(lo, v[k]);
     hi = std::max(hi, v[k]);
   }
-  if (!(hi - lo >= min_range)) return false;
+  return hi - lo;
+}
+
+bool EdgeDirections(const Smoothed& s, const Eigen::Vector2d& p, double radius, double min_range, Candidate* c) {
+  constexpr int kSamples = kCircleSamples;
+  double v[kSamples];
+  const double range = CircleSamples(s, p, radius, v);
+  if (!(range >= min_range)) return false;
+  double lo = HUGE_VAL, hi = -HUGE_VAL;
+  for (double x : v) lo = std::min(lo, x), hi = std::max(hi, x);
   const double mid = 0.5 * (lo + hi);
   std::vector<double> t;
   for (int k = 0; k < kSamples; ++k) {
@@ -215,8 +225,17 @@ Grid GrowGrid(const std::vector<Candidate>& cands, int seed, double tolerance) {
   };
   g.cells[{0, 0}] = seed;
   used[size_t(seed)] = 1;
-  const int n[4] = {nearest_along(s.e1), nearest_along(-s.e1), nearest_along(s.e2), nearest_along(-s.e2)};
+  int n[4] = {nearest_along(s.e1), nearest_along(-s.e1), nearest_along(s.e2), nearest_along(-s.e2)};
   const Cell at[4] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+  // The two neighbours along one edge are about equally far (perspective
+  // changes the spacing by far less than the tolerance allows): of two very
+  // different ones, the farther lies beyond the board's edge (another
+  // object's corner) and is dropped.
+  for (int k = 0; k < 4; k += 2) {
+    if (n[k] < 0 || n[k + 1] < 0) continue;
+    const double d0 = (cands[size_t(n[k])].p - s.p).norm(), d1 = (cands[size_t(n[k + 1])].p - s.p).norm();
+    if (std::max(d0, d1) > std::min(d0, d1) * (1 + tolerance) / (1 - tolerance)) n[d0 > d1 ? k : k + 1] = -1;
+  }
   if ((n[0] < 0 && n[1] < 0) || (n[2] < 0 && n[3] < 0)) return g;
   for (int k = 0; k < 4; ++k) {
     if (n[k] >= 0 && !used[size_t(n[k])]) {
@@ -310,11 +329,16 @@ CornerDetection DetectCheckerboard(const ImageView<T>& view, const CheckerboardS
   double noise = NoiseSigma(img);
   if (std::is_integral_v<T>) noise = std::sqrt(noise * noise + 1.0 / 12.0);  // quantisation
   det.noise_sigma = noise;
+  const GaussianKernels kernels(sigma);
+  const Smoothed sm = Smooth(img, kernels);
+  // The contrast: the range of the smoothed image between its 0.1st and
+  // 99.9th percentiles (smoothing divides the noise by ~5σ; a board covering
+  // a few percent of the image still counts, a few hot pixels do not).
   {
     std::vector<float> values;
-    const size_t step = std::max<size_t>(1, img.pixels.size() / 1000000);
-    for (size_t k = 0; k < img.pixels.size(); k += step) values.push_back(img.pixels[k]);
-    det.contrast = Percentile(values, 0.99) - Percentile(values, 0.01);
+    const size_t step = std::max<size_t>(1, sm.r.size() / 1000000);
+    for (size_t k = 0; k < sm.r.size(); k += step) values.push_back(sm.r[k]);
+    det.contrast = Percentile(values, 0.999) - Percentile(values, 0.001);
   }
   if (!(det.contrast > 5 * noise) || !(det.contrast > 0)) {
     return refuse("no checkerboard found: the image has no contrast above its noise (contrast " + Fmt(det.contrast) +
@@ -322,11 +346,16 @@ CornerDetection DetectCheckerboard(const ImageView<T>& view, const CheckerboardS
   }
 
   // ---- saddle candidates
-  const GaussianKernels kernels(sigma);
-  const Smoothed sm = Smooth(img, kernels);
+  // Each corner is judged against its own contrast (the range of the smoothed
+  // image on the validation circle), so that uneven light and vignetting do
+  // not matter. That range must exceed 3 noise σ, and a tenth of the image's
+  // contrast (the noise estimate misses noise that the camera has smoothed,
+  // e.g. by JPEG compression, and faint texture is no board).
+  const double min_range = std::max(3 * noise, 0.1 * det.contrast);
   const double sigma_eff2 = sigma * sigma + 1.0 / 6.0;  // Gaussian, the kernel's pixel box and the pixel's own
-  const double ideal = det.contrast / (M_PI * sigma_eff2);
-  const double threshold = std::pow(options.min_response * ideal, 2);
+  const double circle = 2.5 * sigma + 1;                 // validation circle radius
+  auto response_floor = [&](double range) { return std::pow(options.min_response * range / (M_PI * sigma_eff2), 2); };
+  const double threshold = response_floor(min_range);
   const double border = 2 * sigma + 2;
   const int nms = std::max(1, int(std::lround(sigma)));
   std::vector<float> strength(size_t(w) * size_t(h), 0.0f);
@@ -355,8 +384,11 @@ CornerDetection DetectCheckerboard(const ImageView<T>& view, const CheckerboardS
       Candidate c;
       c.p = Eigen::Vector2d(x, y);
       c.strength = s;
+      double ring[kCircleSamples];
+      const double range = CircleSamples(sm, c.p, circle, ring);
+      if (!(range >= min_range) || !(s > response_floor(range))) continue;
       if (!RefineSaddle(iv, sigma, kernels.radius, border, &c.p, &c.hessian)) continue;
-      if (!EdgeDirections(sm, c.p, 2.5 * sigma + 1, 0.25 * det.contrast, &c)) continue;
+      if (!EdgeDirections(sm, c.p, circle, min_range, &c)) continue;
       bool duplicate = false;
       for (const auto& o : cands) duplicate = duplicate || (o.p - c.p).norm() < 1.0;
       if (!duplicate) cands.push_back(c);
@@ -427,25 +459,36 @@ CornerDetection DetectCheckerboard(const ImageView<T>& view, const CheckerboardS
   // Seen from the front, board x (along a row) then y (down a column) turn
   // clockwise in the image (y down): a positive cross product.
   if (along_row.x() * along_col.y() - along_row.y() * along_col.x() < 0) flip_j = true;
-  double dark = 0, bright = 0;
-  int nd = 0, nb = 0;
+  // Colour: each square against its right and lower neighbours (a local
+  // comparison, whatever the lighting across the board). Squares with i + j
+  // even are black.
+  std::vector<double> square((R - 1) * (C - 1));
   for (int i = 0; i + 1 < R; ++i) {
     for (int j = 0; j + 1 < C; ++j) {
       const Eigen::Vector2d centre = 0.25 * (at(i, j).p + at(i + 1, j).p + at(i, j + 1).p + at(i + 1, j + 1).p);
-      const double v = sm.Sample(centre.x(), centre.y());
-      if ((i + j) % 2 == 0) {
-        dark += v, ++nd;
-      } else {
-        bright += v, ++nb;
+      square[size_t(i * (C - 1) + j)] = sm.Sample(centre.x(), centre.y());
+    }
+  }
+  int even_darker = 0, odd_darker = 0, pairs = 0;
+  for (int i = 0; i + 1 < R; ++i) {
+    for (int j = 0; j + 1 < C; ++j) {
+      for (const auto& [i2, j2] : {std::pair{i, j + 1}, std::pair{i + 1, j}}) {
+        if (i2 + 1 >= R || j2 + 1 >= C) continue;
+        const double v = square[size_t(i * (C - 1) + j)], u = square[size_t(i2 * (C - 1) + j2)];
+        const double even_minus_odd = (i + j) % 2 == 0 ? v - u : u - v;
+        ++pairs;
+        if (even_minus_odd < -min_range) ++even_darker;
+        if (even_minus_odd > min_range) ++odd_darker;
       }
     }
   }
-  dark /= nd, bright /= nb;
-  if (!(std::abs(bright - dark) > 0.25 * det.contrast)) {
-    return refuse("the squares' colours do not tell the board's orientation (mean levels " + Fmt(dark) + " and " +
-                  Fmt(bright) + ")");
+  // All neighbouring pairs but a few (a reflection, a stain) must agree.
+  if (!(std::max(even_darker, odd_darker) >= std::max(1, (3 * pairs + 3) / 4))) {
+    return refuse("the squares' colours do not tell the board's orientation (of " + std::to_string(pairs) +
+                  " pairs of neighbouring squares, " + std::to_string(even_darker) + " say one way, " +
+                  std::to_string(odd_darker) + " the other)");
   }
-  if (dark > bright) flip_both = true;
+  if (odd_darker > even_darker) flip_both = true;
 
   // ---- output, with the predicted standard deviations
   double kg = 0, k0 = 0;

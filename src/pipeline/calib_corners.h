@@ -4,7 +4,9 @@
 //     integrated over each pixel, pipeline/gaussian_filter.h) has a saddle at
 //     each X-junction of the board; S = r_xy² − r_xx·r_yy (the negated Hessian
 //     determinant) peaks there. Local maxima of S above min_response of an
-//     ideal corner of the image's contrast are candidates.
+//     ideal corner of their own contrast (the range on the validation circle,
+//     at least 3 noise σ and a tenth of the image's contrast) are candidates:
+//     uneven light does not matter.
 //  2. Subpixel: Newton's method on the gradient of the smoothed image,
 //     evaluated exactly at subpixel positions, converges to its saddle point
 //     (the local quadratic model of the smoothed image is fitted afresh at
@@ -15,8 +17,10 @@
 //     between dark and bright exactly four times, at two pairs of nearly
 //     opposite angles (the two edges through the corner).
 //  4. Grid: from a seed corner, neighbours are found along its two edge
-//     directions, then the grid grows by predicting each next corner from the
-//     two before it (or from a parallelogram of three) and taking the nearest
+//     directions (of two very unequally far along one edge, the farther is
+//     dropped: another object's corner beyond the board's edge), then the
+//     grid grows by predicting each next corner from the two before it (or
+//     from a parallelogram of three) and taking the nearest
 //     candidate within neighbour_tolerance of the local spacing.
 //  5. Order: the grid must be complete and rows x cols (or cols x rows); the
 //     board's orientation follows from the colour convention of
@@ -25,7 +29,9 @@
 // Refusals (ok = false, with the reason): no contrast, no grid, a grid other
 // than rows x cols (a partly visible or occluded board: `grid` then holds the
 // corners found, in the grid's own indices), or colours that do not tell the
-// board's orientation. Corners are required at least 2·sigma_px + 2 pixels
+// board's orientation (each square compared with its neighbours). Inverted
+// contrast is the board turned by half a turn: the corners come out in that
+// order. Corners are required at least 2·sigma_px + 2 pixels
 // inside the image (the smoothing kernel needs the image around them), so a
 // board that touches the image border is refused as partly visible.
 //
@@ -67,7 +73,7 @@ struct CornerDetection {
   std::vector<double> corner_std_px;  // predicted standard deviation per axis of each corner
   std::vector<GridCorner> grid;       // the corners of the largest grid found
   double noise_sigma = 0;             // image noise estimate (image units)
-  double contrast = 0;                // 99th − 1st percentile of the image (image units)
+  double contrast = 0;                // 99.9th − 0.1st percentile of the smoothed image (image units)
   int candidates = 0;                 // validated saddle points
 };
 
