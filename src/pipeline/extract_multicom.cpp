@@ -1,7 +1,7 @@
 // Multi-maximum centre of mass (thesis Algorithm 4): every run of pixels at or
 // above the threshold is a peak candidate; its centre is the centroid of the
-// intensities above the threshold. Differences from the thesis: a run that is
-// too wide is dropped whole (the thesis restarts a new run inside it), runs
+// intensities above the threshold (with the threshold crossings interpolated).
+// Differences from the thesis: a run that is too wide is dropped whole (the thesis restarts a new run inside it), runs
 // holding two peaks resolved at half height are split at the valley between
 // them, runs that touch the line ends are dropped (the stripe may continue
 // outside the image), and widths are checked as FWHM.
@@ -14,10 +14,46 @@ namespace lt {
 
 namespace {
 
-// Emits the point of one part [a, b] of a run; `floor` is the level subtracted
-// from the weights (the threshold, or a valley the part was split at).
+// Centroid of part [a, b] of a run of pixels >= t, weighted by the intensity
+// above `floor` (t, or a valley the part was split at): the exact centroid of
+// the area of max(0, I - floor) with I interpolated linearly between pixel
+// centres. Inside the part this is the plain sum of x (I(x) - floor); where I
+// crosses `floor` the area ends at the interpolated crossing instead of at a
+// pixel centre. Summing whole pixels clipped at the floor samples a kinked
+// weight with whole-pixel support and biases the centre by up to 0.028 px
+// (sigma 1, noise-free); with the crossings the bias is under 0.002 px. At a
+// run's ends the area reaches towards the neighbouring pixel below t; at a split
+// point the valley pixel (at the floor) ends the part.
 template <typename T>
-void EmitPart(const T* row, int n, int a, int b, double floor, int y, const ExtractionOptions& o,
+bool ClippedCentroid(const T* row, int n, int a, int b, double floor, double t, double* centroid) {
+  const int from = (a > 0 && double(row[a - 1]) < t) ? a - 1 : a;
+  const int to = (b < n - 1 && double(row[b + 1]) < t) ? b + 1 : b;
+  double area = 0, moment = 0;
+  for (int x = from; x < to; ++x) {  // segment [x, x + 1]
+    double y0 = double(row[x]) - floor, y1 = double(row[x + 1]) - floor;
+    if (!(y0 > 0) && !(y1 > 0)) continue;
+    double x0 = x, x1 = x + 1.0;
+    if (y0 < 0) {
+      x0 = x + y0 / (y0 - y1);
+      y0 = 0;
+    } else if (y1 < 0) {
+      x1 = x + y0 / (y0 - y1);
+      y1 = 0;
+    }
+    const double len = x1 - x0, s = y0 + y1;
+    const double seg = 0.5 * len * s;  // trapezoid area and its centroid
+    area += seg;
+    moment += seg * (x0 + len * (y0 + 2 * y1) / (3 * s));
+  }
+  if (!(area > 0)) return false;
+  *centroid = moment / area;
+  return true;
+}
+
+// Emits the point of one part [a, b] of a run of pixels >= t; `floor` is the
+// level subtracted from the weights (t, or a valley the part was split at).
+template <typename T>
+void EmitPart(const T* row, int n, int a, int b, double floor, double t, int y, const ExtractionOptions& o,
               std::vector<StripePoint>* points, WidthRejections* rejected) {
   int first = a;
   for (int x = a + 1; x <= b; ++x) {
@@ -28,14 +64,9 @@ void EmitPart(const T* row, int n, int a, int b, double floor, int y, const Extr
   const double peak = double(row[first]);
   double fwhm = PeakFwhm(row, n, first, last, peak, o.background);
   if (!WidthAccepted(fwhm, o, rejected)) return;
-  double sw = 0, swx = 0;
-  for (int x = a; x <= b; ++x) {
-    double w = std::max(0.0, double(row[x]) - floor);
-    sw += w;
-    swx += w * x;
-  }
-  if (!(sw > 0)) return;
-  points->push_back({swx / sw, double(y), fwhm, peak, -1});
+  double c = 0;
+  if (!ClippedCentroid(row, n, a, b, floor, t, &c)) return;
+  points->push_back({c, double(y), fwhm, peak, -1});
 }
 
 // One run [a, b] of pixels >= t: split at valleys lower than half of both
@@ -66,7 +97,7 @@ void ProcessRun(const T* row, int n, int a, int b, double t, int y, const Extrac
       } else if (val > 2.0 * vmin && val > 0.5 * cur_max) {
         // A second peak rises: split at the valley.
         const double valley_level = double(row[vmin_pos]);
-        if (part_start > 0) EmitPart(row, n, part_start, vmin_pos, std::max(part_floor, valley_level), y, o, points, rejected);
+        if (part_start > 0) EmitPart(row, n, part_start, vmin_pos, std::max(part_floor, valley_level), t, y, o, points, rejected);
         part_start = vmin_pos;
         part_floor = valley_level;
         cur_max = val;
@@ -74,7 +105,7 @@ void ProcessRun(const T* row, int n, int a, int b, double t, int y, const Extrac
       }
     }
   }
-  if (part_start > 0 && b < n - 1) EmitPart(row, n, part_start, b, part_floor, y, o, points, rejected);
+  if (part_start > 0 && b < n - 1) EmitPart(row, n, part_start, b, part_floor, t, y, o, points, rejected);
 }
 
 }  // namespace
