@@ -38,9 +38,16 @@ void ExtractCom(const ImageView<T>& image, const MethodParams& params, BandedPoi
       double fwhm = 0;
       if (!FindRowPeak(row, n, params.threshold, o, &peak, &fwhm, &rejected)) continue;
       const double h = ComHalfWindow(fwhm, peak.last - peak.first + 1, o.window);
+      // The window stops at the valleys to neighbouring peaks (a second stripe
+      // or a reflection resolved at half height).
+      double lo = 0, hi = 0;
+      ValleyBounds(row, n, peak.first, peak.last, peak.value, base, int(std::ceil(h)) + 1, &lo, &hi);
       double c = 0;
       // No point when the window leaves the image or holds no light.
-      if (!SelfCentredCentroid(row, n, 0.5 * (peak.first + peak.last), h, base, &c)) continue;
+      if (!SelfCentredCentroid(row, n, 0.5 * (peak.first + peak.last), h, base, &c, std::isnan(lo) ? -HUGE_VAL : lo,
+                               std::isnan(hi) ? HUGE_VAL : hi)) {
+        continue;
+      }
       points.push_back({c, double(y), fwhm, peak.value, -1});
     }
   });

@@ -40,20 +40,57 @@ bool WindowCentroid(const T* line, int n, double c, double h, double base, doubl
   return true;
 }
 
+// `lo_bound`, `hi_bound`: the window shrinks (symmetrically about c) so as not
+// to pass them, e.g. the valleys to neighbouring peaks (ValleyBounds).
 template <typename T>
-bool SelfCentredCentroid(const T* line, int n, double start, double h, double base, double* centre) {
+bool SelfCentredCentroid(const T* line, int n, double start, double h, double base, double* centre,
+                         double lo_bound = -HUGE_VAL, double hi_bound = HUGE_VAL) {
   constexpr double kTolerance = 1e-4;
   constexpr int kMaxIterations = 8;
   double c = start;
   for (int i = 0; i < kMaxIterations; ++i) {
     double next = 0;
-    if (!WindowCentroid(line, n, c, h, base, &next)) return false;
+    const double hc = std::min({h, c - lo_bound, hi_bound - c});
+    if (!(hc > 0.5) || !WindowCentroid(line, n, c, hc, base, &next)) return false;
     const bool settled = std::abs(next - c) < kTolerance;
     c = next;
     if (settled) break;
   }
   *centre = c;
   return true;
+}
+
+// Valleys between the peak on plateau [first, last] and neighbouring peaks
+// resolved at half height, searched up to `reach` px beyond the plateau: walking
+// outwards, once the line has fallen below the half level
+// base + (peak - base) / 2 and rises above it again, to over twice the lowest
+// level passed (as multicom splits a run), the lowest pixel passed is the
+// valley (NaN bound: none). A centroid window around the peak that reaches
+// past a valley takes in the neighbour and is pulled towards it (to the
+// midpoint for two equal stripes).
+template <typename T>
+void ValleyBounds(const T* line, int n, int first, int last, double peak, double base, int reach, double* lo,
+                  double* hi) {
+  const double half = base + 0.5 * (peak - base);
+  *lo = *hi = std::nan("");
+  for (int dir : {-1, 1}) {
+    int x = dir < 0 ? first : last;
+    const int end = dir < 0 ? std::max(0, first - reach) : std::min(n - 1, last + reach);
+    bool below = false;
+    int vmin = x;
+    for (x += dir; dir < 0 ? x >= end : x <= end; x += dir) {
+      const double v = double(line[x]);
+      if (!below) {
+        if (v < half) below = true, vmin = x;
+        continue;
+      }
+      if (v < double(line[vmin])) vmin = x;
+      if (v > half && v - base > 2 * (double(line[vmin]) - base)) {  // not a noise ripple at the crossing
+        (dir < 0 ? *lo : *hi) = vmin;
+        break;
+      }
+    }
+  }
 }
 
 }  // namespace lt
