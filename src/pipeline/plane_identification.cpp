@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numeric>
 
 #include "core/error.h"
@@ -42,6 +43,87 @@ struct Ends {
   double first_along = 0, first_across = 0;  // mean position on the first search line
   double last_along = 0, last_across = 0;    // and on the last
 };
+
+// The plane of each segment (-1: none) by the stripes' order across the image
+// (see the header), for the candidate segments; empty with *error set when the
+// order cannot decide.
+template <typename Along, typename Across>
+std::vector<int> PlanesByStripeOrder(const std::vector<StripeSegment>& segments, const std::vector<int>& candidates,
+                                     int n_planes, Along along, Across across, std::string* error) {
+  // The candidates' points on each search line, in order across.
+  std::map<long, std::vector<std::pair<double, int>>> lines;
+  for (int s : candidates) {
+    for (int i : segments[size_t(s)].points) lines[std::lround(along(i))].push_back({across(i), s});
+  }
+  for (auto& [line, v] : lines) std::sort(v.begin(), v.end());
+
+  std::vector<int> label(segments.size(), -1);
+  using Votes = std::vector<std::vector<int>>;
+  // Labels the undecided segments whose votes agree by at least 3/4; true when any was labelled.
+  auto decide = [&](const Votes& votes) {
+    bool changed = false;
+    for (int s : candidates) {
+      if (label[size_t(s)] >= 0) continue;
+      const std::vector<int>& v = votes[size_t(s)];
+      const int total = std::accumulate(v.begin(), v.end(), 0);
+      const int best = int(std::max_element(v.begin(), v.end()) - v.begin());
+      if (total > 0 && 4 * v[size_t(best)] >= 3 * total) label[size_t(s)] = best, changed = true;
+    }
+    return changed;
+  };
+
+  // Lines meeting exactly N distinct segments: each segment's rank is its plane.
+  Votes votes(segments.size(), std::vector<int>(size_t(n_planes), 0));
+  bool any_full_line = false;
+  for (const auto& [line, v] : lines) {
+    if (int(v.size()) != n_planes) continue;
+    std::vector<int> segs;
+    for (const auto& [x, seg] : v) segs.push_back(seg);
+    std::sort(segs.begin(), segs.end());
+    if (std::adjacent_find(segs.begin(), segs.end()) != segs.end()) continue;
+    any_full_line = true;
+    for (int r = 0; r < n_planes; ++r) ++votes[size_t(v[size_t(r)].second)][size_t(r)];
+  }
+  if (!any_full_line) {
+    *error = "no search line meets all " + std::to_string(n_planes) + " stripes";
+    return {};
+  }
+  decide(votes);
+
+  // Segments never on such a line: the ranks between identified neighbours (or
+  // the ends of the line), when exactly the missing ranks lie between them.
+  for (int pass = 0; pass < n_planes; ++pass) {
+    Votes between(segments.size(), std::vector<int>(size_t(n_planes), 0));
+    for (const auto& [line, v] : lines) {
+      int prev_label = -1, prev_index = -1;
+      for (int k = 0; k <= int(v.size()); ++k) {
+        const int lab = k < int(v.size()) ? label[size_t(v[size_t(k)].second)] : n_planes;
+        if (lab < 0) continue;
+        const int gap = k - prev_index - 1;
+        if (gap > 0 && lab - prev_label - 1 == gap) {
+          for (int j = 1; j <= gap; ++j) ++between[size_t(v[size_t(prev_index + j)].second)][size_t(prev_label + j)];
+        }
+        prev_label = lab, prev_index = k;
+      }
+    }
+    if (!decide(between)) break;
+  }
+
+  // Every line's identified stripes in increasing order.
+  for (const auto& [line, v] : lines) {
+    int last = -1, last_segment = -1;
+    for (const auto& [x, seg] : v) {
+      const int lab = label[size_t(seg)];
+      if (lab < 0) continue;
+      if (lab < last || (lab == last && seg != last_segment)) {
+        *error = "the stripes' order contradicts itself on search line " + std::to_string(line);
+        return {};
+      }
+      last = lab, last_segment = seg;
+    }
+  }
+  return label;
+}
 
 }  // namespace
 
@@ -169,24 +251,47 @@ PlaneIdentification IdentifyPlanes(const std::vector<StripePoint>& points, const
   result.groups_found = int(chains.size());
   int unjoined = 0;
   for (int s : candidates) unjoined += !used[s];
+  std::string chains_error;
+  std::vector<int> by_chains;
   if (int(chains.size()) != n_planes || unjoined > 0) {
-    result.ok = false;
-    result.error = "found " + std::to_string(chains.size()) + " stripe group(s) starting at the " +
+    chains_error = "found " + std::to_string(chains.size()) + " stripe group(s) starting at the " +
                    (rows ? "top" : "left") + " edge, expected " + std::to_string(n_planes);
-    if (unjoined > 0) result.error += "; " + std::to_string(unjoined) + " segment(s) could not be joined to a group";
-    return result;
-  }
-  // 4. Plane numbers across the image, by position at the start edge.
-  std::vector<int> chain_order(chains.size());
-  std::iota(chain_order.begin(), chain_order.end(), 0);
-  std::sort(chain_order.begin(), chain_order.end(), [&](int a, int b) {
-    return ends[chains[a].segments.front()].first_across < ends[chains[b].segments.front()].first_across;
-  });
-  for (int id = 0; id < int(chain_order.size()); ++id) {
-    for (int s : chains[chain_order[id]].segments) {
-      result.segments[s].plane = id;
-      for (int i : result.segments[s].points) result.points[i].plane = id;
+    if (unjoined > 0) chains_error += "; " + std::to_string(unjoined) + " segment(s) could not be joined to a group";
+  } else {
+    // 4. Plane numbers across the image, by position at the start edge.
+    std::vector<int> chain_order(chains.size());
+    std::iota(chain_order.begin(), chain_order.end(), 0);
+    std::sort(chain_order.begin(), chain_order.end(), [&](int a, int b) {
+      return ends[chains[a].segments.front()].first_across < ends[chains[b].segments.front()].first_across;
+    });
+    by_chains.assign(result.segments.size(), -1);
+    for (int id = 0; id < int(chain_order.size()); ++id) {
+      for (int s : chains[chain_order[id]].segments) by_chains[size_t(s)] = id;
     }
+  }
+
+  // The stripes' order decides; the chains when it cannot.
+  std::string order_error;
+  std::vector<int> planes = PlanesByStripeOrder(result.segments, candidates, n_planes, along, across, &order_error);
+  result.method = PlaneIdMethod::kStripeOrder;
+  if (planes.empty()) {
+    if (by_chains.empty()) {
+      result.error = "the stripes' order cannot number them (" + order_error + ") and the edge chains cannot (" +
+                     chains_error + ")";
+      return result;
+    }
+    planes = std::move(by_chains);
+    result.method = PlaneIdMethod::kEdgeChains;
+    result.order_error = order_error;
+  }
+  for (int s : candidates) {
+    const int plane = planes[size_t(s)];
+    if (plane < 0) {
+      ++result.unidentified_segments;
+      continue;
+    }
+    result.segments[size_t(s)].plane = plane;
+    for (int i : result.segments[size_t(s)].points) result.points[size_t(i)].plane = plane;
   }
   result.ok = true;
   return result;

@@ -1,10 +1,24 @@
-// Multi-line laser plane identification (thesis section 2.1.3, after the
-// method of its reference [9]): which of N laser sheets produced each stripe
-// point. Points are joined into segments (connected components), segments are
-// classified by the image edges they touch, chained into one group per sheet by
-// shortest connection vectors, and groups are numbered across the image. When
-// the frame does not yield exactly N groups that use every segment, it says so
-// instead of guessing.
+// Multi-line laser plane identification: which of N laser sheets produced each
+// stripe point. Points are joined into segments (connected components over
+// adjacent search lines) and numbered by two methods:
+//
+// Stripe order (first): sheets from one projector do not cross in the image, so
+// on a search line that meets exactly N stripes they are the N sheets in image
+// order, and each segment there gets a vote for its rank. A segment takes the
+// rank that holds at least 3/4 of its votes. A segment that is never on such a
+// line takes the rank its position calls for on lines where it lies between
+// numbered segments (or the line's ends) with exactly the missing ranks between
+// them. Segments neither step decides keep no plane (not guessed); on every line
+// the numbered stripes must then be in increasing order. It needs one search
+// line that meets all N stripes, and no stripe to reach an image edge.
+//
+// Edge chains (when the order cannot decide; thesis section 2.1.3, after the
+// method of its reference [9]): segments are classified by the image edges they
+// touch, chained into one group per sheet by shortest connection vectors from
+// the start edge, and groups are numbered across the image. It needs every
+// sheet to reach the start edge.
+//
+// When neither can decide, identification fails with both reasons.
 //
 // Edges: the stripes run along the search direction's normal, from a start edge
 // to an end edge. Searching rows (stripes run top to bottom) the start edge is
@@ -52,12 +66,20 @@ struct StripeSegment {
   bool ignored = false;     // fewer than min_segment_points
 };
 
+enum class PlaneIdMethod {
+  kStripeOrder,  // the stripes' order across the image
+  kEdgeChains,   // the thesis's chains from the start edge (the order could not decide)
+};
+
 struct PlaneIdentification {
   bool ok = false;
   std::string error;                // why identification failed (empty when ok)
+  PlaneIdMethod method = PlaneIdMethod::kStripeOrder;
+  std::string order_error;          // with kEdgeChains: why the order could not decide
+  int unidentified_segments = 0;    // segments (not noise) left without a plane
+  int groups_found = 0;             // chains the edge method started
   std::vector<StripePoint> points;  // the input, with `plane` set when ok
   std::vector<StripeSegment> segments;
-  int groups_found = 0;
 };
 
 // `region` is the rectangle that was searched (the image or its ROI), in the

@@ -208,6 +208,10 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
       for (auto& p : points) {
         if (p.plane >= 0) p.plane = order[size_t(p.plane)];
       }
+      fs_summary.by_edge_chains = id.ok && id.method == PlaneIdMethod::kEdgeChains;
+      fs_summary.unidentified_segments = id.unidentified_segments;
+      summary.frames_by_edge_chains += fs_summary.by_edge_chains;
+      summary.unidentified_segments += id.unidentified_segments;
       if (!id.ok) {
         fs_summary.identified = false;
         fs_summary.identification_error = id.error;

@@ -59,6 +59,8 @@ struct ScanFrameSummary {
   TriangulationStats stats;
   bool identified = true;  // plane identification succeeded (always with one plane)
   std::string identification_error;
+  bool by_edge_chains = false;    // numbered by the edge chains (the stripes' order could not decide)
+  int unidentified_segments = 0;  // stripe segments left without a plane
 };
 
 struct ScanSummary {
@@ -70,6 +72,8 @@ struct ScanSummary {
   TriangulationStats stats;  // summed over frames
   bool world_frame = true;   // cloud.ply is in the world frame (every frame had a pose)
   int planes = 0;
+  int frames_by_edge_chains = 0;   // frames the edge chains numbered (pipeline/plane_identification.h)
+  int unidentified_segments = 0;   // stripe segments left without a plane, all frames
   std::filesystem::path plane_source;  // rig.json, scene.json or the calibration file
   // The camera poses of the cloud: the manifest's world_from_cam, or, when the
   // calibration file has tool_from_cam and the run has tool poses,

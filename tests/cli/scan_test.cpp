@@ -124,7 +124,7 @@ TEST_F(ScanCommand, PointsMatchTheGroundTruth) {
   CliResult r = RunCli("scan " + Quoted(run));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.err, HasSubstr("scanned 1 laser frame (1 without laser light skipped): "));
-  EXPECT_THAT(r.err, HasSubstr("(world frame)"));
+  EXPECT_THAT(r.err, HasSubstr("(world frame, poses world_from_cam)"));
   EXPECT_TRUE(fs::exists(run / "centers/000000.csv"));
   EXPECT_FALSE(fs::exists(run / "centers/000001.csv"));  // the bright frame
   const Truth truth = ReadTruth(run);

@@ -1,5 +1,5 @@
-// Multi-line plane identification: segment classification, grouping, left to
-// right numbering, and refusal when the frame does not give N groups.
+// Multi-line plane identification: segment classification, numbering by the
+// stripes' order and by the edge chains, and refusal when neither decides.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -60,17 +60,83 @@ TEST(PlaneIdentification, ReportsInsteadOfGuessing) {
   EXPECT_FALSE(three.ok);
   EXPECT_NE(three.error.find("found 2"), std::string::npos) << three.error;
   EXPECT_NE(three.error.find("expected 3"), std::string::npos) << three.error;
+  EXPECT_NE(three.error.find("no search line meets all 3 stripes"), std::string::npos) << three.error;
+  EXPECT_EQ(three.unidentified_segments, 0);
   for (const auto& p : three.points) EXPECT_EQ(p.plane, -1);
-  // A floating segment with nothing above it to join: two chains start, but a
-  // segment is left over.
+  // A third stripe beside two sheets over rows 30..59: the stripes' order
+  // numbers the two lines (every other row shows exactly two stripes) and
+  // leaves the extra segment, which no row places, without a plane (the edge
+  // chains could not join it either).
   AddLine(&pts, 100, 30, 60);
   PlaneIdentification left_over = IdentifyPlanes(pts, {0, 0, 120, 100}, 2, PlaneIdOptions{});
-  EXPECT_FALSE(left_over.ok);
-  EXPECT_NE(left_over.error.find("could not be joined"), std::string::npos) << left_over.error;
+  ASSERT_TRUE(left_over.ok) << left_over.error;
+  EXPECT_EQ(left_over.method, PlaneIdMethod::kStripeOrder);
+  EXPECT_EQ(left_over.unidentified_segments, 1);
+  for (const auto& p : left_over.points) EXPECT_EQ(p.plane, p.u < 40 ? 0 : p.u < 80 ? 1 : -1) << p.u << "," << p.v;
   EXPECT_THROW(IdentifyPlanes(pts, {0, 0, 120, 100}, 0, PlaneIdOptions{}), InputError);
   PlaneIdOptions bad;
   bad.link_distance = 0;
   EXPECT_THROW(IdentifyPlanes(pts, {0, 0, 120, 100}, 2, bad), InputError);
+}
+
+// Stripes that do not reach the start edge, where the edge chains fail: the
+// stripes' order numbers them. Four sheets; the first starts 10 rows down (past the edge
+// margin), the fourth ends at row 50, and the second is cut at rows 50..59, so
+// its lower piece is never on a row with all four stripes: it is numbered by
+// lying between the first and third stripes with one rank missing between them.
+TEST(PlaneIdentification, StripeOrderWhenStripesMissTheStartEdge) {
+  std::vector<StripePoint> pts;
+  AddLine(&pts, 20, 10, 100);
+  AddLine(&pts, 40, 0, 50);
+  AddLine(&pts, 40, 60, 100);
+  AddLine(&pts, 60, 0, 100);
+  AddLine(&pts, 80, 0, 50);
+  PlaneIdentification id = IdentifyPlanes(pts, {0, 0, 120, 100}, 4, PlaneIdOptions{});
+  ASSERT_TRUE(id.ok) << id.error;
+  EXPECT_EQ(id.method, PlaneIdMethod::kStripeOrder);
+  EXPECT_EQ(id.groups_found, 3);  // the edge chains alone would have failed
+  EXPECT_EQ(id.unidentified_segments, 0);
+  for (const auto& p : id.points) EXPECT_EQ(p.plane, int(p.u) / 20 - 1) << p.u << "," << p.v;
+  // The same with the fourth stripe gone where the second is cut: the lower
+  // piece could be the second or the third sheet's, and is left without a plane.
+  pts.clear();
+  AddLine(&pts, 20, 10, 100);
+  AddLine(&pts, 40, 0, 50);
+  AddLine(&pts, 40, 60, 100);
+  AddLine(&pts, 60, 0, 50);
+  PlaneIdentification three = IdentifyPlanes(pts, {0, 0, 120, 100}, 3, PlaneIdOptions{});
+  ASSERT_TRUE(three.ok) << three.error;
+  EXPECT_EQ(three.unidentified_segments, 1);
+  for (const auto& p : three.points) EXPECT_EQ(p.plane, p.u == 40 && p.v >= 60 ? -1 : int(p.u) / 20 - 1);
+}
+
+// No row meets all three stripes (the third starts where the first ends), so
+// the order cannot decide; the edge chains, which need every sheet to reach the
+// top, cannot either until the third does: then they number the frame.
+TEST(PlaneIdentification, EdgeChainsWhenNoLineMeetsAllStripes) {
+  std::vector<StripePoint> pts;
+  AddLine(&pts, 20, 0, 50);
+  AddLine(&pts, 50, 0, 100);
+  AddLine(&pts, 80, 50, 100);
+  PlaneIdentification none = IdentifyPlanes(pts, {0, 0, 120, 100}, 3, PlaneIdOptions{});
+  EXPECT_FALSE(none.ok);
+  EXPECT_NE(none.error.find("no search line meets all 3 stripes"), std::string::npos) << none.error;
+  EXPECT_NE(none.error.find("found 2 stripe group(s)"), std::string::npos) << none.error;
+  for (const auto& p : none.points) EXPECT_EQ(p.plane, -1);
+  // The third sheet's top in rows 0..3 and the second starting at row 4 (both
+  // within the 5-row edge margin): still no row with all three.
+  pts.clear();
+  AddLine(&pts, 20, 0, 50);
+  AddLine(&pts, 50, 4, 100);
+  AddLine(&pts, 80, 0, 4);
+  AddLine(&pts, 80.5, 50, 100);
+  PlaneIdOptions o;
+  o.min_segment_points = 4;
+  PlaneIdentification chains = IdentifyPlanes(pts, {0, 0, 120, 100}, 3, o);
+  ASSERT_TRUE(chains.ok) << chains.error;
+  EXPECT_EQ(chains.method, PlaneIdMethod::kEdgeChains);
+  EXPECT_NE(chains.order_error.find("no search line meets all 3"), std::string::npos) << chains.order_error;
+  for (const auto& p : chains.points) EXPECT_EQ(p.plane, p.u < 30 ? 0 : p.u < 60 ? 1 : 2) << p.u << "," << p.v;
 }
 
 TEST(PlaneIdentification, ColumnSearchNumbersTopToBottom) {
@@ -143,6 +209,39 @@ TEST(PlaneIdentification, FiveSheetFrameEverySegmentOnItsPlane) {
     }
     EXPECT_EQ(real_segments, 5 + 1 + 2 + 1 + 2);  // each gap adds a segment
     EXPECT_EQ(floating, 2);                       // the middle pieces of stripes 2 and 4
+  }
+}
+
+// The five-sheet frame with the second stripe starting 40 rows down (the part
+// hides its top): the edge chains could not number it; the stripes' order does.
+TEST(PlaneIdentification, FiveSheetFrameWithAStripeBelowTheEdge) {
+  SyntheticFrame f = FiveSheetFrame();
+  f.stripes[1].visible_rows = {{40, 240}};
+  for (auto m : {ExtractionMethod::kMultiCom, ExtractionMethod::kSteger}) {
+    SCOPED_TRACE(MethodName(m));
+    ExtractionOptions o;
+    o.method = m;
+    o.threshold = 60;
+    o.expected_width = 4.7;
+    auto pts = ExtractFrom<uint8_t>(f, o);
+    PlaneIdOptions po;
+    po.edge_margin = std::max(po.edge_margin, o.EdgeLinesWithoutPoints() + 2);
+    PlaneIdentification id = IdentifyPlanes(pts, {0, 0, f.width, f.height}, 5, po);
+    ASSERT_TRUE(id.ok) << id.error;
+    EXPECT_EQ(id.method, PlaneIdMethod::kStripeOrder);
+    int identified = 0;
+    for (const auto& p : id.points) {
+      if (p.plane < 0) continue;
+      ++identified;
+      int truth = -1;
+      double best = 1e9;
+      for (int k = 0; k < 5; ++k) {
+        const double d = std::abs(p.u - f.stripes[k].CentreU(p.v));
+        if (d < best) best = d, truth = k;
+      }
+      EXPECT_EQ(p.plane, truth) << "point " << p.u << "," << p.v;
+    }
+    EXPECT_GT(identified, int(0.95 * pts.size()));
   }
 }
 

@@ -19,10 +19,11 @@ for m in "${methods[@]}"; do
   # Steger's filter scale from the stripe's width here (FWHM about 3 px), not its 5 px default.
   extra=()
   if [ "$m" = steger ]; then extra=(--width 3); fi
-  # Plane identification needs every stripe to cross the searched region from its
-  # start edge: search the columns where the stripes lie on the part (x within
-  # +-18 mm at 80 mm), not the dark print bed beside it. The part's steps move a
-  # stripe by up to 9 px between neighbouring columns: link across such jumps.
+  # The thesis's setup: its edge chains need every stripe to cross the searched
+  # region from its start edge, so search the columns where the stripes lie on
+  # the part (x within +-18 mm at 80 mm), not the dark print bed beside it. The
+  # part's steps move a stripe by up to 9 px between neighbouring columns: link
+  # across such jumps. (The whole frame: docs/experiments.md.)
   "$bin/lasertwin" scan "$run" --method "$m" "${extra[@]}" --roi 110,0,420,512 --link-distance 10 --quiet
   rm -rf "$run/centers_$m"
   cp -r "$run/centers" "$run/centers_$m"

@@ -117,6 +117,14 @@ void Run(ExtractArgs& a) {
       PixelRect region = o.roi ? *o.roi : PixelRect{0, 0, width, height};
       PlaneIdentification id = IdentifyPlanes(points, region, a.planes, a.plane_options);
       if (!id.ok) std::cerr << "lasertwin: warning: " << image << ": plane identification failed: " << id.error << "\n";
+      if (id.ok && id.method == PlaneIdMethod::kEdgeChains) {
+        std::cerr << "lasertwin: note: " << image << ": planes numbered by the edge chains (the stripes' order could not: "
+                  << id.order_error << ")\n";
+      }
+      if (id.unidentified_segments > 0) {
+        std::cerr << "lasertwin: note: " << image << ": " << id.unidentified_segments
+                  << " stripe segment(s) left without a plane (their place among the stripes is not certain)\n";
+      }
       points = std::move(id.points);
     }
     if (a.out.empty()) {

@@ -82,6 +82,14 @@ void Run(ScanArgs& a) {
   if (!rejected.empty()) std::cerr << " (" << rejected << ")";
   std::cerr << "; " << s.planes << " laser plane" << (s.planes == 1 ? "" : "s") << " from " << s.plane_source.string()
             << "\n";
+  if (s.frames_by_edge_chains > 0) {
+    std::cerr << "planes numbered by the edge chains in " << s.frames_by_edge_chains << " frame"
+              << (s.frames_by_edge_chains == 1 ? "" : "s") << " (no search line met all the stripes)\n";
+  }
+  if (s.unidentified_segments > 0) {
+    std::cerr << s.unidentified_segments << " stripe segment" << (s.unidentified_segments == 1 ? "" : "s")
+              << " left without a plane (their place among the stripes is not certain)\n";
+  }
   if (s.coloured) {
     const ColourStats& c = s.colour;
     std::cerr << "colour from " << c.bright_frames << " bright frame" << (c.bright_frames == 1 ? "" : "s") << ": "
