@@ -19,6 +19,7 @@
 #include <cmath>
 
 #include "pipeline/extract_methods.h"
+#include "pipeline/local_background.h"
 #include "pipeline/window_centroid.h"
 
 namespace lt {
@@ -34,6 +35,18 @@ void ExtractCom(const ImageView<T>& image, const MethodParams& params, BandedPoi
     WidthRejections& rejected = out->rejected[band];
     for (int y = y0; y < y1; ++y) {
       const T* row = image.Row(y);
+      if (o.background_mode == BackgroundMode::kLocal) {
+        // The same window and centroid on r = line - B (local_background.h).
+        thread_local LocalPeak p;
+        if (!FindRowPeakLocal(row, n, params.threshold, o, &p, &rejected)) continue;
+        double c = 0;
+        if (!SelfCentredCentroid(p.r.data(), int(p.r.size()), 0.5 * (p.first + p.last) - p.s0, p.half_window, 0.0,
+                                 &c, p.valley_lo - p.s0, p.valley_hi - p.s0)) {
+          continue;
+        }
+        points.push_back({c + p.s0, double(y), p.fwhm, p.height, -1});
+        continue;
+      }
       LinePeak peak;
       double fwhm = 0;
       if (!FindRowPeak(row, n, params.threshold, o, &peak, &fwhm, &rejected)) continue;

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "pipeline/extract_methods.h"
+#include "pipeline/local_background.h"
 
 namespace lt {
 
@@ -94,6 +95,12 @@ void ExtractMax(const ImageView<T>& image, const MethodParams& params, BandedPoi
     WidthRejections& rejected = out->rejected[band];
     for (int y = y0; y < y1; ++y) {
       const T* row = image.Row(y);
+      if (o.background_mode == BackgroundMode::kLocal) {
+        thread_local LocalPeak local;
+        if (!FindRowPeakLocal(row, n, params.threshold, o, &local, &rejected)) continue;
+        points.push_back({0.5 * (local.first + local.last), double(y), local.fwhm, local.height, -1});
+        continue;
+      }
       LinePeak peak;
       double fwhm = 0;
       if (!FindRowPeak(row, n, params.threshold, o, &peak, &fwhm, &rejected)) continue;

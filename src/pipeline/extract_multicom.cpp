@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "pipeline/extract_methods.h"
+#include "pipeline/local_background.h"
 
 namespace lt {
 
@@ -108,6 +109,50 @@ void ProcessRun(const T* row, int n, int a, int b, double t, int y, const Extrac
   if (part_start > 0 && b < n - 1) EmitPart(row, n, part_start, b, part_floor, t, y, o, points, rejected);
 }
 
+// One line with the local background (local_background.h): every local-maximum
+// plateau whose height above its local background B reaches t is a peak; its
+// centre is the clipped centroid (as above) of r = line - B above t over the run
+// of r >= t around it, split at the valleys to neighbouring peaks (the part's
+// floor is then the valley level, as ProcessRun does). A run that reaches the
+// end of r (the peak's flanks) without a valley gives no point.
+template <typename T>
+void ProcessLineLocal(const T* row, int n, double t, int y, const ExtractionOptions& o,
+                      std::vector<StripePoint>* points, WidthRejections* rejected) {
+  double row_min = double(row[0]);
+  for (int x = 1; x < n; ++x) row_min = std::min(row_min, double(row[x]));
+  thread_local std::vector<LinePeak> candidates;
+  thread_local LocalPeak p;
+  LocalMaximumPlateaus(row, n, row_min + t, &candidates);
+  int emitted = -1;  // plateau start of the last point (two candidates can climb to one peak)
+  for (const LinePeak& cand : candidates) {
+    if (!MeasureLocalPeak(row, n, cand.first, cand.last, t, o.window, &p)) continue;
+    if (p.first == emitted) continue;
+    if (!WidthAccepted(p.fwhm, o, rejected)) continue;
+    const int len = int(p.r.size());
+    const double* r = p.r.data();
+    int a = p.first - p.s0, b = p.last - p.s0;
+    while (a > 0 && r[a - 1] >= t) --a;
+    while (b < len - 1 && r[b + 1] >= t) ++b;
+    double floor = t;
+    bool cut_a = false, cut_b = false;
+    if (std::isfinite(p.valley_lo) && a <= int(p.valley_lo) - p.s0) {
+      a = int(p.valley_lo) - p.s0;
+      floor = std::max(floor, r[a]);
+      cut_a = true;
+    }
+    if (std::isfinite(p.valley_hi) && b >= int(p.valley_hi) - p.s0) {
+      b = int(p.valley_hi) - p.s0;
+      floor = std::max(floor, r[b]);
+      cut_b = true;
+    }
+    if ((a == 0 && !cut_a) || (b == len - 1 && !cut_b)) continue;
+    double c = 0;
+    if (!ClippedCentroid(r, len, a, b, floor, t, &c)) continue;
+    points->push_back({c + p.s0, double(y), p.fwhm, p.height, -1});
+    emitted = p.first;
+  }
+}
+
 }  // namespace
 
 template <typename T>
@@ -122,6 +167,10 @@ void ExtractMultiCom(const ImageView<T>& image, const MethodParams& params, Band
     constexpr int kChunk = 64;
     for (int y = y0; y < y1; ++y) {
       const T* row = image.Row(y);
+      if (o.background_mode == BackgroundMode::kLocal) {
+        ProcessLineLocal(row, n, t, y, o, &points, rejected);
+        continue;
+      }
       int run_start = -1;
       for (int c0 = 0; c0 < n; c0 += kChunk) {
         const int c1 = std::min(n, c0 + kChunk);

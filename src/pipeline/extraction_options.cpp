@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "core/error.h"
 
@@ -32,6 +33,25 @@ SearchAxis ParseAxis(const std::string& text, const std::string& where) {
   if (text == "rows") return SearchAxis::kRows;
   if (text == "cols") return SearchAxis::kCols;
   throw InputError(where, "unknown search axis '" + text + "' (expected rows or cols)");
+}
+
+void ParseBackground(const std::string& text, const std::string& where, double* level, BackgroundMode* mode) {
+  if (text == "local") {
+    *mode = BackgroundMode::kLocal;
+    return;
+  }
+  size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size() || !std::isfinite(v)) {
+    throw InputError(where, "expected a level (a number) or 'local', got '" + text + "'");
+  }
+  *level = v;
+  *mode = BackgroundMode::kLevel;
 }
 
 namespace {

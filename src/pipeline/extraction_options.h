@@ -25,6 +25,14 @@ enum class ExtractionMethod {
 // roughly left to right and each column is searched.
 enum class SearchAxis { kRows, kCols };
 
+// What max, com and multicom subtract as the background (docs/extraction.md,
+// "Local background"). kLevel: one constant level, `background`. kLocal: per peak, a
+// straight line through the levels just outside the peak's window on both
+// sides of it on the search line (ambient light, uneven or sloped); the
+// threshold then applies to the height above that line. steger ignores kLocal
+// (its second derivative is blind to a linear background).
+enum class BackgroundMode { kLevel, kLocal };
+
 // Candidate peaks (above the threshold) that max, com and multicom dropped
 // because their FWHM was outside [min_width, max_width].
 struct WidthRejections {
@@ -44,6 +52,9 @@ const char* AxisName(SearchAxis axis);
 // lt::InputError(where, ...) for anything else.
 ExtractionMethod ParseMethod(const std::string& text, const std::string& where);
 SearchAxis ParseAxis(const std::string& text, const std::string& where);
+// Parse a --background value: a number (mode kLevel, *level set) or "local"
+// (mode kLocal, *level untouched); throw lt::InputError(where, ...) otherwise.
+void ParseBackground(const std::string& text, const std::string& where, double* level, BackgroundMode* mode);
 
 struct ExtractionOptions {
   static constexpr double kAuto = std::numeric_limits<double>::quiet_NaN();
@@ -62,8 +73,12 @@ struct ExtractionOptions {
   // Steger's high hysteresis threshold, same units. kAuto: 2 x threshold.
   double high_threshold = kAuto;
   // Level subtracted from intensities before the centre of mass (com), and
-  // before the half-maximum and width estimates of every method.
+  // before the half-maximum and width estimates of every method
+  // (background_mode kLevel; with kLocal only steger's width uses it).
   double background = 0;
+  // kLocal: max, com and multicom estimate each peak's background locally
+  // (BackgroundMode; pipeline/local_background.h).
+  BackgroundMode background_mode = BackgroundMode::kLevel;
   // com: half width of the centroid window in pixels; 0 = automatic
   // (ceil(1.25 x the measured FWHM of the peak in that row)).
   int window = 0;

@@ -93,6 +93,22 @@ TEST_F(ExtractCommand, GoodImageWorks) {
   EXPECT_THAT(r.out, HasSubstr("u,v,width,strength\n20.0000,0.0000,"));
 }
 
+// --background takes a level or `local` (a per-peak background line, for
+// ambient light); anything else is an option error naming the choices.
+TEST_F(ExtractCommand, BackgroundLocalOrLevel) {
+  const fs::path p = dir_ / "stripe.png";
+  Image<uint8_t> img = StripeImage();
+  for (int y = 0; y < img.height; ++y)  // ambient ramp of 1 DN/px under the stripe
+    for (int x = 0; x < img.width; ++x) img.At(x, y) = uint8_t(std::min(255, img.At(x, y) + x));
+  WriteImage(p, img);
+  CliResult r = RunCli("extract " + Quoted(p) + " --background local --method multicom");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("u,v,width,strength\n20.0"));
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1 + img.height) << r.out;
+  ExpectInputError(Quoted(p) + " --background lokal", "--background: expected a level (a number) or 'local', got 'lokal'");
+  ExpectInputError(Quoted(p) + " --background 5x", "--background: expected a level (a number) or 'local', got '5x'");
+}
+
 TEST_F(ExtractCommand, MissingEmptyCorruptAndTruncatedFiles) {
   const fs::path missing = dir_ / "missing.png";
   ExpectInputError(Quoted(missing), missing.string() + ": no such file");

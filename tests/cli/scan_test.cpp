@@ -141,6 +141,18 @@ TEST_F(ScanCommand, PointsMatchTheGroundTruth) {
   EXPECT_LT(worst, 0.1e-3);
 }
 
+// --background local (a per-peak background line instead of the black level)
+// is accepted and measures the rendered stripe as well (same tolerance as above).
+TEST_F(ScanCommand, LocalBackgroundMatchesTheGroundTruth) {
+  const fs::path run = CopyRun("local_background");
+  CliResult r = RunCli("scan " + Quoted(run) + " --background local");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  int compared = 0;
+  const double worst = WorstError(run, ReadTruth(run), &compared);
+  EXPECT_GE(compared, 100);
+  EXPECT_LT(worst, 0.1e-3);
+}
+
 TEST_F(ScanCommand, PlyHoldsTheTriangulatedPoints) {
   const fs::path run = CopyRun("ply");
   CliResult r = RunCli("scan " + Quoted(run) + " --method multicom --quiet");
@@ -257,6 +269,7 @@ TEST_F(ScanCommand, BadInputExitsWithTwo) {
        (good / "garbage.yml").string() + ":1: not an OpenCV FileStorage YAML file"},
       {Quoted(good) + " --frames 1", (good / "manifest.jsonl").string() + ": no laser frame to scan"},
       {Quoted(good) + " --min-ray-angle-deg 95", "option min_ray_angle_deg: must be in [0, 90) degrees, got 95"},
+      {Quoted(good) + " --background ambient", "--background: expected a level (a number) or 'local', got 'ambient'"},
   };
   std::vector<std::string> args;
   for (const auto& c : cases) args.push_back("scan " + c.args);

@@ -26,6 +26,7 @@ struct ExtractArgs {
   std::string weights;
   std::string bayer = "none";
   std::string out;
+  std::string background = "0";
   ExtractionOptions options;
   int planes = 0;
   PlaneIdOptions plane_options;
@@ -64,6 +65,7 @@ void Run(ExtractArgs& a) {
   if (!a.roi.empty()) o.roi = ParseRoi(a.roi);
   if (!a.weights.empty()) o.channel_weights = ParseNumbers(a.weights, "--weights");
   o.bayer = ParseBayerPattern(a.bayer, "--bayer");
+  ParseBackground(a.background, "--background", &o.background, &o.background_mode);
   a.plane_options.axis = o.axis;
   // Edge connectivity must reach past the lines a method cannot measure.
   a.plane_options.edge_margin = std::max(a.plane_options.edge_margin, o.EdgeLinesWithoutPoints() + 2);
@@ -173,7 +175,10 @@ void AddExtract(CLI::App& app) {
   cmd->add_option("--threshold", o.threshold,
                   "Minimum stripe peak intensity in image units (default: 10% of full scale)");
   cmd->add_option("--high-threshold", o.high_threshold, "steger: high hysteresis threshold (default: 2 x threshold)");
-  cmd->add_option("--background", o.background, "Level subtracted before centroid and width")->capture_default_str();
+  cmd->add_option("--background", args->background,
+                  "Level subtracted before centroid and width, or 'local': per peak, a line through the levels just "
+                  "outside its window (ambient light; max, com, multicom)")
+      ->capture_default_str();
   cmd->add_option("--window", o.window, "com: half window in pixels (0: from the peak width)")->capture_default_str();
   cmd->add_option("--min-width", o.min_width, "Minimum peak FWHM in pixels")->capture_default_str();
   cmd->add_option("--max-width", o.max_width, "Maximum peak FWHM in pixels (0: none)")->capture_default_str();

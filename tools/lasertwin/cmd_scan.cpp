@@ -24,7 +24,7 @@ struct ScanArgs {
   std::string weights;
   std::string calib;
   std::string frames;
-  double background = ExtractionOptions::kAuto;
+  std::string background;  // empty: the black level
   bool quiet = false;
   ScanOptions options;
 };
@@ -45,7 +45,9 @@ void Run(ScanArgs& a) {
   ScanOptions& o = a.options;
   o.extraction.method = ParseMethod(a.method, "--method");
   if (!a.axis.empty()) o.axis = ParseAxis(a.axis, "--axis");
-  o.extraction.background = a.background;
+  if (!a.background.empty()) {
+    ParseBackground(a.background, "--background", &o.extraction.background, &o.extraction.background_mode);
+  }
   if (!a.roi.empty()) {
     std::vector<double> v = ParseNumbers(a.roi, "--roi");
     if (v.size() != 4) throw InputError("--roi", "expected X,Y,W,H, got '" + a.roi + "'");
@@ -119,7 +121,9 @@ void Add(CLI::App& app) {
   cmd->add_option("--threshold", e.threshold,
                   "Minimum stripe peak in image DN (default: 10% of the frame's full scale, 2^bit_depth - 1)");
   cmd->add_option("--high-threshold", e.high_threshold, "steger: high hysteresis threshold (default: 2 x threshold)");
-  cmd->add_option("--background", args->background, "Level subtracted before centroid and width (default: black level)");
+  cmd->add_option("--background", args->background,
+                  "Level subtracted before centroid and width (default: black level), or 'local': per peak, a line "
+                  "through the levels just outside its window (ambient light; max, com, multicom)");
   cmd->add_option("--window", e.window, "com: half window in pixels (0: from the peak width)")->capture_default_str();
   cmd->add_option("--min-width", e.min_width, "Minimum peak FWHM in pixels")->capture_default_str();
   cmd->add_option("--max-width", e.max_width, "Maximum peak FWHM in pixels (0: none)")->capture_default_str();
