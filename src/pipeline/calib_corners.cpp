@@ -1,6 +1,7 @@
 #include "pipeline/calib_corners.h"
 
 #include <Eigen/LU>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -166,13 +167,13 @@ double CircleSamples(const Smoothed& s, const Eigen::Vector2d& p, double radius,
   return hi - lo;
 }
 
-bool EdgeDirections(const Smoothed& s, const Eigen::Vector2d& p, double radius, double min_range, Candidate* c) {
+// The edges from the smoothed image sampled on the circle (kCircleSamples
+// values, counter-clockwise from +x).
+bool EdgeDirectionsOnRing(const double* v, double min_range, Candidate* c) {
   constexpr int kSamples = kCircleSamples;
-  double v[kSamples];
-  const double range = CircleSamples(s, p, radius, v);
-  if (!(range >= min_range)) return false;
   double lo = HUGE_VAL, hi = -HUGE_VAL;
-  for (double x : v) lo = std::min(lo, x), hi = std::max(hi, x);
+  for (int k = 0; k < kSamples; ++k) lo = std::min(lo, v[k]), hi = std::max(hi, v[k]);
+  if (!(hi - lo >= min_range)) return false;
   const double mid = 0.5 * (lo + hi);
   std::vector<double> t;
   for (int k = 0; k < kSamples; ++k) {
@@ -192,6 +193,125 @@ bool EdgeDirections(const Smoothed& s, const Eigen::Vector2d& p, double radius, 
   c->e1 = line(t[0], t[2]);
   c->e2 = line(t[1], t[3]);
   return std::abs(c->e1.dot(c->e2)) < std::cos(15 * M_PI / 180);
+}
+
+bool EdgeDirections(const Smoothed& s, const Eigen::Vector2d& p, double radius, double min_range, Candidate* c) {
+  double v[kCircleSamples];
+  CircleSamples(s, p, radius, v);
+  return EdgeDirectionsOnRing(v, min_range, c);
+}
+
+// Whether the image smoothed at `sigma` (smaller than the scale `found_sigma`
+// a corner was found at) has the corner's saddle too: Newton's method from p
+// converges within 0.05 px + 4 times the predicted standard deviation of the
+// two (noise only), to a saddle of at least min_response of the ideal
+// response at the larger scale, with the X of step 3 on the validation circle
+// of the smaller scale. A larger kernel averages the surroundings of the
+// corner: it makes a saddle, up to a pixel or two off, where a small occluder
+// hides the corner, and there the smaller scale sees no saddle. Blur does not
+// remove the saddle at the smaller scale; it weakens it by at most the ratio
+// of the two scales' squares.
+bool SaddleAtScale(const ImageView<float>& img, const Eigen::Vector2d& p, double p_std, double sigma, double found_sigma,
+                   double noise, double min_range, double min_response) {
+  const GaussianKernels kernels(sigma);
+  Eigen::Vector2d q = p;
+  Eigen::Matrix2d hessian;
+  if (!RefineSaddle(img, sigma, kernels.radius, 2 * sigma + 2, &q, &hessian)) return false;
+  // The two saddles differ by the noise (the predicted standard deviations
+  // of both) and by a few hundredths of a pixel of model error.
+  double kg = 0, k0 = 0;
+  for (float v : kernels.k1) kg += double(v) * v;
+  for (float v : kernels.k0) k0 += double(v) * v;
+  const Eigen::Matrix2d hinv = hessian.inverse();
+  const double q_var = noise * noise * kg * k0 * (hinv * hinv.transpose()).trace() / 2;
+  const double tol = 0.05 + 4 * std::sqrt(q_var + p_std * p_std);
+  if (!((q - p).norm() <= tol)) return false;
+  const double circle = 2.5 * sigma + 1;
+  double v[kCircleSamples], lo = HUGE_VAL, hi = -HUGE_VAL;
+  for (int k = 0; k < kCircleSamples; ++k) {
+    const double a = 2 * M_PI * k / kCircleSamples;
+    v[k] = SmoothedDerivativesAt(img, q.x() + circle * std::cos(a), q.y() + circle * std::sin(a), sigma, kernels.radius).r;
+    lo = std::min(lo, v[k]), hi = std::max(hi, v[k]);
+  }
+  const double ideal = (hi - lo) / (M_PI * (found_sigma * found_sigma + 1.0 / 6.0));
+  if (!(std::sqrt(std::max(0.0, -hessian.determinant())) >= min_response * ideal)) return false;
+  Candidate c;
+  return EdgeDirectionsOnRing(v, min_range, &c);
+}
+
+// How far corner (i, j) of a rows x cols detection lies from where the
+// homography through its neighbours (those within one square, or two when
+// fewer than five) puts it. Perspective keeps the board's corners on a
+// homography; lens distortion bends it little over two squares.
+double OffGrid(const std::vector<Eigen::Vector2d>& corners, int rows, int cols, int i, int j) {
+  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> pts;  // (board, image)
+  for (int reach = 1; reach <= 2 && pts.size() < 5; ++reach) {
+    pts.clear();
+    for (int a = std::max(0, i - reach); a <= std::min(rows - 1, i + reach); ++a)
+      for (int b = std::max(0, j - reach); b <= std::min(cols - 1, j + reach); ++b)
+        if (a != i || b != j) pts.push_back({Eigen::Vector2d(b - j, a - i), corners[size_t(a * cols + b)]});
+  }
+  if (pts.size() < 5) return 0;  // too few neighbours to compare with
+  // Normalised DLT: image points centred and scaled.
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& pr : pts) mean += pr.second;
+  mean /= double(pts.size());
+  double scale = 0;
+  for (const auto& pr : pts) scale += (pr.second - mean).norm();
+  scale = scale > 0 ? double(pts.size()) / scale : 1;
+  Eigen::MatrixXd a(2 * pts.size(), 9);
+  for (size_t k = 0; k < pts.size(); ++k) {
+    const double x = pts[k].first.x(), y = pts[k].first.y();
+    const Eigen::Vector2d q = (pts[k].second - mean) * scale;
+    a.row(2 * k) << x, y, 1, 0, 0, 0, -q.x() * x, -q.x() * y, -q.x();
+    a.row(2 * k + 1) << 0, 0, 0, x, y, 1, -q.y() * x, -q.y() * y, -q.y();
+  }
+  const Eigen::VectorXd h = Eigen::JacobiSVD<Eigen::MatrixXd>(a, Eigen::ComputeFullV).matrixV().col(8);
+  if (!(std::abs(h(8)) > 1e-12)) return HUGE_VAL;
+  const Eigen::Vector2d pred = Eigen::Vector2d(h(2), h(5)) / h(8) / scale + mean;  // board offset (0, 0)
+  return (pred - corners[size_t(i * cols + j)]).norm();
+}
+
+// Point asymmetry of the image about p within radius r: the RMS difference
+// between the image at p + d and at p − d, less its expectation from noise
+// and a linear light gradient,
+// as a fraction of the range of the image there. The four squares around a
+// corner (and the ones beyond) are point-symmetric about it, whatever the
+// perspective, and so is any symmetric blur of them (defocus, motion):
+// blur and noise leave it near 0; an occluder beside the corner does not.
+constexpr double kMaxAsymmetry = 0.05;  // measured: up to 0.03 on boards, 0.08 and more beside occluders
+
+double PointAsymmetry(const Image<float>& img, const Eigen::Vector2d& p, double r, double noise) {
+  const int x0 = int(std::floor(p.x())), y0 = int(std::floor(p.y()));
+  const double fx = p.x() - x0, fy = p.y() - y0;
+  const int R = int(std::ceil(r));
+  if (x0 - R - 1 < 0 || y0 - R - 1 < 0 || x0 + R + 2 >= img.width || y0 + R + 2 >= img.height) return HUGE_VAL;
+  auto at = [&](int x, int y, double ax, double ay) {
+    return (1 - ay) * ((1 - ax) * img.At(x, y) + ax * img.At(x + 1, y)) + ay * ((1 - ax) * img.At(x, y + 1) + ax * img.At(x + 1, y + 1));
+  };
+  // Uneven light L(p + d) ≈ L(p)(1 + g·d) adds (a + b)/2 · 2g·d to the
+  // difference: that part (least squares over g) is taken out.
+  double sum = 0, lo = HUGE_VAL, hi = -HUGE_VAL;
+  Eigen::Matrix2d ata = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d atb = Eigen::Vector2d::Zero();
+  int n = 0;
+  for (int dy = -R; dy <= R; ++dy) {
+    for (int dx = -R; dx <= R; ++dx) {
+      if (dx * dx + dy * dy > r * r || dy < 0 || (dy == 0 && dx <= 0)) continue;
+      const double a = at(x0 + dx, y0 + dy, fx, fy);
+      const double b = at(x0 - dx, y0 - dy, fx, fy);  // p − d
+      const Eigen::Vector2d reg = 0.5 * (a + b) * Eigen::Vector2d(dx, dy);
+      ata += reg * reg.transpose();
+      atb += reg * (a - b);
+      sum += (a - b) * (a - b);
+      lo = std::min({lo, a, b}), hi = std::max({hi, a, b});
+      ++n;
+    }
+  }
+  if (n < 3 || !(hi > lo)) return HUGE_VAL;
+  if (std::abs(ata.determinant()) > 0) sum -= atb.dot(ata.inverse() * atb);
+  const double w = ((1 - fx) * (1 - fx) + fx * fx) * ((1 - fy) * (1 - fy) + fy * fy);
+  return std::sqrt(std::max(0.0, sum / n - 2 * noise * noise * w)) / (hi - lo);
 }
 
 using Cell = std::pair<int, int>;
@@ -295,6 +415,53 @@ Grid GrowGrid(const std::vector<Candidate>& cands, int seed, double tolerance) {
   return g;
 }
 
+// Why one scale refused the board: the first three after kNone are what another scale may
+// cure (blur, squares small against the kernel); the others no scale cures.
+enum class Failure { kNone, kFewCandidates, kNoGrid, kIncompleteGrid, kNoContrast, kGridNotTheBoard, kColours };
+
+// An incomplete grid is refused for good (no other scale tried) when it
+// cannot be a part of the board that another scale would complete: a grid
+// without holes that has more corners along a line than the board (a board of
+// another size, or another board), or one whose squares are large for this
+// scale and whose next corners beyond each side would still be well inside
+// the image (a whole board of another size, or a board whose outer corners
+// are occluded). Otherwise (holes, squares small against the kernel, or a
+// grid cut by the image border) another scale may find the rest.
+Failure GridFailure(const Grid& g, const std::vector<Candidate>& cands, const CheckerboardSpec& board, int w, int h,
+                    double border, double circle) {
+  int a0 = 1 << 30, a1 = -(1 << 30), c0 = 1 << 30, c1 = -(1 << 30);
+  for (const auto& [cell, idx] : g.cells) {
+    a0 = std::min(a0, cell.first), a1 = std::max(a1, cell.first);
+    c0 = std::min(c0, cell.second), c1 = std::max(c1, cell.second);
+  }
+  const int da = a1 - a0 + 1, dc = c1 - c0 + 1;
+  if (int(g.cells.size()) != da * dc) return Failure::kIncompleteGrid;  // holes
+  const bool fits = (da <= board.rows && dc <= board.cols) || (da <= board.cols && dc <= board.rows);
+  if (!fits) return Failure::kGridNotTheBoard;
+  auto p = [&](int a, int c) { return cands[size_t(g.cells.at({a, c}))].p; };
+  double spacing = HUGE_VAL;
+  bool inside = true;
+  auto check_next = [&](const Eigen::Vector2d& edge, const Eigen::Vector2d& inner) {
+    const Eigen::Vector2d next = 2 * edge - inner;
+    inside = inside && next.x() >= border + circle && next.y() >= border + circle && next.x() <= w - 1 - border - circle &&
+             next.y() <= h - 1 - border - circle;
+  };
+  for (int a = a0; a <= a1; ++a) {
+    for (int c = c0; c <= c1; ++c) {
+      if (a < a1) spacing = std::min(spacing, (p(a + 1, c) - p(a, c)).norm());
+      if (c < c1) spacing = std::min(spacing, (p(a, c + 1) - p(a, c)).norm());
+    }
+  }
+  if (da >= 2) {
+    for (int c = c0; c <= c1; ++c) check_next(p(a0, c), p(a0 + 1, c)), check_next(p(a1, c), p(a1 - 1, c));
+  }
+  if (dc >= 2) {
+    for (int a = a0; a <= a1; ++a) check_next(p(a, c0), p(a, c0 + 1)), check_next(p(a, c1), p(a, c1 - 1));
+  }
+  if (da >= 2 && dc >= 2 && inside && spacing >= 2 * circle) return Failure::kGridNotTheBoard;
+  return Failure::kIncompleteGrid;
+}
+
 }  // namespace
 
 void CornerDetectionOptions::Check() const {
@@ -306,28 +473,32 @@ void CornerDetectionOptions::Check() const {
   Require(max_seeds >= 1, "max_seeds", "must be >= 1, got " + std::to_string(max_seeds));
 }
 
-template <typename T>
-CornerDetection DetectCheckerboard(const ImageView<T>& view, const CheckerboardSpec& board,
-                                   const CornerDetectionOptions& options) {
-  options.Check();
-  board.Check();
-  if (view.empty() || view.data == nullptr || view.channels < 1) throw InputError("", "empty image");
+namespace {
+
+struct ScaleResult {
   CornerDetection det;
-  auto refuse = [&](std::string reason) {
+  Failure failure = Failure::kNone;
+};
+
+// The detection at one smoothing scale, on the image already averaged to one
+// channel and with its noise estimated.
+ScaleResult DetectAtScale(const Image<float>& img, double noise, const CheckerboardSpec& board,
+                          const CornerDetectionOptions& options, double sigma) {
+  ScaleResult out;
+  CornerDetection& det = out.det;
+  det.sigma_px = sigma;
+  auto refuse = [&](Failure failure, std::string reason) {
     det.ok = false;
     det.reason = std::move(reason);
     det.corners.clear();
     det.corner_std_px.clear();
-    return det;
+    out.failure = failure;
+    return out;
   };
-  const Image<float> img = ToFloat(view);
   const ImageView<float> iv = img.View();
   const int w = img.width, h = img.height;
-  const double sigma = options.sigma_px;
 
   // ---- noise and contrast
-  double noise = NoiseSigma(img);
-  if (std::is_integral_v<T>) noise = std::sqrt(noise * noise + 1.0 / 12.0);  // quantisation
   det.noise_sigma = noise;
   const GaussianKernels kernels(sigma);
   const Smoothed sm = Smooth(img, kernels);
@@ -341,7 +512,7 @@ CornerDetection DetectCheckerboard(const ImageView<T>& view, const CheckerboardS
     det.contrast = Percentile(values, 0.999) - Percentile(values, 0.001);
   }
   if (!(det.contrast > 5 * noise) || !(det.contrast > 0)) {
-    return refuse("no checkerboard found: the image has no contrast above its noise (contrast " + Fmt(det.contrast) +
+    return refuse(Failure::kNoContrast, "no checkerboard found: the image has no contrast above its noise (contrast " + Fmt(det.contrast) +
                   ", noise " + Fmt(noise) + ")");
   }
 
@@ -396,7 +567,7 @@ CornerDetection DetectCheckerboard(const ImageView<T>& view, const CheckerboardS
   }
   det.candidates = int(cands.size());
   if (cands.size() < 4) {
-    return refuse("no checkerboard found: " + std::to_string(cands.size()) + " corner-like points in the image");
+    return refuse(Failure::kFewCandidates, "no checkerboard found: " + std::to_string(cands.size()) + " corner-like points in the image");
   }
 
   // ---- grid, from the strongest seeds
@@ -431,8 +602,8 @@ CornerDetection DetectCheckerboard(const ImageView<T>& view, const CheckerboardS
   }
   for (const auto& [cell, idx] : best.cells) det.grid.push_back({cands[size_t(idx)].p, cell.first, cell.second});
   if (!complete) {
-    if (best.cells.size() < 4) return refuse("no checkerboard found: no grid of corners");
-    return refuse("found a grid of " + std::to_string(best.cells.size()) + " corners, not the complete " +
+    if (best.cells.size() < 4) return refuse(Failure::kNoGrid, "no checkerboard found: no grid of corners");
+    return refuse(GridFailure(best, cands, board, w, h, border, circle), "found a grid of " + std::to_string(best.cells.size()) + " corners, not the complete " +
                   std::to_string(board.rows) + " x " + std::to_string(board.cols) +
                   " board: the board is partly outside the image, occluded, or too small or blurred for sigma_px = " +
                   Fmt(sigma));
@@ -484,7 +655,7 @@ CornerDetection DetectCheckerboard(const ImageView<T>& view, const CheckerboardS
   }
   // All neighbouring pairs but a few (a reflection, a stain) must agree.
   if (!(std::max(even_darker, odd_darker) >= std::max(1, (3 * pairs + 3) / 4))) {
-    return refuse("the squares' colours do not tell the board's orientation (of " + std::to_string(pairs) +
+    return refuse(Failure::kColours, "the squares' colours do not tell the board's orientation (of " + std::to_string(pairs) +
                   " pairs of neighbouring squares, " + std::to_string(even_darker) + " say one way, " +
                   std::to_string(odd_darker) + " the other)");
   }
@@ -506,7 +677,88 @@ CornerDetection DetectCheckerboard(const ImageView<T>& view, const CheckerboardS
     }
   }
   det.ok = true;
-  return det;
+  return out;
+}
+
+// Scales to try after the requested one failed for a reason another scale
+// may cure: twice and three times it (blur, large squares), then 1/1.5 and
+// 1/2.25 of it (small or foreshortened squares), within [0.7, 5]; values
+// within 10% of one already on the ladder are left out.
+std::vector<double> ScaleLadder(double sigma) {
+  std::vector<double> ladder{sigma};
+  for (double f : {2.0, 3.0, 1 / 1.5, 1 / 2.25}) {
+    const double s = std::clamp(sigma * f, 0.7, 5.0);
+    bool near = false;
+    for (double o : ladder) near = near || std::abs(s - o) < 0.1 * o;
+    if (!near) ladder.push_back(s);
+  }
+  ladder.erase(ladder.begin());
+  return ladder;
+}
+
+}  // namespace
+
+template <typename T>
+CornerDetection DetectCheckerboard(const ImageView<T>& view, const CheckerboardSpec& board,
+                                   const CornerDetectionOptions& options) {
+  options.Check();
+  board.Check();
+  if (view.empty() || view.data == nullptr || view.channels < 1) throw InputError("", "empty image");
+  const Image<float> img = ToFloat(view);
+  double noise = NoiseSigma(img);
+  if (std::is_integral_v<T>) noise = std::sqrt(noise * noise + 1.0 / 12.0);  // quantisation
+  ScaleResult first = DetectAtScale(img, noise, board, options, options.sigma_px);
+  if (first.det.ok || !options.other_scales ||
+      !(first.failure == Failure::kFewCandidates || first.failure == Failure::kNoGrid ||
+        first.failure == Failure::kIncompleteGrid)) {
+    return std::move(first.det);
+  }
+  // Another scale: the first complete grid whose order the colours confirm.
+  std::string tried;
+  for (double s : ScaleLadder(options.sigma_px)) {
+    ScaleResult r = DetectAtScale(img, noise, board, options, s);
+    ++first.det.other_scales_tried;
+    // A larger kernel averages more of the corner's surroundings: where an
+    // occluder hides a corner it can still make a saddle there, a pixel or
+    // two off. A corner found at a larger scale must therefore be
+    // point-symmetric within that scale's validation circle (an occluder
+    // beside it is not) and a saddle at the requested scale too, at the
+    // same place. (A smaller kernel sees less than the requested one: it
+    // cannot make corners out of an occluder's surroundings.)
+    // Any other scale: each corner where the homography through its
+    // neighbours puts it, and a saddle about as sharp as theirs (a corner
+    // made of an occluder's edges is off, and weak: its predicted standard
+    // deviation at most twice the median of its neighbours').
+    for (int i = 0; r.det.ok && i < board.rows; ++i) {
+      for (int j = 0; r.det.ok && j < board.cols; ++j) {
+        const double std_px = r.det.corner_std_px[size_t(i * board.cols + j)];
+        std::vector<double> around;
+        for (int a = std::max(0, i - 1); a <= std::min(board.rows - 1, i + 1); ++a)
+          for (int b = std::max(0, j - 1); b <= std::min(board.cols - 1, j + 1); ++b)
+            if (a != i || b != j) around.push_back(r.det.corner_std_px[size_t(a * board.cols + b)]);
+        std::nth_element(around.begin(), around.begin() + ptrdiff_t(around.size() / 2), around.end());
+        if (!(std_px <= 2 * around[around.size() / 2])) r.det.ok = false;
+        if (!(OffGrid(r.det.corners, board.rows, board.cols, i, j) <= 0.35 + 6 * std_px)) r.det.ok = false;
+      }
+    }
+    if (r.det.ok && s > options.sigma_px) {
+      const double min_range = std::max(3 * noise, 0.1 * first.det.contrast);
+      for (size_t k = 0; r.det.ok && k < r.det.corners.size(); ++k) {
+        if (!(PointAsymmetry(img, r.det.corners[k], 2.5 * s + 1, noise) <= kMaxAsymmetry) ||
+            !SaddleAtScale(img.View(), r.det.corners[k], r.det.corner_std_px[k], options.sigma_px, s, noise, min_range,
+                           options.min_response)) {
+          r.det.ok = false;
+        }
+      }
+    }
+    if (r.det.ok) {
+      r.det.other_scales_tried = first.det.other_scales_tried;
+      return std::move(r.det);
+    }
+    tried += (tried.empty() ? "" : ", ") + Fmt(s);
+  }
+  first.det.reason += " (also refused at sigma_px = " + tried + ")";
+  return std::move(first.det);
 }
 
 template CornerDetection DetectCheckerboard<uint8_t>(const ImageView<uint8_t>&, const CheckerboardSpec&,

@@ -35,6 +35,22 @@
 // inside the image (the smoothing kernel needs the image around them), so a
 // board that touches the image border is refused as partly visible.
 //
+// Scale: when the board is not found at sigma_px because of too few corners,
+// no grid, or an incomplete grid that another scale could complete (holes,
+// squares small against the kernel, a grid cut short inside the image), the
+// detection is repeated at 2 and 3 times sigma_px and at 1/1.5 and 1/2.25 of
+// it (within [0.7, 5]); the first complete board whose colours confirm its
+// order is returned, with the scale in `sigma_px`, once its corners pass
+// checks against an occluder that a larger kernel averages into a saddle:
+// each where the homography through its neighbours puts it and about as
+// sharp as they are; from a larger scale also point-symmetric and a saddle
+// at the requested scale. A grid larger than the
+// board, or a complete-looking smaller grid with large squares whose next
+// corners would lie well inside the image (a board of another size), no
+// contrast, and ambiguous colours are refused at once. When every scale
+// fails, the reason (and grid) is that of the requested scale, with the
+// other scales named.
+//
 // Each corner comes with its predicted standard deviation from the image
 // noise (estimated from the image, Immerkær's operator with a median) through
 // the refinement: Cov = σ_n² c H⁻¹H⁻ᵀ, with H the Hessian at the saddle and
@@ -55,6 +71,11 @@ struct CornerDetectionOptions {
   double min_response = 0.15;        // candidate threshold, fraction of an ideal corner's response, in (0, 1)
   double neighbour_tolerance = 0.3;  // fraction of the local corner spacing, in (0, 0.5)
   int max_seeds = 20;                // seed corners tried before giving up
+  // When the board is not found at sigma_px for a reason another scale may
+  // cure (too few corners, no grid, a grid with holes or cut short), try
+  // 2 and 3 times sigma_px, then 1/1.5 and 1/2.25 of it (within [0.7, 5]),
+  // and take the first complete board.
+  bool other_scales = true;
 
   // Throws lt::InputError ("option <name>: ...").
   void Check() const;
@@ -75,6 +96,8 @@ struct CornerDetection {
   double noise_sigma = 0;             // image noise estimate (image units)
   double contrast = 0;                // 99.9th − 0.1st percentile of the smoothed image (image units)
   int candidates = 0;                 // validated saddle points
+  double sigma_px = 0;                // the smoothing scale of the result (the requested one when refused)
+  int other_scales_tried = 0;         // scales tried after the requested one failed (0: found at sigma_px)
 };
 
 // One-channel images, or several channels averaged. Throws lt::InputError for

@@ -85,6 +85,10 @@ Camera StepCamera(const CalibrateArgs& a, const CalibrationFile& in, const RunRi
 void PrintSkipped(const std::vector<SessionView>& views) {
   for (const SessionView& v : views) {
     if (!v.detection.ok) Warn("frame " + std::to_string(v.bright_frame) + ": " + v.detection.reason);
+    if (v.detection.ok && v.detection.other_scales_tried > 0) {
+      std::cerr << "lasertwin: note: frame " << v.bright_frame << ": board found at sigma_px = "
+                << Fmt("%g", v.detection.sigma_px) << ", not at the requested scale\n";
+    }
   }
 }
 
