@@ -38,7 +38,7 @@ TEST(SampleColour, BilinearDemosaicReproducesLinearColoursExactly) {
     Image<float> mosaic(20, 16, 1);
     for (int y = 0; y < 16; ++y)
       for (int x = 0; x < 20; ++x) mosaic.At(x, y) = float(Linear(FilterChannel(f, x, y), x, y));
-    for (const Eigen::Vector2d uv : {Eigen::Vector2d(5.3, 7.9), Eigen::Vector2d(2.0, 2.0), Eigen::Vector2d(16.7, 12.2)}) {
+    for (const Eigen::Vector2d& uv : {Eigen::Vector2d(5.3, 7.9), Eigen::Vector2d(2.0, 2.0), Eigen::Vector2d(16.7, 12.2)}) {
       const Eigen::Vector3d rgb = SampleColour(mosaic, f, uv);
       for (int c = 0; c < 3; ++c) EXPECT_NEAR(rgb[c], Linear(c, uv.x(), uv.y()), 1e-3) << int(f) << " " << c;
     }

@@ -44,7 +44,9 @@ TEST(Demosaic, SmoothImageComesBackWithinTheTaylorBound) {
       for (int x = 1; x < rgb.width - 1; ++x)
         for (int c = 0; c < 3; ++c) {
           const double e = std::abs(back.At(x, y, c) - rgb.At(x, y, c));
-          if (c == FilterChannel(f, x, y)) EXPECT_EQ(back.At(x, y, c), rgb.At(x, y, c));
+          if (c == FilterChannel(f, x, y)) {
+            EXPECT_EQ(back.At(x, y, c), rgb.At(x, y, c));
+          }
           worst = std::max(worst, e);
         }
     EXPECT_LE(worst, bound) << BayerPatternName(f);
