@@ -110,19 +110,48 @@ std::vector<double> ComErrors(const std::vector<StripePoint>& a, const std::vect
   return e;
 }
 
+// Where the pipeline's com window around a reference centre stops: the valleys
+// to neighbouring peaks in the reference's column (ValleyBounds from the
+// column's maximum within the window; +-HUGE_VAL where none).
+struct WindowBounds {
+  double lo = -HUGE_VAL, hi = HUGE_VAL;
+};
+std::vector<WindowBounds> ReferenceBounds(const Image<float>& laser, double threshold, const std::vector<StripePoint>& ref) {
+  std::vector<WindowBounds> bounds(ref.size());
+  std::vector<float> column(size_t(laser.height));
+  for (size_t i = 0; i < ref.size(); ++i) {
+    const int x = int(std::lround(ref[i].u));
+    for (int y = 0; y < laser.height; ++y) column[size_t(y)] = laser.At(x, y);
+    const double h = ComHalfWindow(ref[i].width, 1, 0);
+    const int a = std::max(0, int(std::floor(ref[i].v - h))), b = std::min(laser.height - 1, int(std::ceil(ref[i].v + h)));
+    int peak = a;
+    for (int y = a + 1; y <= b; ++y)
+      if (column[size_t(y)] > column[size_t(peak)]) peak = y;
+    double lo = 0, hi = 0;
+    ValleyBounds(column.data(), laser.height, peak, peak, double(column[size_t(peak)]), threshold, int(std::ceil(h)) + 1,
+                 &lo, &hi);
+    if (!std::isnan(lo)) bounds[i].lo = lo;
+    if (!std::isnan(hi)) bounds[i].hi = hi;
+  }
+  return bounds;
+}
+
 // The pipeline's com in every column where the reference has a centre, with the
-// reference's window (its FWHM) started at the reference's centre rather than
-// at the column's own maximum: where a column holds two stripes of nearly equal
-// height (the part's top and a slot floor, 5 px apart), the maximum picks one
-// or the other by the noise of a few pixels, a choice that is the extractor's,
-// not the render's. Returns v per reference point (NaN where none).
-std::vector<double> ComAtReference(const Image<float>& laser, double threshold, const std::vector<StripePoint>& ref) {
+// reference's window (its FWHM, stopped at the reference's valleys to
+// neighbouring peaks) started at the reference's centre rather than at the
+// column's own maximum: where a column holds two stripes of nearly equal height
+// (the part's top and a slot floor, 5 px apart), the maximum picks one or the
+// other by the noise of a few pixels, a choice that is the extractor's, not
+// the render's. Returns v per reference point (NaN where none).
+std::vector<double> ComAtReference(const Image<float>& laser, double threshold, const std::vector<StripePoint>& ref,
+                                   const std::vector<WindowBounds>& bounds) {
   std::vector<double> v(ref.size(), std::nan(""));
   std::vector<float> column(size_t(laser.height));
   for (size_t i = 0; i < ref.size(); ++i) {
     const int x = int(std::lround(ref[i].u));
     for (int y = 0; y < laser.height; ++y) column[size_t(y)] = laser.At(x, y);
-    SelfCentredCentroid(column.data(), laser.height, ref[i].v, ComHalfWindow(ref[i].width, 1, 0), threshold, &v[i]);
+    SelfCentredCentroid(column.data(), laser.height, ref[i].v, ComHalfWindow(ref[i].width, 1, 0), threshold, &v[i],
+                        bounds[i].lo, bounds[i].hi);
   }
   return v;
 }
@@ -150,6 +179,7 @@ constexpr int kWideWindow = 24;
 struct ReferenceStripe {
   double threshold = 0;
   std::vector<StripePoint> centers;  // the pipeline's com
+  std::vector<WindowBounds> bounds;  // where its windows stop
   std::vector<double> v;             // their v
   std::vector<StripePoint> wide;     // com over kWideWindow
 };
@@ -160,7 +190,8 @@ struct ReferenceStripe {
 double NoiseRms(const Image<float>& a, const Image<float>& b, const ReferenceStripe& ref, size_t* columns = nullptr,
                 std::vector<double>* differences = nullptr) {
   const std::vector<double> e =
-      Differences(ComAtReference(a, ref.threshold, ref.centers), ComAtReference(b, ref.threshold, ref.centers));
+      Differences(ComAtReference(a, ref.threshold, ref.centers, ref.bounds),
+                  ComAtReference(b, ref.threshold, ref.centers, ref.bounds));
   if (columns) *columns = e.size();
   if (differences) *differences = e;
   return Rms(e) / std::sqrt(2.0);
@@ -194,6 +225,7 @@ const ReferenceStripe& Reference() {
     ReferenceStripe r;
     r.threshold = 0.1 * TypicalPeak(laser);
     r.centers = Com(laser, r.threshold);
+    r.bounds = ReferenceBounds(laser, r.threshold, r.centers);
     for (const auto& p : r.centers) r.v.push_back(p.v);
     r.wide = Com(laser, r.threshold, kWideWindow);
     return r;
@@ -215,7 +247,7 @@ void BM_DimFrame640(benchmark::State& state) {
   RenderedFrame frame;
   for (auto _ : state) frame = renderer.Render(1);
   const Image<float> laser = LaserImage(frame.radiance);
-  const std::vector<double> v = ComAtReference(laser, ref.threshold, ref.centers);
+  const std::vector<double> v = ComAtReference(laser, ref.threshold, ref.centers, ref.bounds);
   const std::vector<double> e = Differences(v, ref.v);
   // The frame's own noise, free of the reference's: a second render with
   // another seed (outside the timing), |v - v2| / sqrt(2).
