@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <sstream>
 #include <stdexcept>
 
 #include "core/error.h"
@@ -35,22 +37,51 @@ SearchAxis ParseAxis(const std::string& text, const std::string& where) {
   throw InputError(where, "unknown search axis '" + text + "' (expected rows or cols)");
 }
 
-void ParseBackground(const std::string& text, const std::string& where, double* level, BackgroundMode* mode) {
-  if (text == "local") {
-    *mode = BackgroundMode::kLocal;
-    return;
-  }
+namespace {
+
+// `text` read whole as a finite number; empty when it is not one.
+std::optional<double> ParseFinite(const std::string& text) {
   size_t used = 0;
   double v = 0;
   try {
     v = std::stod(text, &used);
   } catch (const std::exception&) {
-    used = 0;
+    return std::nullopt;
   }
-  if (used == 0 || used != text.size() || !std::isfinite(v)) {
-    throw InputError(where, "expected a level (a number) or 'local', got '" + text + "'");
+  if (used == 0 || used != text.size() || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
+}  // namespace
+
+std::vector<double> ParseNumberList(const std::string& text, const std::string& where) {
+  std::vector<double> values;
+  std::stringstream ss(text);
+  for (std::string f; std::getline(ss, f, ',');) {
+    const std::optional<double> v = ParseFinite(f);
+    if (!v) throw InputError(where, "'" + f + "' is not a number");
+    values.push_back(*v);
   }
-  *level = v;
+  return values;
+}
+
+PixelRect ParseRoi(const std::string& text, const std::string& where) {
+  const std::vector<double> v = ParseNumberList(text, where);
+  if (v.size() != 4) throw InputError(where, "expected X,Y,W,H, got '" + text + "'");
+  for (double x : v) {
+    if (x != std::floor(x) || std::abs(x) > 1e9) throw InputError(where, "expected whole pixel numbers, got '" + text + "'");
+  }
+  return {int(v[0]), int(v[1]), int(v[2]), int(v[3])};
+}
+
+void ParseBackground(const std::string& text, const std::string& where, double* level, BackgroundMode* mode) {
+  if (text == "local") {
+    *mode = BackgroundMode::kLocal;
+    return;
+  }
+  const std::optional<double> v = ParseFinite(text);
+  if (!v) throw InputError(where, "expected a level (a number) or 'local', got '" + text + "'");
+  *level = *v;
   *mode = BackgroundMode::kLevel;
 }
 

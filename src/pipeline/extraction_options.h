@@ -55,6 +55,10 @@ SearchAxis ParseAxis(const std::string& text, const std::string& where);
 // Parse a --background value: a number (mode kLevel, *level set) or "local"
 // (mode kLocal, *level untouched); throw lt::InputError(where, ...) otherwise.
 void ParseBackground(const std::string& text, const std::string& where, double* level, BackgroundMode* mode);
+// Comma-separated finite numbers ("1,0,0"; --weights), and an ROI "X,Y,W,H" of
+// whole pixels (--roi); throw lt::InputError(where, ...) otherwise.
+std::vector<double> ParseNumberList(const std::string& text, const std::string& where);
+PixelRect ParseRoi(const std::string& text, const std::string& where);
 
 struct ExtractionOptions {
   static constexpr double kAuto = std::numeric_limits<double>::quiet_NaN();

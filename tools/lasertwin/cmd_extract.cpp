@@ -5,7 +5,6 @@
 #include <iostream>
 #include <memory>
 #include <set>
-#include <sstream>
 
 #include "core/error.h"
 #include "core/image_io.h"
@@ -32,38 +31,12 @@ struct ExtractArgs {
   PlaneIdOptions plane_options;
 };
 
-std::vector<double> ParseNumbers(const std::string& text, const std::string& where) {
-  std::vector<double> values;
-  std::stringstream ss(text);
-  for (std::string f; std::getline(ss, f, ',');) {
-    size_t used = 0;
-    double v = 0;
-    try {
-      v = std::stod(f, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != f.size() || !std::isfinite(v)) throw InputError(where, "'" + f + "' is not a number");
-    values.push_back(v);
-  }
-  return values;
-}
-
-PixelRect ParseRoi(const std::string& text) {
-  std::vector<double> v = ParseNumbers(text, "--roi");
-  if (v.size() != 4) throw InputError("--roi", "expected X,Y,W,H, got '" + text + "'");
-  for (double x : v) {
-    if (x != std::floor(x) || std::abs(x) > 1e9) throw InputError("--roi", "expected whole pixel numbers, got '" + text + "'");
-  }
-  return {int(v[0]), int(v[1]), int(v[2]), int(v[3])};
-}
-
 void Run(ExtractArgs& a) {
   ExtractionOptions& o = a.options;
   o.method = ParseMethod(a.method, "--method");
   o.axis = ParseAxis(a.axis, "--axis");
-  if (!a.roi.empty()) o.roi = ParseRoi(a.roi);
-  if (!a.weights.empty()) o.channel_weights = ParseNumbers(a.weights, "--weights");
+  if (!a.roi.empty()) o.roi = ParseRoi(a.roi, "--roi");
+  if (!a.weights.empty()) o.channel_weights = ParseNumberList(a.weights, "--weights");
   o.bayer = ParseBayerPattern(a.bayer, "--bayer");
   ParseBackground(a.background, "--background", &o.background, &o.background_mode);
   a.plane_options.axis = o.axis;

@@ -5,7 +5,6 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
-#include <sstream>
 
 #include "core/error.h"
 #include "core/frame_range.h"
@@ -29,18 +28,6 @@ struct ScanArgs {
   ScanOptions options;
 };
 
-std::vector<double> ParseNumbers(const std::string& text, const std::string& option) {
-  std::vector<double> values;
-  std::stringstream ss(text);
-  for (std::string f; std::getline(ss, f, ',');) {
-    char* end = nullptr;
-    double v = std::strtod(f.c_str(), &end);
-    if (f.empty() || *end != '\0' || !std::isfinite(v)) throw InputError(option, "'" + f + "' is not a number");
-    values.push_back(v);
-  }
-  return values;
-}
-
 void Run(ScanArgs& a) {
   ScanOptions& o = a.options;
   o.extraction.method = ParseMethod(a.method, "--method");
@@ -48,15 +35,8 @@ void Run(ScanArgs& a) {
   if (!a.background.empty()) {
     ParseBackground(a.background, "--background", &o.extraction.background, &o.extraction.background_mode);
   }
-  if (!a.roi.empty()) {
-    std::vector<double> v = ParseNumbers(a.roi, "--roi");
-    if (v.size() != 4) throw InputError("--roi", "expected X,Y,W,H, got '" + a.roi + "'");
-    for (double x : v) {
-      if (x != std::floor(x) || std::abs(x) > 1e9) throw InputError("--roi", "expected whole pixel numbers, got '" + a.roi + "'");
-    }
-    o.extraction.roi = PixelRect{int(v[0]), int(v[1]), int(v[2]), int(v[3])};
-  }
-  if (!a.weights.empty()) o.extraction.channel_weights = ParseNumbers(a.weights, "--weights");
+  if (!a.roi.empty()) o.extraction.roi = ParseRoi(a.roi, "--roi");
+  if (!a.weights.empty()) o.extraction.channel_weights = ParseNumberList(a.weights, "--weights");
   if (!a.calib.empty()) o.calibration = a.calib;
   if (!a.frames.empty()) {
     const FrameRange r = FrameRange::Parse(a.frames);
