@@ -57,10 +57,7 @@ void ExtractCom(const ImageView<T>& image, const MethodParams& params, BandedPoi
       ValleyBounds(row, n, peak.first, peak.last, peak.value, base, int(std::ceil(h)) + 1, &lo, &hi);
       double c = 0;
       // No point when the window leaves the image or holds no light.
-      if (!SelfCentredCentroid(row, n, 0.5 * (peak.first + peak.last), h, base, &c, std::isnan(lo) ? -HUGE_VAL : lo,
-                               std::isnan(hi) ? HUGE_VAL : hi)) {
-        continue;
-      }
+      if (!SelfCentredCentroid(row, n, 0.5 * (peak.first + peak.last), h, base, &c, lo, hi)) continue;
       points.push_back({c, double(y), fwhm, peak.value, -1});
     }
   });

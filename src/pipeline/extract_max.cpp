@@ -37,22 +37,12 @@ LinePeak FindRowMaximum(const T* row, int n) {
 
 namespace {
 
-// Plateaus [first, last] of row values at or above `threshold` that are local
-// maxima (both neighbours lower), not touching the line's ends, brightest
-// first (ties: leftmost first), except the one starting at `skip`.
+// Local-maximum plateaus at or above `threshold` (LocalMaximumPlateaus),
+// brightest first (ties: leftmost first), except the one starting at `skip`.
 template <typename T>
 void LocalMaxima(const T* row, int n, double threshold, int skip, std::vector<LinePeak>* out) {
-  out->clear();
-  for (int x = 1; x < n - 1;) {
-    if (!(double(row[x]) >= threshold) || !(row[x] > row[x - 1])) {
-      ++x;
-      continue;
-    }
-    int last = x;
-    while (last + 1 < n && row[last + 1] == row[x]) ++last;
-    if (last + 1 < n && row[last + 1] < row[x] && x != skip) out->push_back({x, last, double(row[x])});
-    x = last + 1;
-  }
+  LocalMaximumPlateaus(row, n, threshold, out);
+  out->erase(std::remove_if(out->begin(), out->end(), [&](const LinePeak& p) { return p.first == skip; }), out->end());
   std::stable_sort(out->begin(), out->end(), [](const LinePeak& a, const LinePeak& b) { return a.value > b.value; });
 }
 

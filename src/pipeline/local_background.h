@@ -160,10 +160,10 @@ bool MeasureLocalPeak(const T* line, int n, int first, int last, double threshol
                  int(p->r.size()), &vlo, &vhi);
     // A valley that the flank's three pixels would reach or pass takes the flank.
     bool at_valley_l = false, at_valley_r = false;
-    if (!std::isnan(vlo) && int(vlo) + p->s0 >= xl - 1) xl = int(vlo) + p->s0, at_valley_l = true;
-    if (!std::isnan(vhi) && int(vhi) + p->s0 <= xr + 1) xr = int(vhi) + p->s0, at_valley_r = true;
-    p->valley_lo = std::isnan(vlo) ? -HUGE_VAL : vlo + p->s0;
-    p->valley_hi = std::isnan(vhi) ? HUGE_VAL : vhi + p->s0;
+    if (std::isfinite(vlo) && int(vlo) + p->s0 >= xl - 1) xl = int(vlo) + p->s0, at_valley_l = true;
+    if (std::isfinite(vhi) && int(vhi) + p->s0 <= xr + 1) xr = int(vhi) + p->s0, at_valley_r = true;
+    p->valley_lo = vlo + p->s0;  // infinite (none) stays infinite
+    p->valley_hi = vhi + p->s0;
     const double ml = at_valley_l ? double(line[xl]) : Median3(line, xl);
     const double mr = at_valley_r ? double(line[xr]) : Median3(line, xr);
     // The peak must rise by the threshold above both flanks (a noise ripple on
@@ -210,9 +210,6 @@ void LocalMaximumPlateaus(const T* line, int n, double min_value, std::vector<Li
   }
 }
 
-}  // namespace lt
-
-namespace lt {
 
 // max and com with the local background: among the line's local-maximum
 // plateaus, the one with the greatest height above its local background that

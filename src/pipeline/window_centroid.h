@@ -65,14 +65,15 @@ bool SelfCentredCentroid(const T* line, int n, double start, double h, double ba
 // outwards, once the line has fallen below the half level
 // base + (peak - base) / 2 and rises above it again, to over twice the lowest
 // level passed (as multicom splits a run), the lowest pixel passed is the
-// valley (NaN bound: none). A centroid window around the peak that reaches
+// valley (-HUGE_VAL / HUGE_VAL: none, so the bounds go to SelfCentredCentroid
+// as they are). A centroid window around the peak that reaches
 // past a valley takes in the neighbour and is pulled towards it (to the
 // midpoint for two equal stripes).
 template <typename T>
 void ValleyBounds(const T* line, int n, int first, int last, double peak, double base, int reach, double* lo,
                   double* hi) {
   const double half = base + 0.5 * (peak - base);
-  *lo = *hi = std::nan("");
+  *lo = -HUGE_VAL, *hi = HUGE_VAL;
   for (int dir : {-1, 1}) {
     int x = dir < 0 ? first : last;
     const int end = dir < 0 ? std::max(0, first - reach) : std::min(n - 1, last + reach);

@@ -127,11 +127,8 @@ std::vector<WindowBounds> ReferenceBounds(const Image<float>& laser, double thre
     int peak = a;
     for (int y = a + 1; y <= b; ++y)
       if (column[size_t(y)] > column[size_t(peak)]) peak = y;
-    double lo = 0, hi = 0;
     ValleyBounds(column.data(), laser.height, peak, peak, double(column[size_t(peak)]), threshold, int(std::ceil(h)) + 1,
-                 &lo, &hi);
-    if (!std::isnan(lo)) bounds[i].lo = lo;
-    if (!std::isnan(hi)) bounds[i].hi = hi;
+                 &bounds[i].lo, &bounds[i].hi);
   }
   return bounds;
 }
