@@ -15,16 +15,6 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
-Camera PinholeCamera() {
-  CameraParams p;
-  p.width = 640;
-  p.height = 480;
-  p.fx = p.fy = 800;
-  p.cx = 321.5;
-  p.cy = 238.5;
-  return Camera(p);
-}
-
 // A board of `rows` x `cols` inner corners with squares of about `square_px`
 // pixels, its centre at pixel (u, v), tilted by `tilt` about the image x axis.
 Pose PoseAt(const Camera& cam, const CheckerboardSpec& b, double u, double v, double square_px, double tilt) {
@@ -52,7 +42,7 @@ void AddNoise(Image<float>* img, double sigma, uint64_t seed) {
 // sixth of the image's contrast: each corner is judged by its own contrast.
 // (Before: refused, the two corners at the dark end rejected.)
 TEST(CalibCornersPhoto, LowContrastUnderLightFallingAcrossTheImage) {
-  const Camera cam = PinholeCamera();
+  const Camera cam = CornerTestCamera(false);
   const CheckerboardSpec b = Board();
   const Pose pose = PoseAt(cam, b, 330, 240, 40, 20 * kDeg);
   SyntheticBoardOptions o;
@@ -75,7 +65,7 @@ TEST(CalibCornersPhoto, LowContrastUnderLightFallingAcrossTheImage) {
 // noise", the contrast being taken between the image's 1st and 99th
 // percentiles.)
 TEST(CalibCornersPhoto, SmallBoardOnAPlainBackground) {
-  const Camera cam = PinholeCamera();
+  const Camera cam = CornerTestCamera(false);
   CheckerboardSpec b = Board();
   b.rows = 2;
   b.cols = 3;
@@ -94,7 +84,7 @@ TEST(CalibCornersPhoto, SmallBoardOnAPlainBackground) {
 // the margin (2.6 squares past the last corner): the seed corner beside it
 // must not take it as its neighbour. (Before: a grid of 7 corners, refused.)
 TEST(CalibCornersPhoto, CornerOfAnotherObjectInLineWithARow) {
-  const Camera cam = PinholeCamera();
+  const Camera cam = CornerTestCamera(false);
   CheckerboardSpec b = Board();
   b.rows = 2;
   b.cols = 3;

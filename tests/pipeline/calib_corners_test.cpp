@@ -16,20 +16,6 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
-Camera TestCamera(bool distortion = true) {
-  CameraParams p;
-  p.width = 640;
-  p.height = 480;
-  p.fx = p.fy = 800;
-  p.cx = 321.5;
-  p.cy = 238.5;
-  if (distortion) {
-    p.distortion = DistortionModel::kBrownConrady;
-    p.brown_conrady = {-0.15, 0.05, 2e-4, -1e-4, 0};
-  }
-  return Camera(p);
-}
-
 std::vector<Eigen::Vector2d> TrueCorners(const Camera& cam, const Pose& pose) {
   std::vector<Eigen::Vector2d> out;
   for (const auto& q : Board().CornerPoints()) out.push_back(*cam.Project(pose * q));
@@ -57,7 +43,7 @@ std::vector<Pose> Poses() {
 }
 
 TEST(CalibCorners, NoiseFreeBoardsToAFewHundredthsOfAPixel) {
-  const Camera cam = TestCamera();
+  const Camera cam = CornerTestCamera();
   const auto poses = Poses();
   for (size_t v = 0; v < poses.size(); ++v) {
     const Image<float> img = RenderCheckerboard(cam, poses[v], Board());
@@ -71,7 +57,7 @@ TEST(CalibCorners, NoiseFreeBoardsToAFewHundredthsOfAPixel) {
 }
 
 TEST(CalibCorners, NoisyBoardsToATenthOfAPixel) {
-  const Camera cam = TestCamera();
+  const Camera cam = CornerTestCamera();
   const auto poses = Poses();
   for (size_t v = 0; v < poses.size(); ++v) {
     SyntheticBoardOptions o;
@@ -91,7 +77,7 @@ TEST(CalibCorners, NoisyBoardsToATenthOfAPixel) {
 // noise-free, adds less than 10% in quadrature). 280 corners give the RMS to
 // about ±6% (two standard errors), hence the range.
 TEST(CalibCorners, PredictedStdMatchesTheError) {
-  const Camera cam = TestCamera();
+  const Camera cam = CornerTestCamera();
   const auto poses = Poses();
   double sum_err2 = 0, sum_std2 = 0;
   for (size_t v = 0; v < 4; ++v) {
@@ -115,7 +101,7 @@ TEST(CalibCorners, PredictedStdMatchesTheError) {
 // symmetry) and lit from 100% down to 50% across the image (vignetting-like:
 // a slow gradient shifts the saddle by a small fraction of the blur).
 TEST(CalibCorners, BlurredUnevenlyLitBoard) {
-  const Camera cam = TestCamera();
+  const Camera cam = CornerTestCamera();
   const Pose pose = Poses()[2];
   SyntheticBoardOptions o;
   o.noise_sigma = 0;
@@ -142,7 +128,7 @@ TEST(CalibCorners, BlurredUnevenlyLitBoard) {
 }
 
 TEST(CalibCorners, IntegerImagesAndChannels) {
-  const Camera cam = TestCamera();
+  const Camera cam = CornerTestCamera();
   const Pose pose = Poses()[2];
   SyntheticBoardOptions o;
   o.noise_sigma = 0.01 * (o.white - o.black);
@@ -179,7 +165,7 @@ TEST(CalibCorners, RefusesAnImageWithoutABoard) {
 }
 
 TEST(CalibCorners, RefusesAPartlyVisibleBoard) {
-  const Camera cam = TestCamera();
+  const Camera cam = CornerTestCamera();
   // Shifted right so that the last two columns of corners leave the image.
   const Image<float> img = RenderCheckerboard(cam, BoardPose(0.055, 0, 0.2, 0, 0, 0), Board());
   const CornerDetection d = DetectCheckerboard(img.View(), Board());
@@ -192,7 +178,7 @@ TEST(CalibCorners, RefusesAPartlyVisibleBoard) {
 }
 
 TEST(CalibCorners, RefusesABoardOfAnotherSize) {
-  const Camera cam = TestCamera();
+  const Camera cam = CornerTestCamera();
   const Image<float> img = RenderCheckerboard(cam, Poses()[1], Board());
   CheckerboardSpec other = Board();
   other.rows = 5;
@@ -218,7 +204,7 @@ TEST(CalibCorners, OptionsAndBoardAreChecked) {
 // vertical edge falls at a known subpixel column; the pixel it crosses takes
 // the area-weighted mean of the two colours.
 TEST(CalibCorners, SyntheticBoardIsAreaAveraged) {
-  const Camera cam = TestCamera(false);
+  const Camera cam = CornerTestCamera(false);
   const CheckerboardSpec b = Board();
   // Board at depth z, origin at camera point (x0, y0): board x maps to
   // u = cx + fx (x0 + x) / z. Place the edge x = 0 at u = 300.3.

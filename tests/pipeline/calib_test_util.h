@@ -10,6 +10,22 @@
 
 namespace lt {
 
+// The corner detection tests' 640x480 camera (f 800 px), with Brown-Conrady
+// distortion or without.
+inline Camera CornerTestCamera(bool distortion = true) {
+  CameraParams p;
+  p.width = 640;
+  p.height = 480;
+  p.fx = p.fy = 800;
+  p.cx = 321.5;
+  p.cy = 238.5;
+  if (distortion) {
+    p.distortion = DistortionModel::kBrownConrady;
+    p.brown_conrady = {-0.15, 0.05, 2e-4, -1e-4, 0};
+  }
+  return Camera(p);
+}
+
 // The demo rig's camera (1280x1024, 4.8 um pixels, 8.9 mm), with mild barrel distortion.
 inline Camera RigCamera() {
   CameraParams p;
