@@ -101,6 +101,9 @@ void Write(const std::filesystem::path& path, const Image<T>& image, OIIO::TypeD
     }
     // The pixels are written as given: an alpha channel is straight, not divided out.
     spec.attribute("oiio:UnassociatedAlpha", 1);
+    // OpenEXR files otherwise get the time of writing as their capture date, so
+    // that the same image written twice differed in its bytes.
+    if (std::string_view(out->format_name()) == "openexr") spec.attribute("DateTime", "");
     if (!out->open(tmp.string(), spec)) throw std::runtime_error("cannot create " + tmp.string() + ": " + out->geterror());
     if (!out->write_image(mem_type, image.pixels.data())) {
       throw std::runtime_error("cannot write " + tmp.string() + ": " + out->geterror());

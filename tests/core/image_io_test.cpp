@@ -59,6 +59,18 @@ TEST_F(ImageIo, ExrFloatRoundTripWithChannelNames) {
   EXPECT_EQ(std::get<Image<float>>(back).pixels, img.pixels);
 }
 
+// A rendered frame's EXR files depend only on the pixels: OpenEXR's capture
+// date (OpenImageIO's DateTime, the time of writing unless set) is left empty,
+// so the same frame rendered twice gives the same bytes.
+TEST_F(ImageIo, ExrCarriesNoTimeOfWriting) {
+  Image<float> img(4, 2, 1, 0.5f);
+  WriteImage(dir_ / "a.exr", img, true, {"Z"});
+  auto in = OIIO::ImageInput::open((dir_ / "a.exr").string());
+  ASSERT_TRUE(in);
+  const std::string date = in->spec().get_string_attribute("DateTime", "absent");
+  EXPECT_TRUE(date == "absent" || date.empty()) << date;
+}
+
 TEST_F(ImageIo, MissingTruncatedAndEmptyFilesAreInputErrors) {
   EXPECT_THROW(ReadImage(dir_ / "none.png"), InputError);
   auto img = Ramp<uint8_t>(64, 64, 1, 1);
