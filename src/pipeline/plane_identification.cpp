@@ -109,13 +109,29 @@ std::vector<int> PlanesByStripeOrder(const std::vector<StripeSegment>& segments,
     if (!decide(between)) break;
   }
 
-  // Every line's identified stripes in increasing order.
+  // Every line's identified stripes in increasing order. One sheet may meet a
+  // line twice where its stripe jumps at a depth step: the piece before the
+  // step ends where the piece after it begins, so on the lines they share each
+  // of the two runs on past the other's end. A piece whose lines all lie within
+  // another's of the same number (a stripe beside a stripe) contradicts.
+  std::vector<std::pair<long, long>> extent(segments.size(), {std::numeric_limits<long>::max(), std::numeric_limits<long>::min()});
+  for (int s : candidates) {
+    for (int i : segments[size_t(s)].points) {
+      const long l = std::lround(along(i));
+      extent[size_t(s)].first = std::min(extent[size_t(s)].first, l);
+      extent[size_t(s)].second = std::max(extent[size_t(s)].second, l);
+    }
+  }
+  auto hand_over = [&](int a, int b) {
+    const auto &ea = extent[size_t(a)], &eb = extent[size_t(b)];
+    return (ea.first < eb.first && ea.second < eb.second) || (eb.first < ea.first && eb.second < ea.second);
+  };
   for (const auto& [line, v] : lines) {
     int last = -1, last_segment = -1;
     for (const auto& [x, seg] : v) {
       const int lab = label[size_t(seg)];
       if (lab < 0) continue;
-      if (lab < last || (lab == last && seg != last_segment)) {
+      if (lab < last || (lab == last && seg != last_segment && !hand_over(seg, last_segment))) {
         *error = "the stripes' order contradicts itself on search line " + std::to_string(line);
         return {};
       }

@@ -9,7 +9,9 @@
 // line takes the rank its position calls for on lines where it lies between
 // numbered segments (or the line's ends) with exactly the missing ranks between
 // them. Segments neither step decides keep no plane (not guessed); on every line
-// the numbered stripes must then be in increasing order. It needs one search
+// the numbered stripes must then be in increasing order (one sheet may meet a
+// line twice where its stripe jumps at a depth step and one piece hands over to
+// the next). It needs one search
 // line that meets all N stripes, and no stripe to reach an image edge.
 //
 // Edge chains (when the order cannot decide; thesis section 2.1.3, after the

@@ -110,6 +110,45 @@ TEST(PlaneIdentification, StripeOrderWhenStripesMissTheStartEdge) {
   for (const auto& p : three.points) EXPECT_EQ(p.plane, p.u == 40 && p.v >= 60 ? -1 : int(p.u) / 20 - 1);
 }
 
+// At a depth step a sheet's stripe jumps across: the piece on the lower surface
+// ends on the rows where the piece on the upper one begins, so those rows meet
+// the sheet twice (one row where the step runs along the rows, several where it
+// runs obliquely). Both pieces are that sheet's; before, the equal numbers on
+// one row failed the order, and the edge chains could not join the overlapping
+// pieces, so the whole frame went without planes (a rendered 3-sheet frame at a
+// part's edge).
+TEST(PlaneIdentification, SheetMeetingALineTwiceAtADepthStep) {
+  for (int overlap : {1, 6}) {
+    std::vector<StripePoint> pts;
+    AddLine(&pts, 20, 0, 100);
+    AddLine(&pts, 50, 0, 40 + overlap);  // the lower surface's piece, up to the step
+    AddLine(&pts, 58, 40, 100);          // the upper surface's piece, from the step
+    AddLine(&pts, 90, 0, 100);
+    PlaneIdentification id = IdentifyPlanes(pts, {0, 0, 120, 100}, 3, PlaneIdOptions{});
+    ASSERT_TRUE(id.ok) << "overlap " << overlap << ": " << id.error;
+    EXPECT_EQ(id.method, PlaneIdMethod::kStripeOrder) << id.order_error;
+    EXPECT_EQ(id.unidentified_segments, 0);
+    for (const auto& p : id.points) EXPECT_EQ(p.plane, p.u < 30 ? 0 : p.u < 70 ? 1 : 2) << p.u << "," << p.v;
+  }
+  // A piece beside a stripe over rows that stripe covers entirely, numbered
+  // the same (it took the first sheet's rank on rows where the first stripe is
+  // missing) is no step: the order contradicts itself, and no point is
+  // numbered wrong.
+  std::vector<StripePoint> pts;
+  AddLine(&pts, 20, 0, 20);
+  AddLine(&pts, 20, 31, 100);
+  AddLine(&pts, 50, 0, 100);
+  AddLine(&pts, 53, 20, 31);  // beside the second stripe where the first is missing
+  AddLine(&pts, 90, 0, 100);
+  PlaneIdentification id = IdentifyPlanes(pts, {0, 0, 120, 100}, 3, PlaneIdOptions{});
+  const std::string order_error = id.ok ? id.order_error : id.error;
+  EXPECT_NE(order_error.find("contradicts itself"), std::string::npos) << order_error;
+  for (const auto& p : id.points) {
+    if (p.u == 53) EXPECT_EQ(p.plane, -1) << p.u << "," << p.v;
+    else if (p.plane >= 0) EXPECT_EQ(p.plane, p.u < 30 ? 0 : p.u < 70 ? 1 : 2) << p.u << "," << p.v;
+  }
+}
+
 // No row meets all three stripes (the third starts where the first ends), so
 // the order cannot decide; the edge chains, which need every sheet to reach the
 // top, cannot either until the third does: then they number the frame.
