@@ -130,6 +130,11 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
   summary.planes = int(planes.size());
   const Triangulator triangulator(camera, planes, options.triangulation);
   const SearchAxis planes_axis = StripeAxis(planes);
+  const ExtractionMethod method = options.extraction.method;
+  if (planes.size() > 1 && (method == ExtractionMethod::kMax || method == ExtractionMethod::kCom)) {
+    warn(std::string(MethodName(method)) + " finds one stripe per search line, but there are " +
+         std::to_string(planes.size()) + " laser planes: use --method multicom or steger to see every stripe");
+  }
   std::map<int, std::vector<int>> image_order;  // by axis
 
   // Missing images are reported before anything is written.

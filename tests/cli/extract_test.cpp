@@ -93,6 +93,18 @@ TEST_F(ExtractCommand, GoodImageWorks) {
   EXPECT_THAT(r.out, HasSubstr("u,v,width,strength\n20.0000,0.0000,"));
 }
 
+// max and com find one stripe per line: asked for several planes, the command
+// says which methods see them all.
+TEST_F(ExtractCommand, OneStripeMethodsWithSeveralPlanesWarn) {
+  const fs::path p = dir_ / "stripe.png";
+  WriteImage(p, StripeImage());
+  CliResult r = RunCli("extract " + Quoted(p) + " --planes 2 --method max");
+  EXPECT_THAT(r.err, HasSubstr("lasertwin: warning: max finds one stripe per search line, but --planes is 2: use "
+                               "--method multicom or steger"));
+  r = RunCli("extract " + Quoted(p) + " --planes 2 --method multicom");
+  EXPECT_THAT(r.err, Not(HasSubstr("finds one stripe per search line")));
+}
+
 // --background takes a level or `local` (a per-peak background line, for
 // ambient light); anything else is an option error naming the choices.
 TEST_F(ExtractCommand, BackgroundLocalOrLevel) {
@@ -191,6 +203,24 @@ TEST_F(ExtractCommand, UnknownMethodAndSeveralImages) {
   WriteImage(p, StripeImage());
   ExpectInputError(Quoted(p) + " --method fastest",
                    "--method: unknown extraction method 'fastest' (expected max, com, multicom or steger)");
+}
+
+// --threshold and --high-threshold take finite numbers: NaN stands for their
+// default (10% of full scale, twice the threshold), so a typed "nan" used to
+// run silently with the default instead of failing.
+TEST_F(ExtractCommand, NonFiniteThresholdsAreRefused) {
+  const fs::path p = dir_ / "mono.png";
+  WriteImage(p, StripeImage());
+  for (const std::string option : {"--threshold", "--high-threshold"}) {
+    for (const std::string value : {"nan", "inf", "-inf"}) {
+      CliResult r = RunCli("extract " + Quoted(p) + " " + option + " " + value);
+      EXPECT_EQ(r.exit_code, 2) << option << " " << value << "\n" << r.err;
+      EXPECT_EQ(r.out, "") << option << " " << value;
+      EXPECT_THAT(r.err, HasSubstr(option + ": expected a finite number, got '" + value + "'"));
+    }
+  }
+  CliResult r = RunCli("extract " + Quoted(p) + " --threshold 100 --high-threshold 150");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
 }
 
 // A batch goes on past a bad image: the good images before and after it get

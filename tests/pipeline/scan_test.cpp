@@ -310,6 +310,14 @@ TEST(Scan, ThreeSheetsAreIdentifiedAndTriangulated) {
     }
     EXPECT_LT(worst, tolerance) << MethodName(method);
   }
+  // com finds one stripe per column: the scan says which methods see all three.
+  ScanOptions com;
+  com.extraction.method = ExtractionMethod::kCom;
+  std::vector<std::string> warnings;
+  ScanRun(run.dir, com, [&](const std::string& w) { warnings.push_back(w); });
+  ASSERT_FALSE(warnings.empty());
+  EXPECT_THAT(warnings[0], HasSubstr("com finds one stripe per search line, but there are 3 laser planes: use "
+                                     "--method multicom or steger"));
 }
 
 TEST(Scan, CalibrationFileReplacesThePlanes) {

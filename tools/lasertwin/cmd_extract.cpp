@@ -45,6 +45,10 @@ void Run(ExtractArgs& a) {
   if (a.planes < 0) throw InputError("--planes", "must be >= 1");
   if (a.planes > 0) a.plane_options.Check();
   StripeExtractor extractor(o);  // validates the options
+  if (a.planes > 1 && (o.method == ExtractionMethod::kMax || o.method == ExtractionMethod::kCom)) {
+    std::cerr << "lasertwin: warning: " << MethodName(o.method) << " finds one stripe per search line, but --planes is "
+              << a.planes << ": use --method multicom or steger to see every stripe\n";
+  }
 
   namespace fs = std::filesystem;
   const bool several = a.images.size() > 1;
@@ -146,8 +150,10 @@ void AddExtract(CLI::App& app) {
                   "FOLDER/<image name>.csv); default: standard output");
   auto& o = args->options;
   cmd->add_option("--threshold", o.threshold,
-                  "Minimum stripe peak intensity in image units (default: 10% of full scale)");
-  cmd->add_option("--high-threshold", o.high_threshold, "steger: high hysteresis threshold (default: 2 x threshold)");
+                  "Minimum stripe peak intensity in image units (default: 10% of full scale)")
+      ->check(FiniteNumber());
+  cmd->add_option("--high-threshold", o.high_threshold, "steger: high hysteresis threshold (default: 2 x threshold)")
+      ->check(FiniteNumber());
   cmd->add_option("--background", args->background,
                   "Level subtracted before centroid and width, or 'local': per peak, a line through the levels just "
                   "outside its window (ambient light; max, com, multicom)")
