@@ -284,5 +284,17 @@ TEST_F(ScanCommand, BadInputExitsWithTwo) {
   EXPECT_FALSE(fs::exists(no_image / "cloud.ply"));
 }
 
+// As for extract: a typed nan is not the default threshold (NaN inside), but an
+// option error, and nothing is written.
+TEST_F(ScanCommand, NonFiniteThresholdsAreRefused) {
+  const fs::path run = CopyRun("nan_threshold");
+  for (const std::string option : {"--threshold", "--high-threshold"}) {
+    CliResult r = RunCli("scan " + Quoted(run) + " " + option + " nan");
+    EXPECT_EQ(r.exit_code, 2) << option << "\n" << r.err;
+    EXPECT_THAT(r.err, HasSubstr(option + ": expected a finite number, got 'nan'"));
+  }
+  EXPECT_FALSE(fs::exists(run / "cloud.ply"));
+}
+
 }  // namespace
 }  // namespace lt::test

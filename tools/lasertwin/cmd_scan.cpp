@@ -99,8 +99,10 @@ void Add(CLI::App& app) {
   cmd->add_option("--roi", args->roi, "Search only in X,Y,W,H (pixels)");
   auto& e = args->options.extraction;
   cmd->add_option("--threshold", e.threshold,
-                  "Minimum stripe peak in image DN (default: 10% of the frame's full scale, 2^bit_depth - 1)");
-  cmd->add_option("--high-threshold", e.high_threshold, "steger: high hysteresis threshold (default: 2 x threshold)");
+                  "Minimum stripe peak in image DN (default: 10% of the frame's full scale, 2^bit_depth - 1)")
+      ->check(FiniteNumber());
+  cmd->add_option("--high-threshold", e.high_threshold, "steger: high hysteresis threshold (default: 2 x threshold)")
+      ->check(FiniteNumber());
   cmd->add_option("--background", args->background,
                   "Level subtracted before centroid and width (default: black level), or 'local': per peak, a line "
                   "through the levels just outside its window (ambient light; max, com, multicom)");

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <functional>
 #include <string>
 
@@ -17,6 +18,19 @@ using AddCommand = std::function<void(CLI::App& app)>;
 struct CommandRegistrar {
   CommandRegistrar(const std::string& name, AddCommand add);
 };
+
+// A number option that must be finite. CLI11 reads "nan" and "inf" into a
+// double, and where NaN stands for "automatic" (--threshold, --high-threshold)
+// a typed nan would silently become the default.
+inline CLI::Validator FiniteNumber() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double v = 0;
+        if (CLI::detail::lexical_cast(text, v) && std::isfinite(v)) return {};
+        return "expected a finite number, got '" + text + "'";
+      },
+      "");
+}
 
 }  // namespace lt::cli
 
