@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -23,6 +24,13 @@ struct WorldSheet {
 };
 
 using Sample = ChiefHit;
+
+// Surfaces whose normals differ by more than this meet at a crease: the line is
+// searched on each up to the crease (a sheet may cross both within a pixel).
+constexpr double kBreakDegrees = 30.0;
+// A line crossing from one surface to another and on to a third within one
+// pixel (a step's top, wall and floor) is split at up to this many breaks.
+constexpr int kMaxBreaks = 3;
 
 class LineScanner {
  public:
@@ -92,6 +100,44 @@ class LineScanner {
     double s = (ga != gb) ? (s0 * gb - s1 * ga) / (gb - ga) : s_best;
     if (!(s >= std::min(s0, s1) && s <= std::max(s0, s1))) s = s_best;
     return std::make_pair(s, best);
+  }
+
+  // Whether neighbouring samples may lie on two surfaces: one a hit and the
+  // other not, normals more than kBreakDegrees apart (a crease), or one off
+  // the other's plane by more than a pixel's footprint (a step).
+  bool MayBreak(const Sample& a, const Sample& b) const { return !OnSurfaceOf(a, b) || !OnSurfaceOf(b, a); }
+
+  // Whether m lies on the surface of a: both hits (or both misses), normals
+  // within kBreakDegrees, m within a pixel's footprint of a's plane.
+  bool OnSurfaceOf(const Sample& a, const Sample& m) const {
+    static const double kCosBreak = std::cos(kBreakDegrees * M_PI / 180.0);
+    if (a.valid != m.valid) return false;
+    if (!a.valid) return true;
+    return std::abs(a.normal.dot(m.normal)) >= kCosBreak &&
+           std::abs(a.normal.dot(m.p_world - a.p_world)) <= Footprint(std::max(a.depth, m.depth));
+  }
+
+  // Where the line leaves the surface of a between s0 (sample a) and s1 (b):
+  // the last sample on it and the first beyond, tolerance_px apart.
+  struct Break {
+    double s_a;
+    Sample a;
+    double s_b;
+    Sample b;
+  };
+  Break FindBreak(int line, double s0, const Sample& a, double s1, Sample b) const {
+    double lo = s0;
+    Sample on = a;
+    for (int it = 0; it < options_.max_iterations && std::abs(s1 - lo) > options_.tolerance_px; ++it) {
+      const double s = 0.5 * (lo + s1);
+      Sample m = Cast(line, s);
+      if (OnSurfaceOf(a, m)) {
+        lo = s, on = m;
+      } else {
+        s1 = s, b = m;
+      }
+    }
+    return Break{lo, on, s1, b};
   }
 
   bool Lit(const WorldSheet& ws, const Sample& p) const {
@@ -196,16 +242,31 @@ std::vector<StripeCenter> ComputeStripeCenters(const EmbreeScene& scene, const C
       }
     }
     auto& out = per_line[size_t(line)];
+    // The surfaces between neighbouring samples, found once for all sheets:
+    // pieces[i] holds the breaks between samples i and i + 1.
+    std::map<size_t, std::vector<LineScanner::Break>> pieces;
+    auto breaks_at = [&](size_t i) -> const std::vector<LineScanner::Break>& {
+      auto it = pieces.find(i);
+      if (it != pieces.end()) return it->second;
+      std::vector<LineScanner::Break> breaks;
+      double s = pos[i];
+      Sample from = samples[i];
+      while (int(breaks.size()) < kMaxBreaks && scanner.MayBreak(from, samples[i + 1])) {
+        breaks.push_back(scanner.FindBreak(line, s, from, pos[i + 1], samples[i + 1]));
+        s = breaks.back().s_b, from = breaks.back().b;
+      }
+      return pieces.emplace(i, std::move(breaks)).first->second;
+    };
     for (const WorldSheet& ws : sheets) {
-      for (size_t i = 0; i + 1 < pos.size(); ++i) {
-        const Sample &a = samples[i], &b = samples[i + 1];
-        if (!a.valid || !b.valid) continue;
+      // The crossing between samples a (at s0) and b (at s1) of one surface, if any.
+      auto add_root = [&](double s0, const Sample& a, double s1, const Sample& b) {
+        if (!a.valid || !b.valid) return;
         double ga = ws.plane_world.SignedDistance(a.p_world), gb = ws.plane_world.SignedDistance(b.p_world);
         // A root exactly on a sample belongs to the interval that starts there.
         bool crossing = (ga > 0 && gb < 0) || (ga < 0 && gb > 0) || ga == 0.0;
-        if (!crossing) continue;
-        auto root = scanner.Refine(line, ws, pos[i], a, pos[i + 1], b);
-        if (!root || !scanner.Lit(ws, root->second)) continue;
+        if (!crossing) return;
+        auto root = scanner.Refine(line, ws, s0, a, s1, b);
+        if (!root || !scanner.Lit(ws, root->second)) return;
         Eigen::Vector2d px = scanner.Pixel(line, root->first);
         StripeCenter c;
         c.u = px.x();
@@ -214,6 +275,35 @@ std::vector<StripeCenter> ComputeStripeCenters(const EmbreeScene& scene, const C
         c.p_world = root->second.p_world;
         c.p_cam = cam_from_world * c.p_world;
         out.push_back(c);
+      };
+      for (size_t i = 0; i + 1 < pos.size(); ++i) {
+        const Sample &a = samples[i], &b = samples[i + 1];
+        if (!a.valid && !b.valid) continue;
+        // Where the line passes onto another surface (a crease, a step, a
+        // silhouette) near the sheet, each surface is searched up to the
+        // break: the sheet may cross a surface after its last pixel centre,
+        // or cross two surfaces within one pixel, with no sign change between
+        // the pixel centres. Near: a sheet crossing a's surface before the
+        // break lies within the part of it that one pixel sees, as does one
+        // crossing b's surface after it.
+        auto within_a_pixel = [&](const Sample& x) {
+          if (!x.valid) return false;
+          const Eigen::Vector3d view = (x.p_world - world_from_cam.translation()).normalized();
+          const double cos_view = std::max(std::abs(x.normal.dot(view)), 0.05);
+          return std::abs(ws.plane_world.SignedDistance(x.p_world)) < 2 * scanner.Footprint(x.depth) / cos_view;
+        };
+        const bool near = a.valid != b.valid || within_a_pixel(a) || within_a_pixel(b);
+        if (!near || !scanner.MayBreak(a, b)) {
+          add_root(pos[i], a, pos[i + 1], b);
+          continue;
+        }
+        double s = pos[i];
+        const Sample* from = &a;
+        for (const LineScanner::Break& br : breaks_at(i)) {
+          add_root(s, *from, br.s_a, br.a);
+          s = br.s_b, from = &br.b;
+        }
+        add_root(s, *from, pos[i + 1], b);
       }
     }
   });

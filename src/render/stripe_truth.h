@@ -9,7 +9,12 @@
 // is sampled at every pixel centre and at both image borders; each sign change
 // between neighbouring samples on a continuous surface is refined by the
 // Illinois method to |Δu| < 1e-6 px. A bracket whose ends stay apart (a depth
-// discontinuity, not a crossing) is rejected. A root counts as lit when the
+// discontinuity, not a crossing) is rejected. Between neighbouring samples on
+// two surfaces (normals more than 30 degrees apart, one off the other's plane
+// by more than a pixel's footprint, or a hit beside a miss) near a sheet, the
+// line is bisected to each break and every surface is searched up to it: the
+// sheet may cross a surface between its last pixel centre and its edge, or two
+// surfaces within one pixel, without a sign change between the centres. A root counts as lit when the
 // surface faces both the camera and the projector, the segment to the projector
 // is unoccluded, and the fan profile there is at least `fan_threshold` of its
 // value on the sheet's central ray at the same distance.
