@@ -39,6 +39,10 @@ int Find(std::vector<int>& parent, int i) {
   return i;
 }
 
+// Neighbouring stripes on a search line that meets all N are taken for N
+// sheets only when they stand within this factor of the frame's median spacing.
+constexpr double kSpacingFactor = 3.0;
+
 struct Ends {
   double first_along = 0, first_across = 0;  // mean position on the first search line
   double last_along = 0, last_across = 0;    // and on the last
@@ -73,20 +77,42 @@ std::vector<int> PlanesByStripeOrder(const std::vector<StripeSegment>& segments,
   };
 
   // Lines meeting exactly N distinct segments: each segment's rank is its plane.
-  Votes votes(segments.size(), std::vector<int>(size_t(n_planes), 0));
-  bool any_full_line = false;
+  std::vector<const std::vector<std::pair<double, int>>*> full;
   for (const auto& [line, v] : lines) {
     if (int(v.size()) != n_planes) continue;
     std::vector<int> segs;
     for (const auto& [x, seg] : v) segs.push_back(seg);
     std::sort(segs.begin(), segs.end());
-    if (std::adjacent_find(segs.begin(), segs.end()) != segs.end()) continue;
-    any_full_line = true;
-    for (int r = 0; r < n_planes; ++r) ++votes[size_t(v[size_t(r)].second)][size_t(r)];
+    if (std::adjacent_find(segs.begin(), segs.end()) == segs.end()) full.push_back(&v);
   }
-  if (!any_full_line) {
+  if (full.empty()) {
     *error = "no search line meets all " + std::to_string(n_planes) + " stripes";
     return {};
+  }
+  // Neighbouring sheets stand about the same distance apart everywhere in the
+  // image (the focal length times the difference of their angles' tangents,
+  // whatever the depth, plus a parallax term that only steps change), so a
+  // line whose stripes stand far closer or farther apart than the frame's
+  // median spacing does not show N sheets: it meets one sheet twice (a depth
+  // step) where another is missing. Such lines do not vote, and a piece is not
+  // numbered beside a numbered stripe at a distance its rank rules out.
+  std::vector<double> gaps;
+  for (const auto* v : full)
+    for (size_t r = 1; r < v->size(); ++r) gaps.push_back((*v)[r].first - (*v)[r - 1].first);
+  double spacing = 0;
+  if (!gaps.empty()) {
+    std::nth_element(gaps.begin(), gaps.begin() + long(gaps.size() / 2), gaps.end());
+    spacing = gaps[gaps.size() / 2];
+  }
+  auto plausible = [&](double gap, int ranks) {
+    return !(spacing > 0) || (gap >= ranks * spacing / kSpacingFactor && gap <= ranks * spacing * kSpacingFactor);
+  };
+  Votes votes(segments.size(), std::vector<int>(size_t(n_planes), 0));
+  for (const auto* v : full) {
+    bool ok = true;
+    for (size_t r = 1; r < v->size() && ok; ++r) ok = plausible((*v)[r].first - (*v)[r - 1].first, 1);
+    if (!ok) continue;
+    for (int r = 0; r < n_planes; ++r) ++votes[size_t((*v)[size_t(r)].second)][size_t(r)];
   }
   decide(votes);
 
@@ -100,7 +126,13 @@ std::vector<int> PlanesByStripeOrder(const std::vector<StripeSegment>& segments,
         const int lab = k < int(v.size()) ? label[size_t(v[size_t(k)].second)] : n_planes;
         if (lab < 0) continue;
         const int gap = k - prev_index - 1;
-        if (gap > 0 && lab - prev_label - 1 == gap) {
+        // Neighbours in the run (the numbered stripes at its ends included)
+        // must stand about one spacing apart.
+        bool spaced = true;
+        for (int j = std::max(prev_index, 0) + 1; j <= std::min(k, int(v.size()) - 1) && spaced; ++j) {
+          spaced = plausible(v[size_t(j)].first - v[size_t(j - 1)].first, 1);
+        }
+        if (gap > 0 && lab - prev_label - 1 == gap && spaced) {
           for (int j = 1; j <= gap; ++j) ++between[size_t(v[size_t(prev_index + j)].second)][size_t(prev_label + j)];
         }
         prev_label = lab, prev_index = k;

@@ -5,7 +5,9 @@
 // Stripe order (first): sheets from one projector do not cross in the image, so
 // on a search line that meets exactly N stripes they are the N sheets in image
 // order, and each segment there gets a vote for its rank. A segment takes the
-// rank that holds at least 3/4 of its votes. A segment that is never on such a
+// rank that holds at least 3/4 of its votes (not on lines whose neighbouring
+// stripes stand far closer or farther apart than the median spacing of such
+// lines: one sheet seen twice at a depth step). A segment that is never on such a
 // line takes the rank its position calls for on lines where it lies between
 // numbered segments (or the line's ends) with exactly the missing ranks between
 // them. Segments neither step decides keep no plane (not guessed); on every line
