@@ -23,6 +23,7 @@ SceneObject ParseObject(const json::Value& value, const std::vector<SceneMateria
     gltf.Fail("glTF file not found (looked for " + obj.gltf.string() + ")");
   }
   if (auto pose = o.Find("world_from_object")) obj.world_from_object = ReadPose(*pose);
+  obj.scale = o.Number("scale", obj.scale, Range::Positive());
   if (auto mat = o.Find("material")) {
     obj.material = mat->String();
     bool known = false;
@@ -62,6 +63,7 @@ nlohmann::json Resolve(const nlohmann::json& raw, const SceneFile& s, const std:
   r["seed"] = s.seed;
   for (size_t i = 0; i < s.objects.size(); ++i) {
     r["objects"][i]["gltf"] = std::filesystem::absolute(s.objects[i].gltf).lexically_normal().string();
+    r["objects"][i]["scale"] = s.objects[i].scale;
   }
   for (const auto& m : s.materials) {
     if (!m.base_color_texture_path.empty()) {

@@ -30,6 +30,7 @@ struct SceneObject {
   std::string name;                         // unique among the objects
   std::filesystem::path gltf;               // resolved (absolute or relative to the working folder)
   Pose world_from_object = Pose::Identity();
+  double scale = 1;                         // uniform, applied to the file's coordinates first (0.001: millimetres)
   std::string material;                     // a key of "materials" replacing the glTF's, or empty
 };
 

@@ -62,7 +62,7 @@ SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
       SceneInstance inst;
       inst.mesh = it->second.first_mesh + gi.mesh;
       inst.object = oi;
-      inst.world_from_mesh = obj.world_from_object * gi.file_from_mesh;
+      inst.world_from_mesh = obj.world_from_object * Eigen::Scaling(obj.scale) * gi.file_from_mesh;
       inst.material_override = override_id;
       inst.name = obj.name + "/" + gi.node_name;
       g.instances.push_back(std::move(inst));

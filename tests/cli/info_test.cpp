@@ -77,7 +77,7 @@ TEST(InfoCommand, TextOutputNamesEverySection) {
   Result r = RunLasertwin("info " + Quoted(kData / "scenes/full.json"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const char* s : {"objects: 3", "geometry: 6 triangles (2 unique in 1 meshes), 3 instances",
-                        "bounds (world, mm): min [0, 0, -10] max [100, 10, 0]", "materials: 3", "1 painted:",
+                        "bounds (world, mm): min [0, 0, -10] max [100, 20, 0]", "materials: 3", "1 painted:",
                         "texture ", "checker.png (4x4)", "emissive [2, 2, 1.5] W/(m^2 sr)",
                         "laser 0: 450 nm, 5 mW", "motion: static, camera at [0, 0, 100] mm looking along [0, 0, -1]",
                         "\"scale\":2.5", "\"spp\":4", "\"png_bit_depth\":16", "warnings: 0"}) {
@@ -129,7 +129,7 @@ std::vector<BadScene> BadScenes() {
       {"objects_empty.json", "/objects: must have at least 1 elements, got 0"},
       {"objects_missing.json", "/: missing required key \"objects\""},
       {"object_unknown_key.json",
-       "/objects/0/colour: unknown key \"colour\" (known keys: gltf, material, name, world_from_object)"},
+       "/objects/0/colour: unknown key \"colour\" (known keys: gltf, material, name, scale, world_from_object)"},
       {"object_gltf_missing.json",
        "/objects/0/gltf: glTF file not found (looked for " + bad + "/nowhere/part.glb)"},
       {"object_duplicate_name.json", "/objects/1/name: duplicate object name \"square\""},

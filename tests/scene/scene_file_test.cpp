@@ -120,6 +120,8 @@ TEST(SceneFile, ResolvedJsonHasAbsolutePathsAndDefaults) {
   EXPECT_EQ(full.resolved["materials"]["painted"]["base_color_texture"], (kScenes / "checker.png").string());
   EXPECT_EQ(full.resolved["environment"]["exr"], (kScenes / "sky.exr").string());
   EXPECT_EQ(full.resolved["render"]["spp"], 4);  // given values are kept
+  EXPECT_EQ(full.resolved["objects"][1]["scale"], 2.0);
+  EXPECT_EQ(r["objects"][0]["scale"], 1.0);  // the default written out
   // The resolved scene is itself a valid scene that loads the same way, from anywhere.
   test::TempDir dir;
   test::WriteText(dir / "scene.json", full.resolved.dump());
@@ -174,6 +176,10 @@ TEST(SceneFile, ErrorsNameTheFileAndPointer) {
             "scene.json: /motion: missing required key \"type\"");
   EXPECT_EQ(ErrorOf([&] { Parse(R"({"objects": [{"name": "", "gltf": "x.glb"}], )" + std::string(kSensor) + "}"); }),
             "scene.json: /objects/0/name: must not be empty");
+  EXPECT_EQ(ErrorOf([&] {
+              Parse(R"({"objects": [{"name": "a", "gltf": "../gltf/square.gltf", "scale": 0}], )" + std::string(kSensor) + "}");
+            }),
+            "scene.json: /objects/0/scale: must be > 0, got 0");
   // Files a scene names: missing, or not what the key needs.
   EXPECT_EQ(ErrorOf([&] { Parse("{" + obj + kSensor + R"(, "environment": {"exr": "checker.png"}})"); }),
             "scene.json: /environment/exr: " + (kScenes / "checker.png").string() + " is not an OpenEXR file");
@@ -217,7 +223,8 @@ TEST(SceneGeometry, ObjectsShareTheirGltfAndKeepTheirPoses) {
   // 90 deg about z and moved 0.1 m along x, so mesh corner (1, 0, 0) is at
   // (0.1, 0.01, 0).
   EXPECT_TRUE((g->instances[0].world_from_mesh * Eigen::Vector3d(1, 0, 0)).isApprox(Eigen::Vector3d(0.1, 0.01, 0)));
-  EXPECT_TRUE((g->instances[1].world_from_mesh * Eigen::Vector3d(1, 1, 0)).isApprox(Eigen::Vector3d(0.01, 0.01, -0.01)));
+  // "tile_glowing" is scaled by 2 before its pose moves it 0.01 m down.
+  EXPECT_TRUE((g->instances[1].world_from_mesh * Eigen::Vector3d(1, 1, 0)).isApprox(Eigen::Vector3d(0.02, 0.02, -0.01)));
   // A ray down onto the turned tile hits it, with the painted material.
   EmbreeScene scene(g);
   auto hit = scene.Intersect({{0.095, 0.005, 1}, {0, 0, -1}});
