@@ -134,15 +134,32 @@ void Mitre(const Piece& p, const Piece& q, Eigen::Vector3d& across, double& scal
   scale = 1.0 / across.dot(s0);
 }
 
-double LayerHeight(const Toolpath& path, const ToolpathSegment& seg, const BeadOptions& o, std::set<double>& levels) {
+// The heights at which the path has extruded flat (level) beads, and the height of
+// the last such level above the one below it.
+struct Levels {
+  std::set<double> z;
+  double last_step = 0;
+};
+
+double LayerHeight(const Toolpath& path, const ToolpathSegment& seg, const BeadOptions& o, Levels& levels) {
   const double z = seg.start_m.z();
-  levels.insert(z);
+  // A bead rising along its move (spiral vase mode) lies on the turn below, one layer
+  // height down, not on the last level: its height is the file's, else the last step.
+  const bool rising = seg.end_m.z() - z > kLevelTolM;
+  // Extrusion outside any layer (a start script's purge line, before the first layer
+  // comment) is no level for the part's layers to stand on.
+  const bool level = !rising && seg.layer != ToolpathSegment::kNoLayer;
+  if (level) levels.z.insert(z);
   if (o.layer_height_m > 0) return o.layer_height_m;
   auto it = path.layer_height_m.find(seg.layer);
   if (it != path.layer_height_m.end() && it->second > 0) return it->second;
-  auto below = levels.lower_bound(z - kLevelTolM);
-  double base = below == levels.begin() ? 0.0 : *std::prev(below);
-  if (z - base > kLevelTolM) return z - base;
+  if (rising) return path.header_layer_height_m > 0 ? path.header_layer_height_m : levels.last_step;
+  auto below = levels.z.lower_bound(z - kLevelTolM);
+  double base = below == levels.z.begin() ? 0.0 : *std::prev(below);
+  if (z - base > kLevelTolM) {
+    if (level) levels.last_step = z - base;
+    return z - base;
+  }
   return path.header_layer_height_m;
 }
 
@@ -169,7 +186,7 @@ Mesh BeadMeshUpTo(const Toolpath& path, double t_s, const BeadOptions& options, 
   // The pieces, in order, with the segment each came from.
   std::vector<Piece> pieces;
   std::vector<size_t> origin;
-  std::set<double> levels;
+  Levels levels;
   for (size_t k = 0; k < path.segments.size(); ++k) {
     const ToolpathSegment& seg = path.segments[k];
     if (!(seg.t_start_s < t_s) || k >= options.end_segment) break;

@@ -62,7 +62,9 @@ class GcodeReader {
   explicit GcodeReader(const std::string& name) : name_(name) {}
 
   void ReadLine(std::string_view line, int line_no);
-  Toolpath Finish() { return std::move(path_); }
+  // After M2/M30: the program has ended, later lines are not executed.
+  bool Ended() const { return path_.program_end_line > 0; }
+  Toolpath Finish();
 
  private:
   [[noreturn]] void Fail(const std::string& message) const {
@@ -71,8 +73,9 @@ class GcodeReader {
 
   void Comment(std::string_view comment);
   std::optional<double> CommentNumber(std::string_view text, const char* what) const;
-  // Splits the words after the command. `numbers_required`: every letter needs a number.
-  void ReadWords(std::string_view code, size_t pos, bool numbers_required);
+  // Splits the words after the command. `numbers_required`: every letter needs a number;
+  // `t_parameter`: T is a parameter (M207's), not a tool change.
+  void ReadWords(std::string_view code, size_t pos, bool numbers_required, bool t_parameter = false);
   const Word* Find(char letter) const;
   void Expect(std::string_view allowed, const std::string& command) const;
 
@@ -82,6 +85,13 @@ class GcodeReader {
   void Home();
   void SetPosition();
   void SetFeed();
+  // Firmware retraction (G10/G11) and its settings (M207).
+  void FirmwareRetract(bool retract);
+  void RetractSettings();
+  // Checks a line's checksum ("N12 G1 X5*57": XOR of the bytes before '*').
+  void CheckChecksum(std::string_view line, size_t star);
+  // Layers from the heights at which the path extrudes, for files without layer comments.
+  void LayersFromZ();
   // The feed rate of a G0-G3 move: the modal F, or before any F the firmware's
   // power-on rate (such moves are counted for a note).
   double MoveFeed(double length_mm, double extruded_mm);
@@ -108,9 +118,51 @@ class GcodeReader {
   enum class EMode { kFollow, kAbsolute, kRelative } e_mode_ = EMode::kFollow;
   bool xy_plane_ = true;
   int layer_ = ToolpathSegment::kNoLayer;
+  bool layer_comments_ = false;  // any layer comment seen
   int type_ = -1;
   double t_s_ = 0;
+  // Firmware retraction: length, feed rates, Z hop (mm, mm/s), as set by M207 or
+  // Marlin's defaults; whether the filament is retracted and the nozzle lifted now.
+  double fw_retract_mm_ = 3.0;
+  double fw_retract_feed_mm_s_ = 45.0;
+  double fw_recover_extra_mm_ = 0.0;
+  double fw_recover_feed_mm_s_ = 8.0;
+  double fw_hop_mm_ = 0.0;
+  bool fw_retracted_ = false;
+  double fw_hop_applied_mm_ = 0.0;
 };
+
+Toolpath GcodeReader::Finish() {
+  if (!layer_comments_) LayersFromZ();
+  return std::move(path_);
+}
+
+void GcodeReader::LayersFromZ() {
+  // A layer begins at the first move that extrudes at a height above every height at
+  // which the current layer has extruded (the end of a rising move counts: a spiral
+  // stays one layer); it takes the moves since the previous layer's last extrusion.
+  constexpr double kTolM = 1e-9;
+  int layer = ToolpathSegment::kNoLayer;
+  double top = 0;
+  size_t first_free = 0;  // the first segment after the last extrusion
+  auto& segs = path_.segments;
+  for (size_t k = 0; k < segs.size(); ++k) {
+    ToolpathSegment& s = segs[k];
+    if (!(s.extruded_m > 0 && s.xy_length_m > 0)) continue;
+    const double z0 = s.start_m.z(), z1 = std::max(z0, s.end_m.z());
+    if (layer == ToolpathSegment::kNoLayer || z0 > top + kTolM) {
+      layer = layer == ToolpathSegment::kNoLayer ? 0 : layer + 1;
+      if (layer == 0) first_free = k;  // moves before the first extrusion stay outside
+      top = z1;
+    } else {
+      top = std::max(top, z1);
+    }
+    for (size_t j = first_free; j <= k; ++j) segs[j].layer = layer;
+    first_free = k + 1;
+  }
+  for (size_t j = first_free; j < segs.size() && layer != ToolpathSegment::kNoLayer; ++j) segs[j].layer = layer;
+  path_.layers_from_z = layer != ToolpathSegment::kNoLayer;
+}
 
 std::optional<double> GcodeReader::CommentNumber(std::string_view text, const char* what) const {
   auto v = ParseFiniteNumber(TrimBlanks(text));
@@ -120,34 +172,67 @@ std::optional<double> GcodeReader::CommentNumber(std::string_view text, const ch
 
 void GcodeReader::Comment(std::string_view comment) {
   std::string_view c = TrimBlanks(comment);
-  if (StartsWith(c, "LAYER:")) {
-    auto v = CommentNumber(c.substr(6), "LAYER");
-    if (*v != std::floor(*v) || std::abs(*v) > 1e9) Fail("LAYER comment needs an integer, got " + FormatNumber(*v));
-    layer_ = int(*v);
-  } else if (c == "LAYER_CHANGE" || c == "CHANGE_LAYER") {
+  auto next_layer = [this] {
+    layer_comments_ = true;
     layer_ = layer_ == ToolpathSegment::kNoLayer ? 0 : layer_ + 1;
-  } else if (StartsWith(c, "TYPE:") || StartsWith(c, "FEATURE:")) {
-    std::string type(TrimBlanks(c.substr(c.find(':') + 1)));
+  };
+  auto set_type = [this](std::string_view name) {
+    std::string type(TrimBlanks(name));
     int index = path_.TypeIndex(type);
     if (index < 0) {
       index = int(path_.type_names.size());
       path_.type_names.push_back(type);
     }
     type_ = index;
+  };
+  if (StartsWith(c, "LAYER:")) {
+    auto v = CommentNumber(c.substr(6), "LAYER");
+    if (*v != std::floor(*v) || std::abs(*v) > 1e9) Fail("LAYER comment needs an integer, got " + FormatNumber(*v));
+    layer_comments_ = true;
+    layer_ = int(*v);
+  } else if (c == "LAYER_CHANGE" || c == "CHANGE_LAYER") {
+    next_layer();
+  } else if (c.size() > 6 && StartsWith(c, "layer ") && c[6] >= '0' && c[6] <= '9') {
+    next_layer();  // Simplify3D: "; layer 1, Z = 0.200" (counted from 1)
+  } else if (StartsWith(c, "BEGIN_LAYER_OBJECT")) {
+    // KISSlicer: "; BEGIN_LAYER_OBJECT z=0.20 z_thickness=0.20"
+    next_layer();
+    size_t at = c.find("z_thickness=");
+    if (at != std::string_view::npos) {
+      std::string_view v = c.substr(at + 12);
+      v = v.substr(0, v.find(' '));
+      path_.layer_height_m[layer_] = *CommentNumber(v, "z_thickness") * kMetresPerMm;
+    }
+  } else if (StartsWith(c, "TYPE:") || StartsWith(c, "FEATURE:") || StartsWith(c, "segType:")) {
+    set_type(c.substr(c.find(':') + 1));  // Cura, PrusaSlicer; Bambu, Orca; CraftWare
+  } else if (StartsWith(c, "feature ")) {
+    set_type(c.substr(8));  // Simplify3D: "; feature outer perimeter"
+  } else if (c.size() > 2 && c[0] == '\'' && c.find("',", 1) != std::string_view::npos) {
+    set_type(c.substr(1, c.find("',", 1) - 1));  // KISSlicer: "; 'Perimeter Path', 1.2 [feed mm/s], ..."
   } else if (StartsWith(c, "HEIGHT:") || StartsWith(c, "LAYER_HEIGHT:")) {
     double h = *CommentNumber(c.substr(c.find(':') + 1), "HEIGHT");
-    if (layer_ != ToolpathSegment::kNoLayer) path_.layer_height_m[layer_] = h * unit_mm_ * kMetresPerMm;
+    // Slicers' comments are in millimetres, whatever G20/G21 say.
+    if (layer_ != ToolpathSegment::kNoLayer) path_.layer_height_m[layer_] = h * kMetresPerMm;
   } else if (StartsWith(c, "Layer height:")) {
     path_.header_layer_height_m = *CommentNumber(c.substr(13), "Layer height") * kMetresPerMm;
   } else if (StartsWith(c, "layer_height =")) {
     path_.header_layer_height_m = *CommentNumber(c.substr(14), "layer_height") * kMetresPerMm;
+  } else if (StartsWith(c, "layer_thickness_mm =")) {  // KISSlicer
+    path_.header_layer_height_m = *CommentNumber(c.substr(20), "layer_thickness_mm") * kMetresPerMm;
+  } else if (StartsWith(c, "layerHeight,")) {  // Simplify3D's settings summary
+    path_.header_layer_height_m = *CommentNumber(c.substr(12), "layerHeight") * kMetresPerMm;
   } else if (StartsWith(c, "filament_diameter =")) {
     std::string_view list = c.substr(19);  // "1.75" or "1.75,1.75" (one per extruder)
     path_.filament_diameter_m = *CommentNumber(list.substr(0, list.find(',')), "filament_diameter") * kMetresPerMm;
+  } else if (StartsWith(c, "fiber_dia_mm =")) {  // KISSlicer
+    path_.filament_diameter_m = *CommentNumber(c.substr(14), "fiber_dia_mm") * kMetresPerMm;
+  } else if (StartsWith(c, "filamentDiameters,")) {  // Simplify3D: "1.75|1.75|..." (one per extruder)
+    std::string_view list = c.substr(18);
+    path_.filament_diameter_m = *CommentNumber(list.substr(0, list.find('|')), "filamentDiameters") * kMetresPerMm;
   }
 }
 
-void GcodeReader::ReadWords(std::string_view code, size_t pos, bool numbers_required) {
+void GcodeReader::ReadWords(std::string_view code, size_t pos, bool numbers_required, bool t_parameter) {
   words_.clear();
   while (pos < code.size()) {
     if (IsBlank(code[pos])) {
@@ -171,7 +256,7 @@ void GcodeReader::ReadWords(std::string_view code, size_t pos, bool numbers_requ
       w.value = ParseFiniteNumber(number);
       if (!w.value) Fail(std::string(1, letter) + " has a malformed number \"" + std::string(number) + "\"");
     }
-    if (letter == 'G' || letter == 'M' || letter == 'T') Fail("one command per line: found " + std::string(1, letter) + " after the command");
+    if (letter == 'G' || letter == 'M' || (letter == 'T' && !t_parameter)) Fail("one command per line: found " + std::string(1, letter) + " after the command");
     for (const Word& other : words_) {
       if (other.letter == letter) Fail(std::string(1, letter) + " given twice");
     }
@@ -378,10 +463,78 @@ void GcodeReader::SetPosition() {
   if (const Word* e = Find('E')) e_logical_mm_ = *e->value * unit_mm_;
 }
 
+void GcodeReader::FirmwareRetract(bool retract) {
+  ++(retract ? path_.firmware_retractions : path_.firmware_recoveries);
+  if (path_.firmware_retractions + path_.firmware_recoveries == 1) path_.first_firmware_retraction_line = line_no_;
+  if (retract == fw_retracted_) return;  // the firmware ignores a second G10 (or G11)
+  fw_retracted_ = retract;
+  if (retract) {
+    AddSegment(10, pos_mm_, -fw_retract_mm_, 0, 0, nullptr, fw_retract_feed_mm_s_);
+    if (fw_hop_mm_ > 0) {
+      Eigen::Vector3d up = pos_mm_ + Eigen::Vector3d(0, 0, fw_hop_mm_);
+      AddSegment(10, up, 0, fw_hop_mm_, 0, nullptr, fw_retract_feed_mm_s_);
+      offset_mm_.z() += fw_hop_mm_;  // logical Z unchanged: later Z moves stay lifted
+      fw_hop_applied_mm_ = fw_hop_mm_;
+    }
+  } else {
+    if (fw_hop_applied_mm_ > 0) {
+      Eigen::Vector3d down = pos_mm_ - Eigen::Vector3d(0, 0, fw_hop_applied_mm_);
+      AddSegment(11, down, 0, fw_hop_applied_mm_, 0, nullptr, fw_retract_feed_mm_s_);
+      offset_mm_.z() -= fw_hop_applied_mm_;
+      fw_hop_applied_mm_ = 0;
+    }
+    AddSegment(11, pos_mm_, fw_retract_mm_ + fw_recover_extra_mm_, 0, 0, nullptr, fw_recover_feed_mm_s_);
+  }
+}
+
+void GcodeReader::RetractSettings() {
+  // M207 S length, F feed (mm/min), Z hop (Marlin and RepRapFirmware); R extra length
+  // and T feed (mm/min) on recovery (RepRapFirmware); W swap length (Marlin, not used).
+  Expect("SFZRTW", "M207");
+  auto length = [&](char letter, double& out) {
+    if (const Word* w = Find(letter)) {
+      if (*w->value < 0) Fail(std::string("M207 ") + letter + " must be >= 0, got " + FormatNumber(*w->value));
+      out = *w->value * unit_mm_;
+    }
+  };
+  auto feed = [&](char letter, double& out) {
+    if (const Word* w = Find(letter)) {
+      if (!(*w->value > 0)) Fail(std::string("M207 ") + letter + " (feed rate) must be > 0, got " + FormatNumber(*w->value));
+      out = *w->value * unit_mm_ / 60.0;
+    }
+  };
+  length('S', fw_retract_mm_);
+  length('Z', fw_hop_mm_);
+  length('R', fw_recover_extra_mm_);
+  feed('F', fw_retract_feed_mm_s_);
+  if (Find('F') && !Find('T')) fw_recover_feed_mm_s_ = fw_retract_feed_mm_s_;  // RepRapFirmware: T defaults to F
+  feed('T', fw_recover_feed_mm_s_);
+  path_.firmware_retraction_set = true;
+}
+
+void GcodeReader::CheckChecksum(std::string_view line, size_t star) {
+  std::string_view digits = TrimBlanks(line.substr(star + 1));
+  bool ok = !digits.empty() && digits.size() <= 3;
+  for (char c : digits) ok = ok && c >= '0' && c <= '9';
+  if (!ok) Fail("checksum after '*' must be a number 0-255, got \"" + std::string(digits) + "\"");
+  int expected = std::stoi(std::string(digits));
+  int sum = 0;
+  for (char c : line.substr(0, star)) sum ^= static_cast<unsigned char>(c);
+  if (sum != expected) {
+    Fail("checksum *" + std::string(digits) + " does not match the line (its bytes before '*' give " +
+         std::to_string(sum) + ")");
+  }
+}
+
 void GcodeReader::ReadLine(std::string_view line, int line_no) {
   line_no_ = line_no;
   size_t semicolon = line.find(';');
   std::string_view code = line.substr(0, semicolon);
+  // A checksum "*57" ends the code; it must match (a corrupted line is not read).
+  if (size_t star = code.find('*'); star != std::string_view::npos) {
+    CheckChecksum(code, star);
+    code = code.substr(0, star);
+  }
   // Parenthesised comments, then a checksum.
   std::string cleaned;
   if (code.find('(') != std::string_view::npos) {
@@ -393,7 +546,6 @@ void GcodeReader::ReadLine(std::string_view line, int line_no) {
     }
     code = cleaned;
   }
-  code = code.substr(0, code.find('*'));
   code = TrimBlanks(code);
   if (code == "%") return;  // RS-274's program start and end mark
   if (code.empty()) {
@@ -438,6 +590,17 @@ void GcodeReader::ReadLine(std::string_view line, int line_no) {
       case 2:
       case 3: ReadWords(code, pos, true); Arc(n); return;
       case 4: ReadWords(code, pos, true); Dwell(); return;
+      case 10:
+        ReadWords(code, pos, true);
+        if (words_.empty()) {
+          FirmwareRetract(true);
+          return;
+        }
+        // With parameters: tool offsets and temperatures (RepRapFirmware's G10 P),
+        // coordinate systems (G10 L), Marlin's swap retraction (G10 S1): skipped.
+        ++path_.skipped_commands["G10"];
+        return;
+      case 11: ReadWords(code, pos, true); Expect("", "G11"); FirmwareRetract(false); return;
       case 17:
       case 18:
       case 19: ReadWords(code, pos, true); Expect("", CommandName('G', n)); xy_plane_ = n == 17; return;
@@ -449,6 +612,22 @@ void GcodeReader::ReadLine(std::string_view line, int line_no) {
       case 92: ReadWords(code, pos, true); SetPosition(); return;
       default: break;
     }
+  }
+  if (letter == 'M' && (n == 2 || n == 30)) {
+    // Program end (RS-274, RepRapFirmware, Klipper's M2-less world aside): nothing
+    // after it runs. Marlin's "M30 name" deletes a file on the SD card: skipped.
+    if (n == 30 && !TrimBlanks(code.substr(pos)).empty()) {
+      ++path_.skipped_commands["M30"];
+      return;
+    }
+    path_.program_end_line = line_no_;
+    path_.program_end_command = CommandName('M', n);
+    return;
+  }
+  if (letter == 'M' && n == 207) {
+    ReadWords(code, pos, true, true);
+    RetractSettings();
+    return;
   }
   if (letter == 'M' && (n == 82 || n == 83)) {
     ReadWords(code, pos, true);
@@ -467,13 +646,25 @@ Toolpath ParseGcode(std::string_view text, const std::string& display_name) {
   GcodeReader reader(display_name);
   size_t pos = StartsWith(text, "\xEF\xBB\xBF") ? 3 : 0;  // a UTF-8 byte order mark
   int line_no = 0;
+  int after_end = 0;
   while (pos < text.size()) {
     size_t end = text.find('\n', pos);
     if (end == std::string_view::npos) end = text.size();
-    reader.ReadLine(text.substr(pos, end - pos), ++line_no);
+    std::string_view line = text.substr(pos, end - pos);
+    ++line_no;
+    if (!reader.Ended()) {
+      reader.ReadLine(line, line_no);
+    } else {
+      // Lines after the program's end are not read; those holding more than blanks,
+      // comments and "%" are counted.
+      std::string_view code = TrimBlanks(line.substr(0, line.find(';')));
+      if (!code.empty() && code != "%") ++after_end;
+    }
     pos = end + 1;
   }
-  return reader.Finish();
+  Toolpath path = reader.Finish();
+  path.lines_after_program_end = after_end;
+  return path;
 }
 
 Toolpath ReadGcode(const std::filesystem::path& path, const std::string& display_name) {

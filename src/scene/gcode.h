@@ -1,5 +1,6 @@
-// Reading G-code as slicers write it (Cura and PrusaSlicer, Marlin flavour) into a
-// timed toolpath (scene/toolpath.h).
+// Reading G-code as slicers write it (Cura, PrusaSlicer and its forks, Simplify3D,
+// KISSlicer, ideaMaker, CraftWare, Slic3r; Marlin, RepRapFirmware and Klipper
+// flavours) into a timed toolpath (scene/toolpath.h).
 //
 // Understood, everything else skipped and counted per command (Toolpath::
 // skipped_commands: temperatures, fans, accelerations, T tool changes, ...):
@@ -9,21 +10,34 @@
 //                   Z changing along the arc makes a helix; I/J with end = start is a
 //                   full circle
 //   G4              dwell (P milliseconds or S seconds)
+//   G10, G11        firmware retraction and recovery (G10 without parameters; with
+//                   parameters it sets tool offsets/temperatures and is skipped), by
+//                   M207's S length, F feed, Z hop, R extra and T recovery feed, else
+//                   Marlin's defaults (3 mm at 45 mm/s, recovered at 8 mm/s)
 //   G17             XY plane (G18/G19 are accepted, but an arc outside XY is an error)
 //   G20, G21        inches / millimetres
 //   G28             home: a travel move to 0 on the named axes (all when none named)
 //   G90, G91        absolute / relative X Y Z (and E, unless M82/M83 set E's mode)
 //   G92             set the current position (no motion); no axes: all axes to 0
 //   M82, M83        absolute / relative E (overrides G90/G91 for E, as Marlin does)
+//   M2, M30         program end: later lines are not read, only counted ("M30 name",
+//                   Marlin's SD file delete, is skipped)
+//   M207            firmware retraction settings
 //   F               feed rate in mm/min (inch/min under G20), modal, shared by G0-G3
 // Comments: ;LAYER:n (Cura) sets the layer; ;LAYER_CHANGE (PrusaSlicer) starts the
 // next layer (0 first); ;TYPE:name names what follows (WALL-OUTER, External
 // perimeter, ...); ;HEIGHT:h (PrusaSlicer) the layer height; header ";Layer height:"
 // (Cura), "; layer_height =" and "; filament_diameter =" (PrusaSlicer); Bambu Studio's
 // and OrcaSlicer's "; CHANGE_LAYER", "; FEATURE: name" and "; LAYER_HEIGHT: h" are
-// read as LAYER_CHANGE, TYPE: and HEIGHT:. Structured
-// comments count only on lines holding nothing else. Line numbers (N) and checksums
-// (*) are dropped, parenthesised comments too; letters may be lower case. A UTF-8
+// read as LAYER_CHANGE, TYPE: and HEIGHT:; Simplify3D's "; layer 1, Z = 0.2" and
+// KISSlicer's "; BEGIN_LAYER_OBJECT z=.. z_thickness=h" start the next layer (with
+// height h); Simplify3D's "; feature name", KISSlicer's "; 'Name Path', ..." and
+// CraftWare's ";segType:name" name the type; header "layerHeight,", "filamentDiameters,"
+// (Simplify3D), "layer_thickness_mm =", "fiber_dia_mm =" (KISSlicer). Comments hold
+// millimetres under G20 too. A file without any layer comment takes its layers from
+// the heights it extrudes at (Toolpath::layers_from_z). Structured
+// comments count only on lines holding nothing else. Line numbers (N) are dropped; a
+// checksum (*n) must match the line's bytes before it; parenthesised comments are dropped; letters may be lower case. A UTF-8
 // byte order mark, CR LF line ends and "%" lines (RS-274's program marks) are accepted.
 //
 // The machine starts at the origin with E = 0, absolute XYZ, E following G90/G91,
@@ -38,7 +52,8 @@
 //
 // Errors are lt::InputError naming "file:line": a letter without a number, a number
 // that is not finite or malformed, a parameter the command does not take or given
-// twice, F <= 0, an arc without I/J or R, with both,
+// twice, F <= 0, a checksum that does not match, an M207 length < 0 or feed <= 0, an arc
+// without I/J or R, with both,
 // with zero radius, whose end is not on its circle (0.01 mm + 0.1 % of the radius),
 // or an R arc whose chord is longer than its diameter.
 #pragma once

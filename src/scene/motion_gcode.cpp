@@ -165,8 +165,22 @@ nlohmann::json GcodeMotionToJson(const GcodeMotion& m) {
 std::vector<std::string> GcodeMotionNotes(const GcodeMotion& m) {
   std::vector<std::string> notes;
   const Toolpath& path = m.toolpath->path();
+  const int layers = path.LayerCount();
   notes.push_back(m.file.string() + ": " + std::to_string(path.segments.size()) + " moves, " +
-                  Fixed(path.Duration(), 1) + " s at constant speed, " + Fixed(path.PathLength(), 3) + " m of path");
+                  Fixed(path.Duration(), 1) + " s at constant speed, " + Fixed(path.PathLength(), 3) + " m of path, " +
+                  std::to_string(layers) + " layer" + (layers == 1 ? "" : "s") +
+                  (path.layers_from_z ? " (from the extrusion heights: no layer comments)" : ""));
+  if (path.program_end_line > 0 && path.lines_after_program_end > 0) {
+    notes.push_back(m.file.string() + ":" + std::to_string(path.program_end_line) + ": " + path.program_end_command +
+                    " ends the program; " + std::to_string(path.lines_after_program_end) + " line" +
+                    (path.lines_after_program_end == 1 ? "" : "s") + " of commands or text after it not read");
+  }
+  if (path.firmware_retractions + path.firmware_recoveries > 0 && !path.firmware_retraction_set) {
+    notes.push_back(m.file.string() + ":" + std::to_string(path.first_firmware_retraction_line) + ": " +
+                    std::to_string(path.firmware_retractions) + " G10 and " + std::to_string(path.firmware_recoveries) +
+                    " G11 (firmware retraction) without M207 in the file: Marlin's defaults assumed (3 mm at 45 mm/s, "
+                    "recovered at 8 mm/s, no Z hop)");
+  }
   if (!path.skipped_commands.empty()) notes.push_back(m.file.string() + ": " + path.SkippedCommandsNote());
   if (path.moves_at_power_on_feed > 0) {
     notes.push_back(m.file.string() + ":" + std::to_string(path.first_power_on_feed_line) + ": " +

@@ -57,6 +57,15 @@ double Toolpath::PathLength() const {
   return sum;
 }
 
+int Toolpath::LayerCount() const {
+  std::vector<int> layers;
+  for (const auto& s : segments) {
+    if (s.Extrudes() && s.xy_length_m > 0 && s.layer != ToolpathSegment::kNoLayer) layers.push_back(s.layer);
+  }
+  std::sort(layers.begin(), layers.end());
+  return int(std::unique(layers.begin(), layers.end()) - layers.begin());
+}
+
 int Toolpath::TypeIndex(const std::string& name) const {
   auto it = std::find(type_names.begin(), type_names.end(), name);
   return it == type_names.end() ? -1 : int(it - type_names.begin());

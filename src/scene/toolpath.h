@@ -30,9 +30,14 @@ struct ToolpathSegment {
   double t_end_s = 0;
   double length_m = 0;     // path length in space (a helix for an arc that changes z)
   double xy_length_m = 0;  // path length projected on the bed plane
-  int layer = kNoLayer;    // from ;LAYER:n (Cura) or counted ;LAYER_CHANGE (PrusaSlicer)
+  // From ;LAYER:n (Cura), counted layer-change comments (PrusaSlicer, Simplify3D, ...),
+  // or, in a file without layer comments, from the heights it extrudes at
+  // (Toolpath::layers_from_z).
+  int layer = kNoLayer;
   int type = -1;           // index into Toolpath::type_names (last ;TYPE: comment), -1 before any
-  int gcode = 1;           // the command that made it: 0, 1, 2, 3 (arcs), 4 (dwell), 28 (home)
+  // The command that made it: 0, 1, 2, 3 (arcs), 4 (dwell), 10 and 11 (firmware
+  // retraction and recovery, with their Z hop), 28 (home).
+  int gcode = 1;
   int line = 0;            // 1-based line in the G-code file
 
   // Arcs (gcode 2 or 3) in the bed plane: the point at parameter u in [0, 1] is
@@ -69,6 +74,20 @@ struct Toolpath {
   // rate, and the line of the first of them.
   int moves_at_power_on_feed = 0;
   int first_power_on_feed_line = 0;
+  // Layers numbered from the extrusion heights (the file has no layer comments).
+  bool layers_from_z = false;
+  // Firmware retraction: G10 and G11 commands (repeats included), the line of the
+  // first, and whether the file set their length and speeds (M207); without it they
+  // run with Marlin's defaults (3 mm at 45 mm/s, recovered at 8 mm/s, no Z hop).
+  int firmware_retractions = 0;
+  int firmware_recoveries = 0;
+  int first_firmware_retraction_line = 0;
+  bool firmware_retraction_set = false;
+  // The program's end (M2, M30; 0: none) and the lines after it holding commands or
+  // other text, which were not read.
+  int program_end_line = 0;
+  std::string program_end_command;
+  int lines_after_program_end = 0;
 
   double Duration() const { return segments.empty() ? 0.0 : segments.back().t_end_s; }
   // The segment running at time t: the first whose end is >= t (clamped to the
@@ -81,6 +100,8 @@ struct Toolpath {
   // retract and its re-prime cancel) and the distance travelled.
   double ExtrudedLength() const;
   double PathLength() const;
+  // Distinct layers among the moves that extrude (outside any layer counts as none).
+  int LayerCount() const;
   // Index of a type name in type_names, -1 when absent.
   int TypeIndex(const std::string& name) const;
   // "skipped N commands without effect on motion: M104 x3, M106 x2, ..." (the

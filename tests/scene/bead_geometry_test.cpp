@@ -142,6 +142,44 @@ TEST(BeadGeometry, PrusaArcsAndHelixKeepTheVolume) {
   EXPECT_LT(worst, 0.5 * kMm);
 }
 
+// A spiral (vase mode: Cura's spiralize writes ;LAYER: comments and no ;HEIGHT:)
+// rises while it extrudes: each turn lies on the turn below, one layer height down,
+// not on the last level it passed (0.05 mm below here).
+TEST(BeadGeometry, SpiralBeadsTakeTheLayerHeight) {
+  Toolpath p = ParseGcode(
+      ";Layer height: 0.2\nM83\n;LAYER:0\nG1 X0 Y0 Z0.2 F6000\nG1 X20 E1 F1200\n;LAYER:1\nG1 Z0.4\nG1 X0 E1\n"
+      ";LAYER:2\nG1 X20 Z0.45 E1\nG1 X0 Z0.5 E1\nG1 X20 Z0.55 E1\nG1 X0 Z0.6 E1\n",
+      "vase.gcode");
+  ASSERT_EQ(p.segments.size(), 8u);
+  BeadOptions o;
+  o.first_segment = 7;
+  Mesh last = BeadMeshUpTo(p, p.Duration(), o);
+  EXPECT_NEAR(last.Bounds().min().z(), 0.35 * kMm, 1e-7);  // 0.55 - 0.2 at the start
+  EXPECT_NEAR(last.Bounds().max().z(), 0.6 * kMm, 1e-7);
+  // Without a header height the spiral takes the last flat layer's step.
+  Toolpath q = ParseGcode(
+      "M83\nG1 X0 Y0 Z0.3 F6000\nG1 X20 E1 F1200\nG1 Z0.6\nG1 X0 E1\nG1 X20 Z0.7 E1\nG1 X0 Z0.8 E1\n", "v.gcode");
+  o.first_segment = 5;
+  EXPECT_NEAR(BeadMeshUpTo(q, q.Duration(), o).Bounds().min().z(), 0.4 * kMm, 1e-7);  // 0.7 - 0.3
+}
+
+// A start script's purge line before the first layer comment (Cura's for the Ender 3:
+// at z = 0.3 beside the bed) is no level for the part: the second layer at 0.4
+// stands on the first at 0.2, not on the purge line 0.1 below it.
+TEST(BeadGeometry, PurgeLineOutsideTheLayersIsNoLevel) {
+  Toolpath p = ParseGcode(
+      ";Layer height: 0.2\nM82\nG92 E0\nG1 X0 Y0 Z0.3 F6000\nG1 X0 Y100 E5 F1500\nG92 E0\n"
+      ";LAYER:0\nG0 X50 Y50 Z0.2\nG1 X70 E1 F1200\n;LAYER:1\nG0 Z0.4\nG1 X50 E2\n",
+      "purge.gcode");
+  ASSERT_EQ(p.segments.size(), 6u);
+  BeadOptions o;
+  o.first_segment = 5;
+  EXPECT_NEAR(BeadMeshUpTo(p, p.Duration(), o).Bounds().min().z(), 0.2 * kMm, 1e-7);
+  o.first_segment = 0;
+  o.end_segment = 2;
+  EXPECT_NEAR(BeadMeshUpTo(p, p.Duration(), o).Bounds().min().z(), 0.0, 1e-7);  // the purge line: 0.3 high
+}
+
 TEST(BeadGeometry, GrowsWithTimeFromNothing) {
   Toolpath p = ReadGcode(kGcode / "cura_square.gcode");
   // Before the first extrusion: nothing.

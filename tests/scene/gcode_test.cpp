@@ -144,13 +144,13 @@ TEST(Gcode, PositionAtFollowsTheTimedPath) {
 }
 
 TEST(Gcode, ModesUnitsOffsetsAndSyntax) {
-  // G92 shifts the logical origin; G20 inches (also for F); N and * are dropped;
+  // G92 shifts the logical origin; G20 inches (also for F); N is dropped, a checksum * checked;
   // lower case letters, parenthesised comments and compact words are read.
   Toolpath p = ParseGcode(
       "G1 X10 F600\n"
       "G92 X0 E0\n"
       "G1 X5 E1\n"            // machine x = 15
-      "N7 g1 x6 e2 (note)*57\n"  // machine x = 16
+      "N7 g1 x6 e2 (note)*39\n"  // machine x = 16; 39: XOR of the bytes before *
       "G20\n"
       "G1X1E1F60\n"           // 1 inch: machine x 25.4 + 10, 1 inch/s
       "G21\n"
@@ -276,9 +276,9 @@ TEST(Gcode, KlipperBambuAndSimplify3dDialects) {
   EXPECT_EQ(p.SkippedCommandsNote(),
             "skipped 6 commands without effect on motion: EXCLUDE_OBJECT_DEFINE x1, EXCLUDE_OBJECT_END x1, "
             "EXCLUDE_OBJECT_START x1, M204 x1, NOZZLE_CLEAN x1, PRINT_START x1");
-  Toolpath many = ParseGcode("M104 S1\nM104 S2\nM1\nM2\nM3\nM4\nM5\nM6\nM7\nM8\n", "m.gcode");
+  Toolpath many = ParseGcode("M104 S1\nM104 S2\nM1\nM9\nM3\nM4\nM5\nM6\nM7\nM8\n", "m.gcode");
   EXPECT_EQ(many.SkippedCommandsNote(),
-            "skipped 10 commands without effect on motion: M104 x2, M1 x1, M2 x1, M3 x1, M4 x1, M5 x1, M6 x1, M7 x1 "
+            "skipped 10 commands without effect on motion: M104 x2, M1 x1, M3 x1, M4 x1, M5 x1, M6 x1, M7 x1, M8 x1 "
             "and 1 other kinds");
   EXPECT_EQ(ParseGcode("G1 X1 F60\n", "g.gcode").SkippedCommandsNote(), "");
   // A line number is N and digits: "N7 G1" is G1, "NOZZLE_CLEAN" a command of its own.
