@@ -158,7 +158,7 @@ void StripeExtractor::Extract(const ImageView<T>& image, std::vector<StripePoint
   }
   if (!bayer && C > 1 && o.channel < 0 && o.channel_weights.empty()) {
     throw InputError("", "the image has " + std::to_string(C) +
-                             " channels: choose the laser's channel or give channel weights");
+                             " channels: choose the laser's channel (--channel, 0-based) or give channel weights (--weights, e.g. 1,0,0 for red)");
   }
   if constexpr (std::is_floating_point_v<T>) {
     for (int y = 0; y < view.height; ++y) {

@@ -172,7 +172,7 @@ TEST_F(ExtractCommand, WrongChannelChoices) {
   const fs::path colour = dir_ / "colour.png";
   WriteImage(colour, rgb);
   ExpectInputError(Quoted(colour),
-                   colour.string() + ": the image has 3 channels: choose the laser's channel or give channel weights");
+                   colour.string() + ": the image has 3 channels: choose the laser's channel (--channel, 0-based) or give channel weights (--weights, e.g. 1,0,0 for red)");
   ExpectInputError(Quoted(colour) + " --channel 3", colour.string() + ": channel 3 requested but the image has 3 channels");
   ExpectInputError(Quoted(colour) + " --weights 1,0", colour.string() + ": 2 channel weights given but the image has 3 channels");
   const fs::path mono = dir_ / "mono.png";
