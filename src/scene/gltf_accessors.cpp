@@ -32,7 +32,8 @@ int ComponentsOfType(int type) {
     case TINYGLTF_TYPE_VEC2: return 2;
     case TINYGLTF_TYPE_VEC3: return 3;
     case TINYGLTF_TYPE_VEC4: return 4;
-    default: return 0;  // matrices are not read here
+    case TINYGLTF_TYPE_MAT4: return 16;  // no column padding at any component size (skins' inverse bind matrices)
+    default: return 0;  // MAT2 and MAT3 (padded columns) are not read
   }
 }
 
@@ -42,6 +43,7 @@ const char* TypeName(int components) {
     case 2: return "VEC2";
     case 3: return "VEC3";
     case 4: return "VEC4";
+    case 16: return "MAT4";
     default: return "a matrix";
   }
 }

@@ -1,6 +1,7 @@
 #include "scene/gltf_container.h"
 
 #include <cctype>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -236,7 +237,18 @@ GltfContainer ParseGltfContainer(const std::vector<unsigned char>& bytes, const 
   if (end < length) {
     if (end + 8 > length) fail("truncated BIN chunk header");
     uint64_t bin_length = ReadU32(bytes, size_t(end));
-    if (ReadU32(bytes, size_t(end) + 4) != kChunkBin) fail("the second chunk is not BIN");
+    if (const uint32_t type = ReadU32(bytes, size_t(end) + 4); type != kChunkBin) {
+      // Chunks of unknown types may only follow the first two (JSON, BIN).
+      std::string name;
+      for (int k = 0; k < 4; ++k) {
+        const char ch = char((type >> (8 * k)) & 0xff);
+        name += ch >= 0x20 && ch < 0x7f ? ch : '?';
+      }
+      char hex[16];
+      std::snprintf(hex, sizeof hex, "0x%08x", type);
+      fail(std::string("the second chunk is not BIN but of type ") + hex + " \"" + name +
+           "\" (the BIN chunk must directly follow the JSON chunk; chunks of other types may only come after it)");
+    }
     if (end + 8 + bin_length > length) {
       fail("BIN chunk of " + std::to_string(bin_length) + " bytes does not fit in the file (" +
            std::to_string(length - end - 8) + " bytes left)");
@@ -277,7 +289,22 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
       const auto& b = (*buffers)[i];
       if (!b.is_object()) continue;  // tinygltf reports it
       auto uri = b.find("uri");
-      if (uri == b.end()) continue;
+      if (uri == b.end()) {
+        // Only a GLB's first buffer may omit uri: it is the BIN chunk. (tinygltf
+        // would hand the BIN chunk to every buffer without uri.)
+        if (container.binary && i == 0) continue;
+        const bool fallback = b.contains("extensions") && b["extensions"].is_object() &&
+                              b["extensions"].contains("EXT_meshopt_compression");
+        throw InputError(file + ": /buffers/" + std::to_string(i),
+                         fallback ? std::string("the buffer holds no data: it is the fallback buffer of "
+                                                "EXT_meshopt_compression, whose compressed data is not supported "
+                                                "(write the file without meshopt compression, e.g. gltfpack "
+                                                "without -c/-cc)")
+                                  : std::string("buffer has no uri") +
+                                        (container.binary ? " (in a GLB only the first buffer, the BIN chunk, may "
+                                                            "omit it)"
+                                                          : " (a .gltf buffer needs one)"));
+      }
       auto len = b.find("byteLength");
       int64_t byte_length = len != b.end() && len->is_number_unsigned() ? int64_t(len->get<uint64_t>()) : -1;
       const std::string where = file + ": /buffers/" + std::to_string(i) + "/uri";
@@ -289,6 +316,46 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
           // Two buffers naming one file with different lengths: left to tinygltf to refuse.
           auto [it, added] = external_buffer_lengths->emplace(path, uint64_t(byte_length));
           if (!added && it->second != uint64_t(byte_length)) it->second = size;
+        }
+      }
+    }
+  }
+  // A Draco-compressed primitive that is not required may keep uncompressed
+  // attributes as a fallback; its accessors without a bufferView are placeholders
+  // (zeros to a reader without Draco), so such a primitive cannot be read.
+  auto accessors = root.find("accessors");
+  auto has_data = [&](const nlohmann::json& index) {
+    if (!index.is_number_unsigned() || accessors == root.end() || !accessors->is_array() ||
+        index.get<uint64_t>() >= accessors->size()) {
+      return true;  // a dangling reference is reported later, where it is read
+    }
+    const auto& a = (*accessors)[index.get<size_t>()];
+    return !a.is_object() || a.contains("bufferView") || a.contains("sparse");
+  };
+  if (auto meshes = root.find("meshes"); meshes != root.end() && meshes->is_array()) {
+    for (size_t mi = 0; mi < meshes->size(); ++mi) {
+      const auto& mesh = (*meshes)[mi];
+      if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+      const auto& prims = mesh["primitives"];
+      for (size_t pi = 0; pi < prims.size(); ++pi) {
+        const auto& p = prims[pi];
+        if (!p.is_object() || !p.contains("extensions") || !p["extensions"].is_object() ||
+            !p["extensions"].contains("KHR_draco_mesh_compression")) {
+          continue;
+        }
+        std::vector<std::pair<std::string, nlohmann::json>> refs;
+        if (p.contains("indices")) refs.emplace_back("indices", p["indices"]);
+        if (p.contains("attributes") && p["attributes"].is_object()) {
+          for (const auto& [name, index] : p["attributes"].items()) refs.emplace_back("attributes/" + name, index);
+        }
+        for (const auto& [name, index] : refs) {
+          if (!has_data(index)) {
+            throw InputError(file + ": /meshes/" + std::to_string(mi) + "/primitives/" + std::to_string(pi),
+                             "compressed with KHR_draco_mesh_compression, which is not supported, and accessor " +
+                                 index.dump() + " (its " + name +
+                                 ") has no uncompressed data to fall back on (no bufferView); write the file "
+                                 "without Draco");
+          }
         }
       }
     }

@@ -13,6 +13,7 @@
 #include "core/json_reader.h"
 #include "scene/gltf_container.h"
 #include "scene/gltf_materials.h"
+#include "scene/gltf_accessors.h"
 #include "scene/gltf_mesh.h"
 
 namespace lt {
@@ -171,9 +172,81 @@ Eigen::Affine3d LocalTransform(const tinygltf::Node& node, const std::string& wh
 
 struct NodeUse {
   int gltf_mesh;
-  Eigen::Affine3d transform;
+  Eigen::Affine3d transform;  // identity for a skinned mesh (its joints place it)
   std::string node_name;
+  int skin = -1;
 };
+
+// The global transform of node `index`, from the root of its hierarchy (which
+// need not be in the default scene: a skin's joints may lie anywhere).
+Eigen::Affine3d NodeGlobal(const GltfSource& src, const std::vector<int>& parent, int index) {
+  std::vector<int> chain;
+  for (int n = index; n >= 0; n = parent[size_t(n)]) {
+    if (chain.size() > parent.size()) {
+      throw InputError(GltfWhere(src, "nodes", index), "node is its own ancestor (the node hierarchy has a cycle)");
+    }
+    chain.push_back(n);
+  }
+  Eigen::Affine3d global = Eigen::Affine3d::Identity();
+  for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+    global = global * LocalTransform(src.model.nodes[size_t(*it)], GltfWhere(src, "nodes", *it));
+  }
+  return global;
+}
+
+// The pose of skin `index`: each joint's global transform times its inverse bind matrix.
+GltfSkinPose SkinPose(const GltfSource& src, int index) {
+  const auto& m = src.model;
+  const tinygltf::Skin& skin = m.skins[size_t(index)];
+  GltfSkinPose pose;
+  pose.pointer = "/skins/" + std::to_string(index);
+  const std::string where = GltfWhere(src, "skins", index);
+  if (skin.joints.empty()) throw InputError(where + "/joints", "a skin needs at least one joint");
+  std::vector<int> parent(m.nodes.size(), -1);
+  for (size_t i = 0; i < m.nodes.size(); ++i) {
+    for (int c : m.nodes[i].children) {
+      if (c >= 0 && size_t(c) < m.nodes.size() && parent[size_t(c)] < 0) parent[size_t(c)] = int(i);
+    }
+  }
+  std::vector<float> ibm;
+  if (skin.inverseBindMatrices >= 0) {
+    if (size_t(skin.inverseBindMatrices) >= m.accessors.size()) {
+      throw InputError(where + "/inverseBindMatrices", "accessor " + std::to_string(skin.inverseBindMatrices) +
+                                                                " does not exist (" +
+                                                                std::to_string(m.accessors.size()) + " accessors)");
+    }
+    ibm = ReadFloatAccessor(src, skin.inverseBindMatrices, 16);
+    if (ibm.size() / 16 < skin.joints.size()) {
+      throw InputError(GltfWhere(src, "accessors", skin.inverseBindMatrices),
+                       std::to_string(ibm.size() / 16) + " inverse bind matrices for " +
+                           std::to_string(skin.joints.size()) + " joints");
+    }
+  }
+  for (size_t k = 0; k < skin.joints.size(); ++k) {
+    const int joint = skin.joints[k];
+    if (joint < 0 || size_t(joint) >= m.nodes.size()) {
+      throw InputError(where + "/joints/" + std::to_string(k), "node " + std::to_string(joint) +
+                                                                        " does not exist (" +
+                                                                        std::to_string(m.nodes.size()) + " nodes)");
+    }
+    Eigen::Affine3d inverse_bind = Eigen::Affine3d::Identity();
+    if (!ibm.empty()) {
+      Eigen::Matrix4d b;
+      for (int c = 0; c < 4; ++c) {
+        for (int r = 0; r < 4; ++r) b(r, c) = ibm[16 * k + size_t(4 * c + r)];  // column-major
+      }
+      const double tol = 1e-5 * std::max(1.0, b.topRows<3>().cwiseAbs().maxCoeff());
+      if (!b.allFinite() || b.row(3).head<3>().cwiseAbs().maxCoeff() > tol || std::abs(b(3, 3) - 1) > 1e-5) {
+        throw InputError(GltfWhere(src, "accessors", skin.inverseBindMatrices),
+                         "inverse bind matrix " + std::to_string(k) + " must be affine (last row 0 0 0 1)");
+      }
+      b.row(3) << 0, 0, 0, 1;
+      inverse_bind.matrix() = b;
+    }
+    pose.joint_matrices.push_back(NodeGlobal(src, parent, joint) * inverse_bind);
+  }
+  return pose;
+}
 
 // Walks the default scene (iteratively, so deep hierarchies cannot overflow the stack).
 std::vector<NodeUse> WalkScene(const GltfSource& src, std::vector<std::string>* warnings) {
@@ -231,8 +304,14 @@ std::vector<NodeUse> WalkScene(const GltfSource& src, std::vector<std::string>* 
                                               std::to_string(m.meshes.size()) + " meshes)");
       }
       std::string name = node.name.empty() ? "node " + std::to_string(index) : node.name;
-      double det = global.linear().determinant();
-      if (!(std::abs(det) > 1e-30) || !global.matrix().allFinite()) {
+      if (node.skin >= 0) {
+        if (size_t(node.skin) >= m.skins.size()) {
+          throw InputError(where + "/skin", "skin " + std::to_string(node.skin) + " does not exist (" +
+                                                std::to_string(m.skins.size()) + " skins)");
+        }
+        // glTF 2.0 3.7.3.3: the joints place a skinned mesh; its node's transform is ignored.
+        uses.push_back({node.mesh, Eigen::Affine3d::Identity(), name, node.skin});
+      } else if (double det = global.linear().determinant(); !(std::abs(det) > 1e-30) || !global.matrix().allFinite()) {
         warnings->push_back(src.file + ": node \"" + name + "\" has a singular transform; its mesh is skipped");
       } else {
         uses.push_back({node.mesh, global, name});
@@ -295,12 +374,21 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
 
   const uint32_t default_material = uint32_t(asset.materials.size());
   bool uses_default = false;
-  std::map<int, long> mesh_slot;  // glTF mesh -> index in asset.meshes, -1 when empty
+  // (glTF mesh, skin or -1) -> index in asset.meshes, -1 when empty. A skinned
+  // mesh is posed by its skin alone, so each (mesh, skin) pair is loaded once.
+  std::map<std::pair<int, int>, long> mesh_slot;
+  std::map<int, GltfSkinPose> skin_poses;
   for (const NodeUse& use : uses) {
-    auto it = mesh_slot.find(use.gltf_mesh);
+    auto it = mesh_slot.find({use.gltf_mesh, use.skin});
     if (it == mesh_slot.end()) {
       GltfMeshStats stats;
-      Mesh mesh = ConvertGltfMesh(src, use.gltf_mesh, default_material, &stats, &asset.warnings);
+      const GltfSkinPose* skin = nullptr;
+      if (use.skin >= 0) {
+        auto pose = skin_poses.find(use.skin);
+        if (pose == skin_poses.end()) pose = skin_poses.emplace(use.skin, SkinPose(src, use.skin)).first;
+        skin = &pose->second;
+      }
+      Mesh mesh = ConvertGltfMesh(src, use.gltf_mesh, default_material, &stats, &asset.warnings, skin);
       asset.degenerate_triangles += stats.degenerate_triangles;
       long slot = -1;
       if (mesh.TriangleCount() > 0) {
@@ -311,7 +399,7 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
       } else {
         asset.warnings.push_back(file + ": mesh \"" + mesh.name + "\" has no triangles; it is skipped");
       }
-      it = mesh_slot.emplace(use.gltf_mesh, slot).first;
+      it = mesh_slot.emplace(std::pair{use.gltf_mesh, use.skin}, slot).first;
     }
     if (it->second >= 0) asset.instances.push_back({size_t(it->second), use.transform, use.node_name});
   }

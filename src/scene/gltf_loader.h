@@ -7,7 +7,10 @@
 // without data: zeros), POSITION, NORMAL (flat normals computed where missing, as
 // glTF 2.0 specifies), TEXCOORD_0, metallic-roughness factors, base-colour textures
 // with their samplers and KHR_texture_transform, emissive factor (with
-// KHR_materials_emissive_strength), KHR_materials_pbrSpecularGlossiness (converted).
+// KHR_materials_emissive_strength), KHR_materials_pbrSpecularGlossiness (converted),
+// skinned meshes posed by their joints (JOINTS_n / WEIGHTS_n, inverse bind matrices;
+// the skinned node's transform ignored, as glTF specifies), the uncompressed fallback
+// of Draco / meshopt compression that is not required.
 // Points and lines are skipped with a warning naming the mesh; so are other unrendered
 // features (COLOR_0, material extensions, EXT_mesh_gpu_instancing). Degenerate
 // triangles are counted and dropped. See docs/scene-format.md.
@@ -31,7 +34,8 @@ namespace lt {
 // One use of a mesh by a node of the default scene.
 struct GltfInstance {
   size_t mesh = 0;                   // index into GltfAsset::meshes
-  Eigen::Affine3d file_from_mesh;    // the node's global transform (may scale)
+  Eigen::Affine3d file_from_mesh;    // the node's global transform (may scale); identity
+                                     // for a skinned mesh, whose vertices are posed in the file frame
   std::string node_name;             // glTF node name, or "node <index>"
 };
 

@@ -3,6 +3,7 @@
 #include <tiny_gltf.h>
 
 #include <cmath>
+#include <utility>
 
 #include "core/error.h"
 
@@ -76,10 +77,84 @@ std::vector<uint32_t> Triangulate(const std::vector<uint32_t>& corners_in, int m
 
 Eigen::Vector3f Vec3At(const std::vector<float>& v, size_t i) { return {v[3 * i], v[3 * i + 1], v[3 * i + 2]}; }
 
+// Skins a primitive's positions and normals into `skin`'s pose (linear blend
+// skinning); marks the vertices whose blended matrix mirrors (determinant < 0).
+void ApplySkin(const GltfSource& src, const tinygltf::Primitive& prim, const std::string& where,
+               const GltfSkinPose& skin, std::vector<float>* pos, std::vector<float>* nrm, std::vector<char>* mirrored) {
+  const size_t nverts = pos->size() / 3;
+  std::vector<Eigen::Matrix<double, 3, 4>> blend(nverts, Eigen::Matrix<double, 3, 4>::Zero());
+  std::vector<double> weight_sum(nverts, 0.0);
+  for (int set = 0;; ++set) {
+    const std::string joints_name = "JOINTS_" + std::to_string(set), weights_name = "WEIGHTS_" + std::to_string(set);
+    const int joints_acc = FindAttribute(src, prim, joints_name.c_str(), where);
+    const int weights_acc = FindAttribute(src, prim, weights_name.c_str(), where);
+    if (joints_acc < 0 && weights_acc < 0 && set > 0) break;
+    if (joints_acc < 0 || weights_acc < 0) {
+      throw InputError(where + "/attributes", "the mesh is skinned (" + skin.pointer + ") but the primitive has no " +
+                                                  (joints_acc < 0 ? joints_name : weights_name));
+    }
+    const tinygltf::Accessor& ja = src.model.accessors[size_t(joints_acc)];
+    if ((ja.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+         ja.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) ||
+        ja.normalized) {
+      throw InputError(GltfWhere(src, "accessors", joints_acc),
+                       joints_name + " must be unsigned bytes or shorts, not normalized");
+    }
+    const std::vector<float> joints = ReadFloatAccessor(src, joints_acc, 4);
+    const std::vector<float> weights = ReadFloatAccessor(src, weights_acc, 4);
+    for (auto [acc, n] : {std::pair{joints_acc, joints.size()}, std::pair{weights_acc, weights.size()}}) {
+      if (n / 4 != nverts) {
+        throw InputError(GltfWhere(src, "accessors", acc), std::to_string(n / 4) + " elements, POSITION " +
+                                                               std::to_string(nverts));
+      }
+    }
+    CheckFinite(src, weights_acc, weights, 4, "weight");
+    for (size_t v = 0; v < nverts; ++v) {
+      for (int k = 0; k < 4; ++k) {
+        const double w = weights[4 * v + size_t(k)];
+        if (w == 0) continue;
+        const size_t j = size_t(joints[4 * v + size_t(k)]);
+        if (w < 0) {
+          throw InputError(GltfWhere(src, "accessors", weights_acc),
+                           "weight " + FormatNumber(w) + " of vertex " + std::to_string(v) + " is negative");
+        }
+        if (j >= skin.joint_matrices.size()) {
+          throw InputError(GltfWhere(src, "accessors", joints_acc),
+                           "joint " + std::to_string(j) + " of vertex " + std::to_string(v) + " is past the " +
+                               std::to_string(skin.joint_matrices.size()) + " joints of " + skin.pointer);
+        }
+        blend[v] += w * skin.joint_matrices[j].matrix().topRows<3>();
+        weight_sum[v] += w;
+      }
+    }
+  }
+  mirrored->assign(nverts, 0);
+  for (size_t v = 0; v < nverts; ++v) {
+    if (!(weight_sum[v] > 0)) {
+      throw InputError(where + "/attributes/WEIGHTS_0",
+                       "vertex " + std::to_string(v) + " has no joint weight (its weights sum to 0)");
+    }
+    const Eigen::Matrix<double, 3, 4> m = blend[v] / weight_sum[v];  // glTF asks for a sum of 1; quantized ones are close
+    const Eigen::Matrix3d linear = m.leftCols<3>();
+    const Eigen::Vector3d p = linear * Vec3At(*pos, v).cast<double>() + m.col(3);
+    for (int c = 0; c < 3; ++c) (*pos)[3 * v + size_t(c)] = float(p[c]);
+    const double det = linear.determinant();
+    (*mirrored)[v] = det < 0;
+    if (!nrm->empty()) {
+      // Normals by the inverse transpose; a singular blend leaves a zero normal,
+      // which is replaced by the face normals below.
+      const Eigen::Vector3d n = std::abs(det) > 1e-30 ? Eigen::Vector3d(linear.inverse().transpose() *
+                                                                        Vec3At(*nrm, v).cast<double>())
+                                                      : Eigen::Vector3d::Zero();
+      for (int c = 0; c < 3; ++c) (*nrm)[3 * v + size_t(c)] = float(n[c]);
+    }
+  }
+}
+
 }  // namespace
 
 Mesh ConvertGltfMesh(const GltfSource& src, int index, uint32_t default_material, GltfMeshStats* stats,
-                     std::vector<std::string>* warnings) {
+                     std::vector<std::string>* warnings, const GltfSkinPose* skin) {
   const tinygltf::Mesh& gm = src.model.meshes[size_t(index)];
   const std::string mesh_where = GltfWhere(src, "meshes", index);
   Mesh mesh;
@@ -150,6 +225,12 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, uint32_t default_material
       }
     }
 
+    std::vector<char> mirrored;  // by vertex, when skinned
+    if (skin != nullptr) {
+      ApplySkin(src, prim, where, *skin, &pos, &nrm, &mirrored);
+      CheckFinite(src, pos_acc, pos, 3, "skinned position");
+    }
+
     std::vector<uint32_t> corners;
     if (prim.indices >= 0) {
       CheckAccessorRef(src, prim.indices, where + "/indices");
@@ -172,6 +253,9 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, uint32_t default_material
     size_t kept = 0;
     for (size_t t = 0; t < tri.size() / 3; ++t) {
       uint32_t a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2];
+      // A triangle the skin mirrors is turned round, so that its winding and
+      // normals agree again (glTF: a negative determinant reverses the winding).
+      if (!mirrored.empty() && mirrored[a] + mirrored[b] + mirrored[c] >= 2) std::swap(b, c);
       if (a == b || b == c || a == c || IsDegenerateTriangle(Vec3At(pos, a), Vec3At(pos, b), Vec3At(pos, c))) {
         ++stats->degenerate_triangles;
         continue;

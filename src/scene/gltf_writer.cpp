@@ -15,6 +15,7 @@ int ComponentsOf(const std::string& type) {
   if (type == "VEC2") return 2;
   if (type == "VEC3") return 3;
   if (type == "VEC4") return 4;
+  if (type == "MAT4") return 16;
   throw std::invalid_argument("GltfBuilder: unsupported accessor type " + type);
 }
 

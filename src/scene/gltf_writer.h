@@ -28,7 +28,7 @@ class GltfBuilder {
   // Adds an accessor; min/max are written for VEC3 float data (glTF requires them for POSITION).
   int AddAccessor(int buffer_view, int component_type, size_t count, const std::string& type,
                   bool normalized = false, size_t byte_offset = 0);
-  // Float data as a new view + accessor. `type` is "SCALAR", "VEC2", "VEC3" or "VEC4".
+  // Float data as a new view + accessor. `type` is "SCALAR", "VEC2", "VEC3", "VEC4" or "MAT4".
   int AddFloats(const std::vector<float>& values, const std::string& type);
   // Index data as a new view + accessor with the given component type (5121, 5123 or 5125).
   int AddIndices(const std::vector<uint32_t>& indices, int component_type = 5125);

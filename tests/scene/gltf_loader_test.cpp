@@ -7,6 +7,8 @@
 #include <cmath>
 
 #include "core/image_io.h"
+#include "scene/embree_scene.h"
+#include "scene/scene_geometry.h"
 #include "test_util.h"
 
 namespace lt {
@@ -14,6 +16,7 @@ namespace {
 
 using test::ErrorOf;
 using test::TempDir;
+using ::testing::EndsWith;
 using ::testing::HasSubstr;
 
 enum class Format { kGlb, kGltfExternal, kGltfEmbedded };
@@ -546,6 +549,174 @@ TEST(GltfLoader, IgnoredExtensionsAndVertexColoursAreWarned) {
                               "model.glb: mesh \"square\": COLOR_0 vertex colours ignored (not rendered)",
                               "model.glb: node \"square_node\": EXT_mesh_gpu_instancing ignored: its instances are "
                               "not created (only the node's own mesh is placed)"));
+}
+
+// Adds JOINTS_0 (unsigned bytes) and WEIGHTS_0 (floats) to primitive 0 of mesh 0.
+void AddSkinAttributes(GltfBuilder& b, const std::vector<uint8_t>& joints, const std::vector<float>& weights) {
+  const int jv = b.AddBufferView(joints.data(), joints.size());
+  const int ja = b.AddAccessor(jv, 5121, joints.size() / 4, "VEC4");
+  auto& attributes = b.json()["meshes"][0]["primitives"][0]["attributes"];
+  attributes["JOINTS_0"] = ja;
+  attributes["WEIGHTS_0"] = b.AddFloats(weights, "VEC4");
+}
+
+// A skinned mesh (Blender's armatures) is posed by its joints: glTF ignores the
+// skinned node's own transform. Joint "hip" stands at z = 2; joint "arm" (bound
+// at y = 1) is turned 90 degrees about x. Corners 0 and 1 follow the hip, corner
+// 2 the arm, corner 3 both, half each.
+TEST(GltfLoader, SkinnedMeshIsPosedByItsJointsNotItsNode) {
+  GltfBuilder b = test::SquareBuilder();
+  AddSkinAttributes(b, {0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0},
+                    {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0.5f, 0.5f, 0, 0});
+  const double s = std::sqrt(0.5);
+  auto& nodes = b.json()["nodes"];
+  nodes[0]["translation"] = {100, 0, 0};  // ignored
+  nodes[0]["skin"] = 0;
+  nodes.push_back({{"name", "hip"}, {"translation", {0, 0, 2}}, {"children", {2}}});
+  nodes.push_back({{"name", "arm"}, {"translation", {0, 1, 0}}, {"rotation", {s, 0, 0, s}}});
+  b.json()["scenes"][0]["nodes"] = {1, 0};
+  // Inverse bind matrices: identity for the hip, translation (0, -1, 0) for the arm.
+  const int ibm = b.AddFloats({1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1,  //
+                               1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, -1, 0, 1},
+                              "MAT4");
+  b.json()["skins"] = {{{"joints", {1, 2}}, {"inverseBindMatrices", ibm}}};
+  TempDir dir;
+  GltfAsset a = LoadBuilt(b, dir, Format::kGlb);
+  ASSERT_EQ(a.instances.size(), 1u);
+  EXPECT_TRUE(a.instances[0].file_from_mesh.matrix().isIdentity());
+  const Mesh& m = a.meshes[0];
+  ASSERT_EQ(m.VertexCount(), 4u);
+  const Eigen::Affine3d hip(Eigen::Translation3d(0, 0, 2));
+  const Eigen::Affine3d arm = hip * Eigen::Translation3d(0, 1, 0) * Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()) *
+                              Eigen::Translation3d(0, -1, 0);
+  const std::vector<float> p = test::SquarePositions();
+  const double w_hip[4] = {1, 1, 0, 0.5};
+  for (size_t v = 0; v < 4; ++v) {
+    const Eigen::Vector3d mesh_p(p[3 * v], p[3 * v + 1], p[3 * v + 2]);
+    const Eigen::Matrix3d linear = w_hip[v] * hip.linear() + (1 - w_hip[v]) * arm.linear();
+    const Eigen::Vector3d expected = w_hip[v] * (hip * mesh_p) + (1 - w_hip[v]) * (arm * mesh_p);
+    const Eigen::Vector3d normal = (linear.inverse().transpose() * Eigen::Vector3d::UnitZ()).normalized();
+    EXPECT_TRUE(m.positions[v].cast<double>().isApprox(expected, 1e-6)) << v << ": " << m.positions[v].transpose();
+    EXPECT_TRUE(m.normals[v].cast<double>().isApprox(normal, 1e-6)) << v << ": " << m.normals[v].transpose();
+  }
+  EXPECT_TRUE(m.positions[2].cast<double>().isApprox(Eigen::Vector3d(1, 1, 2), 1e-6));  // the arm's corner
+  EXPECT_TRUE(m.normals[2].cast<double>().isApprox(Eigen::Vector3d(0, -1, 0), 1e-6));
+
+  // A joint index past the skin's joints is an error naming the accessor.
+  b.json()["skins"][0]["joints"] = {1};
+  b.json()["skins"][0].erase("inverseBindMatrices");
+  EXPECT_THAT(ErrorOf([&] { LoadBuilt(b, dir, Format::kGlb, "bad"); }),
+              HasSubstr("bad.glb: /accessors/3: joint 1 of vertex 2 is past the 1 joints of /skins/0"));
+}
+
+// A skin that mirrors turns the triangles round, as a mirroring node does: the
+// winding and the normals agree, with and without NORMAL.
+TEST(GltfLoader, MirroringSkinKeepsWindingAndNormalsTogether) {
+  for (bool normals : {true, false}) {
+    GltfBuilder b = test::SquareBuilder(normals);
+    AddSkinAttributes(b, std::vector<uint8_t>(16, 0), {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0});
+    b.json()["nodes"][0]["skin"] = 0;
+    b.json()["nodes"].push_back({{"name", "mirror"}, {"scale", {-1, 1, 1}}});
+    b.json()["skins"] = {{{"joints", {1}}}};
+    TempDir dir;
+    GltfAsset a = LoadBuilt(b, dir, Format::kGltfEmbedded);
+    const Mesh& m = a.meshes[0];
+    ASSERT_EQ(m.TriangleCount(), 2u);
+    for (size_t t = 0; t < 2; ++t) {
+      EXPECT_TRUE(UnitFaceNormal(m, t).isApprox(Eigen::Vector3d(0, 0, 1), 1e-9)) << normals << " " << t;
+      EXPECT_LE(Corners(m, t)[1].x(), 0.0f);
+    }
+    for (const auto& n : m.normals) EXPECT_TRUE(n.isApprox(Eigen::Vector3f(0, 0, 1))) << normals;
+  }
+}
+
+// Mirroring and non-uniformly scaling nodes, as loaded and ray traced: the
+// geometric normal (from the winding) and the shading normal (the file's normals
+// by the inverse transpose) agree and stand perpendicular to the placed square.
+TEST(GltfLoader, MirroredAndNonUniformlyScaledNodesRenderWithConsistentNormals) {
+  GltfBuilder b = test::SquareBuilder();
+  auto& nodes = b.json()["nodes"];
+  const double s = std::sqrt(0.5);
+  nodes[0]["translation"] = {0.5, 0, 0};
+  nodes.push_back({{"name", "mirror"}, {"scale", {-1, 1, 1}}, {"children", {0}}});
+  nodes.push_back({{"name", "squash"}, {"translation", {0, 0, -5}}, {"scale", {1, 1, 4}}, {"mesh", 0},
+                   {"rotation", {0, s, 0, s}}});  // turned 90 deg about y, then stretched 4x along z
+  nodes.push_back({{"name", "tilt"}, {"translation", {5, 0, 0}}, {"scale", {1, 1, 3}}, {"children", {4}}});
+  nodes.push_back({{"name", "tilted"}, {"rotation", {0, 0.3826834, 0, 0.9238795}}, {"mesh", 0}});
+  b.json()["scenes"][0]["nodes"] = {1, 2, 3};
+  TempDir dir;
+  GltfAsset a = LoadBuilt(b, dir, Format::kGlb);
+  ASSERT_EQ(a.instances.size(), 3u);
+  auto g = std::make_shared<SceneGeometry>();
+  g->meshes = a.meshes;
+  g->materials = a.materials;
+  for (const auto& inst : a.instances) g->instances.push_back({inst.mesh, 0, inst.file_from_mesh, -1, inst.node_name});
+  EmbreeScene scene(g);
+  // The mirrored square covers x in [-1.5, -0.5], its front (+z) towards the ray.
+  auto mirrored = scene.Intersect({{-1, 0.5, 1}, {0, 0, -1}});
+  ASSERT_TRUE(mirrored);
+  EXPECT_TRUE(mirrored->geometric_normal.isApprox(Eigen::Vector3d(0, 0, 1), 1e-9));
+  EXPECT_TRUE(mirrored->shading_normal.isApprox(Eigen::Vector3d(0, 0, 1), 1e-6));
+  EXPECT_TRUE(mirrored->front_face);
+  // The tilted square (45 deg about y, then 3x along z): its plane is x = z / 3 ... rotated;
+  // the normal is the inverse transpose's image of +z, not the stretched +z.
+  const Eigen::Affine3d tilt = a.instances[2].file_from_mesh;
+  const Eigen::Vector3d expected = (tilt.linear().inverse().transpose() * Eigen::Vector3d::UnitZ()).normalized();
+  const Eigen::Vector3d centre = tilt * Eigen::Vector3d(0.5, 0.5, 0);
+  auto tilted = scene.Intersect({centre + 2 * expected, -expected});
+  ASSERT_TRUE(tilted);
+  EXPECT_EQ(a.instances[tilted->instance_id].node_name, "tilted");
+  EXPECT_TRUE(tilted->geometric_normal.isApprox(expected, 1e-9)) << tilted->geometric_normal.transpose();
+  EXPECT_TRUE(tilted->shading_normal.isApprox(expected, 1e-6)) << tilted->shading_normal.transpose();
+  EXPECT_GT(std::abs(expected.dot((tilt.linear() * Eigen::Vector3d::UnitZ()).normalized()) - 1), 0.1);
+  // Both square edges lie in the plane the normal is perpendicular to.
+  EXPECT_NEAR(expected.dot(tilt.linear() * Eigen::Vector3d::UnitX()), 0, 1e-12);
+  EXPECT_NEAR(expected.dot(tilt.linear() * Eigen::Vector3d::UnitY()), 0, 1e-12);
+}
+
+// Draco (KHR_draco_mesh_compression) not required: the uncompressed attributes
+// are read. Without them (accessors without a bufferView) the primitive cannot
+// be read and is refused naming the extension, not loaded as zeros.
+TEST(GltfLoader, OptionalDracoUsesTheUncompressedFallback) {
+  GltfBuilder b = test::SquareBuilder();
+  b.json()["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+  b.json()["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"] = {
+      {"bufferView", 0}, {"attributes", {{"POSITION", 0}, {"NORMAL", 1}}}};
+  TempDir dir;
+  GltfAsset a = LoadBuilt(b, dir, Format::kGlb);
+  ASSERT_EQ(a.meshes.size(), 1u);
+  EXPECT_EQ(a.meshes[0].positions[2], Eigen::Vector3f(1, 1, 0));
+  b.json()["accessors"][0].erase("bufferView");
+  EXPECT_THAT(ErrorOf([&] { LoadBuilt(b, dir, Format::kGlb, "draco"); }),
+              EndsWith("/draco.glb: /meshes/0/primitives/0: compressed with KHR_draco_mesh_compression, which is not supported, "
+            "and accessor 0 (its attributes/POSITION) has no uncompressed data to fall back on (no bufferView); "
+            "write the file without Draco"));
+}
+
+// EXT_meshopt_compression not required, with an uncompressed fallback buffer
+// (gltfpack -cf): the bufferViews' own buffer is read. A fallback buffer without
+// data is refused (tinygltf would have handed it the GLB's compressed BIN chunk).
+TEST(GltfLoader, OptionalMeshoptReadsTheFallbackAndRefusesAnEmptyOne) {
+  GltfBuilder b = test::SquareBuilder();
+  b.json()["extensionsUsed"] = {"EXT_meshopt_compression"};
+  for (auto& view : b.json()["bufferViews"]) {
+    view["extensions"]["EXT_meshopt_compression"] = {
+        {"buffer", 1}, {"byteOffset", 0}, {"byteLength", 4}, {"byteStride", 4}, {"count", 1}, {"mode", "ATTRIBUTES"}};
+  }
+  b.json()["buffers"] = {{{"byteLength", b.bin().size()}},
+                         {{"byteLength", 4}, {"uri", "data:application/octet-stream;base64,AAAAAA=="}}};
+  TempDir dir;
+  GltfAsset a = LoadBuilt(b, dir, Format::kGlb);
+  EXPECT_EQ(a.meshes.at(0).positions[2], Eigen::Vector3f(1, 1, 0));
+
+  // gltfpack -cf into a GLB: the views point into a uri-less buffer 1 marked "fallback".
+  b.json()["buffers"][1] = {{"byteLength", b.bin().size()},
+                            {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}};
+  for (auto& view : b.json()["bufferViews"]) view["buffer"] = 1;
+  EXPECT_THAT(ErrorOf([&] { LoadBuilt(b, dir, Format::kGlb, "fallback"); }),
+              EndsWith("/fallback.glb: /buffers/1: the buffer holds no data: it is the fallback buffer of EXT_meshopt_compression, "
+            "whose compressed data is not supported (write the file without meshopt compression, e.g. gltfpack "
+            "without -c/-cc)"));
 }
 
 TEST(GltfLoader, UnsupportedRequiredExtensionIsAnError) {

@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <functional>
 #include <random>
 
@@ -188,6 +189,45 @@ TEST(GltfMalformed, GlbWithoutBinChunk) {
   uint32_t total = uint32_t(bytes.size());
   std::memcpy(&bytes[8], &total, 4);
   EXPECT_THAT(BytesError(bytes), HasSubstr("bad.glb: invalid glTF:"));
+}
+
+// Chunks of unknown types after JSON and BIN are ignored (glTF 2.0 4.4.3); one
+// in the BIN chunk's place is refused naming its type.
+TEST(GltfMalformed, GlbChunksOfUnknownTypes) {
+  GltfBuilder b = test::SquareBuilder();
+  std::vector<uint8_t> bytes = b.ToGlb();
+  const std::vector<uint8_t> extra = {8, 0, 0, 0, 'X', 'T', 'R', 'A', 1, 2, 3, 4, 5, 6, 7, 8};
+  std::vector<uint8_t> after = bytes;
+  after.insert(after.end(), extra.begin(), extra.end());
+  uint32_t total = uint32_t(after.size());
+  std::memcpy(&after[8], &total, 4);
+  TempDir dir;
+  test::WriteBytes(dir / "extra.glb", after);
+  EXPECT_EQ(LoadGltf(dir / "extra.glb").meshes.at(0).TriangleCount(), 2u);
+
+  uint32_t json_length;
+  std::memcpy(&json_length, &bytes[12], 4);
+  std::vector<uint8_t> before = bytes;
+  before.insert(before.begin() + 20 + json_length, extra.begin(), extra.end());
+  std::memcpy(&before[8], &total, 4);
+  EXPECT_EQ(BytesError(before),
+            "bad.glb: invalid GLB: the second chunk is not BIN but of type 0x41525458 \"XTRA\" (the BIN chunk must "
+            "directly follow the JSON chunk; chunks of other types may only come after it)");
+}
+
+// Only a GLB's first buffer is the BIN chunk: another buffer without uri has no
+// data (tinygltf gave it a copy of the BIN chunk), and a .gltf buffer needs one
+// (ToGltf leaves the document's own buffers as they are).
+TEST(GltfMalformed, BufferWithoutUri) {
+  GltfBuilder b = test::SquareBuilder();
+  b.json()["buffers"] = {{{"byteLength", b.bin().size()}}, {{"byteLength", b.bin().size()}}};
+  for (auto& view : b.json()["bufferViews"]) view["buffer"] = 1;
+  EXPECT_EQ(BytesError(b.ToGlb()),
+            "bad.glb: /buffers/1: buffer has no uri (in a GLB only the first buffer, the BIN chunk, may omit it)");
+  TempDir dir;
+  test::WriteText(dir / "m.gltf", b.ToGltf("m.bin"));
+  EXPECT_EQ(ErrorOf([&] { LoadGltf(dir / "m.gltf", "m.gltf"); }),
+            "m.gltf: /buffers/0: buffer has no uri (a .gltf buffer needs one)");
 }
 
 TEST(GltfMalformed, MissingTextureNamesThePath) {
