@@ -151,8 +151,11 @@ class LineScanner {
     double here = ws.laser->SheetIntensityAt(ws.sheet, p_proj);
     double central = ws.laser->SheetIntensityAt(ws.sheet, ws.laser->SheetDirection(ws.sheet) * r);
     if (!(central > 0) || here < options_.fan_threshold * central) return false;
-    // Shadow: offset the start along the normal, toward the laser's side.
-    double scale = std::max({1.0, p.p_world.cwiseAbs().maxCoeff()});
+    // Shadow: offset the start along the normal, toward the laser's side, by
+    // the float precision of the render frame (Embree's coordinates), not of
+    // the world: 1 km from the world origin a world-scaled offset is 1 mm and
+    // starts inside a narrow slot's other wall.
+    double scale = std::max({1.0, scene_.RenderFromWorld(p.p_world).cwiseAbs().maxCoeff()});
     double eps = 1e-6 * scale + 1e-4 * Footprint(p.depth);
     Eigen::Vector3d n = facing_laser > 0 ? p.normal : Eigen::Vector3d(-p.normal);
     Ray shadow;

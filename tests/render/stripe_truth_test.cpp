@@ -226,6 +226,40 @@ TEST(StripeTruth, StripeBetweenTheLastPixelCentreAndAnEdge) {
   }
 }
 
+// The stripe on the wall of a 0.5 mm slot, and the same scene and scanner
+// 1 km from the world origin: the same centres. The lit test's shadow ray
+// starts off the surface by an offset that scaled with the distance from the
+// world origin (1 mm at 1 km), which put its start inside the slot's other
+// wall: every centre on the wall was lost (the demo part 1 km away lost the
+// centres on its slot walls), while the render frame keeps the geometry exact.
+TEST(StripeTruth, SlotWallFarFromTheOriginIsLitAsAtTheOrigin) {
+  const double top = 0.127, bottom = 0.131;
+  const Eigen::Vector3d far(1000.0, -300.0, 20.0);
+  auto centres_at = [&](const Eigen::Vector3d& offset) {
+    World world;
+    Eigen::Affine3d place = Eigen::Affine3d::Identity();
+    place.translation() = offset;
+    world.Add(test::Box({-0.03, -0.01, top}, {-0.005, 0.01, bottom}), place);   // its +x face: the lit wall
+    world.Add(test::Box({-0.0045, -0.01, top}, {0.03, 0.01, bottom}), place);   // 0.5 mm further: the slot
+    world.Build();
+    Pose world_from_cam = Pose::Identity();
+    world_from_cam.translation() = offset;
+    std::vector<LaserProjector> lasers = {test::TestLaser(0.03, 0.11)};
+    return ComputeStripeCenters(*world.embree, test::TestCamera(200, 150, 180), lasers, world_from_cam,
+                                ScanAxis::kRows);
+  };
+  const auto near = centres_at(Eigen::Vector3d::Zero()), away = centres_at(far);
+  int on_wall = 0;
+  for (const auto& c : near) on_wall += std::abs(c.p_world.x() + 0.005) < 1e-9;
+  EXPECT_GT(on_wall, 20);  // the stripe runs down the wall, inside the slot
+  ASSERT_EQ(away.size(), near.size());
+  for (size_t i = 0; i < near.size(); ++i) {
+    EXPECT_NEAR(away[i].u, near[i].u, 1e-4) << i;
+    EXPECT_NEAR(away[i].v, near[i].v, 1e-4) << i;
+    EXPECT_LT((away[i].p_world - far - near[i].p_world).norm(), 1e-7) << i;
+  }
+}
+
 TEST(StripeTruth, CsvHasTheDocumentedHeader) {
   StripeCenter c;
   c.u = 1.5;
