@@ -1,7 +1,8 @@
 // Colour and laser bleeding for the points of a scan sequence (docs/pipeline.md,
 // "Colour"): each point of a dim (laser) frame, in the world frame, is projected
 // into the bright frames next to it in the run (the previous and the next frame
-// that is not a laser frame and has a pose), the bright image is sampled there and
+// that is neither a laser nor a pattern frame, RunFrame::IsColourFrame, and has a
+// pose; laser and pattern frames are passed over), the bright image is sampled there and
 // the samples are averaged.
 //
 // Sampling: bilinear. A colour sensor's raw mosaic is demosaiced at the sample

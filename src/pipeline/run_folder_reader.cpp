@@ -60,12 +60,17 @@ RunFrame ParseLine(const fs::path& run_dir, const std::string& text, const std::
       f.shutter_known = true;
       f.laser_on_known = true;
     }
+    if (s->Has("pattern_on")) {
+      f.pattern_on = s->Bool("pattern_on", false);
+      f.pattern_on_known = true;
+    }
   }
   if (auto l = o.FindObject("lit_fraction")) {
     if (l->Has("laser")) {
       f.laser_fraction = l->Number("laser", Range::Closed(0, 1));
       f.shutter_known = true;
     }
+    if (l->Has("pattern")) f.pattern_fraction = l->Number("pattern", Range::Closed(0, 1));
   }
   if (auto p = o.Find("world_from_cam")) f.world_from_cam = ReadPose(*p);
   if (auto p = o.Find("world_from_tool")) f.world_from_tool = ReadPose(*p);

@@ -48,6 +48,9 @@ struct RunFrame {
   double laser_fraction = 0;
   bool shutter_known = false;  // the line has shutter.laser_on or lit_fraction.laser
   bool laser_on_known = false;  // the line has shutter.laser_on (the commanded state)
+  bool pattern_on = false;        // shutter.pattern_on (the pattern projector commanded on)
+  bool pattern_on_known = false;  // the line has shutter.pattern_on
+  double pattern_fraction = 0;    // lit_fraction.pattern
   std::filesystem::path image;                    // run folder / files.image
   std::optional<std::filesystem::path> gt_centers;  // run folder / files.centers
   std::optional<std::filesystem::path> gt_buffers;  // run folder / files.gt (depth, normal, ... EXR)
@@ -68,6 +71,13 @@ struct RunFrame {
     if (laser_on_known) return laser_on;
     return !shutter_known || laser_fraction > 0;
   }
+  // A frame the pattern projector was commanded on for (shutter.pattern_on);
+  // without that key, one it lit (lit_fraction.pattern > 0).
+  bool IsPatternFrame() const { return pattern_on_known ? pattern_on : pattern_fraction > 0; }
+  // A bright frame that can give colour: neither a laser frame nor a pattern
+  // frame (structured light is no flood illumination: a colour taken there
+  // is the pattern's).
+  bool IsColourFrame() const { return !IsLaserFrame() && !IsPatternFrame(); }
   // Largest sample value of the frame's image for a sample type whose own full
   // scale is type_full_scale: 2^bit_depth - 1 for a 16-bit image holding raw DN
   // (LSB-aligned), otherwise the type's full scale.

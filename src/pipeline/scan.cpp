@@ -288,7 +288,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
   }
   // Colour from the bright frames next to each laser frame (world frame only).
   const bool has_bright = std::any_of(frames.begin(), frames.end(), [](const RunFrame& f) {
-    return !f.IsLaserFrame() && f.world_from_cam.has_value();
+    return f.IsColourFrame() && f.world_from_cam.has_value();
   });
   if (all_posed && has_bright && !cloud.points.empty()) {
     Colorizer colorizer(frames, camera, rig.color_filter, rig.black_level_dn, options.colour);

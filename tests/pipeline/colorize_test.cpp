@@ -112,6 +112,49 @@ TEST(Colorizer, KnownColourAveragedOverTheAdjacentBrightFrames) {
   EXPECT_FALSE(colorizer.stats().from_radiance);
 }
 
+// A structured-light frame (pattern projector on, laser and LED off) is no
+// colour frame: the point takes frame 0's colour alone, and a flood-lit frame
+// after the pattern frame is the one used on that side. Before, the pattern
+// frame was taken as the next bright frame (a rendered run with a pattern
+// projector frame coloured every point with the pattern and called 87.5% of
+// them contaminated by laser light, since its radiance is in the laser channel).
+TEST(Colorizer, PatternFramesGiveNoColour) {
+  ColourRun run;
+  run.WriteMosaic(0, {800, 400, 100});
+  run.WriteMosaic(2, {0, 900, 0});
+  run.WriteMosaic(1, {0, 0, 0});
+  const std::vector<Eigen::Vector3d> points = {{0, 0, 0.1}};
+  for (bool commanded : {true, false}) {
+    std::vector<RunFrame> frames = run.frames;
+    if (commanded) {
+      frames[2].pattern_on = frames[2].pattern_on_known = true;
+    } else {
+      frames[2].pattern_fraction = 1.0;  // only the lit fraction says so
+    }
+    EXPECT_TRUE(frames[2].IsPatternFrame());
+    EXPECT_FALSE(frames[2].IsColourFrame());
+    Colorizer colorizer(frames, SmallCamera(), ColorFilter::kRGGB, 23.0);
+    std::vector<PointColour> c = colorizer.Colour(1, points);
+    ASSERT_TRUE(c[0].coloured);
+    EXPECT_EQ(int(c[0].rgb[0]), int(std::lround((800.0 - 23) / 1000 * 255)));
+    EXPECT_EQ(int(c[0].rgb[1]), int(std::lround((400.0 - 23) / 1000 * 255)));
+    EXPECT_EQ(colorizer.stats().bright_frames, 1);
+  }
+  // A flood-lit frame beyond the pattern frame gives the colour on that side.
+  std::vector<RunFrame> frames = run.frames;
+  frames[2].pattern_on = frames[2].pattern_on_known = true;
+  RunFrame after = run.frames[0];
+  after.index = 3;
+  after.image = run.dir / "frame3.png";
+  frames.push_back(after);
+  run.frames.push_back(after);
+  run.WriteMosaic(3, {600, 200, 300});
+  Colorizer colorizer(frames, SmallCamera(), ColorFilter::kRGGB, 23.0);
+  std::vector<PointColour> c = colorizer.Colour(1, points);
+  EXPECT_EQ(int(c[0].rgb[0]), int(std::lround((700.0 - 23) / 1000 * 255)));
+  EXPECT_EQ(colorizer.stats().bright_frames, 2);
+}
+
 TEST(Colorizer, ContaminationFromLitFractionOrRadiance) {
   ColourRun run;
   for (int i = 0; i < 3; ++i) run.WriteMosaic(i, {500, 500, 500});
