@@ -76,6 +76,7 @@ RunFrame ParseLine(const fs::path& run_dir, const std::string& text, const std::
   if (auto p = o.Find("world_from_tool")) f.world_from_tool = ReadPose(*p);
   if (o.Has("gt_axis")) f.gt_axis = o.Enum("gt_axis", {"rows", "cols"}) == "rows" ? SearchAxis::kRows : SearchAxis::kCols;
   f.bit_depth = int(o.Integer("bit_depth", 0, Range::Closed(1, 16)));
+  f.saturation_dn = o.Number("saturation_dn", 0.0, Range::NonNegative());
   if (o.Has("png_bit_depth")) {
     f.png_bit_depth = int(o.Integer("png_bit_depth", Range::Closed(8, 16)));
     if (f.png_bit_depth != 8 && f.png_bit_depth != 16) o.Get("png_bit_depth").Fail("must be 8 or 16");
@@ -91,6 +92,15 @@ RunFrame ParseLine(const fs::path& run_dir, const std::string& text, const std::
 double RunFrame::FullScale(double type_full_scale) const {
   if (type_full_scale == 65535.0 && bit_depth > 0 && png_bit_depth != 8) return std::ldexp(1.0, bit_depth) - 1.0;
   return type_full_scale;
+}
+
+double RunFrame::SaturationLevel(double type_full_scale) const {
+  const double full = FullScale(type_full_scale);
+  if (!(saturation_dn > 0) || bit_depth <= 0) return full;
+  // An 8-bit image of a deeper sensor holds the top 8 bits of each DN.
+  const double dn = type_full_scale == 255.0 && bit_depth > 8 ? std::floor(std::ldexp(saturation_dn, 8 - bit_depth))
+                                                               : saturation_dn;
+  return std::min(full, dn);
 }
 
 std::vector<RunFrame> ReadRunManifest(const fs::path& run_dir) {

@@ -59,6 +59,7 @@ struct RunFrame {
   std::optional<SearchAxis> gt_axis;
   int bit_depth = 0;      // 0: unknown
   int png_bit_depth = 0;  // 0: unknown
+  double saturation_dn = 0;  // mean DN of a saturated pixel (full well or ADC), 0: unknown
   double t_start_s = 0, t_end_s = 0;
 
   std::optional<std::filesystem::path> radiance;  // run folder / files.radiance (radiance EXR)
@@ -82,6 +83,10 @@ struct RunFrame {
   // scale is type_full_scale: 2^bit_depth - 1 for a 16-bit image holding raw DN
   // (LSB-aligned), otherwise the type's full scale.
   double FullScale(double type_full_scale) const;
+  // The value a saturated pixel reads in the frame's image: saturation_dn in
+  // the image's units (the top 8 bits in an 8-bit image of a deeper sensor),
+  // at most FullScale; FullScale when unknown.
+  double SaturationLevel(double type_full_scale) const;
 };
 
 // The largest value of a sample type as image readers give it: 1 for float

@@ -23,6 +23,20 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// Whether the image reaches `level` (any channel) within one pixel of p.
+bool OnSaturatedPixels(const AnyImage& image, const StripePoint& p, double level) {
+  return std::visit(
+      [&](const auto& im) {
+        const long cx = std::lround(p.u), cy = std::lround(p.v);
+        for (long y = std::max(0L, cy - 1); y <= std::min(long(im.height) - 1, cy + 1); ++y)
+          for (long x = std::max(0L, cx - 1); x <= std::min(long(im.width) - 1, cx + 1); ++x)
+            for (int c = 0; c < im.channels; ++c)
+              if (double(im.At(int(x), int(y), c)) >= level) return true;
+        return false;
+      },
+      image);
+}
+
 // What a cloud point needs until the cloud's frame (world or camera) is known.
 struct PendingPoint {
   Eigen::Vector3d p_cam, p_world;
@@ -191,6 +205,9 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
       StripeExtractor& extractor = extractors.Get(threshold, background, axis, bayer);
       points = extractor.Extract(image);
       summary.width_rejected += extractor.last_rejections();
+      // A saturated pixel reads its level give or take the read noise: within 1%.
+      const double saturated = 0.99 * frame.SaturationLevel(type_full_scale);
+      for (const StripePoint& p : points) summary.saturated_points += OnSaturatedPixels(image, p, saturated);
     } catch (const InputError& e) {
       throw InputError(e.where().empty() ? frame.image.string() : e.where(), e.message() + context);
     }

@@ -69,6 +69,7 @@ struct ScanSummary {
   int points = 0;          // stripe points
   int triangulated = 0;    // points in the cloud
   WidthRejections width_rejected;  // candidate peaks dropped for their width, all frames
+  int saturated_points = 0;         // stripe points within one pixel of a saturated pixel (RunFrame::SaturationLevel)
   TriangulationStats stats;  // summed over frames
   bool world_frame = true;   // cloud.ply is in the world frame (every frame had a pose)
   int planes = 0;

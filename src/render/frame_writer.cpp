@@ -74,6 +74,7 @@ nlohmann::json WriteFrame(const RunFolder& run, const RenderedFrame& frame, int 
       {"gt_axis", ScanAxisName(frame.axis)},
       {"stripe_centers", frame.centers.size()},
       {"bit_depth", bits},
+      {"saturation_dn", scene.sensor.image_sensor.SaturationDn(sf.analog_gain_db)},
       {"png_bit_depth", output.png_bit_depth},
       {"stats",
        {{"rays", frame.stats.rays},

@@ -116,6 +116,10 @@ double ImageSensor::SystemGain(std::optional<double> analog_gain_db) const {
   return params_.system_gain_dn_per_e * std::pow(10.0, analog_gain_db.value_or(params_.analog_gain_db) / 20.0);
 }
 
+double ImageSensor::SaturationDn(std::optional<double> analog_gain_db) const {
+  return std::min(max_dn(), params_.black_level_dn + SystemGain(analog_gain_db) * params_.full_well_e);
+}
+
 namespace {
 constexpr const char* kColorFilterNames[] = {"mono", "rggb", "bggr", "grbg", "gbrg"};  // by ColorFilter
 }  // namespace

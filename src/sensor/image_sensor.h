@@ -109,6 +109,9 @@ class ImageSensor {
   double max_dn() const { return double((1u << params_.bit_depth) - 1u); }
   // K in DN/e- at the given analogue gain (default: the configured one).
   double SystemGain(std::optional<double> analog_gain_db = std::nullopt) const;
+  // The mean DN of a saturated pixel at that gain: the full well's charge above
+  // the black level, or the ADC's largest value, whichever is lower.
+  double SaturationDn(std::optional<double> analog_gain_db = std::nullopt) const;
   // Colour channel (0 R, 1 G, 2 B; 0 for mono) of pixel (x, y).
   int Channel(int x, int y) const;
   // Quantum efficiency of a channel at a wavelength.

@@ -40,6 +40,12 @@ TEST(RenderCommand, WritesTheRunFolderAndResumes) {
   EXPECT_TRUE(fs::exists(dir / "rig.json"));
   EXPECT_FALSE(lines[0]["files"].contains("centers"));  // the laser is off in the bright frame
   EXPECT_GT(lines[1]["stripe_centers"].get<int>(), 40);
+  // Where the frame's pixels saturate: full well above the black level, within the ADC's range.
+  for (const auto& l : lines) {
+    const double sat = l["saturation_dn"].get<double>();
+    EXPECT_GT(sat, 0.0);
+    EXPECT_LE(sat, std::ldexp(1.0, l["bit_depth"].get<int>()) - 1);
+  }
   // The frame's time and its parts: each part within the whole, the samples' pass
   // a part of it.
   for (const auto& l : lines) {

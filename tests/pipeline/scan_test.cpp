@@ -111,7 +111,7 @@ struct SyntheticRun {
 // With `mosaic` not kMono, the rig's sensor is a colour one and the frame its
 // raw Bayer mosaic of a red laser (R 1.0, G 0.25, B 0.05).
 SyntheticRun MakeRun(const std::string& name, int n_sheets, bool upside_down = false,
-                     ColorFilter mosaic = ColorFilter::kMono) {
+                     ColorFilter mosaic = ColorFilter::kMono, double peak = 1000, double saturation_dn = 1023) {
   SyntheticRun run;
   run.dir = fs::temp_directory_path() / ("lt_scan_test_" + std::to_string(::getpid())) / name;
   fs::remove_all(run.dir);
@@ -129,9 +129,9 @@ SyntheticRun MakeRun(const std::string& name, int n_sheets, bool upside_down = f
   run.world_from_cam.linear() = Eigen::AngleAxisd(3.0, Eigen::Vector3d(0.1, 1, 0.05).normalized()).toRotationMatrix();
   run.world_from_cam.translation() = Eigen::Vector3d(0.3, -0.1, 0.5);
 
-  // Stripe: Gaussian across it with sigma 1.2 px and peak 1000 DN, integrated
-  // over each pixel along the column, on a black background.
-  const double sigma = 1.2, peak = 1000, background = 0;
+  // Stripe: Gaussian across it with sigma 1.2 px and peak `peak` DN (clipped at
+  // saturation_dn), integrated over each pixel along the column, on a black background.
+  const double sigma = 1.2, background = 0;
   Image<float> img(run.camera.width(), run.camera.height(), 1, float(background));
   for (const Plane& sheet : run.sheets) {
     run.rows.emplace_back();
@@ -146,7 +146,9 @@ SyntheticRun MakeRun(const std::string& name, int n_sheets, bool upside_down = f
     }
   }
   Image<uint16_t> dn(img.width, img.height, 1);
-  for (size_t i = 0; i < img.pixels.size(); ++i) dn.pixels[i] = uint16_t(std::lround(std::min(img.pixels[i], 1023.0f)));
+  for (size_t i = 0; i < img.pixels.size(); ++i) {
+    dn.pixels[i] = uint16_t(std::lround(std::min(double(img.pixels[i]), saturation_dn)));
+  }
   if (mosaic != ColorFilter::kMono) {
     const double gain[3] = {1.0, 0.25, 0.05};
     for (int y = 0; y < dn.height; ++y)
@@ -162,6 +164,7 @@ SyntheticRun MakeRun(const std::string& name, int n_sheets, bool upside_down = f
                         {"gt_axis", "cols"},
                         {"png_bit_depth", 16},
                         {"bit_depth", 10}};
+  if (saturation_dn < 1023) dim["saturation_dn"] = saturation_dn;
   nlohmann::json bright = {{"index", 1}, {"shutter", {{"laser_on", false}}}, {"files", {{"image", "frames/000001.png"}}}};
   std::ofstream(run.dir / "manifest.jsonl") << dim.dump() << "\n" << bright.dump() << "\n";
   return run;
@@ -220,6 +223,23 @@ TEST(Scan, SingleSheetPointsLieOnTheSurface) {
 
 // The raw frames of a colour sensor are demosaiced before extraction: on the
 // raw mosaic every peak of the red stripe is narrower than --min-width.
+// A stripe clipped where the sensor saturates is counted, for scan's note: at
+// the ADC's full scale (1023 DN of 10 bits) when the manifest does not say,
+// or at the manifest's saturation_dn (a full well below the ADC's range); one
+// below it is not.
+TEST(Scan, PointsOnSaturatedPixelsAreCounted) {
+  for (double level : {1023.0, 900.0}) {
+    SyntheticRun clipped = MakeRun("saturated_" + std::to_string(int(level)), 1, false, ColorFilter::kMono, 3000, level);
+    ScanSummary s = ScanRun(clipped.dir, ScanOptions{});
+    ASSERT_GT(s.stats.points, 100);
+    EXPECT_EQ(s.saturated_points, s.stats.points) << level;
+  }
+  SyntheticRun below = MakeRun("not_saturated", 1);
+  ScanSummary t = ScanRun(below.dir, ScanOptions{});
+  ASSERT_GT(t.stats.points, 100);
+  EXPECT_EQ(t.saturated_points, 0);
+}
+
 TEST(Scan, BayerFramesAreDemosaiced) {
   SyntheticRun run = MakeRun("bayer", 1, false, ColorFilter::kGRBG);
   ScanOptions o;

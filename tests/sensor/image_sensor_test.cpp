@@ -75,8 +75,11 @@ TEST(ImageSensor, SaturatesAtFullWellAndClipsToBitDepth) {
   Image<uint16_t> img = sensor.Expose(Flat(32, 32, 1e-12, 600e-9, 1e-3), 1, 0);
   // Full well: 10 + 0.02·5000 = 110 DN, dark noise 5 e- = 0.1 DN: rounds to 110.
   for (uint16_t v : img.pixels) EXPECT_EQ(v, 110);
+  EXPECT_DOUBLE_EQ(sensor.SaturationDn(), 110.0);
+  EXPECT_DOUBLE_EQ(sensor.SaturationDn(6.0206), 10 + 0.02 * std::pow(10.0, 6.0206 / 20) * 5000);  // x2 gain: ~210 DN
   p.system_gain_dn_per_e = 1.0;  // full well = 5010 DN > 255
   ImageSensor clipped(p);
+  EXPECT_DOUBLE_EQ(clipped.SaturationDn(), 255.0);
   for (uint16_t v : clipped.Expose(Flat(8, 8, 1e-12, 600e-9, 1e-3), 1, 0).pixels) EXPECT_EQ(v, 255);
   p.bit_depth = 16;
   ImageSensor deep(p);

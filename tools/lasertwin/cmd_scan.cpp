@@ -48,6 +48,11 @@ void Run(ScanArgs& a) {
     std::cerr << "lasertwin: note: " << note << "\n";
   }
   if (s.stats.points == 0) std::cerr << "lasertwin: note: " << NoStripePointsNote(o.extraction) << "\n";
+  if (s.saturated_points > 0) {
+    std::cerr << "lasertwin: note: " << s.saturated_points << " of " << s.stats.points
+              << " stripe points lie on saturated pixels: a clipped stripe's centre is less certain; lower the "
+                 "exposure or the laser power\n";
+  }
   if (a.quiet) return;
   const TriangulationStats& st = s.stats;
   std::cerr << "scanned " << s.laser_frames << " laser frame" << (s.laser_frames == 1 ? "" : "s");
