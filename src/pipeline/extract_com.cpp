@@ -38,7 +38,7 @@ void ExtractCom(const ImageView<T>& image, const MethodParams& params, BandedPoi
       if (o.background_mode == BackgroundMode::kLocal) {
         // The same window and centroid on r = line - B (local_background.h).
         thread_local LocalPeak p;
-        if (!FindRowPeakLocal(row, n, params.threshold, o, &p, &rejected)) continue;
+        if (!FindRowPeakLocal(image, y, params.threshold, o, &p, &rejected)) continue;
         double c = 0;
         if (!SelfCentredCentroid(p.r.data(), int(p.r.size()), 0.5 * (p.first + p.last) - p.s0, p.half_window, 0.0,
                                  &c, p.valley_lo - p.s0, p.valley_hi - p.s0)) {
@@ -49,7 +49,7 @@ void ExtractCom(const ImageView<T>& image, const MethodParams& params, BandedPoi
       }
       LinePeak peak;
       double fwhm = 0;
-      if (!FindRowPeak(row, n, params.threshold, o, &peak, &fwhm, &rejected)) continue;
+      if (!FindRowPeak(image, y, params.threshold, o, &peak, &fwhm, &rejected)) continue;
       const double h = ComHalfWindow(fwhm, peak.last - peak.first + 1, o.window);
       // The window stops at the valleys to neighbouring peaks (a second stripe
       // or a reflection resolved at half height).

@@ -49,13 +49,15 @@ void LocalMaxima(const T* row, int n, double threshold, int skip, std::vector<Li
 }  // namespace
 
 template <typename T>
-bool FindRowPeak(const T* row, int n, double threshold, const ExtractionOptions& o, LinePeak* peak, double* fwhm,
-                 WidthRejections* rejected) {
+bool FindRowPeak(const ImageView<T>& image, int y, double threshold, const ExtractionOptions& o, LinePeak* peak,
+                 double* fwhm, WidthRejections* rejected) {
+  const T* row = image.Row(y);
+  const int n = image.width;
   *peak = FindRowMaximum(row, n);
   if (!(peak->value >= threshold)) return false;
   if (peak->first == 0 || peak->last == n - 1) return false;  // runs into the border
   *fwhm = PeakFwhm(row, n, peak->first, peak->last, peak->value, o.background);
-  if (WidthAccepted(*fwhm, o, rejected)) return true;
+  if (WidthAccepted(*fwhm, o, rejected, image, y, *peak, o.background, threshold)) return true;
   if (std::isnan(*fwhm)) return false;  // width not measurable: not a peak that hides another
   // Rare (a row whose brightest peak has the wrong width): try the others.
   // Only the row maximum is counted as rejected (one candidate per row, as
@@ -66,7 +68,7 @@ bool FindRowPeak(const T* row, int n, double threshold, const ExtractionOptions&
   for (const LinePeak& p : others) {
     const double w = PeakFwhm(row, n, p.first, p.last, p.value, o.background);
     if (std::isnan(w)) continue;  // the flank of a higher peak
-    if (WidthAccepted(w, o, &uncounted)) {
+    if (WidthAccepted(w, o, &uncounted, image, y, p, o.background, threshold)) {
       *peak = p;
       *fwhm = w;
       return true;
@@ -78,22 +80,20 @@ bool FindRowPeak(const T* row, int n, double threshold, const ExtractionOptions&
 template <typename T>
 void ExtractMax(const ImageView<T>& image, const MethodParams& params, BandedPoints* out) {
   const ExtractionOptions& o = *params.options;
-  const int n = image.width;
   out->Reset(image.height);
   ForEachBand(image.height, out->band_rows, [&](int band, int y0, int y1) {
     auto& points = out->bands[band];
     WidthRejections& rejected = out->rejected[band];
     for (int y = y0; y < y1; ++y) {
-      const T* row = image.Row(y);
       if (o.background_mode == BackgroundMode::kLocal) {
         thread_local LocalPeak local;
-        if (!FindRowPeakLocal(row, n, params.threshold, o, &local, &rejected)) continue;
+        if (!FindRowPeakLocal(image, y, params.threshold, o, &local, &rejected)) continue;
         points.push_back({0.5 * (local.first + local.last), double(y), local.fwhm, local.height, -1});
         continue;
       }
       LinePeak peak;
       double fwhm = 0;
-      if (!FindRowPeak(row, n, params.threshold, o, &peak, &fwhm, &rejected)) continue;
+      if (!FindRowPeak(image, y, params.threshold, o, &peak, &fwhm, &rejected)) continue;
       points.push_back({0.5 * (peak.first + peak.last), double(y), fwhm, peak.value, -1});
     }
   });
@@ -101,7 +101,7 @@ void ExtractMax(const ImageView<T>& image, const MethodParams& params, BandedPoi
 
 #define LT_INSTANTIATE(T)                                           \
   template LinePeak FindRowMaximum<T>(const T*, int);               \
-  template bool FindRowPeak<T>(const T*, int, double, const ExtractionOptions&, LinePeak*, double*, \
+  template bool FindRowPeak<T>(const ImageView<T>&, int, double, const ExtractionOptions&, LinePeak*, double*, \
                                WidthRejections*);                   \
   template void ExtractMax<T>(const ImageView<T>&, const MethodParams&, BandedPoints*);
 LT_INSTANTIATE(uint8_t)

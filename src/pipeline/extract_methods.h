@@ -14,6 +14,7 @@
 
 #include "core/image.h"
 #include "pipeline/extraction_options.h"
+#include "pipeline/narrow_peak.h"
 #include "pipeline/stripe_point.h"
 
 namespace lt {
@@ -96,11 +97,21 @@ double PeakFwhm(const T* line, int n, int first, int last, double peak, double b
   return right - left;
 }
 
-// Whether a peak's FWHM lies in [min_width, max_width] (max_width 0: no upper
-// bound); counts a measured width outside it. A NaN width (a peak at the border
-// or on another's flank) is rejected and not counted.
-inline bool WidthAccepted(double fwhm, const ExtractionOptions& o, WidthRejections* count) {
+// Whether a peak passes the width check: its FWHM lies in [min_width,
+// max_width] (max_width 0: no upper bound), or it is narrower than min_width
+// and its light continues on the adjacent search lines (NarrowPeakContinues:
+// a thin stripe, not a hot pixel). `peak` is its plateau on line y of `lines`
+// (the method's working image), `base` the level its FWHM was measured above
+// and `threshold_level` the value a pixel must reach to pass the threshold
+// there (the threshold, or the local background plus the threshold). Counts a
+// measured width outside the range (a narrow peak only when it does not
+// continue). A NaN width (a peak at the border or on another's flank) is
+// rejected and not counted.
+template <typename T>
+bool WidthAccepted(double fwhm, const ExtractionOptions& o, WidthRejections* count, const ImageView<T>& lines, int y,
+                   const LinePeak& peak, double base, double threshold_level) {
   if (fwhm < o.min_width) {
+    if (NarrowPeakContinues(lines, y, peak.first, peak.last, base, peak.value - base, threshold_level)) return true;
     ++count->narrow;
     return false;
   }
@@ -120,17 +131,18 @@ void ExtractCom(const ImageView<T>& image, const MethodParams& params, BandedPoi
 // Brightest plateau of a row (first maximum); false if the row is empty.
 template <typename T>
 LinePeak FindRowMaximum(const T* row, int n);
-// The peak max and com measure in a row: the brightest plateau at or above
-// `threshold`, not touching the line's ends, whose FWHM (above o.background)
-// passes the width check. When the row maximum is rejected for its measured
-// width (a hot pixel or glint narrower than min_width, or a blob wider than
+// The peak max and com measure on line y of `image`: the brightest plateau at
+// or above `threshold`, not touching the line's ends, whose FWHM (above
+// o.background) passes the width check (WidthAccepted: a narrow one must
+// continue on the adjacent lines). When the row maximum is rejected for its
+// measured width (a hot pixel narrower than min_width, or a blob wider than
 // max_width, brighter than the stripe), the row's other local-maximum plateaus
 // are tried, brightest first, rather than losing the row. False when none
 // passes or the maximum touches a line end (the stripe may continue outside).
 // Only the row maximum's rejection is counted (one candidate per row).
 template <typename T>
-bool FindRowPeak(const T* row, int n, double threshold, const ExtractionOptions& o, LinePeak* peak, double* fwhm,
-                 WidthRejections* rejected);
+bool FindRowPeak(const ImageView<T>& image, int y, double threshold, const ExtractionOptions& o, LinePeak* peak,
+                 double* fwhm, WidthRejections* rejected);
 
 // Multi-maximum centre of mass: every peak of each row (extract_multicom.cpp).
 template <typename T>

@@ -54,8 +54,10 @@ bool ClippedCentroid(const T* row, int n, int a, int b, double floor, double t, 
 // Emits the point of one part [a, b] of a run of pixels >= t; `floor` is the
 // level subtracted from the weights (t, or a valley the part was split at).
 template <typename T>
-void EmitPart(const T* row, int n, int a, int b, double floor, double t, int y, const ExtractionOptions& o,
+void EmitPart(const ImageView<T>& image, int a, int b, double floor, double t, int y, const ExtractionOptions& o,
               std::vector<StripePoint>* points, WidthRejections* rejected) {
+  const T* row = image.Row(y);
+  const int n = image.width;
   int first = a;
   for (int x = a + 1; x <= b; ++x) {
     if (row[x] > row[first]) first = x;
@@ -64,7 +66,7 @@ void EmitPart(const T* row, int n, int a, int b, double floor, double t, int y, 
   while (last + 1 <= b && row[last + 1] == row[first]) ++last;
   const double peak = double(row[first]);
   double fwhm = PeakFwhm(row, n, first, last, peak, o.background);
-  if (!WidthAccepted(fwhm, o, rejected)) return;
+  if (!WidthAccepted(fwhm, o, rejected, image, y, LinePeak{first, last, peak}, o.background, t)) return;
   double c = 0;
   if (!ClippedCentroid(row, n, a, b, floor, t, &c)) return;
   points->push_back({c, double(y), fwhm, peak, -1});
@@ -73,8 +75,10 @@ void EmitPart(const T* row, int n, int a, int b, double floor, double t, int y, 
 // One run [a, b] of pixels >= t: split at valleys lower than half of both
 // neighbouring peaks (heights above t), then emit each part.
 template <typename T>
-void ProcessRun(const T* row, int n, int a, int b, double t, int y, const ExtractionOptions& o,
+void ProcessRun(const ImageView<T>& image, int a, int b, double t, int y, const ExtractionOptions& o,
                 std::vector<StripePoint>* points, WidthRejections* rejected) {
+  const T* row = image.Row(y);
+  const int n = image.width;
   int part_start = a;
   double part_floor = t;
   double cur_max = double(row[a]) - t;
@@ -98,7 +102,7 @@ void ProcessRun(const T* row, int n, int a, int b, double t, int y, const Extrac
       } else if (val > 2.0 * vmin && val > 0.5 * cur_max) {
         // A second peak rises: split at the valley.
         const double valley_level = double(row[vmin_pos]);
-        if (part_start > 0) EmitPart(row, n, part_start, vmin_pos, std::max(part_floor, valley_level), t, y, o, points, rejected);
+        if (part_start > 0) EmitPart(image, part_start, vmin_pos, std::max(part_floor, valley_level), t, y, o, points, rejected);
         part_start = vmin_pos;
         part_floor = valley_level;
         cur_max = val;
@@ -106,7 +110,7 @@ void ProcessRun(const T* row, int n, int a, int b, double t, int y, const Extrac
       }
     }
   }
-  if (part_start > 0 && b < n - 1) EmitPart(row, n, part_start, b, part_floor, t, y, o, points, rejected);
+  if (part_start > 0 && b < n - 1) EmitPart(image, part_start, b, part_floor, t, y, o, points, rejected);
 }
 
 // One line with the local background (local_background.h): every local-maximum
@@ -116,8 +120,10 @@ void ProcessRun(const T* row, int n, int a, int b, double t, int y, const Extrac
 // floor is then the valley level, as ProcessRun does). A run that reaches the
 // end of r (the peak's flanks) without a valley gives no point.
 template <typename T>
-void ProcessLineLocal(const T* row, int n, double t, int y, const ExtractionOptions& o,
+void ProcessLineLocal(const ImageView<T>& image, double t, int y, const ExtractionOptions& o,
                       std::vector<StripePoint>* points, WidthRejections* rejected) {
+  const T* row = image.Row(y);
+  const int n = image.width;
   double row_min = double(row[0]);
   for (int x = 1; x < n; ++x) row_min = std::min(row_min, double(row[x]));
   thread_local std::vector<LinePeak> candidates;
@@ -127,7 +133,7 @@ void ProcessLineLocal(const T* row, int n, double t, int y, const ExtractionOpti
   for (const LinePeak& cand : candidates) {
     if (!MeasureLocalPeak(row, n, cand.first, cand.last, t, o.window, &p)) continue;
     if (p.first == emitted) continue;
-    if (!WidthAccepted(p.fwhm, o, rejected)) continue;
+    if (!LocalWidthAccepted(p, t, o, rejected, image, y)) continue;
     const int len = int(p.r.size());
     const double* r = p.r.data();
     int a = p.first - p.s0, b = p.last - p.s0;
@@ -168,7 +174,7 @@ void ExtractMultiCom(const ImageView<T>& image, const MethodParams& params, Band
     for (int y = y0; y < y1; ++y) {
       const T* row = image.Row(y);
       if (o.background_mode == BackgroundMode::kLocal) {
-        ProcessLineLocal(row, n, t, y, o, &points, rejected);
+        ProcessLineLocal(image, t, y, o, &points, rejected);
         continue;
       }
       int run_start = -1;
@@ -178,7 +184,7 @@ void ExtractMultiCom(const ImageView<T>& image, const MethodParams& params, Band
 #pragma omp simd reduction(max : m)
         for (int x = c0 + 1; x < c1; ++x) m = row[x] > m ? row[x] : m;
         if (!(double(m) >= t)) {  // nothing above the threshold in this chunk
-          if (run_start >= 0) ProcessRun(row, n, run_start, c0 - 1, t, y, o, &points, rejected);
+          if (run_start >= 0) ProcessRun(image, run_start, c0 - 1, t, y, o, &points, rejected);
           run_start = -1;
           continue;
         }
@@ -187,12 +193,12 @@ void ExtractMultiCom(const ImageView<T>& image, const MethodParams& params, Band
           if (above && run_start < 0) {
             run_start = x;
           } else if (!above && run_start >= 0) {
-            ProcessRun(row, n, run_start, x - 1, t, y, o, &points, rejected);
+            ProcessRun(image, run_start, x - 1, t, y, o, &points, rejected);
             run_start = -1;
           }
         }
       }
-      if (run_start >= 0) ProcessRun(row, n, run_start, n - 1, t, y, o, &points, rejected);
+      if (run_start >= 0) ProcessRun(image, run_start, n - 1, t, y, o, &points, rejected);
     }
   });
 }

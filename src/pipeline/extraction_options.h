@@ -34,9 +34,10 @@ enum class SearchAxis { kRows, kCols };
 enum class BackgroundMode { kLevel, kLocal };
 
 // Candidate peaks (above the threshold) that max, com and multicom dropped
-// because their FWHM was outside [min_width, max_width].
+// for their FWHM: narrower than min_width without continuing on the adjacent
+// search lines, or wider than max_width.
 struct WidthRejections {
-  int64_t narrow = 0;  // narrower than min_width (hot pixels, or a thinner stripe)
+  int64_t narrow = 0;  // narrower than min_width and isolated (hot pixels, noise spikes)
   int64_t wide = 0;    // wider than max_width
 
   WidthRejections& operator+=(const WidthRejections& o) {
@@ -87,7 +88,10 @@ struct ExtractionOptions {
   // (ceil(1.25 x the measured FWHM of the peak in that row)).
   int window = 0;
   // Accepted stripe width range: FWHM along the search axis in pixels
-  // (max, com, multicom). max_width 0 = no upper limit.
+  // (max, com, multicom). A peak narrower than min_width is accepted only when
+  // its light continues on the adjacent search lines (pipeline/narrow_peak.h:
+  // a thin stripe, not a hot pixel); 0 accepts every width.
+  // max_width 0 = no upper limit.
   double min_width = 1.5;
   double max_width = 0;
   // steger: expected stripe FWHM across the stripe in pixels; sets the filter

@@ -211,30 +211,50 @@ void LocalMaximumPlateaus(const T* line, int n, double min_value, std::vector<Li
 }
 
 
-// max and com with the local background: among the line's local-maximum
-// plateaus, the one with the greatest height above its local background that
-// reaches `threshold` and passes the width check (*peak holds it and its r).
-// Only the highest candidate's width rejection is counted (one per line, as
-// FindRowPeak does).
+// The width check (WidthAccepted) of a peak measured above its local
+// background on line y of `lines`: a narrow one must continue on the adjacent
+// lines, measured above B at its plateau (the threshold is a height above B).
 template <typename T>
-bool FindRowPeakLocal(const T* row, int n, double threshold, const ExtractionOptions& o, LocalPeak* peak,
+bool LocalWidthAccepted(const LocalPeak& p, double threshold, const ExtractionOptions& o, WidthRejections* count,
+                        const ImageView<T>& lines, int y) {
+  const double value = double(lines.Row(y)[p.first]);
+  const double b = value - p.height;
+  return WidthAccepted(p.fwhm, o, count, lines, y, LinePeak{p.first, p.last, value}, b, b + threshold);
+}
+
+// max and com with the local background: among the local-maximum plateaus of
+// line y of `image`, the one with the greatest height above its local
+// background that reaches `threshold` and passes the width check (*peak holds
+// it and its r). Only the highest candidate's width rejection is counted (one
+// per line, as FindRowPeak does).
+template <typename T>
+bool FindRowPeakLocal(const ImageView<T>& image, int y, double threshold, const ExtractionOptions& o, LocalPeak* peak,
                       WidthRejections* rejected) {
+  const T* row = image.Row(y);
+  const int n = image.width;
   double row_min = double(row[0]);
   for (int x = 1; x < n; ++x) row_min = std::min(row_min, double(row[x]));
   thread_local std::vector<LinePeak> candidates;
   thread_local LocalPeak trial;
   LocalMaximumPlateaus(row, n, row_min + threshold, &candidates);
-  double highest = -HUGE_VAL, highest_fwhm = 0, best = -HUGE_VAL;
-  WidthRejections uncounted;
+  double highest = -HUGE_VAL, best = -HUGE_VAL;
+  bool highest_accepted = false;
+  WidthRejections highest_rejections;
   for (const LinePeak& c : candidates) {
     if (!MeasureLocalPeak(row, n, c.first, c.last, threshold, o.window, &trial)) continue;
-    if (trial.height > highest) highest = trial.height, highest_fwhm = trial.fwhm;
-    if (trial.height > best && WidthAccepted(trial.fwhm, o, &uncounted)) {
+    WidthRejections trial_rejections;
+    const bool accepted = trial.height > best && LocalWidthAccepted(trial, threshold, o, &trial_rejections, image, y);
+    if (trial.height > highest) {
+      highest = trial.height;
+      highest_accepted = accepted;
+      highest_rejections = trial_rejections;
+    }
+    if (accepted) {
       best = trial.height;
       std::swap(*peak, trial);
     }
   }
-  if (highest > best) WidthAccepted(highest_fwhm, o, rejected);  // counts it
+  if (!highest_accepted) *rejected += highest_rejections;  // counts the highest candidate's rejection
   return best > -HUGE_VAL;
 }
 

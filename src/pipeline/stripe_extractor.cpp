@@ -226,7 +226,8 @@ std::vector<std::string> WidthRejectionNotes(const WidthRejections& rejected, co
   if (rejected.narrow > 0) {
     notes.push_back(std::to_string(rejected.narrow) + " candidate peak" + (rejected.narrow == 1 ? " was" : "s were") +
                     " narrower than --min-width " + FormatNumber(o.min_width) +
-                    " px and rejected (hot pixels, or a stripe thinner than that: lower --min-width)");
+                    " px without continuing on the adjacent search lines and rejected (hot pixels or noise "
+                    "spikes; lower --min-width to keep them)");
   }
   if (rejected.wide > 0) {
     notes.push_back(std::to_string(rejected.wide) + " candidate peak" + (rejected.wide == 1 ? " was" : "s were") +

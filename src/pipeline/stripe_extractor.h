@@ -54,8 +54,9 @@ class StripeExtractor {
 
 // Notes for the user (one line each, without "note: "; none when nothing was
 // rejected) naming the counts of `rejected` and the option to change, e.g. "312
-// candidate peaks narrower than --min-width 1.5 px were rejected (hot pixels or
-// a stripe thinner than that: lower --min-width)".
+// candidate peaks were narrower than --min-width 1.5 px without continuing on
+// the adjacent search lines and rejected (hot pixels or noise spikes; lower
+// --min-width to keep them)".
 std::vector<std::string> WidthRejectionNotes(const WidthRejections& rejected, const ExtractionOptions& options);
 // The note when no stripe point was found at all: what to check (for steger,
 // also --width).
