@@ -25,9 +25,10 @@ constexpr double kComBoundPx = 0.5;
 // the ground-truth centres still satisfy the closed form to 1e-6 of the range
 // (root finding to 1e-6 px). Up to 75 degrees the stripe is found on at least
 // half the rows within 0.5 px. Beyond, the stripe collapses into about one
-// pixel per row; rows whose stripe is narrower than the extractor's minimum
-// width are dropped (not guessed), and those found are within 1 px of the
-// truth (the centroid can only err within the pixel the light falls in).
+// pixel per row; a row whose stripe is narrower than the extractor's minimum
+// width counts only where its light continues on the neighbouring rows, else
+// it is dropped (not guessed), and those found are within 1 px of the truth
+// (the centroid can only err within the pixel the light falls in).
 // No output is NaN or infinite.
 TEST(StressGeometry, GrazingViewAngles) {
   std::vector<double> angles = {0, 45, 75, 85, 89, 89.5};

@@ -159,7 +159,7 @@ void AddExtract(CLI::App& app) {
                   "outside its window (ambient light; max, com, multicom)")
       ->capture_default_str();
   cmd->add_option("--window", o.window, "com: half window in pixels (0: from the peak width)")->capture_default_str();
-  cmd->add_option("--min-width", o.min_width, "Minimum peak FWHM in pixels")->capture_default_str();
+  cmd->add_option("--min-width", o.min_width, "Peaks narrower (FWHM, pixels) must continue on the adjacent search lines to count (hot pixels do not); 0: no check")->capture_default_str();
   cmd->add_option("--max-width", o.max_width, "Maximum peak FWHM in pixels (0: none)")->capture_default_str();
   cmd->add_option("--width", o.expected_width, "steger: expected stripe FWHM in pixels")->capture_default_str();
   cmd->add_option("--sigma", o.sigma, "steger: filter sigma in pixels (0: from --width)")->capture_default_str();

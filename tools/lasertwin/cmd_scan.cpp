@@ -112,7 +112,7 @@ void Add(CLI::App& app) {
                   "Level subtracted before centroid and width (default: black level), or 'local': per peak, a line "
                   "through the levels just outside its window (ambient light; max, com, multicom)");
   cmd->add_option("--window", e.window, "com: half window in pixels (0: from the peak width)")->capture_default_str();
-  cmd->add_option("--min-width", e.min_width, "Minimum peak FWHM in pixels")->capture_default_str();
+  cmd->add_option("--min-width", e.min_width, "Peaks narrower (FWHM, pixels) must continue on the adjacent search lines to count (hot pixels do not); 0: no check")->capture_default_str();
   cmd->add_option("--max-width", e.max_width, "Maximum peak FWHM in pixels (0: none)")->capture_default_str();
   cmd->add_option("--width", e.expected_width, "steger: expected stripe FWHM in pixels")->capture_default_str();
   cmd->add_option("--sigma", e.sigma, "steger: filter sigma in pixels (0: from --width)")->capture_default_str();
