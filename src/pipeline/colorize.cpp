@@ -123,7 +123,6 @@ std::vector<PointColour> Colorizer::Colour(int frame_index, const std::vector<Ei
   // The bright frames before and after this frame.
   // Laser and pattern frames are passed over: the nearest flood-lit frame each side.
   auto is_bright = [](const RunFrame& f) { return f.IsColourFrame() && f.world_from_cam.has_value(); };
-  auto passed_over = [](const RunFrame& f) { return f.IsLaserFrame() || f.IsPatternFrame(); };
   size_t here = frames_.size();
   for (size_t i = 0; i < frames_.size(); ++i) {
     if (frames_[i].index == frame_index) here = i;
@@ -131,12 +130,12 @@ std::vector<PointColour> Colorizer::Colour(int frame_index, const std::vector<Ei
   if (here == frames_.size()) return out;
   std::vector<size_t> sources;
   for (size_t i = here; i-- > 0;) {
-    if (passed_over(frames_[i])) continue;
+    if (!frames_[i].IsColourFrame()) continue;
     if (is_bright(frames_[i])) sources.push_back(i);
     break;
   }
   for (size_t i = here + 1; i < frames_.size(); ++i) {
-    if (passed_over(frames_[i])) continue;
+    if (!frames_[i].IsColourFrame()) continue;
     if (is_bright(frames_[i])) sources.push_back(i);
     break;
   }

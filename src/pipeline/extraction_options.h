@@ -48,6 +48,10 @@ struct WidthRejections {
 };
 
 const char* MethodName(ExtractionMethod method);
+// max and com: one stripe per search line, so they cannot see several laser sheets.
+inline bool FindsOneStripePerLine(ExtractionMethod method) {
+  return method == ExtractionMethod::kMax || method == ExtractionMethod::kCom;
+}
 const char* AxisName(SearchAxis axis);
 // Parse "max", "com", "multicom", "steger" / "rows", "cols"; throw
 // lt::InputError(where, ...) for anything else.

@@ -49,11 +49,12 @@ struct Ends {
 };
 
 // The plane of each segment (-1: none) by the stripes' order across the image
-// (see the header), for the candidate segments; empty with *error set when the
-// order cannot decide.
+// (see the header), for the candidate segments (`ends`: each segment's first and
+// last search line); empty with *error set when the order cannot decide.
 template <typename Along, typename Across>
 std::vector<int> PlanesByStripeOrder(const std::vector<StripeSegment>& segments, const std::vector<int>& candidates,
-                                     int n_planes, Along along, Across across, std::string* error) {
+                                     const std::vector<Ends>& ends, int n_planes, Along along, Across across,
+                                     std::string* error) {
   // The candidates' points on each search line, in order across.
   std::map<long, std::vector<std::pair<double, int>>> lines;
   for (int s : candidates) {
@@ -104,14 +105,18 @@ std::vector<int> PlanesByStripeOrder(const std::vector<StripeSegment>& segments,
     std::nth_element(gaps.begin(), gaps.begin() + long(gaps.size() / 2), gaps.end());
     spacing = gaps[gaps.size() / 2];
   }
-  auto plausible = [&](double gap, int ranks) {
-    return !(spacing > 0) || (gap >= ranks * spacing / kSpacingFactor && gap <= ranks * spacing * kSpacingFactor);
+  // Whether the stripes j0..j1 of line v stand about one spacing apart, each from the next.
+  auto spaced = [&](const std::vector<std::pair<double, int>>& v, int j0, int j1) {
+    if (!(spacing > 0)) return true;
+    for (int j = j0 + 1; j <= j1; ++j) {
+      const double gap = v[size_t(j)].first - v[size_t(j - 1)].first;
+      if (gap < spacing / kSpacingFactor || gap > spacing * kSpacingFactor) return false;
+    }
+    return true;
   };
   Votes votes(segments.size(), std::vector<int>(size_t(n_planes), 0));
   for (const auto* v : full) {
-    bool ok = true;
-    for (size_t r = 1; r < v->size() && ok; ++r) ok = plausible((*v)[r].first - (*v)[r - 1].first, 1);
-    if (!ok) continue;
+    if (!spaced(*v, 0, n_planes - 1)) continue;
     for (int r = 0; r < n_planes; ++r) ++votes[size_t((*v)[size_t(r)].second)][size_t(r)];
   }
   decide(votes);
@@ -128,11 +133,7 @@ std::vector<int> PlanesByStripeOrder(const std::vector<StripeSegment>& segments,
         const int gap = k - prev_index - 1;
         // Neighbours in the run (the numbered stripes at its ends included)
         // must stand about one spacing apart.
-        bool spaced = true;
-        for (int j = std::max(prev_index, 0) + 1; j <= std::min(k, int(v.size()) - 1) && spaced; ++j) {
-          spaced = plausible(v[size_t(j)].first - v[size_t(j - 1)].first, 1);
-        }
-        if (gap > 0 && lab - prev_label - 1 == gap && spaced) {
+        if (gap > 0 && lab - prev_label - 1 == gap && spaced(v, std::max(prev_index, 0), std::min(k, int(v.size()) - 1))) {
           for (int j = 1; j <= gap; ++j) ++between[size_t(v[size_t(prev_index + j)].second)][size_t(prev_label + j)];
         }
         prev_label = lab, prev_index = k;
@@ -146,17 +147,10 @@ std::vector<int> PlanesByStripeOrder(const std::vector<StripeSegment>& segments,
   // step ends where the piece after it begins, so on the lines they share each
   // of the two runs on past the other's end. A piece whose lines all lie within
   // another's of the same number (a stripe beside a stripe) contradicts.
-  std::vector<std::pair<long, long>> extent(segments.size(), {std::numeric_limits<long>::max(), std::numeric_limits<long>::min()});
-  for (int s : candidates) {
-    for (int i : segments[size_t(s)].points) {
-      const long l = std::lround(along(i));
-      extent[size_t(s)].first = std::min(extent[size_t(s)].first, l);
-      extent[size_t(s)].second = std::max(extent[size_t(s)].second, l);
-    }
-  }
   auto hand_over = [&](int a, int b) {
-    const auto &ea = extent[size_t(a)], &eb = extent[size_t(b)];
-    return (ea.first < eb.first && ea.second < eb.second) || (eb.first < ea.first && eb.second < ea.second);
+    const Ends &ea = ends[size_t(a)], &eb = ends[size_t(b)];
+    return (ea.first_along < eb.first_along && ea.last_along < eb.last_along) ||
+           (eb.first_along < ea.first_along && eb.last_along < ea.last_along);
   };
   for (const auto& [line, v] : lines) {
     int last = -1, last_segment = -1;
@@ -320,7 +314,7 @@ PlaneIdentification IdentifyPlanes(const std::vector<StripePoint>& points, const
 
   // The stripes' order decides; the chains when it cannot.
   std::string order_error;
-  std::vector<int> planes = PlanesByStripeOrder(result.segments, candidates, n_planes, along, across, &order_error);
+  std::vector<int> planes = PlanesByStripeOrder(result.segments, candidates, ends, n_planes, along, across, &order_error);
   result.method = PlaneIdMethod::kStripeOrder;
   if (planes.empty()) {
     if (by_chains.empty()) {

@@ -145,7 +145,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
   const Triangulator triangulator(camera, planes, options.triangulation);
   const SearchAxis planes_axis = StripeAxis(planes);
   const ExtractionMethod method = options.extraction.method;
-  if (planes.size() > 1 && (method == ExtractionMethod::kMax || method == ExtractionMethod::kCom)) {
+  if (planes.size() > 1 && FindsOneStripePerLine(method)) {
     warn(std::string(MethodName(method)) + " finds one stripe per search line, but there are " +
          std::to_string(planes.size()) + " laser planes: use --method multicom or steger to see every stripe");
   }

@@ -190,7 +190,7 @@ Mesh BeadMeshUpTo(const Toolpath& path, double t_s, const BeadOptions& options, 
   for (size_t k = 0; k < path.segments.size(); ++k) {
     const ToolpathSegment& seg = path.segments[k];
     if (!(seg.t_start_s < t_s) || k >= options.end_segment) break;
-    if (!(seg.extruded_m > 0 && seg.xy_length_m > 0)) continue;
+    if (!seg.LaysBead()) continue;
     const double f = std::min(1.0, (t_s - seg.t_start_s) / seg.Duration());
     if (!(f > 0)) continue;
     const double h = LayerHeight(path, seg, options, levels);

@@ -148,7 +148,7 @@ void GcodeReader::LayersFromZ() {
   auto& segs = path_.segments;
   for (size_t k = 0; k < segs.size(); ++k) {
     ToolpathSegment& s = segs[k];
-    if (!(s.extruded_m > 0 && s.xy_length_m > 0)) continue;
+    if (!s.LaysBead()) continue;
     const double z0 = s.start_m.z(), z1 = std::max(z0, s.end_m.z());
     if (layer == ToolpathSegment::kNoLayer || z0 > top + kTolM) {
       layer = layer == ToolpathSegment::kNoLayer ? 0 : layer + 1;

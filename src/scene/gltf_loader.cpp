@@ -7,6 +7,7 @@
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "core/error.h"
@@ -125,6 +126,25 @@ std::string Trim(std::string s) {
 
 // ---------------------------------------------------------------- node hierarchy
 
+// The affine transform of a column-major 4x4 matrix (node matrices, inverse bind
+// matrices); nullopt when it is not finite or its last row is not 0 0 0 1.
+// Exporters write float matrices: the last row may be off by float noise,
+// relative to the matrix's scale, and is then made exact.
+template <typename T>
+std::optional<Eigen::Affine3d> AffineFromColumnMajor(const T* values) {
+  Eigen::Matrix4d m;
+  for (int c = 0; c < 4; ++c) {
+    for (int r = 0; r < 4; ++r) m(r, c) = double(values[4 * c + r]);
+  }
+  if (!m.allFinite()) return std::nullopt;
+  const double tol = 1e-5 * std::max(1.0, m.topRows<3>().cwiseAbs().maxCoeff());
+  if (m.row(3).head<3>().cwiseAbs().maxCoeff() > tol || std::abs(m(3, 3) - 1) > 1e-5) return std::nullopt;
+  m.row(3) << 0, 0, 0, 1;
+  Eigen::Affine3d t;
+  t.matrix() = m;
+  return t;
+}
+
 Eigen::Affine3d LocalTransform(const tinygltf::Node& node, const std::string& where) {
   auto finite = [&](const std::vector<double>& v, const char* key) {
     for (double x : v) {
@@ -135,20 +155,9 @@ Eigen::Affine3d LocalTransform(const tinygltf::Node& node, const std::string& wh
   if (!node.matrix.empty()) {
     if (node.matrix.size() != 16) throw InputError(where + "/matrix", "must have 16 elements");
     finite(node.matrix, "matrix");
-    Eigen::Matrix4d m;
-    for (int c = 0; c < 4; ++c) {
-      for (int r = 0; r < 4; ++r) m(r, c) = node.matrix[size_t(4 * c + r)];  // column-major
-    }
-    // Exporters write float matrices: allow float noise, relative to the matrix's scale.
-    const double scale = std::max(1.0, m.topRows<3>().cwiseAbs().maxCoeff());
-    const double tol = 1e-5 * scale;
-    if (std::abs(m(3, 0)) > tol || std::abs(m(3, 1)) > tol || std::abs(m(3, 2)) > tol ||
-        std::abs(m(3, 3) - 1) > 1e-5) {
-      throw InputError(where + "/matrix", "must be affine (last row 0 0 0 1)");
-    }
-    m.row(3) << 0, 0, 0, 1;
-    t.matrix() = m;
-    return t;
+    std::optional<Eigen::Affine3d> m = AffineFromColumnMajor(node.matrix.data());
+    if (!m) throw InputError(where + "/matrix", "must be affine (last row 0 0 0 1)");
+    return *m;
   }
   if (!node.translation.empty()) {
     if (node.translation.size() != 3) throw InputError(where + "/translation", "must have 3 elements");
@@ -231,17 +240,12 @@ GltfSkinPose SkinPose(const GltfSource& src, int index) {
     }
     Eigen::Affine3d inverse_bind = Eigen::Affine3d::Identity();
     if (!ibm.empty()) {
-      Eigen::Matrix4d b;
-      for (int c = 0; c < 4; ++c) {
-        for (int r = 0; r < 4; ++r) b(r, c) = ibm[16 * k + size_t(4 * c + r)];  // column-major
-      }
-      const double tol = 1e-5 * std::max(1.0, b.topRows<3>().cwiseAbs().maxCoeff());
-      if (!b.allFinite() || b.row(3).head<3>().cwiseAbs().maxCoeff() > tol || std::abs(b(3, 3) - 1) > 1e-5) {
+      std::optional<Eigen::Affine3d> b = AffineFromColumnMajor(ibm.data() + 16 * k);
+      if (!b) {
         throw InputError(GltfWhere(src, "accessors", skin.inverseBindMatrices),
                          "inverse bind matrix " + std::to_string(k) + " must be affine (last row 0 0 0 1)");
       }
-      b.row(3) << 0, 0, 0, 1;
-      inverse_bind.matrix() = b;
+      inverse_bind = *b;
     }
     pose.joint_matrices.push_back(NodeGlobal(src, parent, joint) * inverse_bind);
   }

@@ -65,7 +65,7 @@ std::vector<PrintChunk> SplitPrintIntoChunks(const Toolpath& path, int chunk_mov
   for (size_t k = 1; k <= segs.size(); ++k) {
     const bool at_end = k == segs.size();
     // A cut before segment k breaks no bead joint when segment k-1 does not extrude.
-    const bool can_cut = at_end || !(segs[k - 1].extruded_m > 0 && segs[k - 1].xy_length_m > 0);
+    const bool can_cut = at_end || !segs[k - 1].LaysBead();
     if (at_end || (can_cut && k - first >= size_t(chunk_moves))) {
       PrintChunk c;
       c.first_segment = first;
@@ -73,7 +73,7 @@ std::vector<PrintChunk> SplitPrintIntoChunks(const Toolpath& path, int chunk_mov
       c.t_first_s = std::numeric_limits<double>::infinity();
       c.t_last_s = -std::numeric_limits<double>::infinity();
       for (size_t i = first; i < k; ++i) {
-        if (!(segs[i].extruded_m > 0 && segs[i].xy_length_m > 0)) continue;
+        if (!segs[i].LaysBead()) continue;
         c.t_first_s = std::min(c.t_first_s, segs[i].t_start_s);
         c.t_last_s = std::max(c.t_last_s, segs[i].t_end_s);
       }

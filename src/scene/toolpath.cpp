@@ -60,7 +60,7 @@ double Toolpath::PathLength() const {
 int Toolpath::LayerCount() const {
   std::vector<int> layers;
   for (const auto& s : segments) {
-    if (s.Extrudes() && s.xy_length_m > 0 && s.layer != ToolpathSegment::kNoLayer) layers.push_back(s.layer);
+    if (s.LaysBead() && s.layer != ToolpathSegment::kNoLayer) layers.push_back(s.layer);
   }
   std::sort(layers.begin(), layers.end());
   return int(std::unique(layers.begin(), layers.end()) - layers.begin());

@@ -53,6 +53,8 @@ struct ToolpathSegment {
 
   double Duration() const { return t_end_s - t_start_s; }
   bool Extrudes() const { return extruded_m > 0; }
+  // Extrudes while moving across the bed: lays a bead (not a prime in place, not a Z move).
+  bool LaysBead() const { return extruded_m > 0 && xy_length_m > 0; }
   // The point at parameter u in [0, 1] (linear in path length for lines and arcs of
   // constant radius; u = 0 is start_m, u = 1 is end_m).
   Eigen::Vector3d PointAt(double u) const;

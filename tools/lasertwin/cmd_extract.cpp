@@ -45,7 +45,7 @@ void Run(ExtractArgs& a) {
   if (a.planes < 0) throw InputError("--planes", "must be >= 1");
   if (a.planes > 0) a.plane_options.Check();
   StripeExtractor extractor(o);  // validates the options
-  if (a.planes > 1 && (o.method == ExtractionMethod::kMax || o.method == ExtractionMethod::kCom)) {
+  if (a.planes > 1 && FindsOneStripePerLine(o.method)) {
     std::cerr << "lasertwin: warning: " << MethodName(o.method) << " finds one stripe per search line, but --planes is "
               << a.planes << ": use --method multicom or steger to see every stripe\n";
   }
