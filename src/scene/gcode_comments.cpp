@@ -1,0 +1,113 @@
+// The G-code reader's comments: slicers' layer, type, layer height and filament
+// tags, and the layers of a file without layer comments, numbered from the heights
+// it extrudes at.
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "core/error.h"
+#include "scene/gcode_reader.h"
+#include "scene/motion_text.h"
+
+namespace lt {
+namespace gcode_detail {
+
+void GcodeReader::LayersFromZ() {
+  // A layer begins at the first move that extrudes at a height above every height at
+  // which the current layer has extruded (the end of a rising move counts: a spiral
+  // stays one layer); it takes the moves since the previous layer's last extrusion.
+  constexpr double kTolM = 1e-9;
+  int layer = ToolpathSegment::kNoLayer;
+  double top = 0;
+  size_t first_free = 0;  // the first segment after the last extrusion
+  auto& segs = path_.segments;
+  for (size_t k = 0; k < segs.size(); ++k) {
+    ToolpathSegment& s = segs[k];
+    if (!s.LaysBead()) continue;
+    const double z0 = s.start_m.z(), z1 = std::max(z0, s.end_m.z());
+    if (layer == ToolpathSegment::kNoLayer || z0 > top + kTolM) {
+      layer = layer == ToolpathSegment::kNoLayer ? 0 : layer + 1;
+      if (layer == 0) first_free = k;  // moves before the first extrusion stay outside
+      top = z1;
+    } else {
+      top = std::max(top, z1);
+    }
+    for (size_t j = first_free; j <= k; ++j) segs[j].layer = layer;
+    first_free = k + 1;
+  }
+  for (size_t j = first_free; j < segs.size() && layer != ToolpathSegment::kNoLayer; ++j) segs[j].layer = layer;
+  path_.layers_from_z = layer != ToolpathSegment::kNoLayer;
+}
+
+std::optional<double> GcodeReader::CommentNumber(std::string_view text, const char* what) const {
+  auto v = ParseFiniteNumber(TrimBlanks(text));
+  if (!v) Fail(std::string(what) + " comment without a number: \"" + std::string(text) + "\"");
+  return v;
+}
+
+void GcodeReader::Comment(std::string_view comment) {
+  std::string_view c = TrimBlanks(comment);
+  auto next_layer = [this] {
+    layer_comments_ = true;
+    layer_ = layer_ == ToolpathSegment::kNoLayer ? 0 : layer_ + 1;
+  };
+  auto set_type = [this](std::string_view name) {
+    std::string type(TrimBlanks(name));
+    int index = path_.TypeIndex(type);
+    if (index < 0) {
+      index = int(path_.type_names.size());
+      path_.type_names.push_back(type);
+    }
+    type_ = index;
+  };
+  if (StartsWith(c, "LAYER:")) {
+    auto v = CommentNumber(c.substr(6), "LAYER");
+    if (*v != std::floor(*v) || std::abs(*v) > 1e9) Fail("LAYER comment needs an integer, got " + FormatNumber(*v));
+    layer_comments_ = true;
+    layer_ = int(*v);
+  } else if (c == "LAYER_CHANGE" || c == "CHANGE_LAYER") {
+    next_layer();
+  } else if (c.size() > 6 && StartsWith(c, "layer ") && c[6] >= '0' && c[6] <= '9') {
+    next_layer();  // Simplify3D: "; layer 1, Z = 0.200" (counted from 1)
+  } else if (StartsWith(c, "BEGIN_LAYER_OBJECT")) {
+    // KISSlicer: "; BEGIN_LAYER_OBJECT z=0.20 z_thickness=0.20"
+    next_layer();
+    size_t at = c.find("z_thickness=");
+    if (at != std::string_view::npos) {
+      std::string_view v = c.substr(at + 12);
+      v = v.substr(0, v.find(' '));
+      path_.layer_height_m[layer_] = *CommentNumber(v, "z_thickness") * kMetresPerMm;
+    }
+  } else if (StartsWith(c, "TYPE:") || StartsWith(c, "FEATURE:") || StartsWith(c, "segType:")) {
+    set_type(c.substr(c.find(':') + 1));  // Cura, PrusaSlicer; Bambu, Orca; CraftWare
+  } else if (StartsWith(c, "feature ")) {
+    set_type(c.substr(8));  // Simplify3D: "; feature outer perimeter"
+  } else if (c.size() > 2 && c[0] == '\'' && c.find("',", 1) != std::string_view::npos) {
+    set_type(c.substr(1, c.find("',", 1) - 1));  // KISSlicer: "; 'Perimeter Path', 1.2 [feed mm/s], ..."
+  } else if (StartsWith(c, "HEIGHT:") || StartsWith(c, "LAYER_HEIGHT:")) {
+    double h = *CommentNumber(c.substr(c.find(':') + 1), "HEIGHT");
+    // Slicers' comments are in millimetres, whatever G20/G21 say.
+    if (layer_ != ToolpathSegment::kNoLayer) path_.layer_height_m[layer_] = h * kMetresPerMm;
+  } else if (StartsWith(c, "Layer height:")) {
+    path_.header_layer_height_m = *CommentNumber(c.substr(13), "Layer height") * kMetresPerMm;
+  } else if (StartsWith(c, "layer_height =")) {
+    path_.header_layer_height_m = *CommentNumber(c.substr(14), "layer_height") * kMetresPerMm;
+  } else if (StartsWith(c, "layer_thickness_mm =")) {  // KISSlicer
+    path_.header_layer_height_m = *CommentNumber(c.substr(20), "layer_thickness_mm") * kMetresPerMm;
+  } else if (StartsWith(c, "layerHeight,")) {  // Simplify3D's settings summary
+    path_.header_layer_height_m = *CommentNumber(c.substr(12), "layerHeight") * kMetresPerMm;
+  } else if (StartsWith(c, "filament_diameter =")) {
+    std::string_view list = c.substr(19);  // "1.75" or "1.75,1.75" (one per extruder)
+    path_.filament_diameter_m = *CommentNumber(list.substr(0, list.find(',')), "filament_diameter") * kMetresPerMm;
+  } else if (StartsWith(c, "fiber_dia_mm =")) {  // KISSlicer
+    path_.filament_diameter_m = *CommentNumber(c.substr(14), "fiber_dia_mm") * kMetresPerMm;
+  } else if (StartsWith(c, "filamentDiameters,")) {  // Simplify3D: "1.75|1.75|..." (one per extruder)
+    std::string_view list = c.substr(18);
+    path_.filament_diameter_m = *CommentNumber(list.substr(0, list.find('|')), "filamentDiameters") * kMetresPerMm;
+  }
+}
+
+}  // namespace gcode_detail
+}  // namespace lt

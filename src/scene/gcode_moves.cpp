@@ -1,0 +1,226 @@
+// The G-code reader's motion: G0/G1 moves, G2/G3 arcs, G4 dwell, G28 home, G92 set
+// position, the feed rate, and the timed segments they append to the toolpath.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "core/error.h"
+#include "scene/gcode_reader.h"
+
+namespace lt {
+namespace gcode_detail {
+
+namespace {
+
+constexpr double kHomingFeedMmS = 50.0;  // Marlin's default homing speed
+// Marlin's feed rate at power-on (1500 mm/min), for moves before the file's first F.
+constexpr double kPowerOnFeedMmS = 25.0;
+// An arc's end may lie off its circle by this much (rounding of I/J and X/Y).
+constexpr double kArcRadiusToleranceMm = 0.01;
+constexpr double kArcRadiusToleranceRel = 1e-3;
+// End points closer than this (mm) are the same point (full circles).
+constexpr double kSamePointMm = 1e-9;
+
+// Angle wrapped into (0, 2 pi].
+double WrapPositive(double a) {
+  a = std::fmod(a, 2 * M_PI);
+  if (a <= 0) a += 2 * M_PI;
+  return a;
+}
+
+// Lengths in messages: up to 6 significant digits ("10", "0.0005").
+std::string FormatLength(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+}  // namespace
+
+void GcodeReader::SetFeed() {
+  if (const Word* f = Find('F')) {
+    if (!(*f->value > 0)) Fail("feed rate F must be > 0, got " + FormatNumber(*f->value));
+    feed_mm_s_ = *f->value * unit_mm_ / 60.0;
+  }
+}
+
+Eigen::Vector3d GcodeReader::Target() const {
+  Eigen::Vector3d target = pos_mm_;
+  const char axes[3] = {'X', 'Y', 'Z'};
+  for (int i = 0; i < 3; ++i) {
+    if (const Word* w = Find(axes[i])) {
+      double v = *w->value * unit_mm_;
+      target[i] = xyz_relative_ ? pos_mm_[i] + v : v + offset_mm_[i];
+    }
+  }
+  return target;
+}
+
+double GcodeReader::ExtrudedFrom(const Word* e) {
+  if (!e) return 0;
+  double v = *e->value * unit_mm_;
+  double delta = ERelative() ? v : v - e_logical_mm_;
+  e_logical_mm_ = ERelative() ? e_logical_mm_ + v : v;
+  return delta;
+}
+
+void GcodeReader::AddSegment(int gcode, const Eigen::Vector3d& end_mm, double extruded_mm, double length_mm,
+                             double xy_length_mm, const ToolpathSegment* arc, double feed_mm_s) {
+  double duration = 0;
+  if (length_mm > 0) {
+    duration = length_mm / feed_mm_s;
+  } else if (extruded_mm != 0) {
+    duration = std::abs(extruded_mm) / feed_mm_s;
+  }
+  if (duration > 0) {
+    ToolpathSegment s = arc ? *arc : ToolpathSegment{};
+    s.start_m = pos_mm_ * kMetresPerMm;
+    s.end_m = end_mm * kMetresPerMm;
+    s.extruded_m = extruded_mm * kMetresPerMm;
+    s.feed_m_s = feed_mm_s * kMetresPerMm;
+    s.t_start_s = t_s_;
+    s.t_end_s = t_s_ + duration;
+    s.length_m = length_mm * kMetresPerMm;
+    s.xy_length_m = xy_length_mm * kMetresPerMm;
+    s.layer = layer_;
+    s.type = type_;
+    s.gcode = gcode;
+    s.line = line_no_;
+    path_.segments.push_back(s);
+    t_s_ = s.t_end_s;
+  }
+  pos_mm_ = end_mm;
+}
+
+double GcodeReader::MoveFeed(double length_mm, double extruded_mm) {
+  if (feed_mm_s_ > 0) return feed_mm_s_;
+  if (length_mm > 0 || extruded_mm != 0) {
+    if (path_.moves_at_power_on_feed++ == 0) path_.first_power_on_feed_line = line_no_;
+  }
+  return kPowerOnFeedMmS;
+}
+
+void GcodeReader::Move(int gcode) {
+  Expect("XYZEF", CommandName('G', gcode));
+  SetFeed();
+  Eigen::Vector3d end = Target();
+  double extruded = ExtrudedFrom(Find('E'));
+  double length = (end - pos_mm_).norm();
+  AddSegment(gcode, end, extruded, length, (end - pos_mm_).head<2>().norm(), nullptr, MoveFeed(length, extruded));
+}
+
+void GcodeReader::Arc(int gcode) {
+  const std::string command = CommandName('G', gcode);
+  Expect("XYZEFIJR", command);
+  if (!xy_plane_) Fail(command + " outside the XY plane (G18/G19) is not supported");
+  const Word* i = Find('I');
+  const Word* j = Find('J');
+  const Word* r = Find('R');
+  if (!i && !j && !r) Fail(command + " needs I/J (centre offset) or R (radius)");
+  if ((i || j) && r) Fail(command + " takes I/J or R, not both");
+  SetFeed();
+  Eigen::Vector3d end = Target();
+  Eigen::Vector2d start2 = pos_mm_.head<2>(), end2 = end.head<2>();
+  const bool clockwise = gcode == 2;
+  Eigen::Vector2d centre;
+  bool full_circle = false;
+  if (r) {
+    double radius = *r->value * unit_mm_;
+    if (radius == 0) Fail(command + " with zero radius R");
+    Eigen::Vector2d chord = end2 - start2;
+    double d = chord.norm();
+    if (d <= kSamePointMm) Fail(command + " with R needs an end point away from the start (use I/J for a full circle)");
+    double half = d / 2;
+    double excess = half - std::abs(radius);
+    if (excess > std::max(kArcRadiusToleranceMm, kArcRadiusToleranceRel * half)) {
+      Fail(command + " radius " + FormatLength(std::abs(radius) / unit_mm_) + " is too small for a chord of " +
+           FormatLength(d / unit_mm_));
+    }
+    double h = std::sqrt(std::max(0.0, radius * radius - half * half));
+    Eigen::Vector2d left(-chord.y() / d, chord.x() / d);
+    // The shorter arc (R > 0) of a counter-clockwise move turns about a centre on
+    // the left of the chord; clockwise or R < 0 puts it on the right.
+    double side = (clockwise ? -1.0 : 1.0) * (radius > 0 ? 1.0 : -1.0);
+    centre = start2 + chord / 2 + side * h * left;
+  } else {
+    Eigen::Vector2d offset(i ? *i->value * unit_mm_ : 0.0, j ? *j->value * unit_mm_ : 0.0);
+    if (offset.norm() == 0) Fail(command + " with zero radius (I and J are 0)");
+    centre = start2 + offset;
+    full_circle = (end2 - start2).norm() <= kSamePointMm;
+  }
+  double r0 = (start2 - centre).norm();
+  double r1 = (end2 - centre).norm();
+  if (r0 == 0) Fail(command + " with zero radius");
+  if (std::abs(r1 - r0) > std::max(kArcRadiusToleranceMm, kArcRadiusToleranceRel * r0)) {
+    Fail(command + " end point is not on the arc: radius " + FormatLength(r0 / unit_mm_) + " at the start, " +
+         FormatLength(r1 / unit_mm_) + " at the end");
+  }
+  double a0 = std::atan2(start2.y() - centre.y(), start2.x() - centre.x());
+  double a1 = std::atan2(end2.y() - centre.y(), end2.x() - centre.x());
+  double sweep = full_circle ? 2 * M_PI : WrapPositive(clockwise ? a0 - a1 : a1 - a0);
+  if (clockwise) sweep = -sweep;
+  if (full_circle) r1 = r0;
+  ToolpathSegment arc;
+  arc.arc = true;
+  arc.centre_m = centre * kMetresPerMm;
+  arc.radius_start_m = r0 * kMetresPerMm;
+  arc.radius_end_m = r1 * kMetresPerMm;
+  arc.angle_start_rad = a0;
+  arc.sweep_rad = sweep;
+  double xy_length = 0.5 * (r0 + r1) * std::abs(sweep);
+  double length = std::hypot(xy_length, end.z() - pos_mm_.z());
+  double extruded = ExtrudedFrom(Find('E'));
+  AddSegment(gcode, end, extruded, length, xy_length, &arc, MoveFeed(length, extruded));
+}
+
+void GcodeReader::Dwell() {
+  Expect("PS", "G4");
+  double seconds = 0;
+  if (const Word* p = Find('P')) seconds += *p->value / 1000.0;
+  if (const Word* s = Find('S')) seconds += *s->value;
+  if (seconds < 0) Fail("G4 dwell time must be >= 0, got " + FormatNumber(seconds) + " s");
+  if (seconds > 0) {
+    ToolpathSegment s;
+    s.start_m = s.end_m = pos_mm_ * kMetresPerMm;
+    s.t_start_s = t_s_;
+    s.t_end_s = t_s_ + seconds;
+    s.layer = layer_;
+    s.type = type_;
+    s.gcode = 4;
+    s.line = line_no_;
+    path_.segments.push_back(s);
+    t_s_ = s.t_end_s;
+  }
+}
+
+void GcodeReader::Home() {
+  bool any = Find('X') || Find('Y') || Find('Z');
+  Eigen::Vector3d end = pos_mm_;
+  const char axes[3] = {'X', 'Y', 'Z'};
+  for (int k = 0; k < 3; ++k) {
+    if (!any || Find(axes[k])) {
+      end[k] = 0;
+      offset_mm_[k] = 0;
+    }
+  }
+  double feed = feed_mm_s_ > 0 ? feed_mm_s_ : kHomingFeedMmS;
+  AddSegment(28, end, 0, (end - pos_mm_).norm(), (end - pos_mm_).head<2>().norm(), nullptr, feed);
+}
+
+void GcodeReader::SetPosition() {
+  Expect("XYZE", "G92");
+  if (words_.empty()) {
+    offset_mm_ = pos_mm_;
+    e_logical_mm_ = 0;
+    return;
+  }
+  const char axes[3] = {'X', 'Y', 'Z'};
+  for (int k = 0; k < 3; ++k) {
+    if (const Word* w = Find(axes[k])) offset_mm_[k] = pos_mm_[k] - *w->value * unit_mm_;
+  }
+  if (const Word* e = Find('E')) e_logical_mm_ = *e->value * unit_mm_;
+}
+
+}  // namespace gcode_detail
+}  // namespace lt

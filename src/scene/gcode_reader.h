@@ -1,0 +1,111 @@
+// Internal to the G-code reader (scene/gcode.cpp and the scene/gcode_*.cpp files
+// that hold its parts), not an API: use ParseGcode and ReadGcode (scene/gcode.h).
+// The reader's state machine, the parameter words of a line, and the constants and
+// helpers that more than one of its files needs.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/error.h"
+#include "scene/toolpath.h"
+
+namespace lt {
+namespace gcode_detail {
+
+constexpr double kMetresPerMm = 1e-3;
+
+// "G1", "M83" (built by appending: GCC 12 warns falsely on "G" + std::string).
+inline std::string CommandName(char letter, int n) {
+  std::string name(1, letter);
+  name.append(std::to_string(n));
+  return name;
+}
+
+inline bool StartsWith(std::string_view s, std::string_view prefix) { return s.substr(0, prefix.size()) == prefix; }
+
+// One parameter word: a letter and (for most commands, required) a number.
+struct Word {
+  char letter = 0;
+  std::optional<double> value;
+};
+
+class GcodeReader {
+ public:
+  explicit GcodeReader(const std::string& name) : name_(name) {}
+
+  void ReadLine(std::string_view line, int line_no);
+  // After M2/M30: the program has ended, later lines are not executed.
+  bool Ended() const { return path_.program_end_line > 0; }
+  Toolpath Finish();
+
+ private:
+  [[noreturn]] void Fail(const std::string& message) const {
+    throw InputError(name_ + ":" + std::to_string(line_no_), message);
+  }
+
+  void Comment(std::string_view comment);
+  std::optional<double> CommentNumber(std::string_view text, const char* what) const;
+  // Splits the words after the command. `numbers_required`: every letter needs a number;
+  // `t_parameter`: T is a parameter (M207's), not a tool change.
+  void ReadWords(std::string_view code, size_t pos, bool numbers_required, bool t_parameter = false);
+  const Word* Find(char letter) const;
+  void Expect(std::string_view allowed, const std::string& command) const;
+
+  void Move(int gcode);
+  void Arc(int gcode);
+  void Dwell();
+  void Home();
+  void SetPosition();
+  void SetFeed();
+  // Firmware retraction (G10/G11) and its settings (M207).
+  void FirmwareRetract(bool retract);
+  void RetractSettings();
+  // Checks a line's checksum ("N12 G1 X5*57": XOR of the bytes before '*').
+  void CheckChecksum(std::string_view line, size_t star);
+  // Layers from the heights at which the path extrudes, for files without layer comments.
+  void LayersFromZ();
+  // The feed rate of a G0-G3 move: the modal F, or before any F the firmware's
+  // power-on rate (such moves are counted for a note).
+  double MoveFeed(double length_mm, double extruded_mm);
+  // Appends a segment from the current position to `end` (machine mm) and advances
+  // the state; `geometry` completes arc fields. Returns nothing when nothing moves.
+  void AddSegment(int gcode, const Eigen::Vector3d& end_mm, double extruded_mm, double length_mm,
+                  double xy_length_mm, const ToolpathSegment* arc, double feed_mm_s);
+  bool ERelative() const { return e_mode_ == EMode::kFollow ? xyz_relative_ : e_mode_ == EMode::kRelative; }
+  // Target machine position from X/Y/Z words (absolute or relative).
+  Eigen::Vector3d Target() const;
+  double ExtrudedFrom(const Word* e);
+
+  std::string name_;
+  int line_no_ = 0;
+  Toolpath path_;
+  std::vector<Word> words_;
+
+  Eigen::Vector3d pos_mm_ = Eigen::Vector3d::Zero();     // machine position
+  Eigen::Vector3d offset_mm_ = Eigen::Vector3d::Zero();  // machine = logical + offset (G92)
+  double e_logical_mm_ = 0;
+  double feed_mm_s_ = 0;  // 0: none given yet
+  double unit_mm_ = 1;    // 25.4 under G20
+  bool xyz_relative_ = false;
+  enum class EMode { kFollow, kAbsolute, kRelative } e_mode_ = EMode::kFollow;
+  bool xy_plane_ = true;
+  int layer_ = ToolpathSegment::kNoLayer;
+  bool layer_comments_ = false;  // any layer comment seen
+  int type_ = -1;
+  double t_s_ = 0;
+  // Firmware retraction: length, feed rates, Z hop (mm, mm/s), as set by M207 or
+  // Marlin's defaults; whether the filament is retracted and the nozzle lifted now.
+  double fw_retract_mm_ = 3.0;
+  double fw_retract_feed_mm_s_ = 45.0;
+  double fw_recover_extra_mm_ = 0.0;
+  double fw_recover_feed_mm_s_ = 8.0;
+  double fw_hop_mm_ = 0.0;
+  bool fw_retracted_ = false;
+  double fw_hop_applied_mm_ = 0.0;
+};
+
+}  // namespace gcode_detail
+}  // namespace lt

@@ -1,0 +1,61 @@
+// The G-code reader's firmware retraction: G10 retracts and G11 recovers the
+// filament (with the Z hop), by the length and feed rates M207 sets.
+#include <string>
+
+#include "core/error.h"
+#include "scene/gcode_reader.h"
+
+namespace lt {
+namespace gcode_detail {
+
+void GcodeReader::FirmwareRetract(bool retract) {
+  ++(retract ? path_.firmware_retractions : path_.firmware_recoveries);
+  if (path_.firmware_retractions + path_.firmware_recoveries == 1) path_.first_firmware_retraction_line = line_no_;
+  if (retract == fw_retracted_) return;  // the firmware ignores a second G10 (or G11)
+  fw_retracted_ = retract;
+  if (retract) {
+    AddSegment(10, pos_mm_, -fw_retract_mm_, 0, 0, nullptr, fw_retract_feed_mm_s_);
+    if (fw_hop_mm_ > 0) {
+      Eigen::Vector3d up = pos_mm_ + Eigen::Vector3d(0, 0, fw_hop_mm_);
+      AddSegment(10, up, 0, fw_hop_mm_, 0, nullptr, fw_retract_feed_mm_s_);
+      offset_mm_.z() += fw_hop_mm_;  // logical Z unchanged: later Z moves stay lifted
+      fw_hop_applied_mm_ = fw_hop_mm_;
+    }
+  } else {
+    if (fw_hop_applied_mm_ > 0) {
+      Eigen::Vector3d down = pos_mm_ - Eigen::Vector3d(0, 0, fw_hop_applied_mm_);
+      AddSegment(11, down, 0, fw_hop_applied_mm_, 0, nullptr, fw_retract_feed_mm_s_);
+      offset_mm_.z() -= fw_hop_applied_mm_;
+      fw_hop_applied_mm_ = 0;
+    }
+    AddSegment(11, pos_mm_, fw_retract_mm_ + fw_recover_extra_mm_, 0, 0, nullptr, fw_recover_feed_mm_s_);
+  }
+}
+
+void GcodeReader::RetractSettings() {
+  // M207 S length, F feed (mm/min), Z hop (Marlin and RepRapFirmware); R extra length
+  // and T feed (mm/min) on recovery (RepRapFirmware); W swap length (Marlin, not used).
+  Expect("SFZRTW", "M207");
+  auto length = [&](char letter, double& out) {
+    if (const Word* w = Find(letter)) {
+      if (*w->value < 0) Fail(std::string("M207 ") + letter + " must be >= 0, got " + FormatNumber(*w->value));
+      out = *w->value * unit_mm_;
+    }
+  };
+  auto feed = [&](char letter, double& out) {
+    if (const Word* w = Find(letter)) {
+      if (!(*w->value > 0)) Fail(std::string("M207 ") + letter + " (feed rate) must be > 0, got " + FormatNumber(*w->value));
+      out = *w->value * unit_mm_ / 60.0;
+    }
+  };
+  length('S', fw_retract_mm_);
+  length('Z', fw_hop_mm_);
+  length('R', fw_recover_extra_mm_);
+  feed('F', fw_retract_feed_mm_s_);
+  if (Find('F') && !Find('T')) fw_recover_feed_mm_s_ = fw_retract_feed_mm_s_;  // RepRapFirmware: T defaults to F
+  feed('T', fw_recover_feed_mm_s_);
+  path_.firmware_retraction_set = true;
+}
+
+}  // namespace gcode_detail
+}  // namespace lt
