@@ -23,8 +23,11 @@
 // n_i give the point-to-tangent-plane distance d_i = n_i.(P - S_i); the error
 // is |bilinear blend of d_i| when the 4 pixels are on the same surface (same
 // instance, normals within 30 degrees, each S_i within 30 degrees of the
-// nearest pixel's tangent plane as seen from it), else |d| of the nearest
-// pixel. This is exact for locally planar surfaces. Points that project
+// nearest pixel's tangent plane as seen from it), else (across a break: an
+// edge, a step, a silhouette, where a stripe point's light may come from any
+// surface within its pixel) the smallest |d_i| over the 3x3 pixels around the
+// nearest pixel, as a cloud-to-mesh distance takes it. This is exact for
+// locally planar surfaces. Points that project
 // outside the image or onto background (Z = 0) have no true surface: counted
 // in points_off_surface, not in the statistics.
 //   completeness       ground-truth centres whose measured partner has a

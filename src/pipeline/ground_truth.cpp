@@ -106,20 +106,43 @@ std::optional<double> TrueSurface::SignedDistance(const Eigen::Vector3d& p_in_ca
   const int yn = std::clamp(int(std::lround(pixel->y())), 0, h - 1);
   const Texel nearest = At(xn, yn);
   if (!nearest.hit) return std::nullopt;
+
   const double d_nearest = nearest.n.dot(p_in_cam - nearest.s);
 
-  // Bilinear over the 4 pixels around the projection, when they are one surface.
+  // One smooth surface: same instance as the nearest pixel, normal within 30
+  // degrees of its normal, and off its tangent plane by less than 30 degrees as
+  // seen from its surface point (a step is not).
+  const double cos30 = std::cos(M_PI / 6), sin30 = 0.5;
+  auto same_surface = [&](const Texel& t) {
+    if (!t.hit || t.instance != nearest.instance || t.n.dot(nearest.n) < cos30) return false;
+    const Eigen::Vector3d step = t.s - nearest.s;
+    return std::abs(nearest.n.dot(step)) <= sin30 * step.norm();
+  };
+  // A stripe point's light may come from anywhere within the nearest pixel.
+  // Where the 3x3 pixels around it see a break (an edge, a step, a silhouette),
+  // the light may be another surface's than the one the pixel's centre sees:
+  // the distance to the nearest of the surfaces they see (their tangent
+  // planes), as a cloud-to-mesh distance takes it.
+  double nearest_of_all = d_nearest;
+  bool one_surface = true;
+  for (int y = std::max(0, yn - 1); y <= std::min(h - 1, yn + 1); ++y)
+    for (int x = std::max(0, xn - 1); x <= std::min(w - 1, xn + 1); ++x) {
+      const Texel t = At(x, y);
+      one_surface = one_surface && same_surface(t);
+      if (!t.hit) continue;
+      const double d = t.n.dot(p_in_cam - t.s);
+      if (std::abs(d) < std::abs(nearest_of_all)) nearest_of_all = d;
+    }
+  if (!one_surface) return nearest_of_all;
+
+  // Bilinear over the 4 pixels around the projection (within those 3x3).
   const int x0 = int(std::floor(pixel->x())), y0 = int(std::floor(pixel->y()));
   if (x0 < 0 || y0 < 0 || x0 + 1 >= w || y0 + 1 >= h) return d_nearest;
   const double fx = pixel->x() - x0, fy = pixel->y() - y0;
-  const double cos30 = std::cos(M_PI / 6), sin30 = 0.5;
   double blend = 0;
   for (int k = 0; k < 4; ++k) {
     const int dx = k & 1, dy = k >> 1;
     const Texel t = At(x0 + dx, y0 + dy);
-    if (!t.hit || t.instance != nearest.instance || t.n.dot(nearest.n) < cos30) return d_nearest;
-    const Eigen::Vector3d step = t.s - nearest.s;
-    if (std::abs(nearest.n.dot(step)) > sin30 * step.norm()) return d_nearest;  // a step, not one smooth surface
     blend += (dx ? fx : 1 - fx) * (dy ? fy : 1 - fy) * t.n.dot(p_in_cam - t.s);
   }
   return blend;

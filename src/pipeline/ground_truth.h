@@ -35,8 +35,9 @@ class TrueSurface {
   // Signed distance (metres) of p_in_cam to the true surface's tangent plane
   // at the pixel p projects to, positive on the camera's side: bilinear blend
   // over the 4 pixels around the projection when they lie on one surface, else
-  // the nearest pixel's (see pipeline/eval_metrics.h). nullopt when p does not
-  // project into the image or the pixel sees nothing.
+  // (a break: edge, step, silhouette) the smallest in magnitude of the tangent
+  // planes' of the 3x3 pixels around the nearest one (see pipeline/eval_metrics.h).
+  // nullopt when p does not project into the image or the nearest pixel sees nothing.
   std::optional<double> SignedDistance(const Eigen::Vector3d& p_in_cam) const;
 
  private:

@@ -311,7 +311,7 @@ TEST(EvaluateRun, BadInput) {
   EXPECT_THAT([&] { EvaluateRun(run.dir, o); }, ::testing::ThrowsMessage<InputError>(HasSubstr("no laser frame")));
 }
 
-TEST(TrueSurface, StepUsesTheNearestPixel) {
+TEST(TrueSurface, AtAStepTheNearestSurfaceAroundCounts) {
   // Two fronto-parallel surfaces: z = 0.1 m left of column 40, 0.101 m from it on.
   const fs::path dir = fs::temp_directory_path() / ("lt_eval_test_" + std::to_string(::getpid()));
   fs::create_directories(dir);
@@ -332,6 +332,21 @@ TEST(TrueSurface, StepUsesTheNearestPixel) {
   const Eigen::Vector3d q = *EvalCamera().Unproject({60.3, 20.7});
   EXPECT_NEAR(*s.SignedDistance(q * (0.1005 / q.z())), 0.0005, 1e-7);
   EXPECT_FALSE(s.SignedDistance({0, 0, -1}).has_value());
+  // A point on the far surface projecting at u = 39.4, where pixel 39's centre
+  // sees the near one: a stripe there lights the part of pixel 39 beyond the
+  // step. Its distance to the nearest surface within the pixels around is 0
+  // (the nearest pixel's plane alone said 1 mm).
+  EXPECT_NEAR(*s.SignedDistance(r * (0.101 / r.z())), 0.0, 1e-7);
+  // The same at u = 38.8, where the 4 pixels around the projection (38, 39) all
+  // see the near surface but the nearest pixel (39) reaches the step.
+  const Eigen::Vector3d l = *EvalCamera().Unproject({38.8, 20});
+  EXPECT_NEAR(*s.SignedDistance(l * (0.101 / l.z())), 0.0, 1e-7);
+  // Between the two, 0.4 mm behind the near surface and 0.6 mm before the far
+  // one: the nearer of the two, signed.
+  EXPECT_NEAR(*s.SignedDistance(r * (0.1004 / r.z())), -0.0004, 1e-7);
+  // Away from the step only one surface is near: a point 1 mm beyond it is 1 mm off.
+  const Eigen::Vector3d a = *EvalCamera().Unproject({20.4, 20});
+  EXPECT_NEAR(*s.SignedDistance(a * (0.101 / a.z())), -0.001, 1e-7);
 }
 
 }  // namespace
