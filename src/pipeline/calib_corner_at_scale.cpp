@@ -1,0 +1,231 @@
+// Checkerboard corner detection at one smoothing scale
+// (pipeline/calib_corner_at_scale.h): steps 1 to 5 of pipeline/calib_corners.h.
+#include "pipeline/calib_corner_at_scale.h"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "pipeline/calib_corner_candidates.h"
+#include "pipeline/gaussian_filter.h"
+#include "pipeline/option_checks.h"
+
+namespace lt {
+namespace corner_detail {
+
+namespace {
+
+double Percentile(std::vector<float> v, double q) {
+  if (v.empty()) return 0;
+  const size_t k = std::min(v.size() - 1, size_t(q * double(v.size() - 1) + 0.5));
+  std::nth_element(v.begin(), v.begin() + ptrdiff_t(k), v.end());
+  return v[k];
+}
+
+}  // namespace
+
+// The detection at one smoothing scale, on the image already averaged to one
+// channel and with its noise estimated.
+ScaleResult DetectAtScale(const Image<float>& img, double noise, const CheckerboardSpec& board,
+                          const CornerDetectionOptions& options, double sigma) {
+  ScaleResult out;
+  CornerDetection& det = out.det;
+  det.sigma_px = sigma;
+  auto refuse = [&](Failure failure, std::string reason) {
+    det.ok = false;
+    det.reason = std::move(reason);
+    det.corners.clear();
+    det.corner_std_px.clear();
+    out.failure = failure;
+    return out;
+  };
+  const ImageView<float> iv = img.View();
+  const int w = img.width, h = img.height;
+
+  // ---- noise and contrast
+  det.noise_sigma = noise;
+  const GaussianKernels kernels(sigma);
+  const Smoothed sm = Smooth(img, kernels);
+  // The contrast: the range of the smoothed image between its 0.1st and
+  // 99.9th percentiles (smoothing divides the noise by ~5σ; a board covering
+  // a few percent of the image still counts, a few hot pixels do not).
+  {
+    std::vector<float> values;
+    const size_t step = std::max<size_t>(1, sm.r.size() / 1000000);
+    for (size_t k = 0; k < sm.r.size(); k += step) values.push_back(sm.r[k]);
+    det.contrast = Percentile(values, 0.999) - Percentile(values, 0.001);
+  }
+  if (!(det.contrast > 5 * noise) || !(det.contrast > 0)) {
+    return refuse(Failure::kNoContrast, "no checkerboard found: the image has no contrast above its noise (contrast " + Fmt(det.contrast) +
+                  ", noise " + Fmt(noise) + ")");
+  }
+
+  // ---- saddle candidates
+  // Each corner is judged against its own contrast (the range of the smoothed
+  // image on the validation circle), so that uneven light and vignetting do
+  // not matter. That range must exceed 3 noise σ, and a tenth of the image's
+  // contrast (the noise estimate misses noise that the camera has smoothed,
+  // e.g. by JPEG compression, and faint texture is no board).
+  const double min_range = std::max(3 * noise, 0.1 * det.contrast);
+  const double sigma_eff2 = sigma * sigma + 1.0 / 6.0;  // Gaussian, the kernel's pixel box and the pixel's own
+  const double circle = 2.5 * sigma + 1;                 // validation circle radius
+  auto response_floor = [&](double range) { return std::pow(options.min_response * range / (M_PI * sigma_eff2), 2); };
+  const double threshold = response_floor(min_range);
+  const double border = 2 * sigma + 2;
+  const int nms = std::max(1, int(std::lround(sigma)));
+  std::vector<float> strength(size_t(w) * size_t(h), 0.0f);
+  for (size_t k = 0; k < strength.size(); ++k) {
+    strength[k] = sm.rxy[k] * sm.rxy[k] - sm.rxx[k] * sm.ryy[k];
+  }
+  std::vector<Candidate> cands;
+  const int b0 = int(std::ceil(border));
+  for (int y = b0; y < h - b0; ++y) {
+    for (int x = b0; x < w - b0; ++x) {
+      const float s = strength[size_t(y) * size_t(w) + size_t(x)];
+      if (!(s > threshold)) continue;
+      bool is_max = true;
+      for (int dy = -nms; dy <= nms && is_max; ++dy) {
+        for (int dx = -nms; dx <= nms; ++dx) {
+          if (dx == 0 && dy == 0) continue;
+          const float o = strength[size_t(y + dy) * size_t(w) + size_t(x + dx)];
+          // Ties: the first in scan order wins.
+          if (o > s || (o == s && (dy < 0 || (dy == 0 && dx < 0)))) {
+            is_max = false;
+            break;
+          }
+        }
+      }
+      if (!is_max) continue;
+      Candidate c;
+      c.p = Eigen::Vector2d(x, y);
+      c.strength = s;
+      double ring[kCircleSamples];
+      const double range = CircleSamples(sm, c.p, circle, ring);
+      if (!(range >= min_range) || !(s > response_floor(range))) continue;
+      if (!RefineSaddle(iv, sigma, kernels.radius, border, &c.p, &c.hessian)) continue;
+      if (!EdgeDirections(sm, c.p, circle, min_range, &c)) continue;
+      bool duplicate = false;
+      for (const auto& o : cands) duplicate = duplicate || (o.p - c.p).norm() < 1.0;
+      if (!duplicate) cands.push_back(c);
+    }
+  }
+  det.candidates = int(cands.size());
+  if (cands.size() < 4) {
+    return refuse(Failure::kFewCandidates, "no checkerboard found: " + std::to_string(cands.size()) + " corner-like points in the image");
+  }
+
+  // ---- grid, from the strongest seeds
+  std::vector<int> order(cands.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = int(k);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return cands[size_t(a)].strength > cands[size_t(b)].strength; });
+  Grid best;
+  std::vector<char> tried(cands.size(), 0);
+  int seeds = 0;
+  bool complete = false;
+  int ni = 0, amin = 0, bmin = 0;
+  for (int seed : order) {
+    if (seeds >= options.max_seeds) break;
+    if (tried[size_t(seed)]) continue;
+    ++seeds;
+    Grid g = GrowGrid(cands, seed, options.neighbour_tolerance);
+    for (const auto& [cell, idx] : g.cells) tried[size_t(idx)] = 1;
+    if (g.cells.size() > best.cells.size()) best = g;
+    int a0 = 1 << 30, a1 = -(1 << 30), c0 = 1 << 30, c1 = -(1 << 30);
+    for (const auto& [cell, idx] : g.cells) {
+      a0 = std::min(a0, cell.first), a1 = std::max(a1, cell.first);
+      c0 = std::min(c0, cell.second), c1 = std::max(c1, cell.second);
+    }
+    const int da = a1 - a0 + 1, dc = c1 - c0 + 1;
+    const bool full = int(g.cells.size()) == da * dc;
+    if (full && ((da == board.rows && dc == board.cols) || (da == board.cols && dc == board.rows))) {
+      best = g;
+      complete = true;
+      ni = da, amin = a0, bmin = c0;
+      break;
+    }
+  }
+  for (const auto& [cell, idx] : best.cells) det.grid.push_back({cands[size_t(idx)].p, cell.first, cell.second});
+  if (!complete) {
+    if (best.cells.size() < 4) return refuse(Failure::kNoGrid, "no checkerboard found: no grid of corners");
+    return refuse(GridFailure(best, cands, board, w, h, border, circle), "found a grid of " + std::to_string(best.cells.size()) + " corners, not the complete " +
+                  std::to_string(board.rows) + " x " + std::to_string(board.cols) +
+                  " board: the board is partly outside the image, occluded, or too small or blurred for sigma_px = " +
+                  Fmt(sigma));
+  }
+
+  // ---- board order: rows/cols by count, handedness, then colour
+  auto local = [&](int i, int j) -> const Candidate& {
+    // Board (i, j) before flips -> the grid's own cell.
+    const Cell c = ni == board.rows ? Cell{amin + i, bmin + j} : Cell{amin + j, bmin + i};
+    return cands[size_t(best.cells.at(c))];
+  };
+  const int R = board.rows, C = board.cols;
+  bool flip_j = false, flip_both = false;
+  auto at = [&](int i, int j) -> const Candidate& {
+    if (flip_both) i = R - 1 - i, j = C - 1 - j;
+    if (flip_j) j = C - 1 - j;
+    return local(i, j);
+  };
+  Eigen::Vector2d along_row = Eigen::Vector2d::Zero(), along_col = Eigen::Vector2d::Zero();
+  for (int i = 0; i < R; ++i)
+    for (int j = 0; j + 1 < C; ++j) along_row += at(i, j + 1).p - at(i, j).p;
+  for (int i = 0; i + 1 < R; ++i)
+    for (int j = 0; j < C; ++j) along_col += at(i + 1, j).p - at(i, j).p;
+  // Seen from the front, board x (along a row) then y (down a column) turn
+  // clockwise in the image (y down): a positive cross product.
+  if (along_row.x() * along_col.y() - along_row.y() * along_col.x() < 0) flip_j = true;
+  // Colour: each square against its right and lower neighbours (a local
+  // comparison, whatever the lighting across the board). Squares with i + j
+  // even are black.
+  std::vector<double> square((R - 1) * (C - 1));
+  for (int i = 0; i + 1 < R; ++i) {
+    for (int j = 0; j + 1 < C; ++j) {
+      const Eigen::Vector2d centre = 0.25 * (at(i, j).p + at(i + 1, j).p + at(i, j + 1).p + at(i + 1, j + 1).p);
+      square[size_t(i * (C - 1) + j)] = sm.Sample(centre.x(), centre.y());
+    }
+  }
+  int even_darker = 0, odd_darker = 0, pairs = 0;
+  for (int i = 0; i + 1 < R; ++i) {
+    for (int j = 0; j + 1 < C; ++j) {
+      for (const auto& [i2, j2] : {std::pair{i, j + 1}, std::pair{i + 1, j}}) {
+        if (i2 + 1 >= R || j2 + 1 >= C) continue;
+        const double v = square[size_t(i * (C - 1) + j)], u = square[size_t(i2 * (C - 1) + j2)];
+        const double even_minus_odd = (i + j) % 2 == 0 ? v - u : u - v;
+        ++pairs;
+        if (even_minus_odd < -min_range) ++even_darker;
+        if (even_minus_odd > min_range) ++odd_darker;
+      }
+    }
+  }
+  // All neighbouring pairs but a few (a reflection, a stain) must agree.
+  if (!(std::max(even_darker, odd_darker) >= std::max(1, (3 * pairs + 3) / 4))) {
+    return refuse(Failure::kColours, "the squares' colours do not tell the board's orientation (of " + std::to_string(pairs) +
+                  " pairs of neighbouring squares, " + std::to_string(even_darker) + " say one way, " +
+                  std::to_string(odd_darker) + " the other)");
+  }
+  if (odd_darker > even_darker) flip_both = true;
+
+  // ---- output, with the predicted standard deviations
+  double kg = 0, k0 = 0;
+  for (float v : kernels.k1) kg += double(v) * v;
+  for (float v : kernels.k0) k0 += double(v) * v;
+  const double gradient_var = noise * noise * kg * k0;
+  det.grid.clear();
+  for (int i = 0; i < R; ++i) {
+    for (int j = 0; j < C; ++j) {
+      const Candidate& c = at(i, j);
+      det.corners.push_back(c.p);
+      const Eigen::Matrix2d hinv = c.hessian.inverse();
+      det.corner_std_px.push_back(std::sqrt(gradient_var * (hinv * hinv.transpose()).trace() / 2));
+      det.grid.push_back({c.p, i, j});
+    }
+  }
+  det.ok = true;
+  return out;
+}
+
+}  // namespace corner_detail
+}  // namespace lt

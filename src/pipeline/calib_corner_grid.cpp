@@ -1,0 +1,191 @@
+// Checkerboard corner detection's grid (pipeline/calib_corner_grid.h): growing
+// it from a seed, why a grid is refused, the off-grid test of a corner.
+#include "pipeline/calib_corner_grid.h"
+
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <utility>
+#include <vector>
+
+namespace lt {
+namespace corner_detail {
+
+namespace {
+
+// Whether direction d (unit) runs along one of the candidate's edges (within 20 degrees).
+bool AlongEdge(const Candidate& c, const Eigen::Vector2d& d) {
+  const double cmin = std::cos(20 * M_PI / 180);
+  return std::abs(c.e1.dot(d)) > cmin || std::abs(c.e2.dot(d)) > cmin;
+}
+
+}  // namespace
+
+Grid GrowGrid(const std::vector<Candidate>& cands, int seed, double tolerance) {
+  Grid g;
+  const Candidate& s = cands[size_t(seed)];
+  std::vector<char> used(cands.size(), 0);
+  auto nearest_along = [&](const Eigen::Vector2d& dir) {
+    int best = -1;
+    double best_d = HUGE_VAL;
+    for (size_t k = 0; k < cands.size(); ++k) {
+      if (int(k) == seed) continue;
+      const Eigen::Vector2d d = cands[k].p - s.p;
+      const double len = d.norm();
+      if (len < 3 || len >= best_d) continue;
+      if (d.dot(dir) < len * std::cos(15 * M_PI / 180)) continue;
+      best = int(k), best_d = len;
+    }
+    return best;
+  };
+  g.cells[{0, 0}] = seed;
+  used[size_t(seed)] = 1;
+  int n[4] = {nearest_along(s.e1), nearest_along(-s.e1), nearest_along(s.e2), nearest_along(-s.e2)};
+  const Cell at[4] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+  // The two neighbours along one edge are about equally far (perspective
+  // changes the spacing by far less than the tolerance allows): of two very
+  // different ones, the farther lies beyond the board's edge (another
+  // object's corner) and is dropped.
+  for (int k = 0; k < 4; k += 2) {
+    if (n[k] < 0 || n[k + 1] < 0) continue;
+    const double d0 = (cands[size_t(n[k])].p - s.p).norm(), d1 = (cands[size_t(n[k + 1])].p - s.p).norm();
+    if (std::max(d0, d1) > std::min(d0, d1) * (1 + tolerance) / (1 - tolerance)) n[d0 > d1 ? k : k + 1] = -1;
+  }
+  if ((n[0] < 0 && n[1] < 0) || (n[2] < 0 && n[3] < 0)) return g;
+  for (int k = 0; k < 4; ++k) {
+    if (n[k] >= 0 && !used[size_t(n[k])]) {
+      g.cells[at[k]] = n[k];
+      used[size_t(n[k])] = 1;
+    }
+  }
+  auto pos = [&](const Cell& c) -> const Eigen::Vector2d* {
+    auto it = g.cells.find(c);
+    return it == g.cells.end() ? nullptr : &cands[size_t(it->second)].p;
+  };
+  const Cell dirs[4] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+  for (bool changed = true; changed;) {
+    changed = false;
+    const std::vector<std::pair<Cell, int>> snapshot(g.cells.begin(), g.cells.end());
+    for (const auto& [cell, idx] : snapshot) {
+      for (const Cell& d : dirs) {
+        const Cell target{cell.first + d.first, cell.second + d.second};
+        if (g.cells.count(target)) continue;
+        const Eigen::Vector2d& p = cands[size_t(idx)].p;
+        Eigen::Vector2d pred;
+        double step = 0;
+        if (const auto* back = pos({cell.first - d.first, cell.second - d.second})) {
+          pred = 2 * p - *back;
+          step = (p - *back).norm();
+        } else {
+          bool found = false;
+          for (int sgn : {1, -1}) {
+            const Cell perp{d.second * sgn, d.first * sgn};
+            const auto* tp = pos({target.first + perp.first, target.second + perp.second});
+            const auto* cp = pos({cell.first + perp.first, cell.second + perp.second});
+            if (tp && cp) {
+              pred = p + (*tp - *cp);
+              step = (*tp - *cp).norm();
+              found = true;
+              break;
+            }
+          }
+          if (!found) continue;
+        }
+        int best = -1;
+        double best_d = tolerance * step;
+        for (size_t k = 0; k < cands.size(); ++k) {
+          if (used[k]) continue;
+          const double dist = (cands[k].p - pred).norm();
+          if (dist < best_d) best = int(k), best_d = dist;
+        }
+        if (best < 0) continue;
+        const Eigen::Vector2d along = (cands[size_t(best)].p - p).normalized();
+        if (!AlongEdge(cands[size_t(best)], along) || !AlongEdge(cands[size_t(idx)], along)) continue;
+        g.cells[target] = best;
+        used[size_t(best)] = 1;
+        changed = true;
+      }
+    }
+  }
+  return g;
+}
+
+// An incomplete grid is refused for good (no other scale tried) when it
+// cannot be a part of the board that another scale would complete: a grid
+// without holes that has more corners along a line than the board (a board of
+// another size, or another board), or one whose squares are large for this
+// scale and whose next corners beyond each side would still be well inside
+// the image (a whole board of another size, or a board whose outer corners
+// are occluded). Otherwise (holes, squares small against the kernel, or a
+// grid cut by the image border) another scale may find the rest.
+Failure GridFailure(const Grid& g, const std::vector<Candidate>& cands, const CheckerboardSpec& board, int w, int h,
+                    double border, double circle) {
+  int a0 = 1 << 30, a1 = -(1 << 30), c0 = 1 << 30, c1 = -(1 << 30);
+  for (const auto& [cell, idx] : g.cells) {
+    a0 = std::min(a0, cell.first), a1 = std::max(a1, cell.first);
+    c0 = std::min(c0, cell.second), c1 = std::max(c1, cell.second);
+  }
+  const int da = a1 - a0 + 1, dc = c1 - c0 + 1;
+  if (int(g.cells.size()) != da * dc) return Failure::kIncompleteGrid;  // holes
+  const bool fits = (da <= board.rows && dc <= board.cols) || (da <= board.cols && dc <= board.rows);
+  if (!fits) return Failure::kGridNotTheBoard;
+  auto p = [&](int a, int c) { return cands[size_t(g.cells.at({a, c}))].p; };
+  double spacing = HUGE_VAL;
+  bool inside = true;
+  auto check_next = [&](const Eigen::Vector2d& edge, const Eigen::Vector2d& inner) {
+    const Eigen::Vector2d next = 2 * edge - inner;
+    inside = inside && next.x() >= border + circle && next.y() >= border + circle && next.x() <= w - 1 - border - circle &&
+             next.y() <= h - 1 - border - circle;
+  };
+  for (int a = a0; a <= a1; ++a) {
+    for (int c = c0; c <= c1; ++c) {
+      if (a < a1) spacing = std::min(spacing, (p(a + 1, c) - p(a, c)).norm());
+      if (c < c1) spacing = std::min(spacing, (p(a, c + 1) - p(a, c)).norm());
+    }
+  }
+  if (da >= 2) {
+    for (int c = c0; c <= c1; ++c) check_next(p(a0, c), p(a0 + 1, c)), check_next(p(a1, c), p(a1 - 1, c));
+  }
+  if (dc >= 2) {
+    for (int a = a0; a <= a1; ++a) check_next(p(a, c0), p(a, c0 + 1)), check_next(p(a, c1), p(a, c1 - 1));
+  }
+  if (da >= 2 && dc >= 2 && inside && spacing >= 2 * circle) return Failure::kGridNotTheBoard;
+  return Failure::kIncompleteGrid;
+}
+
+// How far corner (i, j) of a rows x cols detection lies from where the
+// homography through its neighbours (those within one square, or two when
+// fewer than five) puts it. Perspective keeps the board's corners on a
+// homography; lens distortion bends it little over two squares.
+double OffGrid(const std::vector<Eigen::Vector2d>& corners, int rows, int cols, int i, int j) {
+  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> pts;  // (board, image)
+  for (int reach = 1; reach <= 2 && pts.size() < 5; ++reach) {
+    pts.clear();
+    for (int a = std::max(0, i - reach); a <= std::min(rows - 1, i + reach); ++a)
+      for (int b = std::max(0, j - reach); b <= std::min(cols - 1, j + reach); ++b)
+        if (a != i || b != j) pts.push_back({Eigen::Vector2d(b - j, a - i), corners[size_t(a * cols + b)]});
+  }
+  if (pts.size() < 5) return 0;  // too few neighbours to compare with
+  // Normalised DLT: image points centred and scaled.
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& pr : pts) mean += pr.second;
+  mean /= double(pts.size());
+  double scale = 0;
+  for (const auto& pr : pts) scale += (pr.second - mean).norm();
+  scale = scale > 0 ? double(pts.size()) / scale : 1;
+  Eigen::MatrixXd a(2 * pts.size(), 9);
+  for (size_t k = 0; k < pts.size(); ++k) {
+    const double x = pts[k].first.x(), y = pts[k].first.y();
+    const Eigen::Vector2d q = (pts[k].second - mean) * scale;
+    a.row(2 * k) << x, y, 1, 0, 0, 0, -q.x() * x, -q.x() * y, -q.x();
+    a.row(2 * k + 1) << 0, 0, 0, x, y, 1, -q.y() * x, -q.y() * y, -q.y();
+  }
+  const Eigen::VectorXd h = Eigen::JacobiSVD<Eigen::MatrixXd>(a, Eigen::ComputeFullV).matrixV().col(8);
+  if (!(std::abs(h(8)) > 1e-12)) return HUGE_VAL;
+  const Eigen::Vector2d pred = Eigen::Vector2d(h(2), h(5)) / h(8) / scale + mean;  // board offset (0, 0)
+  return (pred - corners[size_t(i * cols + j)]).norm();
+}
+
+}  // namespace corner_detail
+}  // namespace lt

@@ -1,0 +1,44 @@
+// Internal to checkerboard corner detection (pipeline/calib_corners.cpp and the
+// pipeline/calib_corner_*.cpp files that hold its parts), not an API: use
+// DetectCheckerboard (pipeline/calib_corners.h).
+// The grid of corners: growing it from a seed candidate, why a scale refused
+// the board (and whether another scale may cure it), and how far a detected
+// corner lies from where its neighbours put it.
+#pragma once
+
+#include <Eigen/Core>
+#include <map>
+#include <utility>
+#include <vector>
+
+#include "pipeline/calib_checkerboard.h"
+#include "pipeline/calib_corner_candidates.h"
+
+namespace lt {
+namespace corner_detail {
+
+using Cell = std::pair<int, int>;
+
+struct Grid {
+  std::map<Cell, int> cells;  // (a, b) -> candidate
+};
+
+// The grid grown from candidate `seed` along its edges, each next corner the
+// nearest candidate within `tolerance` of the local spacing of its prediction.
+Grid GrowGrid(const std::vector<Candidate>& cands, int seed, double tolerance);
+
+// Why one scale refused the board: the first three after kNone are what another scale may
+// cure (blur, squares small against the kernel); the others no scale cures.
+enum class Failure { kNone, kFewCandidates, kNoGrid, kIncompleteGrid, kNoContrast, kGridNotTheBoard, kColours };
+
+// Why the incomplete grid g is not the board: kIncompleteGrid when another
+// scale may complete it, kGridNotTheBoard when none can.
+Failure GridFailure(const Grid& g, const std::vector<Candidate>& cands, const CheckerboardSpec& board, int w, int h,
+                    double border, double circle);
+
+// How far corner (i, j) of a rows x cols detection lies from where the
+// homography through its neighbours puts it.
+double OffGrid(const std::vector<Eigen::Vector2d>& corners, int rows, int cols, int i, int j);
+
+}  // namespace corner_detail
+}  // namespace lt
