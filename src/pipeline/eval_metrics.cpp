@@ -260,15 +260,23 @@ FrameSamples EvaluateFrame(const RunFrame& frame, SearchAxis axis, const std::ve
     }
   }
   if (surface) {
+    std::vector<Eigen::Vector3d> exact;  // the exact centres of a point's line and the lines beside it
     for (const ScanPoint& m : measured) {
       if (!m.p_in_cam) continue;
+      exact.clear();
+      const int line = int(std::lround(line_of(m.pixel.u, m.pixel.v)));
+      for (int l = line - 1; l <= line + 1; ++l) {
+        const auto it = by_line.find(l);
+        if (it == by_line.end()) continue;
+        for (int i : it->second.first) exact.push_back(truth[size_t(i)].p_in_cam);
+      }
       PointSample p;
       p.frame = frame.index;
       p.plane = m.pixel.plane;
       p.u = m.pixel.u;
       p.v = m.pixel.v;
       p.depth_m = m.p_in_cam->z();
-      if (auto d = surface->SignedDistance(*m.p_in_cam)) {
+      if (auto d = surface->SignedDistance(*m.p_in_cam, exact)) {
         p.on_surface = true;
         p.error_mm = std::abs(*d) * 1e3;
       }

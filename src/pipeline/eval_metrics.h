@@ -26,8 +26,10 @@
 // nearest pixel's tangent plane as seen from it), else (across a break: an
 // edge, a step, a silhouette, where a stripe point's light may come from any
 // surface within its pixel) the smallest |d_i| over the 3x3 pixels around the
-// nearest pixel, as a cloud-to-mesh distance takes it. This is exact for
-// locally planar surfaces. Points that project
+// nearest pixel and the distances to the exact stripe centres of its scan line
+// and the two beside it (true surface points: a face narrower than a pixel,
+// which no pixel centre sees, has them), as a cloud-to-mesh distance takes it.
+// This is exact for locally planar surfaces. Points that project
 // outside the image or onto background (Z = 0) have no true surface: counted
 // in points_off_surface, not in the statistics.
 //   completeness       ground-truth centres whose measured partner has a

@@ -97,7 +97,8 @@ TrueSurface::Texel TrueSurface::At(int x, int y) const {
   return t;
 }
 
-std::optional<double> TrueSurface::SignedDistance(const Eigen::Vector3d& p_in_cam) const {
+std::optional<double> TrueSurface::SignedDistance(const Eigen::Vector3d& p_in_cam,
+                                                  std::span<const Eigen::Vector3d> exact_points) const {
   if (!p_in_cam.allFinite()) return std::nullopt;
   auto pixel = camera_.Project(p_in_cam);
   if (!pixel || !camera_.InImage(*pixel)) return std::nullopt;
@@ -122,7 +123,9 @@ std::optional<double> TrueSurface::SignedDistance(const Eigen::Vector3d& p_in_ca
   // Where the 3x3 pixels around it see a break (an edge, a step, a silhouette),
   // the light may be another surface's than the one the pixel's centre sees:
   // the distance to the nearest of the surfaces they see (their tangent
-  // planes), as a cloud-to-mesh distance takes it.
+  // planes), as a cloud-to-mesh distance takes it, or to the nearest exact
+  // surface point given (a face narrower than a pixel, a slot wall seen edge-on,
+  // lies between pixel centres: no pixel sees it, its exact stripe centres do).
   double nearest_of_all = d_nearest;
   bool one_surface = true;
   for (int y = std::max(0, yn - 1); y <= std::min(h - 1, yn + 1); ++y)
@@ -133,7 +136,14 @@ std::optional<double> TrueSurface::SignedDistance(const Eigen::Vector3d& p_in_ca
       const double d = t.n.dot(p_in_cam - t.s);
       if (std::abs(d) < std::abs(nearest_of_all)) nearest_of_all = d;
     }
-  if (!one_surface) return nearest_of_all;
+  if (!one_surface) {
+    const Eigen::Vector3d toward_camera = -p_in_cam.normalized();
+    for (const Eigen::Vector3d& q : exact_points) {
+      const double d = (p_in_cam - q).norm();
+      if (d < std::abs(nearest_of_all)) nearest_of_all = toward_camera.dot(p_in_cam - q) >= 0 ? d : -d;
+    }
+    return nearest_of_all;
+  }
 
   // Bilinear over the 4 pixels around the projection (within those 3x3).
   const int x0 = int(std::floor(pixel->x())), y0 = int(std::floor(pixel->y()));

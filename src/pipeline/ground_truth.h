@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "core/image.h"
@@ -36,9 +37,14 @@ class TrueSurface {
   // at the pixel p projects to, positive on the camera's side: bilinear blend
   // over the 4 pixels around the projection when they lie on one surface, else
   // (a break: edge, step, silhouette) the smallest in magnitude of the tangent
-  // planes' of the 3x3 pixels around the nearest one (see pipeline/eval_metrics.h).
-  // nullopt when p does not project into the image or the nearest pixel sees nothing.
-  std::optional<double> SignedDistance(const Eigen::Vector3d& p_in_cam) const;
+  // planes' of the 3x3 pixels around the nearest one and of the distances to
+  // `exact_points` (true surface points near p, such as the exact stripe centres
+  // of its scan line and the lines beside it: a face narrower than a pixel that
+  // no pixel centre sees still has them; positive when p is nearer the camera
+  // along its ray) (see pipeline/eval_metrics.h). nullopt when p does not
+  // project into the image or the nearest pixel sees nothing.
+  std::optional<double> SignedDistance(const Eigen::Vector3d& p_in_cam,
+                                       std::span<const Eigen::Vector3d> exact_points = {}) const;
 
  private:
   struct Texel {

@@ -347,6 +347,57 @@ TEST(TrueSurface, AtAStepTheNearestSurfaceAroundCounts) {
   // Away from the step only one surface is near: a point 1 mm beyond it is 1 mm off.
   const Eigen::Vector3d a = *EvalCamera().Unproject({20.4, 20});
   EXPECT_NEAR(*s.SignedDistance(a * (0.101 / a.z())), -0.001, 1e-7);
+
+  // A face between the pixel centres that no pixel sees (a slot wall seen
+  // edge-on): its exact stripe centre at u = 39.7, z = 0.1005, between the two
+  // surfaces the pixels see. Measured exactly, it is 0.5 mm from both their
+  // tangent planes, and 0 from the exact point.
+  const Eigen::Vector3d w = *EvalCamera().Unproject({39.7, 20});
+  const Eigen::Vector3d wall = w * (0.1005 / w.z());
+  EXPECT_NEAR(std::abs(*s.SignedDistance(wall)), 0.0005, 1e-7);
+  const std::vector<Eigen::Vector3d> exact = {wall, SurfacePoint(10, 20)};
+  EXPECT_NEAR(*s.SignedDistance(wall, exact), 0.0, 1e-12);
+  // 0.2 mm nearer the camera along the ray: 0.2 mm from the exact point (the
+  // tangent planes are 0.3 and 0.7 mm away), positive.
+  const Eigen::Vector3d nearer = w * (0.1003 / w.z());
+  EXPECT_NEAR(*s.SignedDistance(nearer, exact), (wall - nearer).norm(), 1e-12);
+  EXPECT_GT(*s.SignedDistance(nearer, exact), 0.0);
+  // On one smooth surface the exact points change nothing (the blend stands).
+  EXPECT_NEAR(*s.SignedDistance(q * (0.1005 / q.z()), {&wall, 1}), 0.0005, 1e-7);
+}
+
+TEST(EvaluateRun, AFaceNoPixelSeesIsScoredByItsExactCentres) {
+  // The stripe's surface lies between the pixels' surfaces: left of u = 40.5
+  // the buffers see a plane 1 mm nearer the camera, right of it 1 mm farther,
+  // as where a slot wall narrower than a pixel joins a top and a floor. Rows 0
+  // to 10 hold the stripe within a pixel of the break (u = 40.3 to 41.3),
+  // measured exactly: each point is 1 mm from both tangent planes and 0 from
+  // its exact centre.
+  EvalRun run = EvalRun::Exact("subpixel_face", 1, 0.0);
+  std::vector<Measured> kept;
+  for (const Measured& m : run.measured)
+    if (m.v <= 10) kept.push_back(m);
+  run.measured = kept;
+  run.Write();
+  auto on_plane = [](const Plane& plane, double u, double v) {
+    const Eigen::Vector3d r = *EvalCamera().Unproject({u, v});
+    return Eigen::Vector3d((-plane.d / plane.n.dot(r)) * r);
+  };
+  const Plane nearer = Plane::FromPointNormal(Eigen::Vector3d(0, 0, 0.1) + 1e-3 * kSurface.n, kSurface.n);
+  const Plane farther = Plane::FromPointNormal(Eigen::Vector3d(0, 0, 0.1) - 1e-3 * kSurface.n, kSurface.n);
+  Image<float> gt(EvalCamera().width(), EvalCamera().height(), 5, 0.0f);
+  for (int y = 0; y < gt.height; ++y)
+    for (int x = 0; x < kEdge; ++x) {
+      gt.At(x, y, 0) = float(kSurface.n.x());
+      gt.At(x, y, 1) = float(kSurface.n.y());
+      gt.At(x, y, 2) = float(kSurface.n.z());
+      gt.At(x, y, 3) = 2;
+      gt.At(x, y, 4) = float(on_plane(x <= 40 ? nearer : farther, x, y).z());
+    }
+  WriteImage(run.dir / "gt/000000.exr", gt, true, {"N.X", "N.Y", "N.Z", "instance", "Z"});
+  const EvalSummary t = EvaluateRun(run.dir, {}).total;
+  EXPECT_EQ(t.point_mm.n, 11);
+  EXPECT_LT(t.point_mm.max, 1e-4);  // the tangent planes alone: 1 mm
 }
 
 }  // namespace
