@@ -26,10 +26,12 @@
 //     all of them: where the stripe crosses an edge, the laser's reflection off
 //     one face onto the other makes glints finer than a pixel, rare bright paths
 //     that a first batch does not reveal.
-//  2. When the scanner holds still during the exposure: per laser sheet, the
+//  2. When the scanner holds still during the exposure, or moves by less than
+//     a small fraction of the cache's entry spacing: per laser sheet, the
 //     laser light entering subsurface materials over the fan angles the camera
-//     sees, cast once and kept in a tree (render/laser_entry_tree.h), so that
-//     every path vertex on such a material sums it without noise.
+//     sees at mid-exposure, cast once and kept in a tree
+//     (render/laser_entry_tree.h), so that every path vertex on such a material
+//     sums it without noise.
 //  3. Path samples (render/path_tracer.h), stratified over the pixel, the lens
 //     aperture (thin lens only) and the exposure time (moving scanner only),
 //     accumulated in the film. Every random number comes from

@@ -9,12 +9,13 @@
 // irradiance at the entry point x_i. The profile is truncated at the radius
 // r_max holding 99.9% of its energy.
 //
-// In a frame where the scanner holds still during the exposure, each laser
-// sheet's lit entry points are cast once per frame and summed by a tree
-// (render/laser_entry_tree.h, render.subsurface_cache): a channel whose cache
-// covers the profile's reach around x_o takes that sum, without noise. Other
-// channels (a moving scanner, the pattern projector, points outside the
-// cache's window) use Monte Carlo:
+// In a frame where the scanner holds still during the exposure (or moves by
+// less than a quarter of the cache's entry spacing, FrameRenderer::Render: the
+// mid-exposure pose's cache), each laser sheet's lit entry points are cast once
+// per frame and summed by a tree (render/laser_entry_tree.h,
+// render.subsurface_cache): a channel whose cache covers the profile's reach
+// around x_o takes that sum, without noise. Other channels (a faster scanner,
+// the pattern projector, points outside the cache's window) use Monte Carlo:
 //
 // Two strategies find entry points, combined by the balance heuristic
 // (Veach 1997) over one probe sample and M emitter samples per channel
