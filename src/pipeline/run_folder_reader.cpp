@@ -204,16 +204,7 @@ ExtractionLevels FrameExtractionLevels(double threshold, double background, cons
 }
 
 double ImageTypeFullScale(const AnyImage& image) {
-  return std::visit(
-      [](const auto& im) {
-        using T = std::decay_t<decltype(im.pixels[0])>;
-        if constexpr (std::is_floating_point_v<T>) {
-          return 1.0;
-        } else {
-          return double(std::numeric_limits<T>::max());
-        }
-      },
-      image);
+  return std::visit([](const auto& im) { return TypeFullScale<std::decay_t<decltype(im.pixels[0])>>(); }, image);
 }
 
 }  // namespace lt
