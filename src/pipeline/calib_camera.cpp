@@ -191,6 +191,10 @@ void CameraCalibrationOptions::Check() const {
   Require(std::isfinite(max_relative_focal_std) && max_relative_focal_std > 0, "max_relative_focal_std",
           "must be > 0, got " + FormatNumber(max_relative_focal_std));
   Require(max_iterations >= 1, "max_iterations", "must be >= 1, got " + std::to_string(max_iterations));
+  Require(model == DistortionModel::kBrownConrady || !fix_k3, "fix_k3",
+          std::string("holds the Brown–Conrady model's k3; the model is ") + DistortionModelName(model));
+  Require(model == DistortionModel::kBrownConrady || !fix_tangential, "fix_tangential",
+          std::string("holds the Brown–Conrady model's p1, p2; the model is ") + DistortionModelName(model));
 }
 
 bool ProjectWithModel(const CameraParams& p, const Eigen::Vector3d& q, Eigen::Vector2d* pixel) {
@@ -422,7 +426,23 @@ CameraCalibrationResult CalibrateCamera(const std::vector<CalibrationView>& view
   try {
     Camera check(res.camera);
   } catch (const ParamError& e) {
-    return refuse(std::string("the estimated camera is not valid: ") + e.what());
+    // A distortion that folds inside the image: the views do not reach far
+    // enough toward the image's corners to hold the model's highest term.
+    // Brown–Conrady's k3 (r^6) is the usual one: the fit again without it.
+    const bool k3_free = options.model == DistortionModel::kBrownConrady && !options.fix_k3;
+    if (k3_free) {
+      CameraCalibrationOptions without_k3 = options;
+      without_k3.fix_k3 = true;
+      CameraCalibrationResult again = CalibrateCamera(views, width, height, without_k3);
+      if (again.ok) {
+        again.note = "k3 held at 0: with k3 free (" + Fmt(res.params[8], 4) + ") the estimated camera is not valid (" +
+                     e.what() + "); views with the board nearer the image's corners would determine it";
+        return again;
+      }
+    }
+    return refuse(std::string("the estimated camera is not valid: ") + e.what() +
+                  ": the views do not reach far enough toward the image's corners to determine the distortion "
+                  "there; add views with the board nearer the corners");
   }
   res.ok = true;
   return res;

@@ -38,7 +38,9 @@ struct CalibrationView {
 
 struct CameraCalibrationOptions {
   DistortionModel model = DistortionModel::kBrownConrady;
-  bool fix_k3 = false;          // Brown–Conrady: hold k3 at 0
+  // Brown–Conrady: hold k3 at 0. With it free, a fit whose distortion folds
+  // inside the image is made again with k3 at 0 (CameraCalibrationResult::note).
+  bool fix_k3 = false;
   bool fix_tangential = false;  // Brown–Conrady: hold p1, p2 at 0
   int min_views = 3;
   int min_points_per_view = 6;
@@ -53,6 +55,7 @@ struct CameraCalibrationOptions {
 struct CameraCalibrationResult {
   bool ok = false;
   std::string reason;  // why the calibration was refused (empty when ok)
+  std::string note;    // what the calibration decided on its own (k3 held at 0), else empty
 
   // Width, height, fx, fy, cx, cy and the distortion; the other fields keep
   // their defaults.

@@ -210,6 +210,7 @@ TEST(CalibrateCli, RefusalsAreClearAndWriteNothing) {
   const fs::path no_robot = EditedRun("calibrate_no_robot", 12, [](nlohmann::json& j) { j.erase("world_from_tool"); });
   const fs::path run = RenderedSession().run;
   const fs::path out = two.parent_path() / "out.yaml";
+  const fs::path out_in_no_folder = two.parent_path() / "no_folder" / "c.yaml";
   const std::vector<CliResult> r = RunMany({
       "calibrate camera " + Quoted(two) + " --out " + Quoted(out),
       "calibrate camera " + Quoted(run) + " --rows 5 --cols 8 --square-mm 3 --out " + Quoted(out),
@@ -220,6 +221,9 @@ TEST(CalibrateCli, RefusalsAreClearAndWriteNothing) {
       "calib-session --out " + Quoted(two.parent_path() / "s") + " --rows 6 --cols 8",
       "calib-session --out " + Quoted(two.parent_path() / "s") + " --square-mm 12 --rig " +
           Quoted(kSource / "scenes/demo/scene.json"),
+      // Before any work: an output folder that does not exist, a coefficient the model has not.
+      "calibrate camera " + Quoted(run) + " --out " + Quoted(out_in_no_folder),
+      "calibrate camera " + Quoted(run) + " --model fisheye --fix-k3 --out " + Quoted(out),
   });
   for (size_t i = 0; i < r.size(); ++i) EXPECT_EQ(r[i].exit_code, 2) << i << ": " << r[i].out << r[i].err;
   EXPECT_THAT(r[0].err, HasSubstr("camera calibration refused (2 of 2 views with the board): too few views"));
@@ -231,6 +235,9 @@ TEST(CalibrateCli, RefusalsAreClearAndWriteNothing) {
   EXPECT_THAT(r[4].err, HasSubstr("give all three"));
   EXPECT_THAT(r[6].err, HasSubstr("rows + cols must be odd"));
   EXPECT_THAT(r[7].err, HasSubstr("use a smaller board"));
+  EXPECT_THAT(r[8].err, HasSubstr("--out: the folder of"));
+  EXPECT_THAT(r[8].err, HasSubstr("does not exist"));
+  EXPECT_THAT(r[9].err, HasSubstr("option fix_k3: holds the Brown–Conrady model's k3; the model is fisheye"));
   EXPECT_FALSE(fs::exists(out));
 }
 

@@ -42,7 +42,13 @@ inline CliResult RunCli(const std::string& args) {
   return r;
 }
 
-inline std::string Quoted(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
+// Built by appending: GCC 12 warns falsely (-Wrestrict) on "'" + std::string where inlined.
+inline std::string Quoted(const std::filesystem::path& p) {
+  std::string q = "'";
+  q += p.string();
+  q += "'";
+  return q;
+}
 
 // A fresh, empty temporary folder named after the running test.
 inline std::filesystem::path TestFolder(const std::string& name) {

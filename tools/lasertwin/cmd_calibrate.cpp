@@ -103,6 +103,7 @@ void CameraStep(const CalibrateArgs& a, CalibrationFile* file) {
     throw InputError("--model", "expected brown_conrady, fisheye or none, got '" + a.model + "'");
   }
   o.fix_k3 = a.fix_k3;
+  o.Check();  // before the session's images are read
   const SessionCameraResult r = CalibrateSessionCamera(a.run_dir, board, o);
   PrintSkipped(r.views);
   const CameraCalibrationResult& c = r.calibration;
@@ -110,6 +111,7 @@ void CameraStep(const CalibrateArgs& a, CalibrationFile* file) {
     throw InputError(a.run_dir, "camera calibration refused (" + std::to_string(r.used.size()) + " of " +
                                     std::to_string(r.views.size()) + " views with the board): " + c.reason);
   }
+  if (!c.note.empty()) std::cerr << "lasertwin: note: " << c.note << "\n";
   file->camera = MakeCalibrationFile(&c, nullptr, nullptr).camera;
   if (a.quiet) return;
   const RunRig rig = ReadRunRig(a.run_dir);
@@ -217,6 +219,7 @@ void HandEyeStep(const CalibrateArgs& a, CalibrationFile* file) {
 }
 
 void Run(const CalibrateArgs& a) {
+  RequireOutputFolder("--out", a.out);
   CalibrationFile file = InputFile(a);
   file.ignored_keys.clear();
   if (a.step == "camera") {

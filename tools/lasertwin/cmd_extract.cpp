@@ -72,10 +72,7 @@ void Run(ExtractArgs& a) {
                                     (fs::exists(a.out, ec) ? " (a file of that name exists)" : ""));
     }
   } else if (!a.out.empty()) {
-    const fs::path parent = fs::path(a.out).parent_path();
-    if (!parent.empty() && !fs::is_directory(parent, ec)) {
-      throw InputError("--out", "the folder of " + a.out + " does not exist (" + parent.string() + ")");
-    }
+    RequireOutputFolder("--out", a.out);
   }
   size_t total = 0;
   WidthRejections rejected;

@@ -7,8 +7,11 @@
 
 #include <CLI/CLI.hpp>
 #include <cmath>
+#include <filesystem>
 #include <functional>
 #include <string>
+
+#include "core/error.h"
 
 namespace lt::cli {
 
@@ -30,6 +33,16 @@ inline CLI::Validator FiniteNumber() {
         return "expected a finite number, got '" + text + "'";
       },
       "");
+}
+
+// An output file's folder must exist before any work: lt::InputError naming
+// `option` otherwise.
+inline void RequireOutputFolder(const std::string& option, const std::string& file) {
+  std::error_code ec;
+  const std::filesystem::path parent = std::filesystem::path(file).parent_path();
+  if (!parent.empty() && !std::filesystem::is_directory(parent, ec)) {
+    throw InputError(option, "the folder of " + file + " does not exist (" + parent.string() + ")");
+  }
 }
 
 }  // namespace lt::cli
