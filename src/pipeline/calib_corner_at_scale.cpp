@@ -150,10 +150,24 @@ ScaleResult DetectAtScale(const Image<float>& img, double noise, const Checkerbo
   for (const auto& [cell, idx] : best.cells) det.grid.push_back({cands[size_t(idx)].p, cell.first, cell.second});
   if (!complete) {
     if (best.cells.size() < 4) return refuse(Failure::kNoGrid, "no checkerboard found: no grid of corners");
-    return refuse(GridFailure(best, cands, board, w, h, border, circle), "found a grid of " + std::to_string(best.cells.size()) + " corners, not the complete " +
-                  std::to_string(board.rows) + " x " + std::to_string(board.cols) +
-                  " board: the board is partly outside the image, occluded, or too small or blurred for sigma_px = " +
-                  Fmt(sigma));
+    int a0 = 1 << 30, a1 = -(1 << 30), c0 = 1 << 30, c1 = -(1 << 30);
+    for (const auto& [cell, idx] : best.cells) {
+      a0 = std::min(a0, cell.first), a1 = std::max(a1, cell.first);
+      c0 = std::min(c0, cell.second), c1 = std::max(c1, cell.second);
+    }
+    const int da = a1 - a0 + 1, dc = c1 - c0 + 1;
+    const bool larger = !((da <= board.rows && dc <= board.cols) || (da <= board.cols && dc <= board.rows));
+    const Failure failure = GridFailure(best, cands, board, w, h, border, circle);
+    const std::string why =
+        larger ? "more corners along a line than the board: a board of another size, or corner-like points beyond "
+                 "its edge joined the grid"
+        : failure == Failure::kGridNotTheBoard
+            ? "a whole grid of another size, or a board whose outer corners are hidden"
+            : "the board is partly outside the image, occluded, or too small or blurred for sigma_px = " + Fmt(sigma);
+    return refuse(failure, "found a grid of " + std::to_string(best.cells.size()) + " corners (" + std::to_string(da) +
+                               " x " + std::to_string(dc) + (int(best.cells.size()) == da * dc ? "" : " with holes") +
+                               "), not the complete " + std::to_string(board.rows) + " x " +
+                               std::to_string(board.cols) + " board: " + why);
   }
 
   // ---- board order: rows/cols by count, handedness, then colour
