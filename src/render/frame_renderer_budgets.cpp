@@ -80,20 +80,22 @@ Image<uint8_t> FrameRenderer::SampleBudgets(const Image<uint8_t>& reach, std::sp
         if (z > 0) max_coc = std::max(max_coc, cam.CircleOfConfusionPx(z));
     }
     const int radius = 1 + int(std::ceil(0.5 * max_coc));
+    // A square dilation of the beam's pixels, separably: along the rows, then
+    // along the columns of that.
+    Image<uint8_t> along_rows(w, h, 1, 0);
+    tbb::parallel_for(0, h, [&](int y) {
+      for (int x = 0; x < w; ++x)
+        for (int xx = std::max(0, x - radius); xx <= std::min(w - 1, x + radius); ++xx)
+          if (reach.At(xx, y) == kInBeam) {
+            along_rows.At(x, y) = 1;
+            break;
+          }
+    });
     tbb::parallel_for(0, h, [&](int y) {
       for (int x = 0; x < w; ++x) {
         bool beam = false;
-        for (int dy = -radius; dy <= radius && !beam; ++dy) {
-          const int yy = y + dy;
-          if (yy < 0 || yy >= h) continue;
-          for (int dx = -radius; dx <= radius; ++dx) {
-            const int xx = x + dx;
-            if (xx >= 0 && xx < w && reach.At(xx, yy) == kInBeam) {
-              beam = true;
-              break;
-            }
-          }
-        }
+        for (int yy = std::max(0, y - radius); yy <= std::min(h - 1, y + radius) && !beam; ++yy)
+          beam = along_rows.At(x, yy) != 0;
         budget.At(x, y) = beam ? kBeamBudget : reach.At(x, y) == kInGlow ? kGlowBudget : kOneSample;
       }
     });
