@@ -133,39 +133,27 @@ ScaleResult DetectAtScale(const Image<float>& img, double noise, const Checkerbo
     Grid g = GrowGrid(cands, seed, options.neighbour_tolerance);
     for (const auto& [cell, idx] : g.cells) tried[size_t(idx)] = 1;
     if (g.cells.size() > best.cells.size()) best = g;
-    int a0 = 1 << 30, a1 = -(1 << 30), c0 = 1 << 30, c1 = -(1 << 30);
-    for (const auto& [cell, idx] : g.cells) {
-      a0 = std::min(a0, cell.first), a1 = std::max(a1, cell.first);
-      c0 = std::min(c0, cell.second), c1 = std::max(c1, cell.second);
-    }
-    const int da = a1 - a0 + 1, dc = c1 - c0 + 1;
-    const bool full = int(g.cells.size()) == da * dc;
-    if (full && ((da == board.rows && dc == board.cols) || (da == board.cols && dc == board.rows))) {
+    const GridExtent e = Extent(g);
+    if (e.full && e.Matches(board)) {
       best = g;
       complete = true;
-      ni = da, amin = a0, bmin = c0;
+      ni = e.rows, amin = e.a0, bmin = e.c0;
       break;
     }
   }
   for (const auto& [cell, idx] : best.cells) det.grid.push_back({cands[size_t(idx)].p, cell.first, cell.second});
   if (!complete) {
     if (best.cells.size() < 4) return refuse(Failure::kNoGrid, "no checkerboard found: no grid of corners");
-    int a0 = 1 << 30, a1 = -(1 << 30), c0 = 1 << 30, c1 = -(1 << 30);
-    for (const auto& [cell, idx] : best.cells) {
-      a0 = std::min(a0, cell.first), a1 = std::max(a1, cell.first);
-      c0 = std::min(c0, cell.second), c1 = std::max(c1, cell.second);
-    }
-    const int da = a1 - a0 + 1, dc = c1 - c0 + 1;
-    const bool larger = !((da <= board.rows && dc <= board.cols) || (da <= board.cols && dc <= board.rows));
+    const GridExtent e = Extent(best);
     const Failure failure = GridFailure(best, cands, board, w, h, border, circle);
     const std::string why =
-        larger ? "more corners along a line than the board: a board of another size, or corner-like points beyond "
-                 "its edge joined the grid"
+        !e.FitsIn(board) ? "more corners along a line than the board: a board of another size, or corner-like "
+                           "points beyond its edge joined the grid"
         : failure == Failure::kGridNotTheBoard
             ? "a whole grid of another size, or a board whose outer corners are hidden"
             : "the board is partly outside the image, occluded, or too small or blurred for sigma_px = " + Fmt(sigma);
-    return refuse(failure, "found a grid of " + std::to_string(best.cells.size()) + " corners (" + std::to_string(da) +
-                               " x " + std::to_string(dc) + (int(best.cells.size()) == da * dc ? "" : " with holes") +
+    return refuse(failure, "found a grid of " + std::to_string(best.cells.size()) + " corners (" +
+                               std::to_string(e.rows) + " x " + std::to_string(e.cols) + (e.full ? "" : " with holes") +
                                "), not the complete " + std::to_string(board.rows) + " x " +
                                std::to_string(board.cols) + " board: " + why);
   }

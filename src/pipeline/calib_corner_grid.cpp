@@ -119,17 +119,25 @@ Grid GrowGrid(const std::vector<Candidate>& cands, int seed, double tolerance) {
 // the image (a whole board of another size, or a board whose outer corners
 // are occluded). Otherwise (holes, squares small against the kernel, or a
 // grid cut by the image border) another scale may find the rest.
-Failure GridFailure(const Grid& g, const std::vector<Candidate>& cands, const CheckerboardSpec& board, int w, int h,
-                    double border, double circle) {
+GridExtent Extent(const Grid& g) {
   int a0 = 1 << 30, a1 = -(1 << 30), c0 = 1 << 30, c1 = -(1 << 30);
   for (const auto& [cell, idx] : g.cells) {
     a0 = std::min(a0, cell.first), a1 = std::max(a1, cell.first);
     c0 = std::min(c0, cell.second), c1 = std::max(c1, cell.second);
   }
-  const int da = a1 - a0 + 1, dc = c1 - c0 + 1;
-  if (int(g.cells.size()) != da * dc) return Failure::kIncompleteGrid;  // holes
-  const bool fits = (da <= board.rows && dc <= board.cols) || (da <= board.cols && dc <= board.rows);
-  if (!fits) return Failure::kGridNotTheBoard;
+  GridExtent e;
+  e.a0 = a0, e.c0 = c0, e.rows = a1 - a0 + 1, e.cols = c1 - c0 + 1;
+  e.full = int(g.cells.size()) == e.rows * e.cols;
+  return e;
+}
+
+Failure GridFailure(const Grid& g, const std::vector<Candidate>& cands, const CheckerboardSpec& board, int w, int h,
+                    double border, double circle) {
+  const GridExtent e = Extent(g);
+  const int a0 = e.a0, a1 = e.a0 + e.rows - 1, c0 = e.c0, c1 = e.c0 + e.cols - 1;
+  const int da = e.rows, dc = e.cols;
+  if (!e.full) return Failure::kIncompleteGrid;  // holes
+  if (!e.FitsIn(board)) return Failure::kGridNotTheBoard;
   auto p = [&](int a, int c) { return cands[size_t(g.cells.at({a, c}))].p; };
   double spacing = HUGE_VAL;
   bool inside = true;

@@ -27,6 +27,22 @@ struct Grid {
 // nearest candidate within `tolerance` of the local spacing of its prediction.
 Grid GrowGrid(const std::vector<Candidate>& cands, int seed, double tolerance);
 
+// The cells a grid spans: rows a0.. and columns c0.. of its own indices, how
+// many of each, and whether every cell of that rectangle holds a corner.
+struct GridExtent {
+  int a0 = 0, c0 = 0, rows = 0, cols = 0;
+  bool full = false;
+  // Its rectangle is at most the board's, either way round.
+  bool FitsIn(const CheckerboardSpec& board) const {
+    return (rows <= board.rows && cols <= board.cols) || (rows <= board.cols && cols <= board.rows);
+  }
+  // Its rectangle is the board's, either way round.
+  bool Matches(const CheckerboardSpec& board) const {
+    return (rows == board.rows && cols == board.cols) || (rows == board.cols && cols == board.rows);
+  }
+};
+GridExtent Extent(const Grid& g);
+
 // Why one scale refused the board: the first three after kNone are what another scale may
 // cure (blur, squares small against the kernel); the others no scale cures.
 enum class Failure { kNone, kFewCandidates, kNoGrid, kIncompleteGrid, kNoContrast, kGridNotTheBoard, kColours };
