@@ -435,12 +435,13 @@ RenderedFrame FrameRenderer::Render(int64_t frame_index) const {
     // surface it sees) by less than kCacheMotionPerSpacing of the cache's
     // entry spacing, a shift far below the profile's scale whose first-order
     // effect cancels about the middle of the exposure.
-    double reach_m = 0;
-    for (const ChiefHit& c : chief_hits) reach_m = c.valid ? std::max(reach_m, c.depth) : reach_m;
-    if (is_static || ExposureDisplacement(scene_.motion, sf.t_start_s, sf.t_end_s, reach_m) <=
-                         kCacheMotionPerSpacing * kEntrySpacingPerMeanFreePath * min_subsurface_mfp_m_) {
-      entry_trees = BuildEntryTrees(chief_hits, &lights, &out.stats);
-    }
+    auto moves_little = [&] {
+      double reach_m = 0;
+      for (const ChiefHit& c : chief_hits) reach_m = c.valid ? std::max(reach_m, c.depth) : reach_m;
+      return ExposureDisplacement(scene_.motion, sf.t_start_s, sf.t_end_s, reach_m) <=
+             kCacheMotionPerSpacing * kEntrySpacingPerMeanFreePath * min_subsurface_mfp_m_;
+    };
+    if (is_static || moves_little()) entry_trees = BuildEntryTrees(chief_hits, &lights, &out.stats);
     lap(&pass_ms.entry_trees);
     const Image<uint8_t> budget =
         SampleBudgets(reach, chief_hits, broadband || !scene_.render.adaptive_sampling, &out);
