@@ -5,9 +5,6 @@
 // total light is unchanged. The same scene standing still has sharp edges.
 #include <gtest/gtest.h>
 
-#include <fstream>
-
-#include "core/json_reader.h"
 #include "render/frame_renderer.h"
 #include "render_test_world.h"
 
@@ -52,15 +49,7 @@ TEST(MotionBlur, SlidingCameraSmearsEdgesByTheDistanceTravelled) {
   // 8 px at depth 0.1 m with fx = 150 px is 5.333 mm; travelled in the 1 ms exposure.
   const double travel = 8 * 0.1 / 150;
   auto dir = std::filesystem::temp_directory_path() / "lt_motion_blur";
-  std::filesystem::create_directories(dir);
-  {
-    std::ofstream csv(dir / "poses.csv");
-    csv.precision(17);
-    csv << "t_s,x_m,y_m,z_m,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n0.01," << 10 * travel << ",0,0,1,0,0,0\n";
-  }
-  auto doc = json::Document::Parse(R"({"type": "pose_list", "file": "poses.csv", "time_origin": "file"})",
-                                   "scene.json", dir);
-  RenderedFrame moving = RenderBox(ParseMotion(doc.Root()));
+  RenderedFrame moving = RenderBox(test::SlidingAlongX(dir, travel / 1e-3));
   RenderedFrame still = RenderBox(DefaultMotion());
   for (int v = 12; v < 28; v += 3) {
     Edges m = MeasureRow(moving, v), s = MeasureRow(still, v);

@@ -2,8 +2,11 @@
 // and laser, without files.
 #pragma once
 
+#include <filesystem>
+#include <fstream>
 #include <memory>
 
+#include "core/json_reader.h"
 #include "scene/embree_scene.h"
 #include "scene/scene_file.h"
 
@@ -117,6 +120,19 @@ inline LaserProjector TestLaser(double baseline, double aim_z, double power_w = 
   p.sheet_angles_rad = sheets == 1 ? std::vector<double>{0.0} : EvenSheetAngles(sheets, spacing_rad);
   p.sheet_power = std::vector<double>(size_t(sheets), 1.0);
   return LaserProjector(p);
+}
+
+// The scanner sliding along the camera's x axis at `speed_m_s` from t = 0 for
+// 10 ms: a pose list written to dir/poses.csv ("time_origin": "file").
+inline Motion SlidingAlongX(const std::filesystem::path& dir, double speed_m_s) {
+  std::filesystem::create_directories(dir);
+  std::ofstream csv(dir / "poses.csv");
+  csv.precision(17);
+  csv << "t_s,x_m,y_m,z_m,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n0.01," << 0.01 * speed_m_s << ",0,0,1,0,0,0\n";
+  csv.close();
+  auto doc = json::Document::Parse(R"({"type": "pose_list", "file": "poses.csv", "time_origin": "file"})",
+                                   "scene.json", dir);
+  return ParseMotion(doc.Root());
 }
 
 }  // namespace lt::test

@@ -9,10 +9,9 @@
 // C_o = (1 - E_spec(cos_o)) / (pi (1 - E_avg)) (path_tracer_subsurface.cpp).
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <fstream>
+#include <unistd.h>
 
-#include "core/json_reader.h"
+#include <filesystem>
 
 #include "render/bsdf.h"
 #include "render/sampling.h"
@@ -156,18 +155,8 @@ TEST(SubsurfaceStripe, GlowBeyondTheBeamStartsWithTwoSamples) {
 // faster scanner's frames use Monte Carlo.
 TEST(SubsurfaceStripe, SlowlyMovingScannerUsesTheMidExposureCache) {
   const double exposure_s = 1e-4;
+  // The scanner slides along the stripe's line (x).
   auto dir = std::filesystem::temp_directory_path() / ("lt_moving_cache_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  // Slides along the stripe's line (x) at `speed`, from t = 0, for 10 ms.
-  auto motion = [&](double speed_m_s) {
-    std::ofstream csv(dir / "poses.csv");
-    csv.precision(17);
-    csv << "t_s,x_m,y_m,z_m,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n0.01," << 0.01 * speed_m_s << ",0,0,1,0,0,0\n";
-    csv.close();
-    auto doc = json::Document::Parse(R"({"type": "pose_list", "file": "poses.csv", "time_origin": "file"})",
-                                     "scene.json", dir);
-    return ParseMotion(doc.Root());
-  };
   // The laser radiance of rows 10-29 beside the stripe (0.5 to 3 mm away,
   // where only the glow is), per seed.
   const double fx = 1000;
@@ -179,7 +168,7 @@ TEST(SubsurfaceStripe, SlowlyMovingScannerUsesTheMidExposureCache) {
     ShutterParams sh;
     sh.cycle = {ShutterFrameSpec{"dim", exposure_s, true, false, false}};
     world.scene.sensor.shutter = ShutterSchedule(sh);
-    world.scene.motion = motion(speed_m_s);
+    world.scene.motion = test::SlidingAlongX(dir, speed_m_s);
     RenderOverrides o;
     o.seed = seed;
     const RenderedFrame f = FrameRenderer(world.scene, *world.embree, o).Render(0);
