@@ -307,8 +307,8 @@ class DuplicateKeyCheck {
   bool operator()(int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
     using E = nlohmann::json::parse_event_t;
     switch (event) {
-      case E::object_start: frames_.push_back({true}); break;
-      case E::array_start: frames_.push_back({false}); break;
+      case E::object_start: frames_.emplace_back().object = true; break;
+      case E::array_start: frames_.emplace_back(); break;
       case E::key: {
         Frame& f = frames_.back();
         f.key = parsed.get<std::string>();

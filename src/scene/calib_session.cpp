@@ -156,7 +156,7 @@ bool ViewFits(const SensorRig& rig, const CalibSessionOptions& o, const Pose& ca
   const int n = 8;  // samples along each edge of the board (distortion bends edges)
   for (int k = 0; k <= n; ++k) {
     const double a = double(k) / n;
-    for (const Eigen::Vector3d p : {Eigen::Vector3d(w.x0 + a * (w.x1 - w.x0), w.y0, 0),
+    for (const Eigen::Vector3d& p : {Eigen::Vector3d(w.x0 + a * (w.x1 - w.x0), w.y0, 0),
                                     Eigen::Vector3d(w.x0 + a * (w.x1 - w.x0), w.y1, 0),
                                     Eigen::Vector3d(w.x0, w.y0 + a * (w.y1 - w.y0), 0),
                                     Eigen::Vector3d(w.x1, w.y0 + a * (w.y1 - w.y0), 0)}) {
@@ -169,7 +169,7 @@ bool ViewFits(const SensorRig& rig, const CalibSessionOptions& o, const Pose& ca
     for (int j = 0; j < o.cols; ++j) {
       const auto px = cam.Project(cam_from_board * Eigen::Vector3d(j * s, i * s, 0));
       if (!px || !inside(*px, kCornerMarginPx)) return false;
-      for (const Eigen::Vector3d q : {Eigen::Vector3d((j + 1) * s, i * s, 0), Eigen::Vector3d(j * s, (i + 1) * s, 0)}) {
+      for (const Eigen::Vector3d& q : {Eigen::Vector3d((j + 1) * s, i * s, 0), Eigen::Vector3d(j * s, (i + 1) * s, 0)}) {
         const auto qx = cam.Project(cam_from_board * q);
         if (!qx || (*qx - *px).norm() < kMinSquarePx) return false;
       }

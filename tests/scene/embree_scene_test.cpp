@@ -36,7 +36,7 @@ std::shared_ptr<SceneGeometry> Geometry(std::vector<Eigen::Affine3d> transforms,
     inst.mesh = 0;
     inst.world_from_mesh = transforms[i];
     inst.material_override = i < overrides.size() ? overrides[i] : -1;
-    inst.name = "i" + std::to_string(i);
+    inst.name = std::string("i").append(std::to_string(i));
     g->instances.push_back(inst);
   }
   return g;

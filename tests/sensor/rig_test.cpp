@@ -121,7 +121,10 @@ TEST(Rig, EmitterAndSheetLimitsNameThePointer) {
   };
   auto rig_with = [&](const std::vector<int>& sheets, bool pattern) {
     std::string j = R"({"sensor": {)" + cam + R"(, "lasers": [)";
-    for (size_t i = 0; i < sheets.size(); ++i) j += (i ? "," : "") + laser(sheets[i]);
+    for (size_t i = 0; i < sheets.size(); ++i) {
+      if (i) j += ",";
+      j += laser(sheets[i]);
+    }
     j += "]";
     if (pattern) j += R"(, "pattern_projector": {"image": "p.png", "fov_deg": 30, "power_mw": 1, "wavelength_nm": 650})";
     return j + "}}";
