@@ -8,7 +8,8 @@
 //   G2, G3          arcs clockwise / counter-clockwise in the XY plane, centre by I/J
 //                   offsets from the start, or radius R (R < 0: the arc over 180 degrees);
 //                   Z changing along the arc makes a helix; I/J with end = start is a
-//                   full circle
+//                   full circle; P n: n turns (the arc as given and n - 1 full turns
+//                   more; Bambu Studio's and OrcaSlicer's spiral lift "G2 Z I J P1")
 //   G4              dwell (P milliseconds or S seconds)
 //   G10, G11        firmware retraction and recovery (G10 without parameters; with
 //                   parameters it sets tool offsets/temperatures and is skipped), by
@@ -54,7 +55,7 @@
 // that is not finite or malformed, a parameter the command does not take or given
 // twice, F <= 0, a checksum that does not match, an M207 length < 0 or feed <= 0, an arc
 // without I/J or R, with both,
-// with zero radius, whose end is not on its circle (0.01 mm + 0.1 % of the radius),
+// with zero radius, a P that is not a whole number of turns from 1 to 100, whose end is not on its circle (0.01 mm + 0.1 % of the radius),
 // or an R arc whose chord is longer than its diameter.
 #pragma once
 

@@ -21,6 +21,8 @@ constexpr double kArcRadiusToleranceMm = 0.01;
 constexpr double kArcRadiusToleranceRel = 1e-3;
 // End points closer than this (mm) are the same point (full circles).
 constexpr double kSamePointMm = 1e-9;
+// The most turns an arc's P may ask for (Marlin's ARC_P_CIRCLES takes up to 100).
+constexpr double kMaxArcTurns = 100;
 
 // Angle wrapped into (0, 2 pi].
 double WrapPositive(double a) {
@@ -112,7 +114,7 @@ void GcodeReader::Move(int gcode) {
 
 void GcodeReader::Arc(int gcode) {
   const std::string command = CommandName('G', gcode);
-  Expect("XYZEFIJR", command);
+  Expect("XYZEFIJRP", command);
   if (!xy_plane_) Fail(command + " outside the XY plane (G18/G19) is not supported");
   const Word* i = Find('I');
   const Word* j = Find('J');
@@ -159,6 +161,15 @@ void GcodeReader::Arc(int gcode) {
   double a0 = std::atan2(start2.y() - centre.y(), start2.x() - centre.x());
   double a1 = std::atan2(end2.y() - centre.y(), end2.x() - centre.x());
   double sweep = full_circle ? 2 * M_PI : WrapPositive(clockwise ? a0 - a1 : a1 - a0);
+  // P: the number of turns (LinuxCNC, RepRapFirmware, Bambu Studio's and OrcaSlicer's
+  // spiral lift "G2 Z.. I.. J.. P1"): P1 is the arc as given, each more adds a full turn.
+  if (const Word* p = Find('P')) {
+    if (!(*p->value >= 1) || *p->value != std::floor(*p->value) || *p->value > kMaxArcTurns) {
+      Fail(command + " P (turns) must be a whole number from 1 to " + std::to_string(int(kMaxArcTurns)) + ", got " +
+           FormatNumber(*p->value));
+    }
+    sweep += (*p->value - 1) * 2 * M_PI;
+  }
   if (clockwise) sweep = -sweep;
   if (full_circle) r1 = r0;
   ToolpathSegment arc;

@@ -211,5 +211,37 @@ TEST(GcodeSlicers, ChecksumsAreChecked) {
   EXPECT_THAT(ErrorOf([] { ParseGcode("G1 X10 F600*7a\n", "n.gcode"); }), HasSubstr("n.gcode:1: checksum after '*'"));
 }
 
+// Bambu Studio's and OrcaSlicer's spiral lift: "G3 Z.. I.. J.. P1", a full turn about
+// the centre I/J away that rises to Z (a helix in place), as LinuxCNC, RepRapFirmware
+// and Klipper run it; P is the number of turns, each beyond the first a full one more.
+TEST(GcodeSlicers, SpiralLiftArcsTakeTheirTurnsFromP) {
+  Toolpath p = ParseGcode(
+      "G1 X10 Y10 Z0.2 F600\n"
+      "G17\n"
+      "G3 Z.6 I1.199 J.211 P1  F30000 ; spiral lift\n"
+      "G1 X20 Y10 Z.6\n"
+      "G2 Z1 I-1 J0 P2\n"
+      "G3 X15 Y15 I-5 J0 P3\n",
+      "lift.gcode");
+  ASSERT_EQ(p.segments.size(), 5u);
+  const double r = std::hypot(1.199, 0.211);
+  const ToolpathSegment& lift = p.segments[1];
+  EXPECT_TRUE(lift.arc);
+  EXPECT_NEAR(lift.sweep_rad, 2 * M_PI, 1e-12);
+  EXPECT_NEAR((lift.end_m - Eigen::Vector3d(10, 10, 0.6) * kMm).norm(), 0, 1e-15);
+  EXPECT_NEAR(lift.length_m, std::hypot(2 * M_PI * r, 0.4) * kMm, 1e-15);
+  EXPECT_NEAR(lift.Duration(), std::hypot(2 * M_PI * r, 0.4) / 500, 1e-12);  // F30000: 500 mm/s
+  EXPECT_NEAR((lift.PointAt(0.5) - Eigen::Vector3d(10 + 2 * 1.199, 10 + 2 * 0.211, 0.4) * kMm).norm(), 0, 1e-15);
+  EXPECT_NEAR(p.segments[3].sweep_rad, -4 * M_PI, 1e-12);  // clockwise, two turns
+  EXPECT_NEAR(p.segments[3].length_m, std::hypot(4 * M_PI, 0.4) * kMm, 1e-15);
+  EXPECT_NEAR(p.segments[4].sweep_rad, (0.5 + 4) * M_PI, 1e-12);  // a quarter turn and two full turns more
+  EXPECT_EQ(p.skipped_commands.count("G17"), 0u);
+  for (const char* bad : {"P0", "P1.5", "P-1", "P101"}) {
+    EXPECT_THAT(ErrorOf([&] { ParseGcode(std::string("G1 X10 F600\nG2 I1 J0 ") + bad + "\n", "lift.gcode"); }),
+                HasSubstr("lift.gcode:2: G2 P (turns) must be a whole number from 1 to 100"))
+        << bad;
+  }
+}
+
 }  // namespace
 }  // namespace lt
