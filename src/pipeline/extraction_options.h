@@ -79,7 +79,8 @@ struct ExtractionOptions {
   // 16-bit, 0.1 for float images). For steger it is the low hysteresis threshold,
   // expressed as the peak intensity of a stripe of the expected width.
   double threshold = kAuto;
-  // Steger's high hysteresis threshold, same units. kAuto: 2 x threshold.
+  // Steger's high hysteresis threshold, same units: each chain must reach it
+  // somewhere. kAuto: the threshold.
   double high_threshold = kAuto;
   // Level subtracted from intensities before the centre of mass (com), and
   // before the half-maximum and width estimates of every method

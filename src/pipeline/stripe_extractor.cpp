@@ -171,7 +171,7 @@ void StripeExtractor::Extract(const ImageView<T>& image, std::vector<StripePoint
   MethodParams params;
   params.options = &o;
   params.threshold = ThresholdFor<T>();
-  params.high_threshold = std::isnan(o.high_threshold) ? 2.0 * params.threshold : o.high_threshold;
+  params.high_threshold = std::isnan(o.high_threshold) ? params.threshold : o.high_threshold;
   const int W = view.width, H = view.height;
   if (bayer) {
     // Demosaiced R, G, B (the crop keeps the sensor's mosaic phase), then their

@@ -149,7 +149,7 @@ void AddExtract(CLI::App& app) {
   cmd->add_option("--threshold", o.threshold,
                   "Minimum stripe peak intensity in image units (default: 10% of full scale)")
       ->check(FiniteNumber());
-  cmd->add_option("--high-threshold", o.high_threshold, "steger: high hysteresis threshold (default: 2 x threshold)")
+  cmd->add_option("--high-threshold", o.high_threshold, "steger: high hysteresis threshold, which each chain must reach somewhere (default: the threshold)")
       ->check(FiniteNumber());
   cmd->add_option("--background", args->background,
                   "Level subtracted before centroid and width, or 'local': per peak, a line through the levels just "

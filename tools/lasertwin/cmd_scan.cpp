@@ -106,7 +106,7 @@ void Add(CLI::App& app) {
   cmd->add_option("--threshold", e.threshold,
                   "Minimum stripe peak in image DN (default: 10% of the frame's full scale, 2^bit_depth - 1)")
       ->check(FiniteNumber());
-  cmd->add_option("--high-threshold", e.high_threshold, "steger: high hysteresis threshold (default: 2 x threshold)")
+  cmd->add_option("--high-threshold", e.high_threshold, "steger: high hysteresis threshold, which each chain must reach somewhere (default: the threshold)")
       ->check(FiniteNumber());
   cmd->add_option("--background", args->background,
                   "Level subtracted before centroid and width (default: black level), or 'local': per peak, a line "

@@ -1,0 +1,67 @@
+// Steger's default hysteresis: a stripe that the other methods find at the
+// threshold is found by steger too. Its high threshold used to default to twice
+// the threshold, so a dim stripe (the demo's dim frame: peaks 1.1 to 1.7 times
+// the default threshold) kept only the few chains that reached twice it.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "stripe_test_util.h"
+
+namespace lt::test {
+namespace {
+
+std::set<int> Rows(const std::vector<StripePoint>& points) {
+  std::set<int> rows;
+  for (const auto& p : points) rows.insert(int(p.v));
+  return rows;
+}
+
+TEST(StegerDefaults, DimStripeIsFoundWhereCentreOfMassFindsIt) {
+  // Peak 1.4 x the threshold, 1% noise (of the peak), FWHM from 2.5 px up to
+  // the expected width (5 px); the threshold reads as the peak of a stripe of
+  // the expected width, so narrower stripes read brighter, wider ones dimmer.
+  for (double fwhm : {2.5, 3.6, 5.0}) {
+    SCOPED_TRACE("FWHM " + std::to_string(fwhm));
+    SyntheticFrame f;
+    f.width = 120;
+    f.height = 80;
+    f.noise_sigma = 1.4;
+    f.seed = 5;
+    f.stripes.push_back(LineStripe(60.3, 40, 4, fwhm / 2.3548, 140));
+    ExtractionOptions o;
+    o.threshold = 100;
+    o.method = ExtractionMethod::kCom;
+    const auto com = ExtractFrom<float>(f, o);
+    o.method = ExtractionMethod::kSteger;
+    const auto steger = ExtractFrom<float>(f, o);
+    const std::set<int> com_rows = Rows(com), steger_rows = Rows(steger);
+    ASSERT_GE(com_rows.size(), 76u);  // every row
+    // Steger gives no points within ceil(3 sigma) = 5 rows of the top and bottom.
+    int missing = 0;
+    for (int v : com_rows) missing += v >= 5 && v < f.height - 5 && !steger_rows.count(v);
+    EXPECT_EQ(missing, 0);
+    const ErrorStats e = RowErrors(steger, f);
+    EXPECT_EQ(e.unmatched, 0);
+    EXPECT_LT(e.rms, 0.05);  // 1% noise: 0.006-0.017 px in ExtractionAccuracy.StegerNoisyUnder005
+  }
+}
+
+TEST(StegerDefaults, NoiseIsNotAStripe) {
+  // Noise of 10% of the threshold (its 3-sigma tail is far below it) and no
+  // stripe: no chain reaches the threshold.
+  SyntheticFrame f;
+  f.width = 120;
+  f.height = 80;
+  f.background = 20;
+  f.noise_sigma = 10;
+  f.seed = 9;
+  ExtractionOptions o;
+  o.threshold = 100;
+  o.background = 20;
+  o.method = ExtractionMethod::kSteger;
+  EXPECT_TRUE(ExtractFrom<float>(f, o).empty());
+}
+
+}  // namespace
+}  // namespace lt::test
