@@ -36,6 +36,8 @@ class GcodeReader {
  public:
   explicit GcodeReader(const std::string& name) : name_(name) {}
 
+  // Room for n segments (a hint: more are appended as needed).
+  void ReserveSegments(size_t n) { path_.segments.reserve(n); }
   void ReadLine(std::string_view line, int line_no);
   // After M2/M30: the program has ended, later lines are not executed.
   bool Ended() const { return path_.program_end_line > 0; }
