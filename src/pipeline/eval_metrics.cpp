@@ -144,6 +144,39 @@ SearchAxis TruthAxis(const RunFrame& frame, const std::vector<TruthCenter>& trut
                    "the centres are neither on whole rows nor on whole columns, and the manifest has no gt_axis");
 }
 
+// Refuses centres that cannot belong to the run: outside the camera's image, or
+// on a laser plane the rig does not have (measured centres may also carry -1,
+// no plane identified). A ground-truth file or a centres file from another run
+// would otherwise be scored as if it were this one's.
+void CheckCentersFitTheRig(const RunRig& rig, const std::vector<TruthCenter>& truth, const fs::path& truth_file,
+                           const std::vector<ScanPoint>& measured, const fs::path& measured_file) {
+  const int planes = int(rig.planes_in_cam.size());
+  const std::string image = std::to_string(rig.camera.width()) + "x" + std::to_string(rig.camera.height());
+  const std::string plane_range = planes > 0 ? "0.." + std::to_string(planes - 1) : "none";
+  auto where = [](double u, double v) { return " at (" + FormatNumber(u) + ", " + FormatNumber(v) + ")"; };
+  for (const TruthCenter& t : truth) {
+    const std::string at = truth_file.string() + ":" + std::to_string(t.line);
+    if (!rig.camera.InImage({t.u, t.v})) {
+      throw InputError(at, "the centre" + where(t.u, t.v) + " lies outside the " + image + " image of rig.json's camera");
+    }
+    if (t.plane >= planes) {
+      throw InputError(at, "plane " + std::to_string(t.plane) + " is not one of rig.json's laser planes (" +
+                               plane_range + ")");
+    }
+  }
+  for (size_t j = 0; j < measured.size(); ++j) {
+    const StripePoint& m = measured[j].pixel;
+    const std::string at = measured_file.string() + ": centre " + std::to_string(j + 1);
+    if (!rig.camera.InImage({m.u, m.v})) {
+      throw InputError(at, where(m.u, m.v).substr(1) + " lies outside the " + image + " image of rig.json's camera");
+    }
+    if (m.plane < -1 || m.plane >= planes) {
+      throw InputError(at, "plane " + std::to_string(m.plane) + " is not one of rig.json's laser planes (" +
+                               plane_range + ", or -1 for none)");
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<int> MatchCenters(SearchAxis axis, const std::vector<TruthCenter>& truth,
@@ -360,7 +393,7 @@ RunMetrics EvaluateRun(const fs::path& run_dir, const EvalOptions& options) {
   RunMetrics run;
   run.run_dir = run_dir;
   run.options = options;
-  std::optional<RunRig> rig;
+  const RunRig rig = ReadRunRig(run_dir);
   bool first = true;
   for (const RunFrame& f : manifest) {
     if (f.index < options.frames_begin || (options.frames_end >= 0 && f.index >= options.frames_end)) continue;
@@ -379,11 +412,9 @@ RunMetrics EvaluateRun(const fs::path& run_dir, const EvalOptions& options) {
                                                    " was not scanned (run `lasertwin scan " + run_dir.string() + "`)");
     }
     const std::vector<ScanPoint> measured = ReadScanCsv(measured_file);
+    CheckCentersFitTheRig(rig, truth, *f.gt_centers, measured, measured_file);
     std::optional<TrueSurface> surface;
-    if (f.gt_buffers) {
-      if (!rig) rig = ReadRunRig(run_dir);
-      surface.emplace(rig->camera, *f.gt_buffers);
-    }
+    if (f.gt_buffers) surface.emplace(rig.camera, *f.gt_buffers);
     FrameSamples s = EvaluateFrame(f, axis, truth, measured, measured_file, surface ? &*surface : nullptr, options);
     FrameMetrics fm;
     fm.index = f.index;

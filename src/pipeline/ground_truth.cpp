@@ -54,7 +54,7 @@ std::vector<TruthCenter> ReadTruthCentersCsv(const std::filesystem::path& path) 
     if (v[2] != std::floor(v[2]) || v[2] < 0 || v[2] > 1e6) {
       throw InputError(where, "plane must be an integer >= 0, got '" + f[2] + "'");
     }
-    centers.push_back({v[0], v[1], int(v[2]), Eigen::Vector3d(v[3], v[4], v[5])});
+    centers.push_back({v[0], v[1], int(v[2]), Eigen::Vector3d(v[3], v[4], v[5]), line_no});
   }
   return centers;
 }

@@ -19,6 +19,7 @@ struct TruthCenter {
   double u = 0, v = 0;  // pixel (OpenCV convention)
   int plane = 0;        // global laser plane number
   Eigen::Vector3d p_in_cam = Eigen::Vector3d::Zero();  // metres
+  int line = 0;         // line of the CSV file it was read from (0 when not read from a file)
 };
 
 // Reads gt/NNNNNN_centers.csv (header u,v,plane,x_cam,y_cam,z_cam,x_world,

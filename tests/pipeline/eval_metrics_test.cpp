@@ -17,6 +17,7 @@
 #include "pipeline/eval_metrics.h"
 #include "pipeline/ground_truth.h"
 #include "pipeline/scan_output.h"
+#include "sensor/laser.h"
 #include "sensor/plane.h"
 #include "sensor/rig.h"
 
@@ -81,6 +82,12 @@ struct EvalRun {
     fs::create_directories(dir / "gt");
     SensorRig rig;
     rig.camera = EvalCamera();
+    // A laser with one sheet per plane of the run (the planes' geometry is not
+    // used: the centres and points are written directly).
+    LaserParams lp;
+    lp.sheet_angles_rad = EvenSheetAngles(planes, 0.05);
+    lp.sheet_power.assign(size_t(planes), 1.0);
+    rig.lasers.emplace_back(lp);
     std::ofstream(dir / "rig.json") << SensorRigToJson(rig).dump(2);
     std::ofstream truth(dir / "gt/000000_centers.csv");
     truth << std::setprecision(12) << "u,v,plane,x_cam,y_cam,z_cam,x_world,y_world,z_world\n";
@@ -309,6 +316,42 @@ TEST(EvaluateRun, BadInput) {
   EvalOptions o;
   o.frames_begin = 1;
   EXPECT_THAT([&] { EvaluateRun(run.dir, o); }, ::testing::ThrowsMessage<InputError>(HasSubstr("no laser frame")));
+}
+
+// Centres that cannot be this run's (outside its camera's image, on a plane its
+// rig does not have: a file from another run) are refused, naming the file and
+// the line or centre, instead of being scored.
+TEST(EvaluateRun, CentresThatDoNotFitTheRigAreRefused) {
+  EvalRun run = EvalRun::Exact("rigfit", 2, 0);
+  run.Write();
+  ASSERT_NO_THROW(EvaluateRun(run.dir, {}));
+  // Ground truth: line 62 is the first after the 60 rows x 2 planes written (header on line 1).
+  auto truth_line = [&](const std::string& l) {
+    run.Write();
+    std::ofstream(run.dir / "gt/000000_centers.csv", std::ios::app) << l << "\n";
+  };
+  truth_line("40.5,3,2,0,0,0.1,,,");  // plane 2 of a 2-plane rig
+  EXPECT_THAT([&] { EvaluateRun(run.dir, {}); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("000000_centers.csv:122: plane 2 is not one of rig.json's laser planes (0..1)")));
+  truth_line("40.5,99999,0,0,0,0.1,,,");  // row 99999 of a 60-row image
+  EXPECT_THAT([&] { EvaluateRun(run.dir, {}); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("000000_centers.csv:122: the centre at (40.5, 99999) lies outside the 80x60 image")));
+  truth_line("-0.75,3,0,0,0,0.1,,,");
+  EXPECT_THAT([&] { EvaluateRun(run.dir, {}); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("000000_centers.csv:122: the centre at (-0.75, 3) lies outside")));
+  // Measured: the 121st centre.
+  run.measured.push_back({5, 40.5, 3});
+  run.Write();
+  EXPECT_THAT([&] { EvaluateRun(run.dir, {}); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("centers/000000.csv: centre 121: plane 5 is not one of rig.json's laser planes (0..1, or -1 for none)")));
+  run.measured.back() = {-1, 80.25, 3};
+  run.Write();
+  EXPECT_THAT([&] { EvaluateRun(run.dir, {}); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("centers/000000.csv: centre 121: at (80.25, 3) lies outside the 80x60 image")));
+  // The image's edges are its pixels' outer edges, and -1 is "no plane": accepted.
+  run.measured.back() = {-1, 79.5, 3};
+  run.Write();
+  EXPECT_NO_THROW(EvaluateRun(run.dir, {}));
 }
 
 TEST(TrueSurface, AtAStepTheNearestSurfaceAroundCounts) {
