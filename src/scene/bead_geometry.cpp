@@ -4,6 +4,7 @@
 #include <cmath>
 #include <set>
 #include <stdexcept>
+#include <string>
 
 namespace lt {
 
@@ -187,13 +188,18 @@ Mesh BeadMeshUpTo(const Toolpath& path, double t_s, const BeadOptions& options, 
   std::vector<Piece> pieces;
   std::vector<size_t> origin;
   Levels levels;
-  for (size_t k = 0; k < path.segments.size(); ++k) {
+  const std::vector<double>* heights = options.layer_heights;
+  if (heights && heights->size() != path.segments.size()) {
+    throw std::invalid_argument("BeadMeshUpTo: " + std::to_string(heights->size()) + " layer heights for " +
+                                std::to_string(path.segments.size()) + " segments");
+  }
+  for (size_t k = heights ? options.first_segment : 0; k < path.segments.size(); ++k) {
     const ToolpathSegment& seg = path.segments[k];
     if (!(seg.t_start_s < t_s) || k >= options.end_segment) break;
     if (!seg.LaysBead()) continue;
     const double f = std::min(1.0, (t_s - seg.t_start_s) / seg.Duration());
     if (!(f > 0)) continue;
-    const double h = LayerHeight(path, seg, options, levels);
+    const double h = heights ? (*heights)[k] : LayerHeight(path, seg, options, levels);
     if (k < options.first_segment) continue;  // seen for its level only
     if (!(h > 0)) {
       ++st.skipped;
@@ -280,6 +286,17 @@ Mesh BeadMeshUpTo(const Toolpath& path, double t_s, const BeadOptions& options, 
   }
   if (stats) *stats = st;
   return mesh;
+}
+
+std::vector<double> BeadLayerHeights(const Toolpath& path, const BeadOptions& options) {
+  options.Check();
+  std::vector<double> heights(path.segments.size(), 0.0);
+  Levels levels;
+  for (size_t k = 0; k < path.segments.size(); ++k) {
+    const ToolpathSegment& seg = path.segments[k];
+    if (seg.LaysBead()) heights[k] = LayerHeight(path, seg, options, levels);
+  }
+  return heights;
 }
 
 double MeshVolume(const Mesh& mesh) {

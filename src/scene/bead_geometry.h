@@ -36,6 +36,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "scene/mesh.h"
 #include "scene/toolpath.h"
@@ -52,6 +53,11 @@ struct BeadOptions {
   // does not extrude breaks no joint: such ranges partition the full mesh.
   size_t first_segment = 0;
   size_t end_segment = SIZE_MAX;
+  // The path's BeadLayerHeights with these options, or null. Given, the beads of
+  // [first_segment, end_segment) are built from it without passing over the
+  // segments before first_segment for their levels (a part cut into many chunks
+  // would otherwise pass over the path once per chunk).
+  const std::vector<double>* layer_heights = nullptr;
   // Throws std::invalid_argument for negative or non-finite sizes or fewer than 2 points.
   void Check() const;
 };
@@ -67,6 +73,11 @@ struct BeadStats {
 // contributes the part done, with its share of the filament). Empty (no vertices)
 // before the first extrusion.
 Mesh BeadMeshUpTo(const Toolpath& path, double t_s, const BeadOptions& options = {}, BeadStats* stats = nullptr);
+
+// The layer height BeadMeshUpTo gives each segment's bead (see above; 0 where the
+// segment lays no bead or no height is found), whatever the time: a segment's height
+// depends only on the segments before it. One entry per segment.
+std::vector<double> BeadLayerHeights(const Toolpath& path, const BeadOptions& options = {});
 
 // Volume enclosed by a mesh of closed surfaces with outward normals (divergence
 // theorem, in double, about the centre of the mesh's bounds).

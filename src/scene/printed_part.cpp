@@ -57,6 +57,14 @@ Material DefaultPrintMaterial() {
   return m;
 }
 
+BeadOptions BeadOptionsOf(const PrintSettings& s) {
+  BeadOptions o;
+  o.layer_height_m = s.layer_height_m;
+  o.filament_diameter_m = s.filament_diameter_m;
+  o.points_per_half_disc = s.points_per_half_disc;
+  return o;
+}
+
 std::vector<PrintChunk> SplitPrintIntoChunks(const Toolpath& path, int chunk_moves) {
   if (chunk_moves < 1) throw std::invalid_argument("SplitPrintIntoChunks: chunk_moves must be >= 1");
   std::vector<PrintChunk> chunks;
@@ -91,6 +99,7 @@ PrintedPart::PrintedPart(const GcodeMotion& motion, const PrintSettings& setting
   settings_.Check();
   path_ = &toolpath_->path();
   chunks_ = SplitPrintIntoChunks(*path_, settings_.chunk_moves);
+  layer_heights_ = BeadLayerHeights(*path_, BeadOptionsOf(settings_));
   if (chunk_meshes_.size() != chunks_.size()) {
     throw std::invalid_argument("PrintedPart: " + std::to_string(chunk_meshes_.size()) + " meshes for " +
                                 std::to_string(chunks_.size()) + " chunks");
@@ -106,12 +115,10 @@ double PrintedPart::GcodeTime(double sequence_time_s) const {
 
 Mesh PrintedPart::ChunkMesh(size_t chunk, double gcode_time_s) const {
   const PrintChunk& c = chunks_.at(chunk);
-  BeadOptions o;
-  o.layer_height_m = settings_.layer_height_m;
-  o.filament_diameter_m = settings_.filament_diameter_m;
-  o.points_per_half_disc = settings_.points_per_half_disc;
+  BeadOptions o = BeadOptionsOf(settings_);
   o.first_segment = c.first_segment;
   o.end_segment = c.end_segment;
+  o.layer_heights = &layer_heights_;
   Mesh mesh = BeadMeshUpTo(*path_, gcode_time_s, o);
   mesh.name = "print/chunk_" + std::to_string(chunk);
   return mesh;

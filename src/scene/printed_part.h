@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "core/json_reader.h"
+#include "scene/bead_geometry.h"
 #include "scene/material.h"
 #include "scene/mesh.h"
 #include "scene/toolpath.h"
@@ -45,6 +46,9 @@ struct PrintSettings {
 // the material exists; the scene file does both).
 PrintSettings ParsePrintSettings(const json::Value& value);
 nlohmann::json PrintSettingsToJson(const PrintSettings& s);
+
+// The bead options of the settings (whole path, no precomputed heights).
+BeadOptions BeadOptionsOf(const PrintSettings& s);
 
 // White PLA as the demo scene has it: base colour (0.8, 0.79, 0.75), roughness 0.45,
 // subsurface mean free path 0.35/0.3/0.25 mm (R/G/B), 0.35 mm at the laser. Name "print_pla".
@@ -88,6 +92,7 @@ class PrintedPart {
   double start_time_s_ = 0;
   PrintSettings settings_;
   std::vector<PrintChunk> chunks_;
+  std::vector<double> layer_heights_;  // BeadLayerHeights of the path: a chunk's beads need no pass over the path before it
   std::vector<size_t> chunk_meshes_;
   std::vector<State> state_;
   std::vector<double> built_time_;  // G-code time a growing chunk was built at

@@ -180,6 +180,37 @@ TEST(BeadGeometry, PurgeLineOutsideTheLayersIsNoLevel) {
   EXPECT_NEAR(BeadMeshUpTo(p, p.Duration(), o).Bounds().min().z(), 0.0, 1e-7);  // the purge line: 0.3 high
 }
 
+// BeadLayerHeights gives each segment the height BeadMeshUpTo finds by passing over
+// the path before it; given to BeadMeshUpTo, a range's beads come out the same
+// without that pass (a part cut into chunks was built in time quadratic in its moves).
+TEST(BeadGeometry, PrecomputedLayerHeightsBuildTheSameBeads) {
+  Toolpath p = ParseGcode(
+      ";Layer height: 0.2\nM82\nG92 E0\nG1 X0 Y0 Z0.3 F6000\nG1 X0 Y100 E5 F1500\nG92 E0\n"
+      ";LAYER:0\nG0 X50 Y50 Z0.2\nG1 X70 E1 F1200\nG1 Y60 E1.5\n;LAYER:1\nG0 Z0.4\nG1 X50 E2.5\n"
+      ";LAYER:2\nG1 X70 Z0.5 E3.5\nG1 X50 Z0.6 E4.5\n",
+      "heights.gcode");
+  ASSERT_EQ(p.segments.size(), 9u);
+  const std::vector<double> h = BeadLayerHeights(p);
+  ASSERT_EQ(h.size(), p.segments.size());
+  const double expected_mm[9] = {0, 0.3, 0, 0.2, 0.2, 0, 0.2, 0.2, 0.2};  // purge, layers, spiral (header)
+  for (size_t k = 0; k < 9; ++k) EXPECT_NEAR(h[k], expected_mm[k] * kMm, 1e-12) << k;
+  for (size_t first = 0; first < p.segments.size(); ++first) {
+    for (double t : {p.segments[first].t_start_s + 0.01, p.Duration()}) {
+      BeadOptions scan, given;
+      scan.first_segment = given.first_segment = first;
+      given.layer_heights = &h;
+      const Mesh a = BeadMeshUpTo(p, t, scan), b = BeadMeshUpTo(p, t, given);
+      ASSERT_EQ(a.positions.size(), b.positions.size()) << first << " " << t;
+      EXPECT_TRUE(a.positions == b.positions) << first << " " << t;
+      EXPECT_TRUE(a.normals == b.normals) << first << " " << t;
+    }
+  }
+  BeadOptions wrong;
+  const std::vector<double> short_list(3, 0.2e-3);
+  wrong.layer_heights = &short_list;
+  EXPECT_THROW(BeadMeshUpTo(p, p.Duration(), wrong), std::invalid_argument);
+}
+
 TEST(BeadGeometry, GrowsWithTimeFromNothing) {
   Toolpath p = ReadGcode(kGcode / "cura_square.gcode");
   // Before the first extrusion: nothing.
