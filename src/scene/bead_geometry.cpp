@@ -152,8 +152,7 @@ double LayerHeight(const Toolpath& path, const ToolpathSegment& seg, const BeadO
   const bool level = !rising && seg.layer != ToolpathSegment::kNoLayer;
   if (level) levels.z.insert(z);
   if (o.layer_height_m > 0) return o.layer_height_m;
-  auto it = path.layer_height_m.find(seg.layer);
-  if (it != path.layer_height_m.end() && it->second > 0) return it->second;
+  if (seg.height_m > 0) return seg.height_m;
   if (rising) return path.header_layer_height_m > 0 ? path.header_layer_height_m : levels.last_step;
   auto below = levels.z.lower_bound(z - kLevelTolM);
   double base = below == levels.z.begin() ? 0.0 : *std::prev(below);

@@ -28,8 +28,8 @@
 // chords of at most 10 degrees, each with its share of the volume. Each run of joined
 // beads is a closed surface (outward normals, counter-clockwise triangles).
 //
-// Layer height, first found of: BeadOptions::layer_height_m; the file's ;HEIGHT for the
-// move's layer (PrusaSlicer); the move's height above the previous, lower level at which
+// Layer height, first found of: BeadOptions::layer_height_m; the height the file states
+// for the move (ToolpathSegment::height_m: PrusaSlicer's last ;HEIGHT, a bridge's too); the move's height above the previous, lower level at which
 // the path extruded (the bed, z = 0, below the first); the file's header layer height.
 // Extrusion without motion in the bed plane (priming in place) lays no bead.
 #pragma once

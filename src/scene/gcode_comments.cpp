@@ -52,6 +52,13 @@ void GcodeReader::Comment(std::string_view comment) {
   auto next_layer = [this] {
     layer_comments_ = true;
     layer_ = layer_ == ToolpathSegment::kNoLayer ? 0 : layer_ + 1;
+    stated_height_m_ = 0;
+  };
+  // A stated height holds for the moves that follow, in this layer; the layer's first is its height.
+  auto state_height = [this](double h_m) {
+    if (layer_ == ToolpathSegment::kNoLayer) return;
+    stated_height_m_ = h_m;
+    path_.layer_height_m.emplace(layer_, h_m);
   };
   auto set_type = [this](std::string_view name) {
     std::string type(TrimBlanks(name));
@@ -67,6 +74,7 @@ void GcodeReader::Comment(std::string_view comment) {
     if (*v != std::floor(*v) || std::abs(*v) > 1e9) Fail("LAYER comment needs an integer, got " + FormatNumber(*v));
     layer_comments_ = true;
     layer_ = int(*v);
+    stated_height_m_ = 0;
   } else if (c == "LAYER_CHANGE" || c == "CHANGE_LAYER") {
     next_layer();
   } else if (c.size() > 6 && StartsWith(c, "layer ") && c[6] >= '0' && c[6] <= '9') {
@@ -78,7 +86,7 @@ void GcodeReader::Comment(std::string_view comment) {
     if (at != std::string_view::npos) {
       std::string_view v = c.substr(at + 12);
       v = v.substr(0, v.find(' '));
-      path_.layer_height_m[layer_] = *CommentNumber(v, "z_thickness") * kMetresPerMm;
+      state_height(*CommentNumber(v, "z_thickness") * kMetresPerMm);
     }
   } else if (StartsWith(c, "TYPE:") || StartsWith(c, "FEATURE:") || StartsWith(c, "segType:")) {
     set_type(c.substr(c.find(':') + 1));  // Cura, PrusaSlicer; Bambu, Orca; CraftWare
@@ -89,7 +97,7 @@ void GcodeReader::Comment(std::string_view comment) {
   } else if (StartsWith(c, "HEIGHT:") || StartsWith(c, "LAYER_HEIGHT:")) {
     double h = *CommentNumber(c.substr(c.find(':') + 1), "HEIGHT");
     // Slicers' comments are in millimetres, whatever G20/G21 say.
-    if (layer_ != ToolpathSegment::kNoLayer) path_.layer_height_m[layer_] = h * kMetresPerMm;
+    state_height(h * kMetresPerMm);
   } else if (StartsWith(c, "Layer height:")) {
     path_.header_layer_height_m = *CommentNumber(c.substr(13), "Layer height") * kMetresPerMm;
   } else if (StartsWith(c, "layer_height =")) {

@@ -87,6 +87,7 @@ void GcodeReader::AddSegment(int gcode, const Eigen::Vector3d& end_mm, double ex
     s.xy_length_m = xy_length_mm * kMetresPerMm;
     s.layer = layer_;
     s.type = type_;
+    s.height_m = stated_height_m_;
     s.gcode = gcode;
     s.line = line_no_;
     path_.segments.push_back(s);

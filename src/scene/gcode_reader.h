@@ -97,6 +97,7 @@ class GcodeReader {
   int layer_ = ToolpathSegment::kNoLayer;
   bool layer_comments_ = false;  // any layer comment seen
   int type_ = -1;
+  double stated_height_m_ = 0;  // the height the file states for the moves that follow (0: none)
   double t_s_ = 0;
   // Firmware retraction: length, feed rates, Z hop (mm, mm/s), as set by M207 or
   // Marlin's defaults; whether the filament is retracted and the nozzle lifted now.

@@ -30,6 +30,11 @@ struct ToolpathSegment {
   double t_end_s = 0;
   double length_m = 0;     // path length in space (a helix for an arc that changes z)
   double xy_length_m = 0;  // path length projected on the bed plane
+  // The bead height the file states for this move: the last ";HEIGHT:" (PrusaSlicer,
+  // which writes one whenever the height changes, a bridge's within its layer),
+  // "; LAYER_HEIGHT:" (Bambu Studio, OrcaSlicer) or KISSlicer's z_thickness since the
+  // move's layer began; 0 when none (and outside any layer).
+  double height_m = 0;
   // From ;LAYER:n (Cura), counted layer-change comments (PrusaSlicer, Simplify3D, ...),
   // or, in a file without layer comments, from the heights it extrudes at
   // (Toolpath::layers_from_z).
@@ -67,8 +72,9 @@ struct Toolpath {
   std::vector<ToolpathSegment> segments;  // in time order, contiguous in time and space
   std::vector<std::string> type_names;    // the distinct ;TYPE: names, in order of appearance
   std::map<std::string, size_t> skipped_commands;  // commands without effect on motion: count each
-  // Layer heights stated in the file: ";HEIGHT:h" (PrusaSlicer) per layer, and the
-  // header's ";Layer height: h" (Cura) or "; layer_height = h" (PrusaSlicer); 0 when absent.
+  // Layer heights stated in the file: the first ";HEIGHT:h" (PrusaSlicer) of each
+  // layer (later ones in the layer, a bridge's, hold for the moves after them:
+  // ToolpathSegment::height_m), and the header's ";Layer height: h" (Cura) or "; layer_height = h" (PrusaSlicer); 0 when absent.
   std::map<int, double> layer_height_m;
   double header_layer_height_m = 0;
   double filament_diameter_m = 0;  // "; filament_diameter = d" (PrusaSlicer), 0 when absent

@@ -180,6 +180,29 @@ TEST(BeadGeometry, PurgeLineOutsideTheLayersIsNoLevel) {
   EXPECT_NEAR(BeadMeshUpTo(p, p.Duration(), o).Bounds().min().z(), 0.0, 1e-7);  // the purge line: 0.3 high
 }
 
+// PrusaSlicer writes ;HEIGHT: whenever the height changes, within a layer too: a thick
+// bridge after the layer's perimeters is 0.4 mm high, the perimeters 0.2 mm. Each move
+// takes the height stated before it (before, the layer's last ;HEIGHT: held for all
+// of it: the perimeter came out 0.4 mm high, reaching down to the bed).
+TEST(BeadGeometry, HeightStatedWithinALayerHoldsForTheMovesAfterIt) {
+  Toolpath p = ParseGcode(
+      "M83\n;LAYER_CHANGE\n;Z:0.2\n;HEIGHT:0.2\nG1 Z0.2 F720\n;TYPE:External perimeter\nG1 X20 E1 F1200\n"
+      ";LAYER_CHANGE\n;Z:0.4\n;HEIGHT:0.2\nG1 Z0.4\nG1 X0 E1\n"
+      ";TYPE:Bridge infill\n;HEIGHT:0.4\nG1 Y10 F6000\nG1 X20 E2 F1200\n",
+      "bridge.gcode");
+  ASSERT_EQ(p.segments.size(), 6u);
+  EXPECT_NEAR(p.segments[3].height_m, 0.2 * kMm, 1e-15);
+  EXPECT_NEAR(p.segments[5].height_m, 0.4 * kMm, 1e-15);
+  EXPECT_NEAR(p.layer_height_m.at(1), 0.2 * kMm, 1e-15);  // the layer's own, its first
+  BeadOptions perimeter;
+  perimeter.first_segment = 3;
+  perimeter.end_segment = 4;
+  EXPECT_NEAR(BeadMeshUpTo(p, p.Duration(), perimeter).Bounds().min().z(), 0.2 * kMm, 1e-7);
+  BeadOptions bridge;
+  bridge.first_segment = 5;
+  EXPECT_NEAR(BeadMeshUpTo(p, p.Duration(), bridge).Bounds().min().z(), 0.0, 1e-7);
+}
+
 // BeadLayerHeights gives each segment the height BeadMeshUpTo finds by passing over
 // the path before it; given to BeadMeshUpTo, a range's beads come out the same
 // without that pass (a part cut into chunks was built in time quadratic in its moves).
