@@ -92,6 +92,20 @@ std::vector<PrintChunk> SplitPrintIntoChunks(const Toolpath& path, int chunk_mov
   return chunks;
 }
 
+size_t PrintTrianglesWhenComplete(const Toolpath& path, const PrintSettings& settings) {
+  settings.Check();
+  BeadOptions o = BeadOptionsOf(settings);
+  const std::vector<double> heights = BeadLayerHeights(path, o);
+  o.layer_heights = &heights;
+  size_t triangles = 0;
+  for (const PrintChunk& c : SplitPrintIntoChunks(path, settings.chunk_moves)) {
+    o.first_segment = c.first_segment;
+    o.end_segment = c.end_segment;
+    triangles += BeadMeshUpTo(path, path.Duration(), o).TriangleCount();
+  }
+  return triangles;
+}
+
 PrintedPart::PrintedPart(const GcodeMotion& motion, const PrintSettings& settings, std::vector<size_t> chunk_meshes)
     : toolpath_(motion.toolpath), start_time_s_(motion.start_time_s), settings_(settings),
       chunk_meshes_(std::move(chunk_meshes)) {

@@ -89,6 +89,10 @@ TEST(PrintedPart, ChunksCutAtTravelsAndPartitionTheFullMesh) {
   options.points_per_half_disc = w.scene.print->points_per_half_disc;
   Mesh full = BeadMeshUpTo(path, path.Duration(), options);
   EXPECT_EQ(triangles, full.TriangleCount());
+  EXPECT_EQ(PrintTrianglesWhenComplete(path, *w.scene.print), full.TriangleCount());
+  PrintSettings one_chunk = *w.scene.print;
+  one_chunk.chunk_moves = 1000;
+  EXPECT_EQ(PrintTrianglesWhenComplete(path, one_chunk), full.TriangleCount());
   EXPECT_NEAR(volume, MeshVolume(full), 1e-6 * MeshVolume(full));
   // Two beads of 0.8 mm of 1.75 mm filament each (volume conserved up to float rounding).
   EXPECT_NEAR(volume, 2 * M_PI * 0.25 * 1.75e-3 * 1.75e-3 * 0.8e-3, 1e-5 * volume);

@@ -9,8 +9,8 @@
 #include <memory>
 #include <sstream>
 
-#include "scene/bead_geometry.h"
 #include "scene/embree_scene.h"
+#include "scene/printed_part.h"
 #include "scene/scene_file.h"
 #include "tools/lasertwin/command.h"
 
@@ -168,14 +168,9 @@ nlohmann::json Describe(const SceneFile& scene, const EmbreeScene& embree) {
         material = g.materials.at(size_t(inst.material_override)).name;
       }
     }
-    BeadOptions beads;
-    beads.filament_diameter_m = scene.print->filament_diameter_m;
-    beads.layer_height_m = scene.print->layer_height_m;
-    beads.points_per_half_disc = scene.print->points_per_half_disc;
-    const Mesh full = BeadMeshUpTo(motion.toolpath->path(), motion.toolpath->path().Duration(), beads);
     j["print"] = {{"chunks", g.print_meshes.size()},
                   {"material", material},
-                  {"triangles_when_complete", full.TriangleCount()},
+                  {"triangles_when_complete", PrintTrianglesWhenComplete(motion.toolpath->path(), *scene.print)},
                   {"settings", PrintSettingsToJson(*scene.print)}};
   }
   j["environment"] = ToJson(scene.environment);
