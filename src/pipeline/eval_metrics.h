@@ -20,16 +20,18 @@
 // into the image; the true surface there comes from the ground-truth depth and
 // normal buffers: for each of the 4 pixels around the projection, the surface
 // point S_i = Z_i r_i / r_i.z (r_i = Camera::Unproject of the pixel) and normal
-// n_i give the point-to-tangent-plane distance d_i = n_i.(P - S_i); the error
-// is |bilinear blend of d_i| when the 4 pixels are on the same surface (same
-// instance, normals within 30 degrees, each S_i within 30 degrees of the
-// nearest pixel's tangent plane as seen from it), else (across a break: an
+// n_i; when the 4 pixels are on the same surface (same instance, normals
+// within 30 degrees, each S_i within 30 degrees of the nearest pixel's tangent
+// plane as seen from it) the error is |bilinear blend of m_i.(P - S_i)|, m_i
+// the unit mean of n_i and the normal at P (the 4 normals blended): a chord of
+// a sphere or cylinder is perpendicular to the sum of its ends' normals, so a
+// point on a curved surface scores 0, not |P - S_i|^2 / (2R), else (across a break: an
 // edge, a step, a silhouette, where a stripe point's light may come from any
 // surface within its pixel) the smallest |d_i| over the 3x3 pixels around the
 // nearest pixel and the distances to the exact stripe centres of its scan line
 // and the two beside it (true surface points: a face narrower than a pixel,
 // which no pixel centre sees, has them), as a cloud-to-mesh distance takes it.
-// This is exact for locally planar surfaces. Points that project
+// This is exact for locally planar surfaces (and second-order on curved ones). Points that project
 // outside the image or onto background (Z = 0) have no true surface: counted
 // in points_off_surface, not in the statistics.
 //   completeness       ground-truth centres whose measured partner has a

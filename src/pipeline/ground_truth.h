@@ -34,9 +34,11 @@ class TrueSurface {
   // channels, or a size other than the camera's.
   TrueSurface(const Camera& camera, const std::filesystem::path& gt_exr);
 
-  // Signed distance (metres) of p_in_cam to the true surface's tangent plane
-  // at the pixel p projects to, positive on the camera's side: bilinear blend
-  // over the 4 pixels around the projection when they lie on one surface, else
+  // Signed distance (metres) of p_in_cam to the true surface at the pixel p
+  // projects to, positive on the camera's side: when the 4 pixels around the
+  // projection lie on one surface, the bilinear blend of their distances along
+  // the mean of each one's normal and p's (second-order exact on a curved
+  // surface: 0 for a point of a sphere or cylinder), else
   // (a break: edge, step, silhouette) the smallest in magnitude of the tangent
   // planes' of the 3x3 pixels around the nearest one and of the distances to
   // `exact_points` (true surface points near p, such as the exact stripe centres
