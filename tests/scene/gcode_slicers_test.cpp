@@ -243,5 +243,47 @@ TEST(GcodeSlicers, SpiralLiftArcsTakeTheirTurnsFromP) {
   }
 }
 
+// A Bambu Studio file's layer change, as it writes it: the change tag before the last
+// feature's wipe (moves that retract while they move: no bead), M620/M621 filament
+// commands, M73 progress, the spiral lift in place, a Z hop and a prime. Layers, heights
+// per move, the filament of the beads and the time at the file's feed rates.
+TEST(GcodeSlicers, BambuStudioLayerChangeWipeAndLift) {
+  Toolpath p = ParseGcode(
+      "M620 S0A\nT0\nM621 S0A\nM73 P0 R2\nG90\nG21\nM83 ; use relative distances for extrusion\n"
+      "; CHANGE_LAYER\n; Z_HEIGHT: 0.2\n; LAYER_HEIGHT: 0.2\nM73 L1\n"
+      "G1 X10 Y10 F30000\nG1 Z.2\nG1 E.8 F1800\n; FEATURE: Outer wall\n; LINE_WIDTH: 0.42\nG1 F1200\n"
+      "G1 X30 Y10 E.8\nG3 X30 Y30 I0 J10 E1.2566\n"
+      "; CHANGE_LAYER\n; Z_HEIGHT: 0.4\n; LAYER_HEIGHT: 0.2\n; WIPE_START\nG1 F3000\nG1 X30 Y28 E-.38\n; WIPE_END\n"
+      "G1 E-.42 F1800\nG17\nG3 Z.8 I1 J0 P1  F30000\nG1 X10 Y10 Z.8\nG1 Z.4\nG1 E.8 F1800\n"
+      "; FEATURE: Inner wall\nG1 F1200\nG1 X30 Y10 E.8\nM73 P100 R0\n",
+      "bambu.gcode");
+  EXPECT_EQ(p.LayerCount(), 2);
+  EXPECT_EQ(p.type_names, (std::vector<std::string>{"Outer wall", "Inner wall"}));
+  double bead_e = 0, duration = 0;
+  int beads = 0;
+  for (const ToolpathSegment& s : p.segments) {
+    if (s.LaysBead()) {
+      ++beads;
+      bead_e += s.extruded_m;
+      EXPECT_NEAR(s.height_m, 0.2 * kMm, 1e-15) << s.line;
+    }
+    duration += s.Duration();
+  }
+  EXPECT_EQ(beads, 3);  // two of layer 0 (a line, a half circle), one of layer 1; the wipe is none
+  EXPECT_NEAR(bead_e, 2.8566 * kMm, 1e-12);
+  EXPECT_NEAR(p.ExtrudedLength(), (0.8 + 2.0566 - 0.8 + 0.8 + 0.8) * kMm, 1e-12);
+  // The time the file implies at constant speed: travel (500 mm/s), Z moves, primes and
+  // the retraction (30 mm/s), beads (20 mm/s), the wipe (50 mm/s), the lift: one turn of
+  // radius 1 mm rising from 0.2 to 0.8 mm (500 mm/s).
+  const double expected = std::hypot(10, 10) / 500 + 0.2 / 500 + 0.8 / 30 + 20 / 20.0 + (M_PI * 10) / 20 +
+                          2 / 50.0 + 0.42 / 30 + std::hypot(2 * M_PI, 0.6) / 500 + std::hypot(20, 18) / 500 +
+                          0.4 / 500 + 0.8 / 30 + 20 / 20.0;
+  EXPECT_NEAR(duration, expected, 1e-9);
+  EXPECT_NEAR(p.Duration(), expected, 1e-9);
+  EXPECT_EQ(p.segments.back().layer, 1);
+  EXPECT_EQ(p.skipped_commands.at("M73"), 3u);
+  EXPECT_EQ(p.skipped_commands.at("M620"), 1u);
+}
+
 }  // namespace
 }  // namespace lt
