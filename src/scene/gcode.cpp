@@ -40,6 +40,10 @@ void GcodeReader::ReadWords(std::string_view code, size_t pos, bool numbers_requ
     size_t start = pos;
     while (pos < code.size() && IsNumberChar(code[pos])) ++pos;
     std::string_view number = code.substr(start, pos - start);
+    if (pos < code.size() && code[pos] == ':' && !number.empty()) {
+      Fail(std::string(1, letter) + " with several values (\"" + std::string(code.substr(start)) +
+           "\": RepRapFirmware's amounts per drive) is not supported: write one value");
+    }
     Word w;
     w.letter = letter;
     if (number.empty()) {

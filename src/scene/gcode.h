@@ -52,7 +52,8 @@
 // by name, as the firmware-only M and G commands are.
 //
 // Errors are lt::InputError naming "file:line": a letter without a number, a number
-// that is not finite or malformed, a parameter the command does not take or given
+// that is not finite or malformed, several values for one letter (RepRapFirmware's
+// "E0.1:0.2", amounts per drive), a parameter the command does not take or given
 // twice, F <= 0, a checksum that does not match, an M207 length < 0 or feed <= 0, an arc
 // without I/J or R, with both,
 // with zero radius, a P that is not a whole number of turns from 1 to 100, whose end is not on its circle (0.01 mm + 0.1 % of the radius),

@@ -225,6 +225,7 @@ TEST(Gcode, MalformedLinesAreErrorsAtFileAndLine) {
       {";LAYER:x\n", "g.gcode:1: LAYER comment without a number"},
       {";LAYER:1.5\n", "g.gcode:1: LAYER comment needs an integer"},
       {"G90 X1\n", "g.gcode:1: G90 takes no parameter X"},
+      {"G1 X10 F600\nG1 X20 E0.1:0.2\n", "g.gcode:2: E with several values (\"0.1:0.2\": RepRapFirmware's amounts per drive) is not supported"},
   };
   for (const auto& c : cases) {
     EXPECT_THAT(ErrorOf([&] { ParseGcode(c.text, "g.gcode"); }), HasSubstr(c.expected)) << c.text;
