@@ -284,6 +284,22 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
       }
     }
   }
+  // glTF gives a node a matrix or translation / rotation / scale, never both
+  // (tinygltf reads the matrix and drops the rest: the node would be placed
+  // without them).
+  if (auto nodes = root.find("nodes"); nodes != root.end() && nodes->is_array()) {
+    for (size_t i = 0; i < nodes->size(); ++i) {
+      const auto& n = (*nodes)[i];
+      if (!n.is_object() || !n.contains("matrix")) continue;
+      for (const char* key : {"translation", "rotation", "scale"}) {
+        if (n.contains(key)) {
+          throw InputError(file + ": /nodes/" + std::to_string(i),
+                           std::string("has both a matrix and a ") + key +
+                               " (glTF gives a node one or the other: a matrix, or translation / rotation / scale)");
+        }
+      }
+    }
+  }
   if (auto buffers = root.find("buffers"); buffers != root.end() && buffers->is_array()) {
     for (size_t i = 0; i < buffers->size(); ++i) {
       const auto& b = (*buffers)[i];

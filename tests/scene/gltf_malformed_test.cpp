@@ -353,6 +353,22 @@ TEST(GltfMalformed, NonAffineMatrix) {
   EXPECT_EQ(GlbError(b), "bad.glb: /nodes/0/matrix: must be affine (last row 0 0 0 1)");
 }
 
+// glTF gives a node a matrix or translation / rotation / scale, not both:
+// tinygltf read the matrix and dropped the rest, placing the node without its
+// translation.
+TEST(GltfMalformed, MatrixAndTrs) {
+  GltfBuilder b = test::SquareBuilder();
+  b.json()["nodes"][0]["matrix"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  b.json()["nodes"][0]["translation"] = {0, 0, 1};
+  EXPECT_EQ(GlbError(b), "bad.glb: /nodes/0: has both a matrix and a translation (glTF gives a node one or the "
+                         "other: a matrix, or translation / rotation / scale)");
+  b.json()["nodes"][0].erase("translation");
+  b.json()["nodes"][0]["scale"] = {1, 1, 1};
+  EXPECT_THAT(GlbError(b), ::testing::HasSubstr("/nodes/0: has both a matrix and a scale"));
+  b.json()["nodes"][0].erase("scale");
+  EXPECT_EQ(GlbError(b), "");
+}
+
 TEST(GltfMalformed, SparseIndexPastTheCount) {
   GltfBuilder b = test::SquareBuilder();
   std::vector<uint16_t> idx = {9, 0};
