@@ -134,6 +134,20 @@ void ExtractionOptions::Check() const {
   Require(threads >= 0 && threads <= 1024, "threads", "must be in [0, 1024], got " + std::to_string(threads));
 }
 
+double ExtractionOptions::WeightedFullScale() const {
+  if (channel >= 0 || channel_weights.empty()) return 1.0;
+  double sum = 0;
+  for (double w : channel_weights) sum += std::max(w, 0.0);
+  return sum;
+}
+
+double ExtractionOptions::WeightedLevel() const {
+  if (channel >= 0 || channel_weights.empty()) return 1.0;
+  double sum = 0;
+  for (double w : channel_weights) sum += w;
+  return sum;
+}
+
 double ExtractionOptions::SigmaUsed() const {
   if (sigma > 0) return sigma;
   return std::max(1.0, expected_width / (2.0 * std::sqrt(3.0)));

@@ -75,8 +75,9 @@ struct ExtractionOptions {
   std::optional<PixelRect> roi;
 
   // Minimum stripe peak intensity in image units (after channel weighting).
-  // kAuto: 10% of the sample type's full scale (25.5 for 8-bit, 6553.5 for
-  // 16-bit, 0.1 for float images). For steger it is the low hysteresis threshold,
+  // kAuto: 10% of the extracted image's full scale: the sample type's (25.5 for
+  // 8-bit, 6553.5 for 16-bit, 0.1 for float images) times WeightedFullScale().
+  // For steger it is the low hysteresis threshold,
   // expressed as the peak intensity of a stripe of the expected width.
   double threshold = kAuto;
   // Steger's high hysteresis threshold, same units: each chain must reach it
@@ -122,6 +123,12 @@ struct ExtractionOptions {
 
   // Throws lt::InputError naming the offending option.
   void Check() const;
+  // The channel-weighted image's scale against the input's samples: its full
+  // scale is the input's times the sum of the positive weights, its black level
+  // the input's times the sum of the weights. Both are 1 for one channel, a
+  // mono image, and a mosaic's R, G, B mean.
+  double WeightedFullScale() const;
+  double WeightedLevel() const;
   // The Steger filter scale actually used.
   double SigmaUsed() const;
   // Search lines this close to the start and end of the image (or ROI) give no

@@ -130,6 +130,51 @@ std::vector<RunFrame> ReadRunManifest(const fs::path& run_dir) {
 
 namespace {
 
+// A non-empty array of numbers within `range`.
+std::vector<double> NumberList(const Value& v, Range range) {
+  std::vector<double> out;
+  for (const Value& e : v.Array(1)) out.push_back(e.Number(range));
+  return out;
+}
+
+// image_sensor.quantum_efficiency as the scene file gives it: one number (a mono
+// sensor), or {"wavelength_nm": [...], "mono": [...]} / {"wavelength_nm": [...],
+// "r": [...], "g": [...], "b": [...]}.
+void ReadQuantumEfficiency(const Value& q, ColorFilter filter, RunRig* rig) {
+  const bool mono = filter == ColorFilter::kMono;
+  if (q.IsNumber()) {
+    if (!mono) q.Fail("a Bayer sensor needs per-channel tables: {\"wavelength_nm\": [...], \"r\": [...], \"g\": [...], \"b\": [...]}");
+    const double v = q.Number(Range::Closed(0, 1));
+    rig->qe_wavelength_m = {550e-9};
+    rig->qe = {{{v}, {v}, {v}}};
+    return;
+  }
+  Object t = q.AsObject();
+  Value wl = t.Get("wavelength_nm");
+  const std::vector<double> wavelengths = NumberList(wl, Range::Positive());
+  for (size_t i = 1; i < wavelengths.size(); ++i) {
+    if (!(wavelengths[i] > wavelengths[i - 1])) wl.Fail("wavelengths must be increasing");
+  }
+  auto read = [&](const char* key) {
+    Value v = t.Get(key);
+    std::vector<double> list = NumberList(v, Range::Closed(0, 1));
+    if (list.size() != wavelengths.size()) {
+      v.Fail("must have one value per wavelength (" + std::to_string(wavelengths.size()) + "), got " +
+             std::to_string(list.size()));
+    }
+    return list;
+  };
+  if (mono) {
+    const std::vector<double> m = read("mono");
+    rig->qe = {m, m, m};
+  } else {
+    rig->qe = {read("r"), read("g"), read("b")};
+  }
+  t.Finish();
+  rig->qe_wavelength_m = wavelengths;
+  for (double& w : rig->qe_wavelength_m) w *= 1e-9;
+}
+
 RunRig ReadRigJson(const fs::path& path) {
   json::Document doc = json::Document::Load(path);
   Object root = doc.Root().AsObject();
@@ -139,7 +184,9 @@ RunRig ReadRigJson(const fs::path& path) {
   if (auto lasers = root.Find("lasers")) {
     for (const Value& lv : lasers->Array()) {
       Object l = lv.AsObject();
-      l.Accept({"power_mw", "wavelength_nm", "cam_from_projector"});
+      l.Accept({"power_mw", "cam_from_projector"});
+      rig.laser_wavelength_m.push_back(l.Has("wavelength_nm") ? l.Number("wavelength_nm", Range::Closed(200, 2000)) * 1e-9
+                                                               : 0.0);
       for (const Value& pv : l.Get("sheet_planes_in_cam").Array(1)) {
         Object p = pv.AsObject();
         Eigen::Vector3d n = p.Vec3("n");
@@ -157,7 +204,10 @@ RunRig ReadRigJson(const fs::path& path) {
     rig.bit_depth = int(s->Integer("bit_depth", 0, Range::Closed(1, 16)));
     rig.black_level_dn = s->Number("black_level_dn", 0.0, Range::NonNegative());
     rig.color_filter = *ParseColorFilter(s->Enum("color_filter", "mono", {"mono", "rggb", "bggr", "grbg", "gbrg"}));
-    s->Accept({"full_well_e", "system_gain_dn_per_e", "dark_noise_e"});
+    if (auto q = s->Find("quantum_efficiency")) ReadQuantumEfficiency(*q, rig.color_filter, &rig);
+    rig.system_gain_dn_per_e = s->Number("system_gain_dn_per_e", 0.0, Range::Positive());
+    rig.dark_noise_e = s->Number("dark_noise_e", -1.0, Range::NonNegative());
+    s->Accept({"full_well_e"});
     s->Finish();
   }
   root.Finish();
@@ -174,7 +224,12 @@ RunRig ReadSceneSensor(const fs::path& path) {
   rig.camera = sensor.camera;
   for (const LaserProjector& l : sensor.lasers) {
     for (int k = 0; k < l.sheet_count(); ++k) rig.planes_in_cam.push_back(l.SheetPlane(k));
+    rig.laser_wavelength_m.push_back(l.wavelength_m());
   }
+  rig.qe_wavelength_m = sensor.image_sensor.params().qe_wavelength_m;
+  rig.qe = sensor.image_sensor.params().qe;
+  rig.system_gain_dn_per_e = sensor.image_sensor.SystemGain();
+  rig.dark_noise_e = sensor.image_sensor.params().dark_noise_e;
   rig.bit_depth = sensor.image_sensor.bit_depth();
   rig.black_level_dn = sensor.image_sensor.params().black_level_dn;
   rig.color_filter = sensor.image_sensor.color_filter();

@@ -24,6 +24,7 @@
 // Errors are lt::InputError naming "manifest.jsonl:LINE" (and the JSON pointer).
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <limits>
 #include <type_traits>
@@ -111,6 +112,17 @@ struct RunRig {
   int bit_depth = 0;                 // image sensor ADC bits, 0 when unknown
   double black_level_dn = 0;
   ColorFilter color_filter = ColorFilter::kMono;  // the raw images' mosaic
+  // Each laser's wavelength in m (global laser order), 0 where the rig does not give it.
+  std::vector<double> laser_wavelength_m;
+  // The image sensor's quantum efficiency table (image_sensor.quantum_efficiency):
+  // wavelengths, and per channel R, G, B (a mono sensor: its one table in all
+  // three); empty when the rig does not give it.
+  std::vector<double> qe_wavelength_m;
+  std::array<std::vector<double>, 3> qe;
+  // The image sensor's noise figures (image_sensor.system_gain_dn_per_e: K at
+  // the run's gain; dark_noise_e), 0 and -1 when the rig does not give them.
+  double system_gain_dn_per_e = 0;
+  double dark_noise_e = -1;
   std::filesystem::path source;      // the file read
 };
 
@@ -128,8 +140,10 @@ ExtractionLevels FrameExtractionLevels(double threshold, double background, cons
 double ImageTypeFullScale(const AnyImage& image);
 
 // Reads rig.json (render/rig JSON: "camera" in scene-file form, "lasers" with
-// "sheet_planes_in_cam", "image_sensor"); without it, the "sensor" section of
-// scene.json. Throws lt::InputError naming the file and JSON pointer.
+// "sheet_planes_in_cam" and optional "wavelength_nm", "image_sensor" with an
+// optional "quantum_efficiency" in the scene file's form); without it, the
+// "sensor" section of scene.json. Throws lt::InputError naming the file and
+// JSON pointer.
 RunRig ReadRunRig(const std::filesystem::path& run_dir);
 
 }  // namespace lt

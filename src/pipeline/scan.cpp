@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "core/image_io.h"
 #include "pipeline/calibration_file.h"
+#include "pipeline/channel_weights.h"
 #include "pipeline/colorize.h"
 #include "pipeline/run_folder_reader.h"
 #include "pipeline/scan_output.h"
@@ -45,25 +46,22 @@ struct PendingPoint {
   int label;
 };
 
-// Extractors by (threshold, background, axis, mosaic): a run normally needs one.
+// Extractors by (threshold, background, axis, mosaic, colour weights): a run
+// normally needs one.
 class ExtractorCache {
  public:
   explicit ExtractorCache(const ExtractionOptions& base) : base_(base) {}
-  StripeExtractor& Get(double threshold, double background, SearchAxis axis, ColorFilter bayer) {
-    auto key = std::make_tuple(threshold, background, int(axis), int(bayer));
+  StripeExtractor& Get(const ExtractionOptions& o) {
+    auto key = std::make_tuple(o.threshold, o.background, int(o.axis), int(o.bayer), o.channel_weights);
     auto it = cache_.find(key);
     if (it != cache_.end()) return *it->second;
-    ExtractionOptions o = base_;
-    o.threshold = threshold;
-    o.background = background;
-    o.axis = axis;
-    o.bayer = bayer;
     return *cache_.emplace(key, std::make_unique<StripeExtractor>(o)).first->second;
   }
+  const ExtractionOptions& base() const { return base_; }
 
  private:
   ExtractionOptions base_;
-  std::map<std::tuple<double, double, int, int>, std::unique_ptr<StripeExtractor>> cache_;
+  std::map<std::tuple<double, double, int, int, std::vector<double>>, std::unique_ptr<StripeExtractor>> cache_;
 };
 
 std::string Size(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
@@ -163,6 +161,8 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
   }
 
   ExtractorCache extractors(options.extraction);
+  const LaserChannelWeights matched = MatchedChannelWeights(rig);
+  bool warned_colour_default = false;
   std::vector<PendingPoint> pending;
   bool all_posed = true, any_posed = false, all_labelled = true;
   std::error_code ec;
@@ -193,16 +193,38 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
                                                  summary.plane_source.string() + ") is " +
                                                  Size(camera.width(), camera.height()) + context);
     }
-    // Thresholds relative to the frame's real range of values.
+    const SearchAxis axis = options.axis ? *options.axis : frame.gt_axis ? *frame.gt_axis : planes_axis;
+    ExtractionOptions eo = extractors.base();
+    eo.axis = axis;
+    // The raw frame of a colour sensor is a mosaic: demosaiced before extraction.
+    eo.bayer = channels == 1 ? rig.color_filter : ColorFilter::kMono;
+    // A colour frame without --channel or --weights: the laser's channels. A
+    // three-channel frame without them needs --channel or --weights (the
+    // extractor says so); a mosaic keeps the mean of R, G, B.
+    const bool colour = eo.bayer != ColorFilter::kMono || channels == 3;
+    if (colour && eo.channel < 0 && eo.channel_weights.empty()) {
+      if (!matched.missing.empty()) {
+        if (!warned_colour_default && eo.bayer != ColorFilter::kMono) {
+          warn(matched.missing + ": colour frames are extracted on the mean of R, G and B, not on the channels that "
+               "see the laser (--channel or --weights choose them)");
+          warned_colour_default = true;
+        }
+      } else {
+        eo.channel_weights = matched.weights;
+        summary.channel_weights = matched.weights;
+        summary.channel_weights_source = matched.Describe();
+      }
+    }
+    // Thresholds relative to the frame's real range of values, in the weighted
+    // image's units (ExtractionOptions::WeightedFullScale, WeightedLevel).
     const ExtractionLevels levels = FrameExtractionLevels(options.extraction.threshold, options.extraction.background,
                                                           frame, rig.bit_depth, rig.black_level_dn, type_full_scale);
-    const double threshold = levels.threshold, background = levels.background;
-    const SearchAxis axis = options.axis ? *options.axis : frame.gt_axis ? *frame.gt_axis : planes_axis;
+    eo.threshold = std::isnan(options.extraction.threshold) ? levels.threshold * eo.WeightedFullScale() : levels.threshold;
+    eo.background =
+        std::isnan(options.extraction.background) ? levels.background * eo.WeightedLevel() : levels.background;
     std::vector<StripePoint> points;
     try {
-      // The raw frame of a colour sensor is a mosaic: demosaiced before extraction.
-      const ColorFilter bayer = channels == 1 ? rig.color_filter : ColorFilter::kMono;
-      StripeExtractor& extractor = extractors.Get(threshold, background, axis, bayer);
+      StripeExtractor& extractor = extractors.Get(eo);
       points = extractor.Extract(image);
       summary.width_rejected += extractor.last_rejections();
       // A saturated pixel reads its level give or take the read noise: within 1%.
@@ -219,8 +241,6 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     } else {
       PlaneIdOptions id_options = options.plane_id;
       id_options.axis = axis;
-      ExtractionOptions eo = options.extraction;
-      eo.axis = axis;
       id_options.edge_margin = std::max(id_options.edge_margin, eo.EdgeLinesWithoutPoints() + 2);
       const PixelRect region = eo.roi ? *eo.roi : PixelRect{0, 0, width, height};
       PlaneIdentification id = IdentifyPlanes(points, region, int(planes.size()), id_options);

@@ -22,10 +22,16 @@
 namespace lt {
 
 struct ScanOptions {
-  // Extraction as in `lasertwin extract`, with two run-aware defaults:
+  // Extraction as in `lasertwin extract`, with three run-aware defaults:
   //   threshold kAuto: 10% of the frame's full scale, from its bit depth (a
-  //     16-bit PNG holding 10-bit raw DN has full scale 1023, not 65535);
-  //   background kAuto (NaN here): the image sensor's black level (rig.json).
+  //     16-bit PNG holding 10-bit raw DN has full scale 1023, not 65535),
+  //     times the channel weights' WeightedFullScale();
+  //   background kAuto (NaN here): the image sensor's black level (rig.json),
+  //     times the weights' WeightedLevel();
+  //   colour frames (a Bayer mosaic or 3 channels) without `channel` or
+  //     `channel_weights`: the weights matched to the rig's lasers
+  //     (pipeline/channel_weights.h), else (no wavelength or quantum
+  //     efficiency in the rig, warned) a mosaic's mean of R, G, B.
   // `axis` is ignored: see `axis` below.
   ExtractionOptions extraction = DefaultExtraction();
   // Search axis; unset: the manifest's gt_axis of each frame, else the axis
@@ -85,6 +91,11 @@ struct ScanSummary {
   // points coloured and contaminated by laser light (pipeline/colorize.h).
   bool coloured = false;
   ColourStats colour;
+  // Colour frames scanned without --channel or --weights: the R, G, B weights
+  // matched to the rig's lasers (pipeline/channel_weights.h) and how they were
+  // found; empty when the rig could not say (then the mean of R, G, B, warned once).
+  std::vector<double> channel_weights;
+  std::string channel_weights_source;
 };
 
 // Scans a run folder. Warnings (plane identification failed on a frame,

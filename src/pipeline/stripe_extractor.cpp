@@ -115,7 +115,7 @@ const WidthRejections& StripeExtractor::last_rejections() const { return impl_->
 template <typename T>
 double StripeExtractor::ThresholdFor() const {
   const double t = impl_->options.threshold;
-  return std::isnan(t) ? 0.1 * FullScale<T>() : t;
+  return std::isnan(t) ? 0.1 * FullScale<T>() * impl_->options.WeightedFullScale() : t;
 }
 
 template <typename T>

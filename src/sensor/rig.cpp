@@ -371,6 +371,16 @@ nlohmann::json SensorRigToJson(const SensorRig& rig) {
                            {"dark_noise_e", s.dark_noise_e},
                            {"black_level_dn", s.black_level_dn}};
   sensor["color_filter"] = ColorFilterName(s.color_filter);
+  // The quantum efficiency per channel, in the scene file's form: which colour
+  // channels see each laser's wavelength (scan's channel weights).
+  nlohmann::json qe = {{"wavelength_nm", nlohmann::json::array()}};
+  for (double w : s.qe_wavelength_m) qe["wavelength_nm"].push_back(w * 1e9);
+  if (s.color_filter == ColorFilter::kMono) {
+    qe["mono"] = s.qe[0];
+  } else {
+    qe["r"] = s.qe[0], qe["g"] = s.qe[1], qe["b"] = s.qe[2];
+  }
+  sensor["quantum_efficiency"] = qe;
   return {{"camera", cam}, {"lasers", lasers}, {"image_sensor", sensor}};
 }
 

@@ -169,6 +169,36 @@ TEST(ExtractionBehaviour, ColourChannelAndWeights) {
   }
 }
 
+// The automatic threshold is 10% of the weighted image's full scale: the
+// sample type's times the sum of the positive weights. A red stripe of peak 20
+// (under 25.5, 10% of 255) is found neither with weights 1,0,0 nor 2,0,0 (peak
+// 40, threshold 51); one of peak 200 gives the same points with both.
+TEST(ExtractionBehaviour, AutomaticThresholdFollowsTheWeights) {
+  for (double peak : {20.0, 200.0}) {
+    SyntheticFrame red = Frame();
+    red.stripes[0].amplitude = peak;
+    Image<uint8_t> r = QuantizeImage<uint8_t>(RenderSyntheticFrame(red));
+    Image<uint8_t> rgb(r.width, r.height, 3);
+    for (int y = 0; y < r.height; ++y)
+      for (int x = 0; x < r.width; ++x) rgb.At(x, y, 0) = r.At(x, y);
+    for (auto m : kAll) {
+      SCOPED_TRACE(std::string(MethodName(m)) + " peak " + std::to_string(peak));
+      ExtractionOptions o = Options(m);
+      o.threshold = ExtractionOptions::kAuto;
+      o.high_threshold = ExtractionOptions::kAuto;
+      o.channel_weights = {1, 0, 0};
+      const auto one = StripeExtractor(o).Extract(rgb.View());
+      o.channel_weights = {2, 0, 0};
+      EXPECT_DOUBLE_EQ(o.WeightedFullScale(), 2.0);
+      const auto two = StripeExtractor(o).Extract(rgb.View());
+      ASSERT_EQ(one.size(), two.size());
+      if (peak < 25.5) EXPECT_TRUE(one.empty());
+      if (peak > 100) EXPECT_GT(one.size(), 50u);
+      for (size_t i = 0; i < one.size(); ++i) EXPECT_NEAR(one[i].u, two[i].u, 1e-4);
+    }
+  }
+}
+
 TEST(ExtractionBehaviour, ThreadCountAndReuseDoNotChangeResults) {
   SyntheticFrame f = Frame();
   f.width = 300;

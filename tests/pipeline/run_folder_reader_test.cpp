@@ -173,6 +173,15 @@ TEST(RunFolderReader, RigJsonAndSceneJsonGiveTheSameGeometry) {
       EXPECT_EQ(r->planes_in_cam[size_t(k)].n, truth.n) << k;
       EXPECT_EQ(r->planes_in_cam[size_t(k)].d, truth.d) << k;
     }
+    // What scan's colour weights need (pipeline/channel_weights.h); rig.json holds nm.
+    ASSERT_EQ(r->laser_wavelength_m.size(), 1u);
+    EXPECT_NEAR(r->laser_wavelength_m[0], 650e-9, 1e-21);
+    const ImageSensorParams& sp = sensor.image_sensor.params();
+    ASSERT_EQ(r->qe_wavelength_m.size(), sp.qe_wavelength_m.size());
+    EXPECT_NEAR(r->qe_wavelength_m[0], sp.qe_wavelength_m[0], 1e-21);
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(r->qe[size_t(c)], sp.qe[0]) << c;
+    EXPECT_EQ(r->dark_noise_e, sp.dark_noise_e);
+    EXPECT_EQ(r->system_gain_dn_per_e, sensor.image_sensor.SystemGain());
   }
   EXPECT_EQ(a.camera.fx(), b.camera.fx());
 }
@@ -191,6 +200,16 @@ TEST(RunFolderReader, BadRigJson) {
   Write(run / "rig.json", R"({"camera": {"resolution": [160, 120], "pixel_pitch_um": 5, "focal_length_mm": 4,
     "f_number": 4}, "extra": 1})");
   EXPECT_THROW(ReadRunRig(run), InputError);
+  Write(run / "rig.json", R"({"camera": {"resolution": [160, 120], "pixel_pitch_um": 5, "focal_length_mm": 4,
+    "f_number": 4}, "image_sensor": {"color_filter": "rggb", "quantum_efficiency": {"wavelength_nm": [550, 650],
+    "r": [0.5], "g": [0.5, 0.2], "b": [0.1, 0.05]}}})");
+  try {
+    ReadRunRig(run);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), (run / "rig.json").string() +
+                                         ": /image_sensor/quantum_efficiency/r: must have one value per wavelength (2), got 1");
+  }
 }
 
 }  // namespace

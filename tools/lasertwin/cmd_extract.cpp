@@ -147,7 +147,8 @@ void AddExtract(CLI::App& app) {
                   "FOLDER/<image name>.csv); default: standard output");
   auto& o = args->options;
   cmd->add_option("--threshold", o.threshold,
-                  "Minimum stripe peak intensity in image units (default: 10% of full scale)")
+                  "Minimum stripe peak intensity in image units (default: 10% of full scale, times the sum of the "
+                  "positive --weights)")
       ->check(FiniteNumber());
   cmd->add_option("--high-threshold", o.high_threshold, "steger: high hysteresis threshold, which each chain must reach somewhere (default: the threshold)")
       ->check(FiniteNumber());

@@ -69,6 +69,7 @@ void Run(ScanArgs& a) {
   if (!rejected.empty()) std::cerr << " (" << rejected << ")";
   std::cerr << "; " << s.planes << " laser plane" << (s.planes == 1 ? "" : "s") << " from " << s.plane_source.string()
             << "\n";
+  if (!s.channel_weights.empty()) std::cerr << "colour frames extracted on " << s.channel_weights_source << "\n";
   if (s.frames_by_edge_chains > 0) {
     std::cerr << "planes numbered by the edge chains in " << s.frames_by_edge_chains << " frame"
               << (s.frames_by_edge_chains == 1 ? "" : "s") << " (no search line met all the stripes)\n";
@@ -104,7 +105,8 @@ void Add(CLI::App& app) {
   cmd->add_option("--roi", args->roi, "Search only in X,Y,W,H (pixels)");
   auto& e = args->options.extraction;
   cmd->add_option("--threshold", e.threshold,
-                  "Minimum stripe peak in image DN (default: 10% of the frame's full scale, 2^bit_depth - 1)")
+                  "Minimum stripe peak in image DN (default: 10% of the frame's full scale, 2^bit_depth - 1, times the sum "
+                  "of the positive channel weights)")
       ->check(FiniteNumber());
   cmd->add_option("--high-threshold", e.high_threshold, "steger: high hysteresis threshold, which each chain must reach somewhere (default: the threshold)")
       ->check(FiniteNumber());
@@ -118,7 +120,9 @@ void Add(CLI::App& app) {
   cmd->add_option("--sigma", e.sigma, "steger: filter sigma in pixels (0: from --width)")->capture_default_str();
   cmd->add_option("--max-angle-deg", e.max_angle_deg, "steger: largest stripe angle from the search normal")
       ->capture_default_str();
-  cmd->add_option("--channel", e.channel, "Colour images: channel holding the laser (0-based)");
+  cmd->add_option("--channel", e.channel,
+                  "Colour images: channel holding the laser (0-based; default: the R, G, B weights matched to the "
+                  "rig's laser wavelengths and quantum efficiency)");
   cmd->add_option("--weights", args->weights, "Colour images: channel weights, e.g. 1,0,0");
   cmd->add_option("--threads", e.threads, "Worker threads (0: all)")->capture_default_str();
   auto& id = args->options.plane_id;
