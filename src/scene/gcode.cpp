@@ -94,6 +94,7 @@ void GcodeReader::CheckChecksum(std::string_view line, size_t star) {
 
 void GcodeReader::ReadLine(std::string_view line, int line_no) {
   line_no_ = line_no;
+  if (line.find('\0') != std::string_view::npos) Fail("a NUL byte: this is not a text G-code file");
   size_t semicolon = line.find(';');
   std::string_view code = line.substr(0, semicolon);
   // A checksum "*57" ends the code; it must match (a corrupted line is not read).
@@ -234,6 +235,13 @@ size_t MoveLinesAtMost(std::string_view text) {
 }  // namespace
 
 Toolpath ParseGcode(std::string_view text, const std::string& display_name) {
+  // PrusaSlicer's binary G-code (.bgcode, the default for some printers since 2.7)
+  // starts with the magic "GCDE" and holds compressed blocks: not readable as text.
+  if (StartsWith(text, "GCDE")) {
+    throw InputError(display_name,
+                     "is a binary G-code file (PrusaSlicer's .bgcode, which starts with \"GCDE\"): export text "
+                     "G-code instead (PrusaSlicer: untick \"Supports binary G-code\" in the printer's settings)");
+  }
   GcodeReader reader(display_name);
   size_t pos = StartsWith(text, "\xEF\xBB\xBF") ? 3 : 0;  // a UTF-8 byte order mark
   reader.ReserveSegments(MoveLinesAtMost(text.substr(pos)));

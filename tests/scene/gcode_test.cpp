@@ -225,11 +225,16 @@ TEST(Gcode, MalformedLinesAreErrorsAtFileAndLine) {
       {";LAYER:x\n", "g.gcode:1: LAYER comment without a number"},
       {";LAYER:1.5\n", "g.gcode:1: LAYER comment needs an integer"},
       {"G90 X1\n", "g.gcode:1: G90 takes no parameter X"},
+      {"GCDE\x01\x00\x00\x00", "g.gcode: is a binary G-code file (PrusaSlicer's .bgcode"},
       {"G1 X10 F600\nG1 X20 E0.1:0.2\n", "g.gcode:2: E with several values (\"0.1:0.2\": RepRapFirmware's amounts per drive) is not supported"},
   };
   for (const auto& c : cases) {
     EXPECT_THAT(ErrorOf([&] { ParseGcode(c.text, "g.gcode"); }), HasSubstr(c.expected)) << c.text;
   }
+  // A NUL byte (a binary file): said so at its line.
+  const std::string with_nul("G1 X10 F600\nG1 X2\0\n", 18);
+  EXPECT_THAT(ErrorOf([&] { ParseGcode(with_nul, "g.gcode"); }),
+              HasSubstr("g.gcode:2: a NUL byte: this is not a text G-code file"));
   EXPECT_THAT(ErrorOf([&] { ReadGcode(kGcode / "missing.gcode", "missing.gcode"); }),
               HasSubstr("missing.gcode: cannot open file"));
   // Unknown commands are not parsed: a message with any text is fine.
