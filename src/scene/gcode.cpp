@@ -242,6 +242,13 @@ Toolpath ParseGcode(std::string_view text, const std::string& display_name) {
                      "is a binary G-code file (PrusaSlicer's .bgcode, which starts with \"GCDE\"): export text "
                      "G-code instead (PrusaSlicer: untick \"Supports binary G-code\" in the printer's settings)");
   }
+  // A zip archive: Bambu Studio's and OrcaSlicer's sliced project (.gcode.3mf) holds the
+  // G-code of each plate as Metadata/plate_N.gcode.
+  if (StartsWith(text, "PK\x03\x04")) {
+    throw InputError(display_name,
+                     "is a zip archive, not G-code (Bambu Studio's and OrcaSlicer's .gcode.3mf hold each plate's "
+                     "G-code as Metadata/plate_1.gcode, ...): extract the plate's .gcode file");
+  }
   GcodeReader reader(display_name);
   size_t pos = StartsWith(text, "\xEF\xBB\xBF") ? 3 : 0;  // a UTF-8 byte order mark
   reader.ReserveSegments(MoveLinesAtMost(text.substr(pos)));

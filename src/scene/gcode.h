@@ -51,8 +51,8 @@
 // OrcaSlicer and PrusaSlicer write for Klipper printers) are skipped and counted
 // by name, as the firmware-only M and G commands are.
 //
-// A binary G-code file (PrusaSlicer's .bgcode, magic "GCDE") is refused as such, naming
-// the file. Errors are lt::InputError naming "file:line": a NUL byte (not a text file), a letter without a number, a number
+// A binary G-code file (PrusaSlicer's .bgcode, magic "GCDE") or a zip archive (a
+// .gcode.3mf) is refused as such, naming the file. Errors are lt::InputError naming "file:line": a NUL byte (not a text file), a letter without a number, a number
 // that is not finite or malformed, several values for one letter (RepRapFirmware's
 // "E0.1:0.2", amounts per drive), a parameter the command does not take or given
 // twice, F <= 0, a checksum that does not match, an M207 length < 0 or feed <= 0, an arc

@@ -226,6 +226,7 @@ TEST(Gcode, MalformedLinesAreErrorsAtFileAndLine) {
       {";LAYER:1.5\n", "g.gcode:1: LAYER comment needs an integer"},
       {"G90 X1\n", "g.gcode:1: G90 takes no parameter X"},
       {"GCDE\x01\x00\x00\x00", "g.gcode: is a binary G-code file (PrusaSlicer's .bgcode"},
+      {"PK\x03\x04\x14", "g.gcode: is a zip archive, not G-code (Bambu Studio's and OrcaSlicer's .gcode.3mf"},
       {"G1 X10 F600\nG1 X20 E0.1:0.2\n", "g.gcode:2: E with several values (\"0.1:0.2\": RepRapFirmware's amounts per drive) is not supported"},
   };
   for (const auto& c : cases) {
