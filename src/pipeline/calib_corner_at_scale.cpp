@@ -52,11 +52,13 @@ ScaleResult DetectAtScale(const Image<float>& img, double noise, const Checkerbo
   // The contrast: the range of the smoothed image between its 0.1st and
   // 99.9th percentiles (smoothing divides the noise by ~5σ; a board covering
   // a few percent of the image still counts, a few hot pixels do not).
+  double dark = 0;
   {
     std::vector<float> values;
     const size_t step = std::max<size_t>(1, sm.r.size() / 1000000);
     for (size_t k = 0; k < sm.r.size(); k += step) values.push_back(sm.r[k]);
-    det.contrast = Percentile(values, 0.999) - Percentile(values, 0.001);
+    dark = Percentile(values, 0.001);
+    det.contrast = Percentile(values, 0.999) - dark;
   }
   if (!(det.contrast > 5 * noise) || !(det.contrast > 0)) {
     return refuse(Failure::kNoContrast, "no checkerboard found: the image has no contrast above its noise (contrast " + Fmt(det.contrast) +
@@ -66,14 +68,15 @@ ScaleResult DetectAtScale(const Image<float>& img, double noise, const Checkerbo
   // ---- saddle candidates
   // Each corner is judged against its own contrast (the range of the smoothed
   // image on the validation circle), so that uneven light and vignetting do
-  // not matter. That range must exceed 3 noise σ, and a tenth of the image's
-  // contrast (the noise estimate misses noise that the camera has smoothed,
-  // e.g. by JPEG compression, and faint texture is no board).
-  const double min_range = std::max(3 * noise, 0.1 * det.contrast);
+  // not matter. That range must exceed 3 noise σ, and a tenth of the light on
+  // the corner (its brightest value on the circle above the image's dark
+  // level): faint texture is no board, however bright.
+  const ContrastFloor floor{3 * noise, dark};
+  out.floor = floor;
   const double sigma_eff2 = sigma * sigma + 1.0 / 6.0;  // Gaussian, the kernel's pixel box and the pixel's own
   const double circle = 2.5 * sigma + 1;                 // validation circle radius
   auto response_floor = [&](double range) { return std::pow(options.min_response * range / (M_PI * sigma_eff2), 2); };
-  const double threshold = response_floor(min_range);
+  const double threshold = response_floor(floor.noise_floor);  // the lowest floor: dim corners too
   const double border = 2 * sigma + 2;
   const int nms = std::max(1, int(std::lround(sigma)));
   std::vector<float> strength(size_t(w) * size_t(h), 0.0f);
@@ -104,9 +107,10 @@ ScaleResult DetectAtScale(const Image<float>& img, double noise, const Checkerbo
       c.strength = s;
       double ring[kCircleSamples];
       const double range = CircleSamples(sm, c.p, circle, ring);
-      if (!(range >= min_range) || !(s > response_floor(range))) continue;
+      const double brightest = *std::max_element(ring, ring + kCircleSamples);
+      if (!(range >= floor.For(brightest)) || !(s > response_floor(range))) continue;
       if (!RefineSaddle(iv, sigma, kernels.radius, border, &c.p, &c.hessian)) continue;
-      if (!EdgeDirections(sm, c.p, circle, min_range, &c)) continue;
+      if (!EdgeDirections(sm, c.p, circle, floor, &c)) continue;
       bool duplicate = false;
       for (const auto& o : cands) duplicate = duplicate || (o.p - c.p).norm() < 1.0;
       if (!duplicate) cands.push_back(c);
@@ -132,6 +136,9 @@ ScaleResult DetectAtScale(const Image<float>& img, double noise, const Checkerbo
     ++seeds;
     Grid g = GrowGrid(cands, seed, options.neighbour_tolerance);
     for (const auto& [cell, idx] : g.cells) tried[size_t(idx)] = 1;
+    // A grid larger than the board: corner-like points beyond the squares
+    // (a narrow margin against a dark background) may have joined it.
+    if (!Extent(g).FitsIn(board)) DropCornersBeyondSquares(&g, cands, sm, floor);
     if (g.cells.size() > best.cells.size()) best = g;
     const GridExtent e = Extent(g);
     if (e.full && e.Matches(board)) {
@@ -197,8 +204,9 @@ ScaleResult DetectAtScale(const Image<float>& img, double noise, const Checkerbo
         const double v = square[size_t(i * (C - 1) + j)], u = square[size_t(i2 * (C - 1) + j2)];
         const double even_minus_odd = (i + j) % 2 == 0 ? v - u : u - v;
         ++pairs;
-        if (even_minus_odd < -min_range) ++even_darker;
-        if (even_minus_odd > min_range) ++odd_darker;
+        const double pair_floor = floor.For(std::max(v, u));
+        if (even_minus_odd < -pair_floor) ++even_darker;
+        if (even_minus_odd > pair_floor) ++odd_darker;
       }
     }
   }

@@ -7,6 +7,7 @@
 
 #include "core/image.h"
 #include "pipeline/calib_checkerboard.h"
+#include "pipeline/calib_corner_candidates.h"
 #include "pipeline/calib_corner_grid.h"
 #include "pipeline/calib_corners.h"
 
@@ -16,6 +17,7 @@ namespace corner_detail {
 struct ScaleResult {
   CornerDetection det;
   Failure failure = Failure::kNone;
+  ContrastFloor floor;  // the contrast floor of this scale's corners
 };
 
 // The detection at one smoothing scale, on the image already averaged to one

@@ -119,11 +119,11 @@ namespace {
 
 // The edges from the smoothed image sampled on the circle (kCircleSamples
 // values, counter-clockwise from +x).
-bool EdgeDirectionsOnRing(const double* v, double min_range, Candidate* c) {
+bool EdgeDirectionsOnRing(const double* v, const ContrastFloor& floor, Candidate* c) {
   constexpr int kSamples = kCircleSamples;
   double lo = HUGE_VAL, hi = -HUGE_VAL;
   for (int k = 0; k < kSamples; ++k) lo = std::min(lo, v[k]), hi = std::max(hi, v[k]);
-  if (!(hi - lo >= min_range)) return false;
+  if (!(hi - lo >= floor.For(hi))) return false;
   const double mid = 0.5 * (lo + hi);
   std::vector<double> t;
   for (int k = 0; k < kSamples; ++k) {
@@ -147,10 +147,10 @@ bool EdgeDirectionsOnRing(const double* v, double min_range, Candidate* c) {
 
 }  // namespace
 
-bool EdgeDirections(const Smoothed& s, const Eigen::Vector2d& p, double radius, double min_range, Candidate* c) {
+bool EdgeDirections(const Smoothed& s, const Eigen::Vector2d& p, double radius, const ContrastFloor& floor, Candidate* c) {
   double v[kCircleSamples];
   CircleSamples(s, p, radius, v);
-  return EdgeDirectionsOnRing(v, min_range, c);
+  return EdgeDirectionsOnRing(v, floor, c);
 }
 
 // Whether the image smoothed at `sigma` (smaller than the scale `found_sigma`
@@ -164,7 +164,7 @@ bool EdgeDirections(const Smoothed& s, const Eigen::Vector2d& p, double radius, 
 // remove the saddle at the smaller scale; it weakens it by at most the ratio
 // of the two scales' squares.
 bool SaddleAtScale(const ImageView<float>& img, const Eigen::Vector2d& p, double p_std, double sigma, double found_sigma,
-                   double noise, double min_range, double min_response) {
+                   double noise, const ContrastFloor& floor, double min_response) {
   const GaussianKernels kernels(sigma);
   Eigen::Vector2d q = p;
   Eigen::Matrix2d hessian;
@@ -188,7 +188,7 @@ bool SaddleAtScale(const ImageView<float>& img, const Eigen::Vector2d& p, double
   const double ideal = (hi - lo) / (M_PI * (found_sigma * found_sigma + 1.0 / 6.0));
   if (!(std::sqrt(std::max(0.0, -hessian.determinant())) >= min_response * ideal)) return false;
   Candidate c;
-  return EdgeDirectionsOnRing(v, min_range, &c);
+  return EdgeDirectionsOnRing(v, floor, &c);
 }
 
 double PointAsymmetry(const Image<float>& img, const Eigen::Vector2d& p, double r, double noise) {

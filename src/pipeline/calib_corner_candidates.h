@@ -39,6 +39,21 @@ struct Smoothed {
 // The image smoothed with kernels k, and its second derivatives.
 Smoothed Smooth(const Image<float>& img, const GaussianKernels& k);
 
+// The contrast a corner must span on its validation circle (and two
+// neighbouring squares must differ by to tell their colours): 3 noise σ, and
+// a tenth of the light on it, the brighter side's level above the image's
+// dark level. A board's black and white squares differ by far more than a
+// tenth of the light that falls on them, however dim; faint texture on a
+// lit surface does not. (A tenth of the whole image's contrast instead
+// refused the corners of a board's dim end where the light fell to a
+// twentieth across it, as a lamp beside a wide-angle camera's close board
+// does.)
+struct ContrastFloor {
+  double noise_floor = 0;  // 3 σ_n
+  double dark = 0;         // the image's dark level (0.1st percentile of the smoothed image)
+  double For(double bright) const { return std::max(noise_floor, 0.1 * (bright - dark)); }
+};
+
 struct Candidate {
   Eigen::Vector2d p;
   double strength = 0;
@@ -58,14 +73,14 @@ constexpr int kCircleSamples = 48;
 double CircleSamples(const Smoothed& s, const Eigen::Vector2d& p, double radius, double* v);
 // The two edges through the corner at p (c->e1, c->e2) from the smoothed image
 // on the circle of `radius` around it; false unless its range there reaches
-// min_range and it changes between dark and bright four times, at two pairs
-// of nearly opposite angles.
-bool EdgeDirections(const Smoothed& s, const Eigen::Vector2d& p, double radius, double min_range, Candidate* c);
+// the contrast floor for its brightest value and it changes between dark and
+// bright four times, at two pairs of nearly opposite angles.
+bool EdgeDirections(const Smoothed& s, const Eigen::Vector2d& p, double radius, const ContrastFloor& floor, Candidate* c);
 
 // Whether the image smoothed at `sigma`, smaller than the scale `found_sigma`
 // the corner p was found at, has the corner's saddle too, at the same place.
 bool SaddleAtScale(const ImageView<float>& img, const Eigen::Vector2d& p, double p_std, double sigma, double found_sigma,
-                   double noise, double min_range, double min_response);
+                   double noise, const ContrastFloor& floor, double min_response);
 
 // Point asymmetry of the image about p within radius r: the RMS difference
 // between the image at p + d and at p − d, less its expectation from noise

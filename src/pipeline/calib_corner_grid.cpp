@@ -111,6 +111,63 @@ Grid GrowGrid(const std::vector<Candidate>& cands, int seed, double tolerance) {
   return g;
 }
 
+void DropCornersBeyondSquares(Grid* g, const std::vector<Candidate>& cands, const Smoothed& sm,
+                              const ContrastFloor& floor) {
+  auto pos = [&](const Cell& c) -> const Eigen::Vector2d* {
+    auto it = g->cells.find(c);
+    return it == g->cells.end() ? nullptr : &cands[size_t(it->second)].p;
+  };
+  for (bool dropped = true; dropped && !g->cells.empty();) {
+    dropped = false;
+    const GridExtent e = Extent(*g);
+    const int a1 = e.a0 + e.rows - 1, c1 = e.c0 + e.cols - 1;
+    std::vector<Cell> drop;
+    for (const auto& [cell, idx] : g->cells) {
+      const Eigen::Vector2d& p = cands[size_t(idx)].p;
+      std::vector<Cell> outward;
+      if (cell.first == e.a0) outward.push_back({-1, 0});
+      if (cell.first == a1) outward.push_back({1, 0});
+      if (cell.second == e.c0) outward.push_back({0, -1});
+      if (cell.second == c1) outward.push_back({0, 1});
+      for (const Cell& d : outward) {
+        const auto* inner = pos({cell.first - d.first, cell.second - d.second});
+        if (!inner) continue;  // nothing to take the step from
+        const Cell u{d.second, d.first};  // along the line
+        // The step along the line: from the corner's neighbours on it, or
+        // else from its inner neighbour's.
+        Eigen::Vector2d along;
+        const Cell in{cell.first - d.first, cell.second - d.second};
+        if (const auto* n = pos({cell.first + u.first, cell.second + u.second})) {
+          along = *n - p;
+        } else if (const auto* m = pos({cell.first - u.first, cell.second - u.second})) {
+          along = p - *m;
+        } else if (const auto* ni = pos({in.first + u.first, in.second + u.second})) {
+          along = *ni - *inner;
+        } else if (const auto* mi = pos({in.first - u.first, in.second - u.second})) {
+          along = *inner - *mi;
+        } else {
+          continue;
+        }
+        // The cells on either side of the corner along the line, outside
+        // (v) and inside (w): a board's corner has squares of opposite
+        // colours diagonally, so v1 - v2 has the opposite sign of w1 - w2
+        // and about its size (the light changes little over one square).
+        const Eigen::Vector2d half_out = 0.5 * (p - *inner), half_along = 0.5 * along;
+        auto at = [&](const Eigen::Vector2d& q) { return sm.Sample(q.x(), q.y()); };
+        const double v1 = at(p + half_out + half_along), v2 = at(p + half_out - half_along);
+        const double w1 = at(p - half_out + half_along), w2 = at(p - half_out - half_along);
+        if (!((v1 - v2) * (w1 - w2) < 0 && std::abs(v1 - v2) >= 0.5 * std::abs(w1 - w2) &&
+              std::abs(v1 - v2) >= floor.For(std::max(v1, v2)))) {
+          drop.push_back(cell);
+          break;
+        }
+      }
+    }
+    for (const Cell& c : drop) g->cells.erase(c);
+    dropped = !drop.empty();
+  }
+}
+
 // An incomplete grid is refused for good (no other scale tried) when it
 // cannot be a part of the board that another scale would complete: a grid
 // without holes that has more corners along a line than the board (a board of

@@ -43,6 +43,19 @@ struct GridExtent {
 };
 GridExtent Extent(const Grid& g);
 
+// Drops from g the corners of its outermost lines that lie beyond the board's
+// squares: a corner whose two cells on the outer side (centred half a grid
+// step out and half a step either way along the line) do not differ in colour
+// as a board's do: opposite to the two cells on its inner side, by at least
+// half their difference and the contrast floor. Every inner corner of a board
+// has a black and a white square on each side, diagonally opposite. A margin narrower than the validation circle
+// against a dark background makes X-like points one step beyond the outer
+// corners (the outermost square, the margin and the background change four
+// times on the circle); their outer side is margin and background, one
+// colour along the line. Repeated until no corner is dropped.
+void DropCornersBeyondSquares(Grid* g, const std::vector<Candidate>& cands, const Smoothed& sm,
+                              const ContrastFloor& floor);
+
 // Why one scale refused the board: the first three after kNone are what another scale may
 // cure (blur, squares small against the kernel); the others no scale cures.
 enum class Failure { kNone, kFewCandidates, kNoGrid, kIncompleteGrid, kNoContrast, kGridNotTheBoard, kColours };

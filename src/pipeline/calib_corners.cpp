@@ -116,10 +116,9 @@ CornerDetection DetectCheckerboard(const ImageView<T>& view, const CheckerboardS
       }
     }
     if (r.det.ok && s > options.sigma_px) {
-      const double min_range = std::max(3 * noise, 0.1 * first.det.contrast);
       for (size_t k = 0; r.det.ok && k < r.det.corners.size(); ++k) {
         if (!(PointAsymmetry(img, r.det.corners[k], 2.5 * s + 1, noise) <= kMaxAsymmetry) ||
-            !SaddleAtScale(img.View(), r.det.corners[k], r.det.corner_std_px[k], options.sigma_px, s, noise, min_range,
+            !SaddleAtScale(img.View(), r.det.corners[k], r.det.corner_std_px[k], options.sigma_px, s, noise, first.floor,
                            options.min_response)) {
           r.det.ok = false;
         }

@@ -5,8 +5,9 @@
 //     each X-junction of the board; S = r_xy² − r_xx·r_yy (the negated Hessian
 //     determinant) peaks there. Local maxima of S above min_response of an
 //     ideal corner of their own contrast (the range on the validation circle,
-//     at least 3 noise σ and a tenth of the image's contrast) are candidates:
-//     uneven light does not matter.
+//     at least 3 noise σ and a tenth of the light on the corner, its brightest
+//     value there above the image's dark level) are candidates: uneven light
+//     does not matter.
 //  2. Subpixel: Newton's method on the gradient of the smoothed image,
 //     evaluated exactly at subpixel positions, converges to its saddle point
 //     (the local quadratic model of the smoothed image is fitted afresh at
@@ -21,7 +22,9 @@
 //     dropped: another object's corner beyond the board's edge), then the
 //     grid grows by predicting each next corner from the two before it (or
 //     from a parallelogram of three) and taking the nearest
-//     candidate within neighbour_tolerance of the local spacing.
+//     candidate within neighbour_tolerance of the local spacing. A grid
+//     larger than the board loses the outer corners beyond the squares
+//     (their cells on the outer side not a black and a white square).
 //  5. Order: the grid must be complete and rows x cols (or cols x rows); the
 //     board's orientation follows from the colour convention of
 //     pipeline/calib_checkerboard.h (rows + cols odd).
