@@ -292,7 +292,7 @@ SessionLaserResult CalibrateSessionLaser(const fs::path& run_dir, const Checkerb
     } else {
       PlaneIdOptions id = options.plane_id;
       id.axis = r.axis;
-      id.edge_margin = std::max(id.edge_margin, eo.EdgeLinesWithoutPoints() + 2);
+      id.edge_margin = std::max(id.edge_margin, extractor.resolved_options().EdgeLinesWithoutPoints() + 2);
       const int w = camera.width(), h = camera.height();
       PlaneIdentification ident = IdentifyPlanes(points, eo.roi ? *eo.roi : PixelRect{0, 0, w, h}, r.planes, id);
       std::string error;

@@ -67,8 +67,13 @@ T CandidateLevel(double level) {
 
 }  // namespace
 
-StegerDetector::StegerDetector(const ExtractionOptions& options)
-    : options_(options), kernels_(options.SigmaUsed()) {
+StegerDetector::StegerDetector(const ExtractionOptions& options) : kernels_(options.SigmaUsed()) {
+  Configure(options);
+}
+
+void StegerDetector::Configure(const ExtractionOptions& options) {
+  options_ = options;
+  if (kernels_.sigma != options.SigmaUsed()) kernels_ = GaussianKernels(options.SigmaUsed());
   const double s = options.expected_width / kFwhmPerSigma;
   const double sigma = kernels_.sigma;
   const double S = std::sqrt(s * s + sigma * sigma + 2 * kPixelVariance);

@@ -14,7 +14,11 @@ namespace lt {
 
 class StegerDetector {
  public:
+  // `options.expected_width` must be a width, not kAuto.
   explicit StegerDetector(const ExtractionOptions& options);
+  // Sets the detector up for other options (kernels, threshold conversion,
+  // margins), keeping its buffers.
+  void Configure(const ExtractionOptions& options);
 
   // Must be called inside the extractor's task arena.
   template <typename T>

@@ -107,7 +107,7 @@ void ExtractionOptions::Check() const {
   Require(std::isfinite(max_width) && max_width >= 0, "max_width", "must be >= 0, got " + FormatNumber(max_width));
   Require(max_width == 0 || max_width >= min_width, "max_width",
           "must be 0 (no limit) or >= min_width, got " + FormatNumber(max_width));
-  Require(std::isfinite(expected_width) && expected_width > 0 && expected_width <= 200, "expected_width",
+  Require(FiniteOrAuto(expected_width) && !(expected_width <= 0) && !(expected_width > 200), "expected_width",
           "must be in (0, 200] pixels, got " + FormatNumber(expected_width));
   Require(std::isfinite(sigma) && sigma >= 0 && sigma <= 50, "sigma",
           "must be 0 (automatic) or in (0, 50] pixels, got " + FormatNumber(sigma));
@@ -150,7 +150,8 @@ double ExtractionOptions::WeightedLevel() const {
 
 double ExtractionOptions::SigmaUsed() const {
   if (sigma > 0) return sigma;
-  return std::max(1.0, expected_width / (2.0 * std::sqrt(3.0)));
+  const double w = std::isnan(expected_width) ? kDefaultExpectedWidth : expected_width;
+  return std::max(1.0, w / (2.0 * std::sqrt(3.0)));
 }
 
 int ExtractionOptions::EdgeLinesWithoutPoints() const {

@@ -101,8 +101,12 @@ struct ExtractionOptions {
   double min_width = 1.5;
   double max_width = 0;
   // steger: expected stripe FWHM across the stripe in pixels; sets the filter
-  // scale sigma = max(1, expected_width / (2 sqrt 3)) unless sigma > 0 is given.
-  double expected_width = 5.0;
+  // scale sigma = max(1, expected_width / (2 sqrt 3)) unless sigma > 0 is given,
+  // and the conversion of the thresholds. kAuto: measured on each frame (the
+  // median FWHM across the stripe of the brightest peak of each search line,
+  // docs/extraction.md), kDefaultExpectedWidth where a frame has no peak.
+  double expected_width = kAuto;
+  static constexpr double kDefaultExpectedWidth = 5.0;
   double sigma = 0;
   // steger: stripes must cross the search axis at less than this angle from
   // its normal (degrees), otherwise the crossing point is ill-defined.
@@ -129,10 +133,13 @@ struct ExtractionOptions {
   // mono image, and a mosaic's R, G, B mean.
   double WeightedFullScale() const;
   double WeightedLevel() const;
-  // The Steger filter scale actually used.
+  // The Steger filter scale used (with expected_width kAuto: the scale for
+  // kDefaultExpectedWidth; StripeExtractor::resolved_options() holds the scale of
+  // its last frame).
   double SigmaUsed() const;
   // Search lines this close to the start and end of the image (or ROI) give no
   // points: ceil(3 sigma) for steger (its filter would reach outside), else 0.
+  // (kAuto width: as SigmaUsed.)
   int EdgeLinesWithoutPoints() const;
 };
 

@@ -241,7 +241,8 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     } else {
       PlaneIdOptions id_options = options.plane_id;
       id_options.axis = axis;
-      id_options.edge_margin = std::max(id_options.edge_margin, eo.EdgeLinesWithoutPoints() + 2);
+      id_options.edge_margin =
+          std::max(id_options.edge_margin, extractors.Get(eo).resolved_options().EdgeLinesWithoutPoints() + 2);
       const PixelRect region = eo.roi ? *eo.roi : PixelRect{0, 0, width, height};
       PlaneIdentification id = IdentifyPlanes(points, region, int(planes.size()), id_options);
       if (!image_order.count(int(axis))) image_order[int(axis)] = PlanesInImageOrder(planes, axis);

@@ -1,5 +1,6 @@
 #include "pipeline/stripe_extractor.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -39,13 +40,51 @@ void Transpose(const ImageView<T>& src, T* dst) {
   }
 }
 
+// Steger's expected width measured on a frame whose rows are the search lines:
+// from the FWHM of the brightest peak of each line (maximum search with the
+// frame's threshold and width checks), taken across the stripe (times the
+// cosine of its tilt, from the peaks 4 lines apart), the 90th percentile, so
+// that the filter fits and the threshold holds (a narrower stripe reads brighter
+// than its peak, a wider one dimmer) on nearly all of the stripe, but at most
+// twice the median (a few wide peaks of ambient light do not set it); to 0.1 px,
+// so that nearby frames share their kernels. kDefaultExpectedWidth when no line
+// has a peak.
+double MeasuredStripeWidth(const std::vector<StripePoint>& peaks) {
+  constexpr int kSpan = 4;
+  std::vector<double> widths;
+  widths.reserve(peaks.size());
+  size_t j = 0;  // first peak on line v + kSpan or later
+  for (const StripePoint& p : peaks) {
+    if (!(p.width > 0) || !std::isfinite(p.width)) continue;
+    while (j < peaks.size() && peaks[j].v < p.v + kSpan) ++j;
+    double slope = 0, best = 3.0 * kSpan;  // the stripe's shift over kSpan lines, at most 3 px a line
+    for (size_t k = j; k < peaks.size() && peaks[k].v == p.v + kSpan; ++k) {
+      if (std::abs(peaks[k].u - p.u) < best) {
+        best = std::abs(peaks[k].u - p.u);
+        slope = (peaks[k].u - p.u) / kSpan;
+      }
+    }
+    widths.push_back(p.width / std::sqrt(1.0 + slope * slope));
+  }
+  if (widths.empty()) return ExtractionOptions::kDefaultExpectedWidth;
+  auto at = [&](double q) {
+    auto it = widths.begin() + ptrdiff_t(q * double(widths.size() - 1));
+    std::nth_element(widths.begin(), it, widths.end());
+    return *it;
+  };
+  const double median = at(0.5), p90 = at(0.9);
+  return std::clamp(std::round(std::min(p90, 2.0 * median) * 10.0) / 10.0, 1.0, 200.0);
+}
+
 }  // namespace
 
 struct StripeExtractor::Impl {
   ExtractionOptions options;
+  ExtractionOptions resolved;  // options with steger's width of the last frame
   tbb::task_arena arena;
   BandedPoints banded;
   std::unique_ptr<StegerDetector> steger;
+  std::vector<StripePoint> width_peaks;
   std::vector<uint8_t> buf8[2];
   std::vector<uint16_t> buf16[2];
   std::vector<float> buf32[2];
@@ -54,8 +93,25 @@ struct StripeExtractor::Impl {
 
   explicit Impl(ExtractionOptions o)
       : options((o.Check(), std::move(o))),
+        resolved(options),
         arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic) {
-    if (options.method == ExtractionMethod::kSteger) steger = std::make_unique<StegerDetector>(options);
+    if (options.method != ExtractionMethod::kSteger) return;
+    if (std::isnan(resolved.expected_width)) resolved.expected_width = ExtractionOptions::kDefaultExpectedWidth;
+    steger = std::make_unique<StegerDetector>(resolved);
+  }
+
+  // With an automatic width: measures it on `work` and sets the detector up for it.
+  template <typename T>
+  void ResolveStegerWidth(const ImageView<T>& work, const MethodParams& params) {
+    if (!std::isnan(options.expected_width)) return;
+    ExtractMax(work, params, &banded);
+    width_peaks.clear();
+    WidthRejections ignored;
+    banded.AppendTo(&width_peaks, &ignored);
+    const double w = MeasuredStripeWidth(width_peaks);
+    if (w == resolved.expected_width) return;
+    resolved.expected_width = w;
+    steger->Configure(resolved);
   }
 
   template <typename T>
@@ -84,6 +140,7 @@ struct StripeExtractor::Impl {
           banded.AppendTo(points, &rejections);
           break;
         case ExtractionMethod::kSteger:
+          ResolveStegerWidth(work, params);
           steger->Run(work, params, points);
           break;
       }
@@ -110,6 +167,7 @@ StripeExtractor::StripeExtractor(ExtractionOptions options) : impl_(std::make_un
 StripeExtractor::~StripeExtractor() = default;
 
 const ExtractionOptions& StripeExtractor::options() const { return impl_->options; }
+const ExtractionOptions& StripeExtractor::resolved_options() const { return impl_->resolved; }
 const WidthRejections& StripeExtractor::last_rejections() const { return impl_->rejections; }
 
 template <typename T>
@@ -239,7 +297,7 @@ std::vector<std::string> WidthRejectionNotes(const WidthRejections& rejected, co
 
 std::string NoStripePointsNote(const ExtractionOptions& o) {
   std::string note = "no stripe points found; check --threshold (the default is 10% of the image's full scale), --roi and --axis";
-  if (o.method == ExtractionMethod::kSteger) {
+  if (o.method == ExtractionMethod::kSteger && !std::isnan(o.expected_width)) {
     note += ", and --width (" + FormatNumber(o.expected_width) + " px): steger finds only stripes of about that width";
   }
   return note;

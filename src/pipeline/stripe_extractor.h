@@ -23,6 +23,11 @@ class StripeExtractor {
   StripeExtractor& operator=(const StripeExtractor&) = delete;
 
   const ExtractionOptions& options() const;
+  // The options as the last Extract used them: steger's automatic width
+  // (expected_width kAuto) resolved to the one measured on that frame
+  // (kDefaultExpectedWidth before any frame). Its EdgeLinesWithoutPoints() are
+  // that frame's.
+  const ExtractionOptions& resolved_options() const;
 
   // Finds stripe points, ordered by search line (row or column) and then
   // across it. Bad input (empty image, ROI outside the image, channel count

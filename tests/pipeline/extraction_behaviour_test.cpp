@@ -561,6 +561,8 @@ TEST(ExtractionRejections, CountedAndNamedInNotes) {
   wide.Extract(dark.View());
   EXPECT_EQ(wide.last_rejections().wide, 0);
   o.method = ExtractionMethod::kSteger;
+  EXPECT_EQ(NoStripePointsNote(o).find("--width"), std::string::npos);  // measured on each frame
+  o.expected_width = 5;
   EXPECT_NE(NoStripePointsNote(o).find("--width (5 px)"), std::string::npos);
 }
 

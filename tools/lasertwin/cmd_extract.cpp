@@ -40,8 +40,6 @@ void Run(ExtractArgs& a) {
   o.bayer = ParseBayerPattern(a.bayer, "--bayer");
   ParseBackground(a.background, "--background", &o.background, &o.background_mode);
   a.plane_options.axis = o.axis;
-  // Edge connectivity must reach past the lines a method cannot measure.
-  a.plane_options.edge_margin = std::max(a.plane_options.edge_margin, o.EdgeLinesWithoutPoints() + 2);
   if (a.planes < 0) throw InputError("--planes", "must be >= 1");
   if (a.planes > 0) a.plane_options.Check();
   StripeExtractor extractor(o);  // validates the options
@@ -91,7 +89,11 @@ void Run(ExtractArgs& a) {
     total += points.size();
     if (a.planes > 0) {
       PixelRect region = o.roi ? *o.roi : PixelRect{0, 0, width, height};
-      PlaneIdentification id = IdentifyPlanes(points, region, a.planes, a.plane_options);
+      // Edge connectivity must reach past the lines a method cannot measure.
+      PlaneIdOptions id_options = a.plane_options;
+      id_options.edge_margin =
+          std::max(id_options.edge_margin, extractor.resolved_options().EdgeLinesWithoutPoints() + 2);
+      PlaneIdentification id = IdentifyPlanes(points, region, a.planes, id_options);
       if (!id.ok) std::cerr << "lasertwin: warning: " << image << ": plane identification failed: " << id.error << "\n";
       if (id.ok && id.method == PlaneIdMethod::kEdgeChains) {
         std::cerr << "lasertwin: note: " << image << ": planes numbered by the edge chains (the stripes' order could not: "
@@ -159,7 +161,10 @@ void AddExtract(CLI::App& app) {
   cmd->add_option("--window", o.window, "com: half window in pixels (0: from the peak width)")->capture_default_str();
   cmd->add_option("--min-width", o.min_width, "Peaks narrower (FWHM, pixels) must continue on the adjacent search lines to count (hot pixels do not); 0: no check")->capture_default_str();
   cmd->add_option("--max-width", o.max_width, "Maximum peak FWHM in pixels (0: none)")->capture_default_str();
-  cmd->add_option("--width", o.expected_width, "steger: expected stripe FWHM in pixels")->capture_default_str();
+  cmd->add_option("--width", o.expected_width,
+                  "steger: expected stripe FWHM in pixels (default: measured on each image, from the FWHM of "
+                  "each search line's brightest peak, docs/extraction.md)")
+      ->check(FiniteNumber());
   cmd->add_option("--sigma", o.sigma, "steger: filter sigma in pixels (0: from --width)")->capture_default_str();
   cmd->add_option("--max-angle-deg", o.max_angle_deg, "steger: largest stripe angle from the search normal")
       ->capture_default_str();

@@ -116,7 +116,10 @@ void Add(CLI::App& app) {
   cmd->add_option("--window", e.window, "com: half window in pixels (0: from the peak width)")->capture_default_str();
   cmd->add_option("--min-width", e.min_width, "Peaks narrower (FWHM, pixels) must continue on the adjacent search lines to count (hot pixels do not); 0: no check")->capture_default_str();
   cmd->add_option("--max-width", e.max_width, "Maximum peak FWHM in pixels (0: none)")->capture_default_str();
-  cmd->add_option("--width", e.expected_width, "steger: expected stripe FWHM in pixels")->capture_default_str();
+  cmd->add_option("--width", e.expected_width,
+                  "steger: expected stripe FWHM in pixels (default: measured on each frame, from the FWHM of "
+                  "each search line's brightest peak, docs/extraction.md)")
+      ->check(FiniteNumber());
   cmd->add_option("--sigma", e.sigma, "steger: filter sigma in pixels (0: from --width)")->capture_default_str();
   cmd->add_option("--max-angle-deg", e.max_angle_deg, "steger: largest stripe angle from the search normal")
       ->capture_default_str();
