@@ -46,14 +46,16 @@ const lt::Image<uint8_t>& Frame(int width, int height) {
   return *slot;
 }
 
+// Method 4: steger with the expected width measured on the frame (the default).
 void BM_Extract(benchmark::State& state) {
-  const auto method = lt::ExtractionMethod(state.range(0));
+  const bool measured_width = state.range(0) == 4;
+  const auto method = measured_width ? lt::ExtractionMethod::kSteger : lt::ExtractionMethod(state.range(0));
   const int width = int(state.range(1)), height = int(state.range(2)), threads = int(state.range(3));
   const lt::Image<uint8_t>& img = Frame(width, height);
   lt::ExtractionOptions o;
   o.method = method;
   o.threshold = 60;
-  o.expected_width = 4.7;
+  o.expected_width = measured_width ? lt::ExtractionOptions::kAuto : 4.7;
   o.threads = threads;
   lt::StripeExtractor extractor(o);
   std::vector<lt::StripePoint> points;
@@ -63,12 +65,12 @@ void BM_Extract(benchmark::State& state) {
     benchmark::DoNotOptimize(points.data());
   }
   state.counters["points"] = double(points.size());
-  state.SetLabel(std::string(lt::MethodName(method)) + " " + std::to_string(width) + "x" + std::to_string(height) +
-                 " threads " + std::to_string(threads));
+  state.SetLabel(std::string(lt::MethodName(method)) + (measured_width ? " (width measured) " : " ") +
+                 std::to_string(width) + "x" + std::to_string(height) + " threads " + std::to_string(threads));
 }
 
 void Register(benchmark::internal::Benchmark* b) {
-  for (int m = 0; m < 4; ++m)
+  for (int m = 0; m < 5; ++m)
     for (auto [w, h] : {std::pair{640, 480}, std::pair{2688, 480}, std::pair{2688, 1620}})
       for (int t : {1, 2}) b->Args({m, w, h, t});
   b->ArgNames({"method", "w", "h", "threads"})->Unit(benchmark::kMillisecond)->UseRealTime();
