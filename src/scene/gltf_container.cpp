@@ -1,11 +1,16 @@
 #include "scene/gltf_container.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
+#include <vector>
+
+#include <Eigen/Geometry>
 
 #include "core/error.h"
 #include "core/json_reader.h"
@@ -260,6 +265,42 @@ GltfContainer ParseGltfContainer(const std::vector<unsigned char>& bytes, const 
   return c;
 }
 
+namespace {
+
+// Whether a node's matrix places it as its translation / rotation / scale do
+// (the identity for those not given), to about float precision. False when one
+// of them is not an array of numbers of the right length (tinygltf reports it).
+bool MatrixPlacesAsTrs(const nlohmann::json& node) {
+  auto numbers = [&](const char* key, size_t count, std::vector<double> fallback) -> std::optional<std::vector<double>> {
+    auto it = node.find(key);
+    if (it == node.end()) return fallback;
+    if (!it->is_array() || it->size() != count) return std::nullopt;
+    std::vector<double> v;
+    for (const auto& x : *it) {
+      if (!x.is_number()) return std::nullopt;
+      v.push_back(x.get<double>());
+    }
+    return v;
+  };
+  const auto m = numbers("matrix", 16, {});
+  const auto t = numbers("translation", 3, {0, 0, 0});
+  const auto r = numbers("rotation", 4, {0, 0, 0, 1});
+  const auto s = numbers("scale", 3, {1, 1, 1});
+  if (!m || !t || !r || !s) return false;
+  Eigen::Matrix4d matrix;
+  for (int c = 0; c < 4; ++c) {
+    for (int k = 0; k < 4; ++k) matrix(k, c) = (*m)[size_t(4 * c + k)];
+  }
+  const Eigen::Quaterniond q((*r)[3], (*r)[0], (*r)[1], (*r)[2]);
+  if (!(q.norm() > 1e-6)) return false;
+  Eigen::Affine3d trs = Eigen::Translation3d((*t)[0], (*t)[1], (*t)[2]) * q.normalized() *
+                        Eigen::Scaling((*s)[0], (*s)[1], (*s)[2]);
+  const double scale = std::max({1.0, matrix.cwiseAbs().maxCoeff(), trs.matrix().cwiseAbs().maxCoeff()});
+  return matrix.allFinite() && (matrix - trs.matrix()).cwiseAbs().maxCoeff() <= 1e-5 * scale;
+}
+
+}  // namespace
+
 void CheckGltfJson(const GltfContainer& container, const std::string& file, const std::filesystem::path& base_dir,
                    std::map<std::filesystem::path, uint64_t>* external_buffer_lengths) {
   CheckJsonDepth(container.json_text, file);
@@ -284,19 +325,23 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
       }
     }
   }
-  // glTF gives a node a matrix or translation / rotation / scale, never both
-  // (tinygltf reads the matrix and drops the rest: the node would be placed
-  // without them).
+  // glTF gives a node a matrix or translation / rotation / scale, never both.
+  // tinygltf reads the matrix and drops the rest, which is right when the rest
+  // is the identity or places the node as the matrix does; otherwise the node
+  // would be placed without it.
   if (auto nodes = root.find("nodes"); nodes != root.end() && nodes->is_array()) {
     for (size_t i = 0; i < nodes->size(); ++i) {
       const auto& n = (*nodes)[i];
       if (!n.is_object() || !n.contains("matrix")) continue;
-      for (const char* key : {"translation", "rotation", "scale"}) {
-        if (n.contains(key)) {
-          throw InputError(file + ": /nodes/" + std::to_string(i),
-                           std::string("has both a matrix and a ") + key +
-                               " (glTF gives a node one or the other: a matrix, or translation / rotation / scale)");
-        }
+      const char* key = nullptr;
+      for (const char* k : {"translation", "rotation", "scale"}) {
+        if (!key && n.contains(k)) key = k;
+      }
+      if (key && !MatrixPlacesAsTrs(n)) {
+        throw InputError(file + ": /nodes/" + std::to_string(i),
+                         std::string("has both a matrix and a ") + key +
+                             " that place it differently (glTF gives a node one or the other: a matrix, or "
+                             "translation / rotation / scale)");
       }
     }
   }

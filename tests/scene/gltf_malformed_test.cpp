@@ -356,16 +356,32 @@ TEST(GltfMalformed, NonAffineMatrix) {
 // glTF gives a node a matrix or translation / rotation / scale, not both:
 // tinygltf read the matrix and dropped the rest, placing the node without its
 // translation.
+// glTF gives a node a matrix or translation / rotation / scale; tinygltf reads
+// the matrix and drops the rest. A node with both is refused where the rest
+// would place it differently, and loads where it would not.
 TEST(GltfMalformed, MatrixAndTrs) {
   GltfBuilder b = test::SquareBuilder();
   b.json()["nodes"][0]["matrix"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
   b.json()["nodes"][0]["translation"] = {0, 0, 1};
-  EXPECT_EQ(GlbError(b), "bad.glb: /nodes/0: has both a matrix and a translation (glTF gives a node one or the "
-                         "other: a matrix, or translation / rotation / scale)");
+  EXPECT_EQ(GlbError(b), "bad.glb: /nodes/0: has both a matrix and a translation that place it differently (glTF "
+                         "gives a node one or the other: a matrix, or translation / rotation / scale)");
   b.json()["nodes"][0].erase("translation");
+  b.json()["nodes"][0]["scale"] = {1, 1, 3};
+  EXPECT_THAT(GlbError(b), ::testing::HasSubstr("/nodes/0: has both a matrix and a scale that place it differently"));
+  // Default values beside the matrix, or values that agree with it: loaded.
   b.json()["nodes"][0]["scale"] = {1, 1, 1};
-  EXPECT_THAT(GlbError(b), ::testing::HasSubstr("/nodes/0: has both a matrix and a scale"));
+  b.json()["nodes"][0]["rotation"] = {0, 0, 0, 1};
+  EXPECT_EQ(GlbError(b), "");
+  const double s = std::sqrt(0.5);  // 90 degrees about z, then 2 up
+  b.json()["nodes"][0]["matrix"] = {0, 1, 0, 0, -1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 2, 1};
+  b.json()["nodes"][0]["rotation"] = {0, 0, s, s};
+  b.json()["nodes"][0]["translation"] = {0, 0, 2.0000001};
+  EXPECT_EQ(GlbError(b), "");
+  b.json()["nodes"][0]["rotation"] = {0, 0, -s, s};
+  EXPECT_THAT(GlbError(b), ::testing::HasSubstr("/nodes/0: has both a matrix and a translation that place it"));
   b.json()["nodes"][0].erase("scale");
+  b.json()["nodes"][0].erase("rotation");
+  b.json()["nodes"][0].erase("translation");
   EXPECT_EQ(GlbError(b), "");
 }
 
