@@ -241,7 +241,8 @@ struct FrameSamples {
 
 FrameSamples EvaluateFrame(const RunFrame& frame, SearchAxis axis, const std::vector<TruthCenter>& truth,
                            const std::vector<ScanPoint>& measured, const fs::path& measured_file,
-                           const TrueSurface* surface, const EvalOptions& o) {
+                           const TrueSurface* surface, const PointToSurface& scene_distance,
+                           const EvalOptions& o) {
   const bool rows = axis == SearchAxis::kRows;
   auto line_of = [&](double u, double v) { return rows ? v : u; };
   auto along = [&](double u, double v) { return rows ? u : v; };
@@ -292,7 +293,22 @@ FrameSamples EvaluateFrame(const RunFrame& frame, SearchAxis axis, const std::ve
       out.centers.push_back(s);
     }
   }
-  if (surface) {
+  if (scene_distance) {
+    for (const ScanPoint& m : measured) {
+      if (!m.p_in_cam) continue;
+      PointSample p;
+      p.frame = frame.index;
+      p.plane = m.pixel.plane;
+      p.u = m.pixel.u;
+      p.v = m.pixel.v;
+      p.depth_m = m.p_in_cam->z();
+      if (auto d = scene_distance(*m.p_in_cam)) {
+        p.on_surface = true;
+        p.error_mm = *d * 1e3;
+      }
+      out.points.push_back(p);
+    }
+  } else if (surface) {
     std::vector<Eigen::Vector3d> exact;  // the exact centres of a point's line and the lines beside it
     for (const ScanPoint& m : measured) {
       if (!m.p_in_cam) continue;
@@ -369,12 +385,16 @@ nlohmann::json RunMetrics::ToJson() const {
                         {"frames_end", options.frames_end}}},
                       {"axis", axis == SearchAxis::kRows ? "rows" : "cols"},
                       {"frames_evaluated", frames.size()},
-                      {"frames_skipped", frames_skipped}};
+                      {"frames_skipped", frames_skipped},
+                      {"point_error_method", PointErrorMethod()}};
+  if (!point_error_note.empty()) j["point_error_note"] = point_error_note;
   j.update(total.ToJson());
   j["planes"] = PlanesToJson(planes);
   nlohmann::json fa = nlohmann::json::array();
   for (const FrameMetrics& f : frames) {
-    nlohmann::json fj = {{"index", f.index}, {"point_error_available", f.has_surface}};
+    nlohmann::json fj = {{"index", f.index},
+                         {"point_error_available", f.has_surface},
+                         {"point_error_method", f.surface_from_scene ? "scene" : f.has_surface ? "gt_buffers" : "none"}};
     fj.update(f.total.ToJson());
     fj["planes"] = PlanesToJson(f.planes);
     fa.push_back(fj);
@@ -383,7 +403,23 @@ nlohmann::json RunMetrics::ToJson() const {
   return j;
 }
 
-RunMetrics EvaluateRun(const fs::path& run_dir, const EvalOptions& options) {
+std::string RunMetrics::PointErrorMethod() const {
+  size_t scene = 0, buffers = 0;
+  for (const FrameMetrics& f : frames) {
+    if (f.surface_from_scene) {
+      ++scene;
+    } else if (f.has_surface) {
+      ++buffers;
+    }
+  }
+  if (scene == 0 && buffers == 0) return "none";
+  if (buffers == 0) return "scene";
+  if (scene == 0) return "gt_buffers";
+  return "mixed";
+}
+
+RunMetrics EvaluateRun(const fs::path& run_dir, const EvalOptions& options,
+                       const SurfaceDistanceSource& surface_distance) {
   options.Check();
   const std::vector<RunFrame> manifest = ReadRunManifest(run_dir);
   const fs::path centers_dir = run_dir / "centers";
@@ -413,12 +449,15 @@ RunMetrics EvaluateRun(const fs::path& run_dir, const EvalOptions& options) {
     }
     const std::vector<ScanPoint> measured = ReadScanCsv(measured_file);
     CheckCentersFitTheRig(rig, truth, *f.gt_centers, measured, measured_file);
+    const PointToSurface scene_distance = surface_distance ? surface_distance(f) : PointToSurface();
     std::optional<TrueSurface> surface;
-    if (f.gt_buffers) surface.emplace(rig.camera, *f.gt_buffers);
-    FrameSamples s = EvaluateFrame(f, axis, truth, measured, measured_file, surface ? &*surface : nullptr, options);
+    if (f.gt_buffers && !scene_distance) surface.emplace(rig.camera, *f.gt_buffers);
+    FrameSamples s = EvaluateFrame(f, axis, truth, measured, measured_file, surface ? &*surface : nullptr,
+                                   scene_distance, options);
     FrameMetrics fm;
     fm.index = f.index;
-    fm.has_surface = surface.has_value();
+    fm.has_surface = surface.has_value() || bool(scene_distance);
+    fm.surface_from_scene = bool(scene_distance);
     fm.total = Summarise(s.centers, s.points);
     fm.planes = SummarisePlanes(s.centers, s.points);
     run.frames.push_back(std::move(fm));

@@ -34,6 +34,13 @@
 // This is exact for locally planar surfaces (and second-order on curved ones). Points that project
 // outside the image or onto background (Z = 0) have no true surface: counted
 // in points_off_surface, not in the statistics.
+// The buffers hold only the surfaces pixels see: a point near a face no pixel
+// sees (a box's far side, a surface hidden behind another) is scored against
+// the visible surface there. When the caller can give the exact distance to
+// the scene's surfaces (SurfaceDistanceSource: `lasertwin eval` rebuilds the
+// run's scene.json at each frame's time), every point of that frame is scored
+// by it instead, and points_off_surface counts only points with no surface at
+// all (an empty scene).
 //   completeness       ground-truth centres whose measured partner has a
 //                      triangulated point within completeness_mm of the true
 //                      3D point (x_cam, y_cam, z_cam) / ground-truth centres
@@ -44,6 +51,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -52,6 +60,7 @@
 
 #include "pipeline/extraction_options.h"
 #include "pipeline/ground_truth.h"
+#include "pipeline/run_folder_reader.h"
 #include "pipeline/triangulation.h"
 
 namespace lt {
@@ -121,7 +130,8 @@ struct FrameMetrics {
   int index = 0;
   EvalSummary total;
   std::map<int, EvalSummary> planes;  // by plane: true plane for centres, measured for points and false positives
-  bool has_surface = false;           // the frame's ground-truth buffers were read
+  bool has_surface = false;           // the frame's points were scored (buffers or scene surfaces)
+  bool surface_from_scene = false;    // scored by the exact distance to the scene's surfaces
 };
 
 struct RunMetrics {
@@ -134,15 +144,32 @@ struct RunMetrics {
   std::vector<FrameMetrics> frames;
   std::vector<CenterSample> centers;  // every sample, for plots (not in ToJson)
   std::vector<PointSample> points;
+  // How the point errors were scored: "scene" (distance to the scene's
+  // surfaces, every frame), "gt_buffers" (depth and normal buffers, every frame
+  // that has them), "mixed" or "none" (no frame had either).
+  std::string PointErrorMethod() const;
+  std::string point_error_note;  // why the scene's surfaces were not used (metrics.json, when set)
   nlohmann::json ToJson() const;
 };
+
+// The exact distance, metres, from a point in a frame's camera frame to the
+// true surface (the nearest point of any surface of the scene at the frame's
+// time); nullopt when there is no surface.
+using PointToSurface = std::function<std::optional<double>(const Eigen::Vector3d& p_in_cam)>;
+// Gives a frame's PointToSurface, or an empty function when it has none (the
+// frame is then scored on its ground-truth buffers). Called once per evaluated
+// frame, in manifest order.
+using SurfaceDistanceSource = std::function<PointToSurface(const RunFrame& frame)>;
 
 // Evaluates the laser frames of a run that have ground-truth centres. Throws
 // lt::InputError: no run folder or manifest, no centers/ folder ("run
 // `lasertwin scan RUN_DIR` first"), a missing or malformed CSV (file:line), a
 // measured file scanned along the other axis, ground-truth buffers of the
 // wrong size or without Z/N channels, no frame with ground truth in range.
-RunMetrics EvaluateRun(const std::filesystem::path& run_dir, const EvalOptions& options);
+// surface_distance, when set, scores the points of the frames it gives a
+// distance for (above).
+RunMetrics EvaluateRun(const std::filesystem::path& run_dir, const EvalOptions& options,
+                       const SurfaceDistanceSource& surface_distance = {});
 
 // The matching of one frame (above): per scan line of `axis`, each
 // ground-truth centre with the nearest measured centre within max_match_px,

@@ -29,6 +29,13 @@ void EvalReportOptions::Check() const {
 
 namespace {
 
+const char* PointMethodText(const std::string& method) {
+  if (method == "scene") return "the scene's surfaces (scene.json rebuilt at each frame's time)";
+  if (method == "gt_buffers") return "the surfaces the pixels see (ground-truth depth and normal buffers)";
+  if (method == "mixed") return "the scene's surfaces where the scene was available, else the ground-truth buffers";
+  return "no surface (no ground-truth buffers)";
+}
+
 const char* kPalette[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf"};
 const char* PlaneColor(int plane) { return plane < 0 ? "#7f7f7f" : kPalette[plane % 8]; }
 
@@ -207,7 +214,8 @@ std::string FormatEvalReport(const fs::path& run_dir, const RunMetrics& m, const
     << " px, bias (mean of measured − true) " << (t.center_px.n ? Fixed(t.center_bias_px, 4) : "–")
     << " px. Point error median " << Stat(t.point_mm, &ErrorStats::median, 4) << " mm, p95 "
     << Stat(t.point_mm, &ErrorStats::p95, 4) << " mm, max " << Stat(t.point_mm, &ErrorStats::max, 4) << " mm over "
-    << t.point_mm.n << " points (" << t.counts.points_off_surface << " over no surface).</p>\n";
+    << t.point_mm.n << " points (" << t.counts.points_off_surface << " over no surface); distance to "
+    << PointMethodText(m.PointErrorMethod()) << ".</p>\n";
 
   h << "<h2>By plane</h2><table>" << kTableHead;
   for (const auto& [k, s] : m.planes) h << SummaryRow(k < 0 ? "unidentified" : "plane " + std::to_string(k), s);

@@ -498,5 +498,46 @@ TEST(EvaluateRun, AFaceNoPixelSeesIsScoredByItsExactCentres) {
   EXPECT_LT(t.point_mm.max, 1e-4);  // the tangent planes alone: 1 mm
 }
 
+TEST(EvaluateRun, ASurfaceDistanceSourceScoresEveryPointOfItsFrames) {
+  // Points 0.05 mm off the plane, and one over the background (u >= kEdge:
+  // no pixel sees a surface there), 2 mm off the plane's continuation.
+  EvalRun run = EvalRun::Exact("scene_distance", 1, 0);
+  for (Measured& m : run.measured) m.off_surface_m = 50e-6;
+  run.measured.push_back({0, 75.0, 3, 2e-3});
+  run.Write(true, false);  // no buffers: the source alone scores the points
+  std::vector<int> asked;
+  const SurfaceDistanceSource plane_distance = [&asked](const RunFrame& f) -> PointToSurface {
+    asked.push_back(f.index);
+    return [](const Eigen::Vector3d& p) { return std::optional<double>(std::abs(kSurface.SignedDistance(p))); };
+  };
+  RunMetrics m = EvaluateRun(run.dir, {}, plane_distance);
+  EXPECT_EQ(asked, std::vector<int>{0});  // the laser frame only
+  EXPECT_EQ(m.PointErrorMethod(), "scene");
+  EXPECT_TRUE(m.frames[0].has_surface && m.frames[0].surface_from_scene);
+  EXPECT_EQ(m.total.counts.points_off_surface, 0);
+  EXPECT_EQ(m.total.point_mm.n, 61);
+  // The CSV holds 10 digits of metres (1e-11 m): the distances are exact to 1e-7 mm.
+  EXPECT_NEAR(m.total.point_mm.median, 0.05, 1e-7);
+  EXPECT_NEAR(m.total.point_mm.max, 2.0, 1e-7);
+  EXPECT_EQ(m.ToJson()["point_error_method"], "scene");
+  EXPECT_EQ(m.ToJson()["frames"][0]["point_error_method"], "scene");
+
+  // No surface at all: off the surface. A source that gives no function for a
+  // frame leaves it to the buffers (here: none, so no point error).
+  m = EvaluateRun(run.dir, {}, [](const RunFrame&) -> PointToSurface {
+    return [](const Eigen::Vector3d&) { return std::optional<double>(); };
+  });
+  EXPECT_EQ(m.total.counts.points_off_surface, 61);
+  EXPECT_EQ(m.total.point_mm.n, 0);
+  m = EvaluateRun(run.dir, {}, [](const RunFrame&) { return PointToSurface(); });
+  EXPECT_EQ(m.PointErrorMethod(), "none");
+  EXPECT_FALSE(m.frames[0].has_surface);
+  run.Write(true, true);
+  m = EvaluateRun(run.dir, {}, [](const RunFrame&) { return PointToSurface(); });
+  EXPECT_EQ(m.PointErrorMethod(), "gt_buffers");
+  EXPECT_EQ(m.total.counts.points_off_surface, 1);  // the background point
+  EXPECT_NEAR(m.total.point_mm.max, 0.05, 1e-4);
+}
+
 }  // namespace
 }  // namespace lt

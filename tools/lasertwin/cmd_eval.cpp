@@ -1,14 +1,23 @@
 // `lasertwin eval RUN_DIR [--max-match-px P] [--completeness-mm D] [--frames A:B]
-// [--quiet]`: compares the measured stripe centres and points of a scanned run
-// with its ground truth; writes RUN_DIR/metrics.json and RUN_DIR/report.html
-// (docs/evaluation.md) and prints the headline metrics.
+// [--gt-buffers] [--quiet]`: compares the measured stripe centres and points of a
+// scanned run with its ground truth; writes RUN_DIR/metrics.json and
+// RUN_DIR/report.html (docs/evaluation.md) and prints the headline metrics.
+// A point's error is its distance to the surfaces of the run's scene.json,
+// rebuilt at each frame's time (scene/surface_distance.h), when the run has one;
+// else (none, or it does not load; or with --gt-buffers) to the surfaces the
+// ground-truth buffers hold, and the output says so.
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 
+#include "core/error.h"
 #include "core/frame_range.h"
 #include "pipeline/eval_metrics.h"
 #include "pipeline/eval_report.h"
+#include "scene/motion.h"
+#include "scene/scene_file.h"
+#include "scene/surface_distance.h"
 #include "tools/lasertwin/command.h"
 
 namespace lt::cli {
@@ -18,8 +27,47 @@ struct EvalArgs {
   std::string run_dir;
   std::string frames;
   bool quiet = false;
+  bool gt_buffers = false;
   EvalOptions options;
 };
+
+// The distance to the surfaces of RUN/scene.json at each frame's time (the
+// printed part grown to the frame's mid-exposure, as the renderer grows it),
+// for points in the frame's camera frame (the manifest's world_from_cam, else
+// the scene's motion at mid-exposure). Empty without RUN/scene.json, or when it
+// cannot be loaded (a run moved away from its glTF files): *why_not says why.
+SurfaceDistanceSource SceneDistance(const std::filesystem::path& run_dir, std::string* why_not) {
+  const std::filesystem::path path = run_dir / "scene.json";
+  if (!std::filesystem::exists(path)) {
+    *why_not = path.string() + ": no such file (a recorded run): points are scored on the ground-truth buffers";
+    return {};
+  }
+  std::shared_ptr<SceneFile> scene;
+  std::shared_ptr<SceneSurface> surface;
+  try {
+    scene = std::make_shared<SceneFile>(LoadSceneFile(path));
+    surface = std::make_shared<SceneSurface>(*scene);
+  } catch (const InputError& e) {
+    *why_not = std::string(e.what()) + " (the run's scene could not be loaded: points are scored on the "
+                                       "ground-truth buffers)";
+    return {};
+  }
+  return [scene, surface](const RunFrame& f) -> PointToSurface {
+    const double t_mid = 0.5 * (f.t_start_s + f.t_end_s);
+    surface->UpdateTo(t_mid);
+    const Pose world_from_cam = f.world_from_cam ? *f.world_from_cam : WorldFromCamAt(scene->motion, t_mid);
+    return [surface, world_from_cam](const Eigen::Vector3d& p_in_cam) {
+      return surface->Distance(world_from_cam * p_in_cam);
+    };
+  };
+}
+
+const char* MethodText(const std::string& method) {
+  if (method == "scene") return "to the scene's surfaces (scene.json)";
+  if (method == "gt_buffers") return "to the surfaces the pixels see (ground-truth buffers)";
+  if (method == "mixed") return "to the scene's surfaces, or the ground-truth buffers";
+  return "not available (no ground-truth buffers)";
+}
 
 std::string Pct(const std::optional<double>& v) {
   if (!v) return "n/a";
@@ -40,7 +88,10 @@ void Run(EvalArgs& a) {
     const FrameRange r = FrameRange::Parse(a.frames);
     a.options.frames_begin = r.begin, a.options.frames_end = r.EndOrMinusOne();
   }
-  const RunMetrics m = EvaluateRun(a.run_dir, a.options);
+  std::string why_not = "--gt-buffers: points are scored on the ground-truth buffers";
+  const SurfaceDistanceSource distance = a.gt_buffers ? SurfaceDistanceSource() : SceneDistance(a.run_dir, &why_not);
+  RunMetrics m = EvaluateRun(a.run_dir, a.options, distance);
+  if (!distance) m.point_error_note = why_not;
   const auto json = WriteMetricsJson(a.run_dir, m);
   const auto report = WriteEvalReport(a.run_dir, m);
   if (a.quiet) return;
@@ -56,6 +107,8 @@ void Run(EvalArgs& a) {
             << "  point error          rms " << Val(t.point_mm, &ErrorStats::rms, "%.4f") << " mm, median "
             << Val(t.point_mm, &ErrorStats::median, "%.4f") << ", p95 " << Val(t.point_mm, &ErrorStats::p95, "%.4f")
             << ", max " << Val(t.point_mm, &ErrorStats::max, "%.4f") << " (" << t.point_mm.n << " points)\n"
+            << "  point error measured " << MethodText(m.PointErrorMethod()) << "\n"
+            << (m.point_error_note.empty() ? "" : "  (" + m.point_error_note + ")\n")
             << "  completeness         " << Pct(t.completeness) << " (within " << m.options.completeness_mm << " mm)\n"
             << "wrote " << json.string() << "\nreport " << report.string() << "\n";
 }
@@ -72,6 +125,9 @@ void Add(CLI::App& app) {
                   "A true stripe point is reconstructed when its measured point is within this distance")
       ->capture_default_str();
   cmd->add_option("--frames", args->frames, "Frames to evaluate: A:B (A inclusive, B exclusive), A:, :B or N");
+  cmd->add_flag("--gt-buffers", args->gt_buffers,
+                "Score points against the ground-truth depth and normal buffers (the surfaces pixels see), not "
+                "against the surfaces of the run's scene.json (the default when it loads)");
   cmd->add_flag("--quiet", args->quiet, "Print nothing");
   cmd->callback([args] { Run(*args); });
 }
