@@ -293,44 +293,35 @@ FrameSamples EvaluateFrame(const RunFrame& frame, SearchAxis axis, const std::ve
       out.centers.push_back(s);
     }
   }
-  if (scene_distance) {
-    for (const ScanPoint& m : measured) {
-      if (!m.p_in_cam) continue;
-      PointSample p;
-      p.frame = frame.index;
-      p.plane = m.pixel.plane;
-      p.u = m.pixel.u;
-      p.v = m.pixel.v;
-      p.depth_m = m.p_in_cam->z();
-      if (auto d = scene_distance(*m.p_in_cam)) {
-        p.on_surface = true;
-        p.error_mm = *d * 1e3;
-      }
-      out.points.push_back(p);
+  if (!scene_distance && !surface) return out;
+  std::vector<Eigen::Vector3d> exact;  // the exact centres of a point's line and the lines beside it
+  // A point's distance in metres: to the scene, else to the surfaces the buffers see.
+  auto distance = [&](const ScanPoint& m) -> std::optional<double> {
+    if (scene_distance) return scene_distance(*m.p_in_cam);
+    exact.clear();
+    const int line = int(std::lround(line_of(m.pixel.u, m.pixel.v)));
+    for (int l = line - 1; l <= line + 1; ++l) {
+      const auto it = by_line.find(l);
+      if (it == by_line.end()) continue;
+      for (int i : it->second.first) exact.push_back(truth[size_t(i)].p_in_cam);
     }
-  } else if (surface) {
-    std::vector<Eigen::Vector3d> exact;  // the exact centres of a point's line and the lines beside it
-    for (const ScanPoint& m : measured) {
-      if (!m.p_in_cam) continue;
-      exact.clear();
-      const int line = int(std::lround(line_of(m.pixel.u, m.pixel.v)));
-      for (int l = line - 1; l <= line + 1; ++l) {
-        const auto it = by_line.find(l);
-        if (it == by_line.end()) continue;
-        for (int i : it->second.first) exact.push_back(truth[size_t(i)].p_in_cam);
-      }
-      PointSample p;
-      p.frame = frame.index;
-      p.plane = m.pixel.plane;
-      p.u = m.pixel.u;
-      p.v = m.pixel.v;
-      p.depth_m = m.p_in_cam->z();
-      if (auto d = surface->SignedDistance(*m.p_in_cam, exact)) {
-        p.on_surface = true;
-        p.error_mm = std::abs(*d) * 1e3;
-      }
-      out.points.push_back(p);
+    const std::optional<double> d = surface->SignedDistance(*m.p_in_cam, exact);
+    if (!d) return std::nullopt;
+    return std::abs(*d);
+  };
+  for (const ScanPoint& m : measured) {
+    if (!m.p_in_cam) continue;
+    PointSample p;
+    p.frame = frame.index;
+    p.plane = m.pixel.plane;
+    p.u = m.pixel.u;
+    p.v = m.pixel.v;
+    p.depth_m = m.p_in_cam->z();
+    if (const std::optional<double> d = distance(m)) {
+      p.on_surface = true;
+      p.error_mm = *d * 1e3;
     }
+    out.points.push_back(p);
   }
   return out;
 }
