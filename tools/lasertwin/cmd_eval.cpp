@@ -15,10 +15,8 @@
 #include "core/frame_range.h"
 #include "pipeline/eval_metrics.h"
 #include "pipeline/eval_report.h"
-#include "scene/motion.h"
-#include "scene/scene_file.h"
-#include "scene/surface_distance.h"
 #include "tools/lasertwin/command.h"
+#include "tools/lasertwin/run_scene_distance.h"
 
 namespace lt::cli {
 namespace {
@@ -30,37 +28,6 @@ struct EvalArgs {
   bool gt_buffers = false;
   EvalOptions options;
 };
-
-// The distance to the surfaces of RUN/scene.json at each frame's time (the
-// printed part grown to the frame's mid-exposure, as the renderer grows it),
-// for points in the frame's camera frame (the manifest's world_from_cam, else
-// the scene's motion at mid-exposure). Empty without RUN/scene.json, or when it
-// cannot be loaded (a run moved away from its glTF files): *why_not says why.
-SurfaceDistanceSource SceneDistance(const std::filesystem::path& run_dir, std::string* why_not) {
-  const std::filesystem::path path = run_dir / "scene.json";
-  if (!std::filesystem::exists(path)) {
-    *why_not = path.string() + ": no such file (a recorded run): points are scored on the ground-truth buffers";
-    return {};
-  }
-  std::shared_ptr<SceneFile> scene;
-  std::shared_ptr<SceneSurface> surface;
-  try {
-    scene = std::make_shared<SceneFile>(LoadSceneFile(path));
-    surface = std::make_shared<SceneSurface>(*scene);
-  } catch (const InputError& e) {
-    *why_not = std::string(e.what()) + " (the run's scene could not be loaded: points are scored on the "
-                                       "ground-truth buffers)";
-    return {};
-  }
-  return [scene, surface](const RunFrame& f) -> PointToSurface {
-    const double t_mid = 0.5 * (f.t_start_s + f.t_end_s);
-    surface->UpdateTo(t_mid);
-    const Pose world_from_cam = f.world_from_cam ? *f.world_from_cam : WorldFromCamAt(scene->motion, t_mid);
-    return [surface, world_from_cam](const Eigen::Vector3d& p_in_cam) {
-      return surface->Distance(world_from_cam * p_in_cam);
-    };
-  };
-}
 
 const char* MethodText(const std::string& method) {
   if (method == "scene") return "to the scene's surfaces (scene.json)";
@@ -89,7 +56,7 @@ void Run(EvalArgs& a) {
     a.options.frames_begin = r.begin, a.options.frames_end = r.EndOrMinusOne();
   }
   std::string why_not = "--gt-buffers: points are scored on the ground-truth buffers";
-  const SurfaceDistanceSource distance = a.gt_buffers ? SurfaceDistanceSource() : SceneDistance(a.run_dir, &why_not);
+  const SurfaceDistanceSource distance = a.gt_buffers ? SurfaceDistanceSource() : RunSceneDistance(a.run_dir, &why_not);
   RunMetrics m = EvaluateRun(a.run_dir, a.options, distance);
   if (!distance) m.point_error_note = why_not;
   const auto json = WriteMetricsJson(a.run_dir, m);

@@ -26,6 +26,7 @@
 #include <tuple>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -39,6 +40,7 @@
 #include "scene/embree_scene.h"
 #include "scene/scene_file.h"
 #include "tools/lasertwin/command.h"
+#include "tools/lasertwin/run_scene_distance.h"
 
 namespace lt::cli {
 namespace {
@@ -187,7 +189,9 @@ void ScanAndEvaluate(const fs::path& dir, ExtractionMethod method, int threads, 
   ScanRun(dir, o, [](const std::string&) {});
   row->scan_cpu_ms = (CpuSeconds() - c0) * 1e3 / row->frames;
   row->scan_wall_ms = (WallSeconds() - w0) * 1e3 / row->frames;
-  const RunMetrics m = EvaluateRun(dir, {});
+  std::string why_not;  // a sweep's runs hold their resolved scene.json
+  const RunMetrics m = EvaluateRun(dir, {}, RunSceneDistance(dir, &why_not));
+  if (!why_not.empty()) throw std::runtime_error(why_not);
   WriteMetricsJson(dir, m);
   WriteEvalReport(dir, m);
   row->eval = m.total;
