@@ -25,6 +25,9 @@ constexpr uint64_t kPixelPatternPurpose = 0x504958454c504154ull;  // multi-jitte
 constexpr uint64_t kLensPatternPurpose = 0x4c454e5350415454ull;   // multi-jitter pattern of its lens points
 constexpr int kTile = 16;
 constexpr double kNearSigmas = 8.0;
+// The sheet itself (Reach::kInSheet): within this many of its sigmas (its light
+// there is above 1.1% of the peak's) and two pixel footprints.
+constexpr double kSheetSigmas = 3.0;
 // Entry points of the frame's subsurface cache this fraction of the smallest
 // laser mean free path apart (render/laser_entry_tree.h).
 constexpr double kEntrySpacingPerMeanFreePath = 0.125;
@@ -195,22 +198,24 @@ void FrameRenderer::GroundTruthPass(const Pose& world_from_cam, const FrameLight
       uint8_t& r_class = reach->At(x, y);
       for (const PointEmitter& e : lights.emitters) {
         if (e.pattern) {
-          r_class = kInBeam;
+          r_class = kInSheet;
           break;
         }
         Eigen::Vector3d p_proj = e.projector_from_world * hit->position;
         double r = p_proj.norm();
         if (!(r > 0)) continue;
         const uint32_t m = hit->material_id;
-        const double beam =
-            kNearSigmas * e.laser->SheetSigma(r) + (2.0 * distance * footprint_per_m + subsurface_half_m_[m]) / r;
+        const double footprints = 2.0 * distance * footprint_per_m / r;
+        const double sheet = kSheetSigmas * e.laser->SheetSigma(r) + footprints;
+        const double beam = kNearSigmas * e.laser->SheetSigma(r) + footprints + subsurface_half_m_[m] / r;
         const double glow = subsurface_reach_m_[m] / r;
-        for (int k = 0; k < e.channels && r_class != kInBeam; ++k) {
+        for (int k = 0; k < e.channels && r_class != kInSheet; ++k) {
           const double offset = std::abs(e.laser->SheetOffsetAngle(k, p_proj));
-          if (offset <= beam) r_class = kInBeam;
-          else if (offset <= beam + glow) r_class = kInGlow;
+          if (offset <= sheet) r_class = kInSheet;
+          else if (offset <= beam) r_class = std::max<uint8_t>(r_class, kInBeam);
+          else if (offset <= beam + glow) r_class = std::max<uint8_t>(r_class, kInGlow);
         }
-        if (r_class == kInBeam) break;
+        if (r_class == kInSheet) break;
       }
     }
   });

@@ -22,7 +22,9 @@
 //     (render/sample_noise.h). A beam pixel within kEdgeDilation pixels of a
 //     geometric edge (two neighbouring chief hits on surfaces that meet at more
 //     than kCreaseDegrees, or one off the other's plane by more than a pixel's
-//     footprint, or a hit beside a miss) takes render.edge_spp_factor times spp,
+//     footprint, or a hit beside a miss), and as near the sheet itself (3
+//     sigma, not the beam's 8 and its subsurface radius), takes
+//     render.edge_spp_factor times spp,
 //     all of them: where the stripe crosses an edge, the laser's reflection off
 //     one face onto the other makes glints finer than a pixel, rare bright paths
 //     that a first batch does not reveal.
@@ -148,16 +150,20 @@ class FrameRenderer {
   struct Impl;
   // What a pixel's chief hit may receive from the lasers directly: nothing, the
   // glow of their light below a subsurface surface (within the profile's reach
-  // of a sheet), or the beam itself (within 8 sigma and the pixel's footprint).
-  enum Reach : uint8_t { kFar = 0, kInGlow = 1, kInBeam = 2 };
+  // of a sheet), the beam (within 8 sigma, the pixel's footprint and the
+  // profile's half-energy radius), or the sheet itself (within 3 sigma and the
+  // pixel's footprint: where the laser lights the surface the pixel sees, and
+  // its reflections start). kInSheet is also in the beam.
+  enum Reach : uint8_t { kFar = 0, kInGlow = 1, kInBeam = 2, kInSheet = 3 };
   // Pass 1: ground truth, chief hits, and each pixel's Reach.
   void GroundTruthPass(const Pose& world_from_cam, const FrameLights& lights, RenderedFrame* out,
                        std::vector<ChiefHit>* hits, Image<uint8_t>* reach) const;
   // Each pixel's samples (render/frame_renderer_budgets.cpp): one, or the budget
   // with the first batch of a glow, or of a beam (pixels within one pixel and
   // the defocus blur of a kInBeam pixel; every pixel when `all_pixels`), or a
-  // beam pixel at a geometric edge, which takes edge_spp_ (not when
-  // `all_pixels`). Sets RenderedFrame::near_mask to the pixels with a budget.
+  // beam pixel at a geometric edge and near a kInSheet pixel, which takes
+  // edge_spp_ (not when `all_pixels`). Sets RenderedFrame::near_mask to the
+  // pixels with a budget.
   enum Budget : uint8_t { kOneSample = 0, kGlowBudget = 1, kBeamBudget = 2, kEdgeBudget = 3 };
   Image<uint8_t> SampleBudgets(const Image<uint8_t>& reach, std::span<const ChiefHit> hits, bool all_pixels,
                                RenderedFrame* out) const;

@@ -32,6 +32,30 @@ bool AcrossEdge(const ChiefHit& a, const Eigen::Vector3d& na, const ChiefHit& b,
   return std::abs(na.dot(d)) > a.depth * footprint_per_m || std::abs(nb.dot(d)) > b.depth * footprint_per_m;
 }
 
+// 1 where a pixel within `radius` (a square, Chebyshev distance) satisfies
+// `in`, else 0: separably, along the rows, then along the columns of that.
+template <typename In>
+Image<uint8_t> Dilate(int w, int h, int radius, In&& in) {
+  Image<uint8_t> along_rows(w, h, 1, 0), out(w, h, 1, 0);
+  tbb::parallel_for(0, h, [&](int y) {
+    for (int x = 0; x < w; ++x)
+      for (int xx = std::max(0, x - radius); xx <= std::min(w - 1, x + radius); ++xx)
+        if (in(xx, y)) {
+          along_rows.At(x, y) = 1;
+          break;
+        }
+  });
+  tbb::parallel_for(0, h, [&](int y) {
+    for (int x = 0; x < w; ++x)
+      for (int yy = std::max(0, y - radius); yy <= std::min(h - 1, y + radius); ++yy)
+        if (along_rows.At(x, yy)) {
+          out.At(x, y) = 1;
+          break;
+        }
+  });
+  return out;
+}
+
 }  // namespace
 
 Image<uint8_t> FrameRenderer::EdgePixels(std::span<const ChiefHit> hits, const Eigen::Vector3d& camera_origin) const {
@@ -80,44 +104,25 @@ Image<uint8_t> FrameRenderer::SampleBudgets(const Image<uint8_t>& reach, std::sp
         if (z > 0) max_coc = std::max(max_coc, cam.CircleOfConfusionPx(z));
     }
     const int radius = 1 + int(std::ceil(0.5 * max_coc));
-    // A square dilation of the beam's pixels, separably: along the rows, then
-    // along the columns of that.
-    Image<uint8_t> along_rows(w, h, 1, 0);
+    // A square dilation of the beam's pixels; the rest of the glow's pixels.
+    const Image<uint8_t> beam = Dilate(w, h, radius, [&](int x, int y) { return reach.At(x, y) >= kInBeam; });
     tbb::parallel_for(0, h, [&](int y) {
       for (int x = 0; x < w; ++x)
-        for (int xx = std::max(0, x - radius); xx <= std::min(w - 1, x + radius); ++xx)
-          if (reach.At(xx, y) == kInBeam) {
-            along_rows.At(x, y) = 1;
-            break;
-          }
-    });
-    tbb::parallel_for(0, h, [&](int y) {
-      for (int x = 0; x < w; ++x) {
-        bool beam = false;
-        for (int yy = std::max(0, y - radius); yy <= std::min(h - 1, y + radius) && !beam; ++yy)
-          beam = along_rows.At(x, yy) != 0;
-        budget.At(x, y) = beam ? kBeamBudget : reach.At(x, y) == kInGlow ? kGlowBudget : kOneSample;
-      }
+        budget.At(x, y) = beam.At(x, y) ? kBeamBudget : reach.At(x, y) == kInGlow ? kGlowBudget : kOneSample;
     });
     if (edge_spp_ > spp_) {
-      // Beam pixels within kEdgeDilation of an edge pixel (a separable box dilation).
+      // Beam pixels within kEdgeDilation of an edge pixel and within
+      // kEdgeDilation plus the beam's radius of the sheet itself: where the
+      // stripe crosses an edge and the laser's reflection off one face lands on
+      // the other. The beam's wider part (the glow's half-energy radius), seen
+      // across a printed part's bead valleys, would be edge pixels nearly all.
       const Image<uint8_t> edge = EdgePixels(hits, out->world_from_cam.translation());
-      Image<uint8_t> across(w, h, 1, 0);
+      const Image<uint8_t> near_edge = Dilate(w, h, kEdgeDilation, [&](int x, int y) { return edge.At(x, y) != 0; });
+      const Image<uint8_t> near_sheet =
+          Dilate(w, h, radius + kEdgeDilation, [&](int x, int y) { return reach.At(x, y) == kInSheet; });
       tbb::parallel_for(0, h, [&](int y) {
         for (int x = 0; x < w; ++x)
-          for (int dx = -kEdgeDilation; dx <= kEdgeDilation && !across.At(x, y); ++dx)
-            if (x + dx >= 0 && x + dx < w && edge.At(x + dx, y)) across.At(x, y) = 1;
-      });
-      tbb::parallel_for(0, h, [&](int y) {
-        for (int x = 0; x < w; ++x) {
-          if (budget.At(x, y) != kBeamBudget) continue;
-          for (int dy = -kEdgeDilation; dy <= kEdgeDilation; ++dy) {
-            if (y + dy >= 0 && y + dy < h && across.At(x, y + dy)) {
-              budget.At(x, y) = kEdgeBudget;
-              break;
-            }
-          }
-        }
+          if (budget.At(x, y) == kBeamBudget && near_edge.At(x, y) && near_sheet.At(x, y)) budget.At(x, y) = kEdgeBudget;
       });
     }
   }

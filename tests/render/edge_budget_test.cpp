@@ -13,11 +13,11 @@ namespace {
 constexpr double D = 0.1, H = 0.01, b = 0.03;
 constexpr int kW = 64, kH = 48;
 
-void SetUpRig(test::World& world, int spp, int edge_factor) {
+void SetUpRig(test::World& world, int spp, int edge_factor, double divergence_rad = 2e-3) {
   world.Build();
   SensorRig& rig = world.scene.sensor;
-  rig.camera = test::TestCamera(kW, kH, 100);  // 1 mm pixels at D
-  rig.lasers = {test::TestLaser(b, D)};        // a vertical stripe near the centre column
+  rig.camera = test::TestCamera(kW, kH, 100);                    // 1 mm pixels at D
+  rig.lasers = {test::TestLaser(b, D, 5e-3, divergence_rad)};  // a vertical stripe near the centre column
   ShutterParams sh;
   sh.cycle = {ShutterFrameSpec{"dim", 1e-4, true, false, false}};
   rig.shutter = ShutterSchedule(sh);
@@ -60,6 +60,29 @@ TEST(EdgeBudget, BeamPixelsAtAStepTakeTheEdgeBudget) {
   std::printf("edge pixels %lld of %lld near, samples %llu (factor %d) and %llu (factor 1)\n",
               (long long)edges.stats.edge_pixels, (long long)edges.stats.near_pixels,
               (unsigned long long)edges.stats.samples, factor, (unsigned long long)plain.stats.samples);
+}
+
+TEST(EdgeBudget, AnEdgeInTheBeamAwayFromTheSheetTakesNoEdgeBudget) {
+  // A sheet of sigma 0.03 rad (~3 px at D; FrameRenderer: the beam reaches 8
+  // sigma and two footprints, the sheet itself 3 sigma and two footprints,
+  // and the edge budget that plus 3 px) and, beside the stripe at column ~31,
+  // a box whose top stands H nearer from x = 0.02 m on: its wall, columns
+  // ~51-54, ~20 px from the stripe, runs parallel to it. The wall's pixels are
+  // in the beam but the stripe crosses no edge: no edge budget.
+  test::World world;
+  world.Add(test::Rectangle({0, 0, D}, Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 0.2, 0.2));
+  world.Add(test::Box({0.02, -0.2, D - H}, {0.2, 0.2, D}));
+  SetUpRig(world, 4, 4, 0.12);
+  const RenderedFrame frame = FrameRenderer(world.scene, *world.embree).Render(0);
+  for (int x = 49; x <= 56; ++x) ASSERT_GT(frame.near_mask.At(x, kH / 2), 0.0f) << "column " << x;  // in the beam
+  EXPECT_EQ(frame.stats.edge_pixels, 0);
+  // The same box across the stripe (its wall at x = 0): the stripe crosses the
+  // wall's edges, whose pixels take the budget.
+  test::World across;
+  across.Add(test::Rectangle({0, 0, D}, Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 0.2, 0.2));
+  across.Add(test::Box({0.0, -0.2, D - H}, {0.2, 0.2, D}));
+  SetUpRig(across, 4, 4, 0.12);
+  EXPECT_GT(FrameRenderer(across.scene, *across.embree).Render(0).stats.edge_pixels, 2 * kH);
 }
 
 TEST(EdgeBudget, ASteepPlaneHasNoEdge) {
