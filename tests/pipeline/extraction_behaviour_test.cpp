@@ -192,8 +192,12 @@ TEST(ExtractionBehaviour, AutomaticThresholdFollowsTheWeights) {
       EXPECT_DOUBLE_EQ(o.WeightedFullScale(), 2.0);
       const auto two = StripeExtractor(o).Extract(rgb.View());
       ASSERT_EQ(one.size(), two.size());
-      if (peak < 25.5) EXPECT_TRUE(one.empty());
-      if (peak > 100) EXPECT_GT(one.size(), 50u);
+      if (peak < 25.5) {
+        EXPECT_TRUE(one.empty());
+      }
+      if (peak > 100) {
+        EXPECT_GT(one.size(), 50u);
+      }
       for (size_t i = 0; i < one.size(); ++i) EXPECT_NEAR(one[i].u, two[i].u, 1e-4);
     }
   }
