@@ -138,6 +138,14 @@ Mesh PrintedPart::ChunkMesh(size_t chunk, double gcode_time_s) const {
   return mesh;
 }
 
+Mesh PrintedPart::ChunkMeshAt(size_t chunk, double gcode_time_s) const {
+  const PrintChunk& c = chunks_.at(chunk);
+  if (gcode_time_s > c.t_first_s) return ChunkMesh(chunk, std::min(gcode_time_s, c.t_last_s));
+  Mesh empty;
+  empty.name = "print/chunk_" + std::to_string(chunk);
+  return empty;
+}
+
 PrintUpdate PrintedPart::UpdateTo(EmbreeScene& scene, double sequence_time_s) {
   const double t = GcodeTime(sequence_time_s);
   PrintUpdate u;
@@ -146,8 +154,7 @@ PrintUpdate PrintedPart::UpdateTo(EmbreeScene& scene, double sequence_time_s) {
     const State want = !(t > chunk.t_first_s) ? State::kEmpty : t >= chunk.t_last_s ? State::kComplete : State::kGrowing;
     const bool rebuild = want != state_[c] || (want == State::kGrowing && built_time_[c] != t);
     if (rebuild) {
-      Mesh mesh = want == State::kEmpty ? Mesh{} : ChunkMesh(c, want == State::kComplete ? chunk.t_last_s : t);
-      if (want == State::kEmpty) mesh.name = "print/chunk_" + std::to_string(c);
+      Mesh mesh = ChunkMeshAt(c, t);
       triangles_[c] = mesh.TriangleCount();
       u.triangles_rebuilt += triangles_[c];
       ++u.chunks_rebuilt;

@@ -86,6 +86,9 @@ class PrintedPart {
   double GcodeTime(double sequence_time_s) const;
   // The beads of chunk c at G-code time t, in the G-code frame.
   Mesh ChunkMesh(size_t chunk, double gcode_time_s) const;
+  // Chunk c as it stands at G-code time t: empty before its first extrusion,
+  // complete after its last, else grown to t.
+  Mesh ChunkMeshAt(size_t chunk, double gcode_time_s) const;
   // Brings the chunk meshes of `scene` (built from mutable geometry) to sequence
   // time t, rebuilding only the chunks whose state changed.
   PrintUpdate UpdateTo(EmbreeScene& scene, double sequence_time_s);

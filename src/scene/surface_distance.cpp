@@ -147,12 +147,8 @@ void SceneSurface::UpdateTo(double sequence_time_s) {
   if (print_time_ && *print_time_ == t) return;
   print_.Clear();
   const SceneGeometry& g = *geometry_;
-  // As PrintedPart::UpdateTo: a chunk is empty before its first extrusion,
-  // complete after its last, else grown to t.
   for (size_t c = 0; c < part_->chunk_count(); ++c) {
-    const PrintChunk& chunk = part_->chunks()[c];
-    if (!(t > chunk.t_first_s)) continue;
-    const Mesh mesh = part_->ChunkMesh(c, t >= chunk.t_last_s ? chunk.t_last_s : t);
+    const Mesh mesh = part_->ChunkMeshAt(c, t);  // as PrintedPart::UpdateTo builds it
     for (const SceneInstance& inst : g.instances)
       if (inst.mesh == g.print_meshes[c]) print_.Add(mesh, inst.world_from_mesh);
   }
