@@ -223,9 +223,11 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     eo.background =
         std::isnan(options.extraction.background) ? levels.background * eo.WeightedLevel() : levels.background;
     std::vector<StripePoint> points;
+    int edge_lines_without_points = 0;  // the frame's, for plane identification
     try {
       StripeExtractor& extractor = extractors.Get(eo);
       points = extractor.Extract(image);
+      edge_lines_without_points = extractor.resolved_options().EdgeLinesWithoutPoints();
       summary.width_rejected += extractor.last_rejections();
       // A saturated pixel reads its level give or take the read noise: within 1%.
       const double saturated = 0.99 * frame.SaturationLevel(type_full_scale);
@@ -241,8 +243,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     } else {
       PlaneIdOptions id_options = options.plane_id;
       id_options.axis = axis;
-      id_options.edge_margin =
-          std::max(id_options.edge_margin, extractors.Get(eo).resolved_options().EdgeLinesWithoutPoints() + 2);
+      id_options.edge_margin = std::max(id_options.edge_margin, edge_lines_without_points + 2);
       const PixelRect region = eo.roi ? *eo.roi : PixelRect{0, 0, width, height};
       PlaneIdentification id = IdentifyPlanes(points, region, int(planes.size()), id_options);
       if (!image_order.count(int(axis))) image_order[int(axis)] = PlanesInImageOrder(planes, axis);
