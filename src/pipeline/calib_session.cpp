@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/json_reader.h"
+#include "pipeline/frame_extraction.h"
 #include "pipeline/run_folder_reader.h"
 #include "pipeline/stripe_extractor.h"
 #include "pipeline/triangulation.h"
@@ -244,6 +245,7 @@ SessionLaserResult CalibrateSessionLaser(const fs::path& run_dir, const Checkerb
   r.planes = options.planes > 0 ? options.planes : int(rig.planes_in_cam.size());
   if (r.planes < 1) throw InputError(rig.source.string(), "the rig has no laser: give the number of planes");
   r.axis = options.axis ? *options.axis : rig.planes_in_cam.empty() ? SearchAxis::kRows : StripeAxis(rig.planes_in_cam);
+  const LaserChannelWeights matched = MatchedChannelWeights(rig);
   r.views = ReadSessionViews(run_dir, board, options.corners);
   std::map<int, RunFrame> frames;
   for (const RunFrame& f : ReadRunManifest(run_dir)) frames.emplace(f.index, f);
@@ -271,14 +273,16 @@ SessionLaserResult CalibrateSessionLaser(const fs::path& run_dir, const Checkerb
     }
     const RunFrame& dim = frames.at(sv.dim_frame);
     const AnyImage image = ReadFrameImage(dim);
-    ExtractionOptions eo = options.extraction;
-    eo.axis = r.axis;
-    const ExtractionLevels levels = FrameExtractionLevels(eo.threshold, eo.background, dim, rig.bit_depth,
-                                                          rig.black_level_dn, ImageTypeFullScale(image));
-    eo.threshold = levels.threshold;
-    eo.background = levels.background;
-    // A colour sensor's raw frame is a mosaic: demosaiced first, as in scan.
-    if (std::visit([](const auto& im) { return im.channels; }, image) == 1) eo.bayer = rig.color_filter;
+    ExtractionOptions given = options.extraction;
+    given.axis = r.axis;
+    // As in scan: a mosaic demosaiced, a colour frame on the laser's channels.
+    const FrameExtraction fx = RunFrameExtraction(given, dim, image, rig, matched);
+    const ExtractionOptions& eo = fx.options;
+    if (fx.matched_weights) r.channel_weights_source = matched.Describe();
+    if (fx.mosaic_mean) {
+      r.channel_weights_source = matched.missing;
+      r.mosaic_mean = true;
+    }
     StripeExtractor extractor(eo);
     std::vector<StripePoint> points;
     try {

@@ -114,6 +114,12 @@ struct SessionLaserResult {
   std::vector<LaserPlaneFit> fits;  // plane k = k-th stripe in image order
   int planes = 0;
   SearchAxis axis = SearchAxis::kRows;
+  // Colour frames: the channels the stripe was extracted from (as scan's
+  // channel_weights_source); empty for mono frames or given channels.
+  // mosaic_mean: a mosaic extracted on the mean of R, G, B (the rig gives no
+  // weights; the source says why).
+  std::string channel_weights_source;
+  bool mosaic_mean = false;
 };
 SessionLaserResult CalibrateSessionLaser(const std::filesystem::path& run_dir, const CheckerboardSpec& board,
                                          const Camera& camera, const SessionLaserOptions& options = {});

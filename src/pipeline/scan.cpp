@@ -14,6 +14,7 @@
 #include "pipeline/calibration_file.h"
 #include "pipeline/channel_weights.h"
 #include "pipeline/colorize.h"
+#include "pipeline/frame_extraction.h"
 #include "pipeline/run_folder_reader.h"
 #include "pipeline/scan_output.h"
 #include "pipeline/stripe_extractor.h"
@@ -50,17 +51,14 @@ struct PendingPoint {
 // normally needs one.
 class ExtractorCache {
  public:
-  explicit ExtractorCache(const ExtractionOptions& base) : base_(base) {}
   StripeExtractor& Get(const ExtractionOptions& o) {
     auto key = std::make_tuple(o.threshold, o.background, int(o.axis), int(o.bayer), o.channel_weights);
     auto it = cache_.find(key);
     if (it != cache_.end()) return *it->second;
     return *cache_.emplace(key, std::make_unique<StripeExtractor>(o)).first->second;
   }
-  const ExtractionOptions& base() const { return base_; }
 
  private:
-  ExtractionOptions base_;
   std::map<std::tuple<double, double, int, int, std::vector<double>>, std::unique_ptr<StripeExtractor>> cache_;
 };
 
@@ -160,7 +158,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     }
   }
 
-  ExtractorCache extractors(options.extraction);
+  ExtractorCache extractors;
   const LaserChannelWeights matched = MatchedChannelWeights(rig);
   bool warned_colour_default = false;
   std::vector<PendingPoint> pending;
@@ -179,12 +177,11 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     } catch (const InputError& e) {
       throw InputError(e.where(), e.message() + context);
     }
-    int width = 0, height = 0, channels = 0;
+    int width = 0, height = 0;
     std::visit(
         [&](const auto& im) {
           width = im.width;
           height = im.height;
-          channels = im.channels;
         },
         image);
     const double type_full_scale = ImageTypeFullScale(image);
@@ -194,34 +191,19 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
                                                  Size(camera.width(), camera.height()) + context);
     }
     const SearchAxis axis = options.axis ? *options.axis : frame.gt_axis ? *frame.gt_axis : planes_axis;
-    ExtractionOptions eo = extractors.base();
-    eo.axis = axis;
-    // The raw frame of a colour sensor is a mosaic: demosaiced before extraction.
-    eo.bayer = channels == 1 ? rig.color_filter : ColorFilter::kMono;
-    // A colour frame without --channel or --weights: the laser's channels. A
-    // three-channel frame without them needs --channel or --weights (the
-    // extractor says so); a mosaic keeps the mean of R, G, B.
-    const bool colour = eo.bayer != ColorFilter::kMono || channels == 3;
-    if (colour && eo.channel < 0 && eo.channel_weights.empty()) {
-      if (!matched.missing.empty()) {
-        if (!warned_colour_default && eo.bayer != ColorFilter::kMono) {
-          warn(matched.missing + ": colour frames are extracted on the mean of R, G and B, not on the channels that "
-               "see the laser (--channel or --weights choose them)");
-          warned_colour_default = true;
-        }
-      } else {
-        eo.channel_weights = matched.weights;
-        summary.channel_weights = matched.weights;
-        summary.channel_weights_source = matched.Describe();
-      }
+    ExtractionOptions given = options.extraction;
+    given.axis = axis;
+    const FrameExtraction fx = RunFrameExtraction(given, frame, image, rig, matched);
+    const ExtractionOptions& eo = fx.options;
+    if (fx.matched_weights) {
+      summary.channel_weights = matched.weights;
+      summary.channel_weights_source = matched.Describe();
     }
-    // Thresholds relative to the frame's real range of values, in the weighted
-    // image's units (ExtractionOptions::WeightedFullScale, WeightedLevel).
-    const ExtractionLevels levels = FrameExtractionLevels(options.extraction.threshold, options.extraction.background,
-                                                          frame, rig.bit_depth, rig.black_level_dn, type_full_scale);
-    eo.threshold = std::isnan(options.extraction.threshold) ? levels.threshold * eo.WeightedFullScale() : levels.threshold;
-    eo.background =
-        std::isnan(options.extraction.background) ? levels.background * eo.WeightedLevel() : levels.background;
+    if (fx.mosaic_mean && !warned_colour_default) {
+      warn(matched.missing + ": colour frames are extracted on the mean of R, G and B, not on the channels that "
+           "see the laser (--channel or --weights choose them)");
+      warned_colour_default = true;
+    }
     std::vector<StripePoint> points;
     int edge_lines_without_points = 0;  // the frame's, for plane identification
     try {

@@ -5,8 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "pipeline/channel_weights.h"
+#include "pipeline/frame_extraction.h"
 
 namespace lt {
 namespace {
@@ -90,6 +92,66 @@ TEST(ChannelWeights, RigsThatCannotSay) {
   rig = PrintRig({650});
   rig.qe = {{{0, 0, 0, 0}, {0, 0, 0, 0}, {0, 0, 0, 0}}};
   EXPECT_THAT(MatchedChannelWeights(rig).missing, HasSubstr("quantum efficiency is 0 in every channel"));
+}
+
+// The options scan and `calibrate laser` extract a run's frame with
+// (pipeline/frame_extraction.h): a mosaic demosaiced and extracted on the
+// matched weights, three channels likewise, mono as it is; the default levels
+// in the weighted image's units; the user's choice kept.
+TEST(FrameExtraction, ColourFramesGetTheLaserChannels) {
+  RunRig rig = PrintRig({650});
+  rig.bit_depth = 10;
+  rig.black_level_dn = 16;
+  const LaserChannelWeights matched = MatchedChannelWeights(rig);
+  ASSERT_TRUE(matched.missing.empty());
+  RunFrame frame;
+  frame.bit_depth = 10;
+  frame.png_bit_depth = 16;
+  ExtractionOptions given;  // threshold and background kAuto
+  given.background = ExtractionOptions::kAuto;
+  const AnyImage mosaic = Image<uint16_t>(8, 8, 1, 0), rgb = Image<uint16_t>(8, 8, 3, 0);
+  for (const AnyImage* image : {&mosaic, &rgb}) {
+    const FrameExtraction fx = RunFrameExtraction(given, frame, *image, rig, matched);
+    EXPECT_TRUE(fx.matched_weights);
+    EXPECT_FALSE(fx.mosaic_mean);
+    EXPECT_EQ(fx.options.bayer, image == &mosaic ? ColorFilter::kRGGB : ColorFilter::kMono);
+    EXPECT_EQ(fx.options.channel_weights, matched.weights);
+    // Weights sum to 1 and are positive: the raw frame's 10% and black level.
+    EXPECT_NEAR(fx.options.threshold, 102.3, 1e-9);
+    EXPECT_NEAR(fx.options.background, 16, 1e-9);
+  }
+  // Given weights: kept, and the levels scaled by them.
+  ExtractionOptions doubled = given;
+  doubled.channel_weights = {2, 0, 0};
+  FrameExtraction fx = RunFrameExtraction(doubled, frame, mosaic, rig, matched);
+  EXPECT_FALSE(fx.matched_weights);
+  EXPECT_EQ(fx.options.channel_weights, doubled.channel_weights);
+  EXPECT_NEAR(fx.options.threshold, 204.6, 1e-9);
+  EXPECT_NEAR(fx.options.background, 32, 1e-9);
+  // A given channel: no weights, unscaled levels.
+  ExtractionOptions red = given;
+  red.channel = 0;
+  fx = RunFrameExtraction(red, frame, mosaic, rig, matched);
+  EXPECT_TRUE(fx.options.channel_weights.empty());
+  EXPECT_NEAR(fx.options.threshold, 102.3, 1e-9);
+  // A rig without the wavelength: a mosaic keeps the mean (and says so), three
+  // channels get no weights (the extractor then asks for --channel).
+  const RunRig unknown = PrintRig({});
+  const LaserChannelWeights none = MatchedChannelWeights(unknown);
+  fx = RunFrameExtraction(given, frame, mosaic, unknown, none);
+  EXPECT_TRUE(fx.mosaic_mean);
+  EXPECT_TRUE(fx.options.channel_weights.empty());
+  fx = RunFrameExtraction(given, frame, rgb, unknown, none);
+  EXPECT_FALSE(fx.mosaic_mean);
+  EXPECT_TRUE(fx.options.channel_weights.empty());
+  // A mono sensor: nothing changes but the levels.
+  RunRig mono = rig;
+  mono.color_filter = ColorFilter::kMono;
+  fx = RunFrameExtraction(given, frame, mosaic, mono, MatchedChannelWeights(mono));
+  EXPECT_EQ(fx.options.bayer, ColorFilter::kMono);
+  EXPECT_TRUE(fx.options.channel_weights.empty());
+  EXPECT_FALSE(fx.mosaic_mean);
+  EXPECT_NEAR(fx.options.threshold, 102.3, 1e-9);
 }
 
 }  // namespace

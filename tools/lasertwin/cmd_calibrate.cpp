@@ -149,6 +149,12 @@ void LaserStep(const CalibrateArgs& a, CalibrationFile* file) {
   SessionLaserOptions o;
   o.planes = a.planes;
   const SessionLaserResult r = CalibrateSessionLaser(a.run_dir, board, camera, o);
+  if (r.mosaic_mean) {
+    Warn(r.channel_weights_source + ": colour frames are extracted on the mean of R, G and B, not on the channels "
+         "that see the laser");
+  } else if (!r.channel_weights_source.empty() && !a.quiet) {
+    std::cerr << "colour frames extracted on " << r.channel_weights_source << "\n";
+  }
   int used = 0;
   for (const SessionLaserView& v : r.laser_views) {
     used += v.used;
