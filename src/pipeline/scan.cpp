@@ -206,10 +206,13 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     }
     std::vector<StripePoint> points;
     int edge_lines_without_points = 0;  // the frame's, for plane identification
+    ScanFrameSummary fs_summary;
+    fs_summary.index = frame.index;
     try {
       StripeExtractor& extractor = extractors.Get(eo);
       points = extractor.Extract(image);
       edge_lines_without_points = extractor.resolved_options().EdgeLinesWithoutPoints();
+      if (eo.method == ExtractionMethod::kSteger) fs_summary.steger_width_px = extractor.resolved_options().expected_width;
       summary.width_rejected += extractor.last_rejections();
       // A saturated pixel reads its level give or take the read noise: within 1%.
       const double saturated = 0.99 * frame.SaturationLevel(type_full_scale);
@@ -218,8 +221,6 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
       throw InputError(e.where().empty() ? frame.image.string() : e.where(), e.message() + context);
     }
 
-    ScanFrameSummary fs_summary;
-    fs_summary.index = frame.index;
     if (planes.size() == 1) {
       for (auto& p : points) p.plane = 0;  // one sheet: every stripe point is on it
     } else {

@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -67,6 +68,10 @@ struct ScanFrameSummary {
   std::string identification_error;
   bool by_edge_chains = false;    // numbered by the edge chains (the stripes' order could not decide)
   int unidentified_segments = 0;  // stripe segments left without a plane
+  // steger: the expected stripe width (FWHM across the stripe, px) the frame
+  // was extracted with: --width, or the one measured on the frame
+  // (StripeExtractor::resolved_options()); NaN for the other methods.
+  double steger_width_px = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct ScanSummary {

@@ -291,6 +291,25 @@ TEST(Scan, ThresholdFollowsTheFramesBitDepth) {
   EXPECT_GT(ScanRun(without.dir, o).points, 150);
 }
 
+// steger's expected width is reported per frame: the one measured on the
+// frame (the stripe's FWHM: sigma 1.2 px blurred by the pixel, 2.35 *
+// sqrt(1.2^2 + 1/12) = 2.91 px; the measurement reads pixel samples, so
+// within 0.5 px), or --width as given; NaN for the other methods.
+TEST(Scan, StegerWidthOfEachFrameIsReported) {
+  SyntheticRun run = MakeRun("steger_width", 1);
+  ScanOptions o;
+  o.extraction.method = ExtractionMethod::kSteger;
+  ScanSummary s = ScanRun(run.dir, o);
+  ASSERT_EQ(s.frames.size(), 1u);
+  EXPECT_NEAR(s.frames[0].steger_width_px, 2.91, 0.5);
+  EXPECT_GT(s.points, 150);
+  o.extraction.expected_width = 6;
+  s = ScanRun(run.dir, o);
+  EXPECT_EQ(s.frames[0].steger_width_px, 6);
+  o.extraction.method = ExtractionMethod::kCom;
+  EXPECT_TRUE(std::isnan(ScanRun(run.dir, o).frames[0].steger_width_px));
+}
+
 TEST(Scan, ThreeSheetsAreIdentifiedAndTriangulated) {
   // Upside down: sheet 2 is the top stripe, so plane identification's top to
   // bottom numbering must be mapped to the sheet numbers.

@@ -2,9 +2,13 @@
 // [--frames A:B] ...`: extracts, identifies and triangulates the stripe points
 // of every laser frame of a run folder; writes RUN_DIR/centers/NNNNNN.csv and
 // RUN_DIR/cloud.ply (docs/pipeline.md).
+#include <algorithm>
+#include <cmath>
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <sstream>
+#include <vector>
 
 #include "core/error.h"
 #include "core/frame_range.h"
@@ -70,6 +74,24 @@ void Run(ScanArgs& a) {
   std::cerr << "; " << s.planes << " laser plane" << (s.planes == 1 ? "" : "s") << " from " << s.plane_source.string()
             << "\n";
   if (!s.channel_weights.empty()) std::cerr << "colour frames extracted on " << s.channel_weights_source << "\n";
+  std::vector<double> widths;
+  for (const ScanFrameSummary& f : s.frames) {
+    if (!std::isnan(f.steger_width_px)) widths.push_back(f.steger_width_px);
+  }
+  if (!widths.empty()) {
+    std::sort(widths.begin(), widths.end());
+    auto px = [](double w) {
+      std::ostringstream os;
+      os << std::fixed << std::setprecision(1) << w;
+      return os.str();
+    };
+    std::cerr << "steger: expected stripe width " << px(widths[widths.size() / 2]) << " px";
+    if (widths.front() != widths.back()) {
+      std::cerr << " (median of the frames; " << px(widths.front()) << " to " << px(widths.back()) << ")";
+    }
+    std::cerr << (std::isnan(o.extraction.expected_width) ? ", measured on each frame (--width fixes it)\n"
+                                                           : ", from --width\n");
+  }
   if (s.frames_by_edge_chains > 0) {
     std::cerr << "planes numbered by the edge chains in " << s.frames_by_edge_chains << " frame"
               << (s.frames_by_edge_chains == 1 ? "" : "s") << " (no search line met all the stripes)\n";
