@@ -82,6 +82,19 @@ Image<float> ReadFloatRaw(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, con
   }
 }
 
+// The image without channel `drop`.
+template <typename T>
+Image<T> WithoutChannel(const Image<T>& in, int drop) {
+  Image<T> out(in.width, in.height, in.channels - 1);
+  T* o = out.pixels.data();
+  for (size_t p = 0; p < size_t(in.width) * in.height; ++p) {
+    for (int c = 0; c < in.channels; ++c) {
+      if (c != drop) *o++ = in.pixels[p * size_t(in.channels) + size_t(c)];
+    }
+  }
+  return out;
+}
+
 template <typename T>
 void Write(const std::filesystem::path& path, const Image<T>& image, OIIO::TypeDesc file_type,
            OIIO::TypeDesc mem_type, const std::vector<std::string>& channel_names) {
@@ -134,13 +147,25 @@ Image<float> ReadImageChannels(const std::filesystem::path& path, const std::vec
   return out;
 }
 
-AnyImage ReadImage(const std::filesystem::path& path) {
+AnyImage ReadImage(const std::filesystem::path& path) { return ReadImage(path, AlphaChannel::kKeep); }
+
+AnyImage ReadImage(const std::filesystem::path& path, AlphaChannel alpha) {
   OIIO::ImageSpec spec;
   auto in = OpenInput(path, &spec);
   const OIIO::TypeDesc f = spec.format;
-  if (f == OIIO::TypeDesc::UINT8) return ReadAs<uint8_t>(*in, spec, OIIO::TypeDesc::UINT8, path);
-  if (f == OIIO::TypeDesc::UINT16) return ReadAs<uint16_t>(*in, spec, OIIO::TypeDesc::UINT16, path);
-  return ReadFloatRaw(*in, spec, path);
+  AnyImage image;
+  if (f == OIIO::TypeDesc::UINT8) {
+    image = ReadAs<uint8_t>(*in, spec, OIIO::TypeDesc::UINT8, path);
+  } else if (f == OIIO::TypeDesc::UINT16) {
+    image = ReadAs<uint16_t>(*in, spec, OIIO::TypeDesc::UINT16, path);
+  } else {
+    image = ReadFloatRaw(*in, spec, path);
+  }
+  const int a = spec.alpha_channel;
+  if (alpha == AlphaChannel::kDrop && a >= 0 && a < spec.nchannels && spec.nchannels > 1) {
+    std::visit([a](auto& img) { img = WithoutChannel(img, a); }, image);
+  }
+  return image;
 }
 
 Image<float> ReadImageFloat(const std::filesystem::path& path) {

@@ -18,6 +18,16 @@ namespace lt {
 // values (an int16 -5 is -5.0f, a uint32 70000 is 70000.0f; no normalisation).
 AnyImage ReadImage(const std::filesystem::path& path);
 
+// What ReadImage does with the channel OpenImageIO marks as alpha (PNG's grey+alpha
+// and RGBA, TIFF's extra alpha sample, EXR's "A").
+enum class AlphaChannel {
+  kKeep,  // read as stored, one channel among the others
+  kDrop,  // left out: a grey+alpha file gives one channel, RGBA three. A camera
+          // frame's alpha is coverage, not light (a frame saved with an opaque alpha
+          // is a mono or RGB frame); an image of alpha alone keeps it.
+};
+AnyImage ReadImage(const std::filesystem::path& path, AlphaChannel alpha);
+
 // Reads an image as float in its own units (no scaling: an 8-bit 255 is 255.0f).
 Image<float> ReadImageFloat(const std::filesystem::path& path);
 // The same, and the names of the image's channels in the order of the pixels'

@@ -183,6 +183,33 @@ TEST_F(ExtractCommand, WrongChannelChoices) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
 }
 
+// A frame saved with an alpha channel is extracted as the frame without it: a
+// grey+alpha PNG as mono (no channel choice), an RGBA PNG as RGB (three weights).
+TEST_F(ExtractCommand, AlphaChannelIsLeftOut) {
+  const Image<uint8_t> mono = StripeImage();
+  Image<uint8_t> ga(mono.width, mono.height, 2), rgba(mono.width, mono.height, 4);
+  for (int y = 0; y < mono.height; ++y)
+    for (int x = 0; x < mono.width; ++x) {
+      ga.At(x, y, 0) = rgba.At(x, y, 0) = mono.At(x, y);
+      rgba.At(x, y, 1) = uint8_t(mono.At(x, y) / 4);
+      ga.At(x, y, 1) = rgba.At(x, y, 3) = 255;
+    }
+  WriteImage(dir_ / "mono.png", mono);
+  WriteImage(dir_ / "ga.png", ga);
+  WriteImage(dir_ / "rgba.png", rgba);
+  const CliResult ref = RunCli("extract " + Quoted(dir_ / "mono.png"));
+  ASSERT_EQ(ref.exit_code, 0) << ref.err;
+  ASSERT_THAT(ref.out, HasSubstr("20.0000,0.0000,"));
+  const CliResult g = RunCli("extract " + Quoted(dir_ / "ga.png"));
+  EXPECT_EQ(g.exit_code, 0) << g.err;
+  EXPECT_EQ(g.out, ref.out);
+  const CliResult w = RunCli("extract " + Quoted(dir_ / "rgba.png") + " --weights 1,0,0");
+  EXPECT_EQ(w.exit_code, 0) << w.err;
+  EXPECT_EQ(w.out, ref.out);
+  ExpectInputError(Quoted(dir_ / "rgba.png") + " --channel 3",
+                   (dir_ / "rgba.png").string() + ": channel 3 requested but the image has 3 channels");
+}
+
 TEST_F(ExtractCommand, RoiOutsideTheImage) {
   const fs::path p = dir_ / "mono.png";
   WriteImage(p, StripeImage());

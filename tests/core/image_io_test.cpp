@@ -134,6 +134,42 @@ TEST_F(ImageIo, AlphaIsNotMultipliedIntoTheColour) {
   EXPECT_EQ(f.At(1, 2, 3), 128.0f);
 }
 
+// A camera frame saved with alpha (grey+alpha, RGBA) is a mono or RGB frame:
+// AlphaChannel::kDrop leaves the alpha channel out and keeps the others as stored.
+TEST_F(ImageIo, AlphaCanBeLeftOut) {
+  Image<uint16_t> rgba(5, 3, 4);
+  Image<uint16_t> ga(5, 3, 2);
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 5; ++x) {
+      for (int c = 0; c < 3; ++c) rgba.At(x, y, c) = uint16_t(1000 * c + 100 * y + x);
+      rgba.At(x, y, 3) = 65535;
+      ga.At(x, y, 0) = uint16_t(40000 + 10 * x + y);
+      ga.At(x, y, 1) = uint16_t(7 * x);  // any alpha, not only opaque
+    }
+  WriteImage(dir_ / "rgba.png", rgba);
+  WriteImage(dir_ / "ga.png", ga);
+  const AnyImage kept = ReadImage(dir_ / "rgba.png", AlphaChannel::kKeep);
+  ASSERT_TRUE(std::holds_alternative<Image<uint16_t>>(kept));
+  EXPECT_EQ(std::get<Image<uint16_t>>(kept).pixels, rgba.pixels);
+  const AnyImage rgb = ReadImage(dir_ / "rgba.png", AlphaChannel::kDrop);
+  ASSERT_TRUE(std::holds_alternative<Image<uint16_t>>(rgb));
+  const Image<uint16_t>& c3 = std::get<Image<uint16_t>>(rgb);
+  ASSERT_EQ(c3.channels, 3);
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 5; ++x)
+      for (int c = 0; c < 3; ++c) EXPECT_EQ(c3.At(x, y, c), rgba.At(x, y, c));
+  const AnyImage grey = ReadImage(dir_ / "ga.png", AlphaChannel::kDrop);
+  ASSERT_TRUE(std::holds_alternative<Image<uint16_t>>(grey));
+  const Image<uint16_t>& c1 = std::get<Image<uint16_t>>(grey);
+  ASSERT_EQ(c1.channels, 1);
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 5; ++x) EXPECT_EQ(c1.At(x, y), ga.At(x, y, 0));
+  // Without alpha nothing is dropped.
+  Image<uint8_t> rgb8(4, 2, 3, 9);
+  WriteImage(dir_ / "rgb.png", rgb8);
+  EXPECT_EQ(std::get<Image<uint8_t>>(ReadImage(dir_ / "rgb.png", AlphaChannel::kDrop)).pixels, rgb8.pixels);
+}
+
 // Signed and 32-bit integers come back as float with their own values: no
 // conversion through uint16 (doubled, negatives clamped) or to 0..1.
 TEST_F(ImageIo, SignedAndWideIntegerTiffsKeepTheirRawValues) {

@@ -76,7 +76,7 @@ void Run(ExtractArgs& a) {
   WidthRejections rejected;
   // One image's points, identified and written (or printed).
   auto extract_one = [&](const std::string& image) {
-    AnyImage img = ReadImage(image);
+    AnyImage img = ReadImage(image, AlphaChannel::kDrop);
     std::vector<StripePoint> points;
     int width = 0, height = 0;
     try {
