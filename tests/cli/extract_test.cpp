@@ -210,6 +210,33 @@ TEST_F(ExtractCommand, AlphaChannelIsLeftOut) {
                    (dir_ / "rgba.png").string() + ": channel 3 requested but the image has 3 channels");
 }
 
+// A 12-bit camera's frame stored unscaled in a 16-bit PNG (values < 4096) is far
+// below the default threshold (10% of 65535): the command says so, with the
+// brightest value and the bits it fits in, and the suggested threshold finds the
+// stripe. A dark 16-bit frame gets the brightest value without the bits.
+TEST_F(ExtractCommand, TwelveBitFrameInASixteenBitFileIsNamedWhenBelowTheThreshold) {
+  Image<uint16_t> img(64, 48, 1, 30);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      img.At(x, y) = uint16_t(std::lround(30 + 3970 * std::exp(-0.5 * (x - 20) * (x - 20) / 4.0)));
+  const fs::path p = dir_ / "twelve.png";
+  WriteImage(p, img);
+  const CliResult r = RunCli("extract " + Quoted(p));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "u,v,width,strength\n");
+  EXPECT_THAT(r.err, HasSubstr("note: " + p.string() + ": its brightest pixel is 4000, below the threshold 6553.5 (10% of 65535); "
+                               "its values fit in 12 bits: for a 12-bit camera's frames stored unscaled give --threshold, e.g. "
+                               "409.5 for 10% of 4095"));
+  const CliResult t = RunCli("extract " + Quoted(p) + " --threshold 409.5");
+  ASSERT_EQ(t.exit_code, 0) << t.err;
+  EXPECT_THAT(t.out, HasSubstr("\n20.0000,"));
+  EXPECT_THAT(t.err, Not(HasSubstr("brightest")));
+  const fs::path dark = dir_ / "dark.png";
+  WriteImage(dark, Image<uint16_t>(64, 48, 1, 3));
+  const CliResult d = RunCli("extract " + Quoted(dark));
+  EXPECT_THAT(d.err, HasSubstr(dark.string() + ": its brightest pixel is 3, below the threshold 6553.5 (10% of 65535)\n"));
+}
+
 TEST_F(ExtractCommand, RoiOutsideTheImage) {
   const fs::path p = dir_ / "mono.png";
   WriteImage(p, StripeImage());

@@ -1,7 +1,10 @@
 // `lasertwin extract IMAGE... --method max|com|multicom|steger [--roi X,Y,W,H]
 // [--axis rows|cols] [--out FILE.csv | DIR] [--planes N] ...`: laser stripe
 // centres of camera images as CSV (u,v,width,strength[,plane]).
+#include <cmath>
 #include <filesystem>
+#include <limits>
+#include <type_traits>
 #include <iostream>
 #include <memory>
 #include <set>
@@ -30,6 +33,37 @@ struct ExtractArgs {
   int planes = 0;
   PlaneIdOptions plane_options;
 };
+
+// Why a mono image gave no point when its brightest pixel (in the ROI) is below
+// the threshold: that value, the threshold, and for 16-bit images the bits its
+// values fit in (a 12-bit camera's frames stored unscaled in 16-bit files read
+// far below the default, 10% of 65535). Empty when the image reaches the
+// threshold or is not mono (its channels are weighted first).
+template <typename T>
+std::string DimImageNote(const Image<T>& im, const StripeExtractor& extractor, const ExtractionOptions& o) {
+  if (im.channels != 1 || o.bayer != ColorFilter::kMono) return "";
+  const PixelRect r = o.roi ? *o.roi : PixelRect{0, 0, im.width, im.height};
+  if (r.x < 0 || r.y < 0 || r.x + r.width > im.width || r.y + r.height > im.height) return "";
+  double brightest = -std::numeric_limits<double>::infinity();
+  for (int y = r.y; y < r.y + r.height; ++y)
+    for (int x = r.x; x < r.x + r.width; ++x) brightest = std::max(brightest, double(im.At(x, y)));
+  const double threshold = extractor.ThresholdFor<T>();
+  if (!(brightest < threshold)) return "";
+  std::string note = "its brightest pixel" + std::string(o.roi ? " in the ROI" : "") + " is " + FormatNumber(brightest) +
+                     ", below the threshold " + FormatNumber(threshold);
+  if (std::is_same_v<T, uint16_t> && std::isnan(o.threshold)) {
+    int bits = 1;
+    while (bits < 16 && brightest > std::ldexp(1.0, bits) - 1) ++bits;
+    note += " (10% of 65535)";
+    if (bits >= 8 && bits < 16) {  // a 10-, 12- or 14-bit camera's range, not a dark frame's
+      const double full = std::ldexp(1.0, bits) - 1;
+      note += "; its values fit in " + std::to_string(bits) + " bits: for a " + std::to_string(bits) +
+              "-bit camera's frames stored unscaled give --threshold, e.g. " + FormatNumber(0.1 * full) +
+              " for 10% of " + FormatNumber(full);
+    }
+  }
+  return note;
+}
 
 void Run(ExtractArgs& a) {
   ExtractionOptions& o = a.options;
@@ -87,6 +121,10 @@ void Run(ExtractArgs& a) {
       throw InputError(image, e.message());
     }
     total += points.size();
+    if (points.empty()) {
+      const std::string why = std::visit([&](const auto& im) { return DimImageNote(im, extractor, o); }, img);
+      if (!why.empty()) std::cerr << "lasertwin: note: " << image << ": " << why << "\n";
+    }
     if (a.planes > 0) {
       PixelRect region = o.roi ? *o.roi : PixelRect{0, 0, width, height};
       // Edge connectivity must reach past the lines a method cannot measure.
