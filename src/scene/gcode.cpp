@@ -78,8 +78,8 @@ void GcodeReader::Expect(std::string_view allowed, const std::string& command) c
   }
 }
 
-void GcodeReader::CheckChecksum(std::string_view line, size_t star) {
-  std::string_view digits = TrimBlanks(line.substr(star + 1));
+void GcodeReader::CheckChecksum(std::string_view line, size_t star, size_t end) {
+  std::string_view digits = TrimBlanks(line.substr(star + 1, end == std::string_view::npos ? end : end - star - 1));
   bool ok = !digits.empty() && digits.size() <= 3;
   for (char c : digits) ok = ok && c >= '0' && c <= '9';
   if (!ok) Fail("checksum after '*' must be a number 0-255, got \"" + std::string(digits) + "\"");
@@ -95,17 +95,34 @@ void GcodeReader::CheckChecksum(std::string_view line, size_t star) {
 void GcodeReader::ReadLine(std::string_view line, int line_no) {
   line_no_ = line_no;
   if (line.find('\0') != std::string_view::npos) Fail("a NUL byte: this is not a text G-code file");
-  size_t semicolon = line.find(';');
+  // One pass over the line: a parenthesised comment runs to its ')' (a ';' or '*'
+  // inside it is part of the comment, as in RS-274 and Marlin's PAREN_COMMENTS);
+  // outside one, ';' starts the line's comment and the first '*' its checksum.
+  size_t semicolon = std::string_view::npos, star = std::string_view::npos;
+  bool paren = false, inside = false;
+  for (size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (inside) {
+      if (c == ')') inside = false;
+    } else if (c == '(') {
+      inside = true;
+      paren = true;
+    } else if (c == ';') {
+      semicolon = i;
+      break;
+    } else if (c == '*' && star == std::string_view::npos) {
+      star = i;
+    }
+  }
   std::string_view code = line.substr(0, semicolon);
   // A checksum "*57" ends the code; it must match (a corrupted line is not read).
-  if (size_t star = code.find('*'); star != std::string_view::npos) {
-    CheckChecksum(code, star);
+  if (star != std::string_view::npos) {
+    CheckChecksum(line, star, semicolon);
     code = code.substr(0, star);
   }
-  // Parenthesised comments, then a checksum.
   std::string cleaned;
-  if (code.find('(') != std::string_view::npos) {
-    bool inside = false;
+  if (paren) {
+    inside = false;
     for (char c : code) {
       if (c == '(') inside = true;
       if (!inside) cleaned += c;
@@ -225,7 +242,7 @@ size_t MoveLinesAtMost(std::string_view text) {
       const char c = text[pos];
       if (c == 'G' || c == 'g' || c == 'N' || c == 'n') ++count;
     }
-    size_t end = text.find('\n', pos);
+    size_t end = text.find_first_of("\r\n", pos);
     if (end == std::string_view::npos) break;
     pos = end + 1;
   }
@@ -255,9 +272,11 @@ Toolpath ParseGcode(std::string_view text, const std::string& display_name) {
   int line_no = 0;
   int after_end = 0;
   while (pos < text.size()) {
-    size_t end = text.find('\n', pos);
+    // A line ends at LF, CR LF or a lone CR (classic Mac OS), mixed as they come.
+    size_t end = text.find_first_of("\r\n", pos);
     if (end == std::string_view::npos) end = text.size();
     std::string_view line = text.substr(pos, end - pos);
+    if (end + 1 < text.size() && text[end] == '\r' && text[end + 1] == '\n') ++end;
     ++line_no;
     if (!reader.Ended()) {
       reader.ReadLine(line, line_no);

@@ -4,7 +4,10 @@
 //
 // Understood, everything else skipped and counted per command (Toolpath::
 // skipped_commands: temperatures, fans, accelerations, T tool changes, ...):
-//   G0, G1          straight moves (X Y Z E F)
+//   G0, G1          straight moves (X Y Z E F); RepRapFirmware's H1, H3, H4 (towards the
+//                   endstops: the named axes home to 0, a move tagged 28 laying nothing)
+//                   and H2 (motors without kinematics: the same move on a Cartesian
+//                   printer); E with H1-H4 is an error
 //   G2, G3          arcs clockwise / counter-clockwise in the XY plane, centre by I/J
 //                   offsets from the start, or radius R (R < 0: the arc over 180 degrees);
 //                   Z changing along the arc makes a helix; I/J with end = start is a
@@ -17,7 +20,8 @@
 //                   Marlin's defaults (3 mm at 45 mm/s, recovered at 8 mm/s)
 //   G17             XY plane (G18/G19 are accepted, but an arc outside XY is an error)
 //   G20, G21        inches / millimetres
-//   G28             home: a travel move to 0 on the named axes (all when none named)
+//   G28             home: the named axes (all when none named) to 0, one after another
+//                   (X, Y, Z) at Marlin's homing speeds (50, 50, 4 mm/s), not the modal F
 //   G90, G91        absolute / relative X Y Z (and E, unless M82/M83 set E's mode)
 //   G92             set the current position (no motion); no axes: all axes to 0
 //   M82, M83        absolute / relative E (overrides G90/G91 for E, as Marlin does)
@@ -38,13 +42,14 @@
 // millimetres under G20 too. A file without any layer comment takes its layers from
 // the heights it extrudes at (Toolpath::layers_from_z). Structured
 // comments count only on lines holding nothing else. Line numbers (N) are dropped; a
-// checksum (*n) must match the line's bytes before it; parenthesised comments are dropped; letters may be lower case. A UTF-8
-// byte order mark, CR LF line ends and "%" lines (RS-274's program marks) are accepted.
+// checksum (*n) must match the line's bytes before it; parenthesised comments are
+// dropped (a ';' or '*' inside one is part of it); letters may be lower case. A UTF-8
+// byte order mark, LF, CR LF and lone CR line ends (mixed too) and "%" lines (RS-274's
+// program marks) are accepted.
 //
 // The machine starts at the origin with E = 0, absolute XYZ, E following G90/G91,
 // no feed rate: moves before the first F run at Marlin's power-on feed rate,
-// 1500 mm/min (counted in Toolpath::moves_at_power_on_feed), homing at Marlin's
-// homing speed, 50 mm/s, until an F is given.
+// 1500 mm/min (counted in Toolpath::moves_at_power_on_feed).
 //
 // Extended commands (a first word of letters, digits and underscores, not a letter
 // and a number: Klipper's PRINT_START, EXCLUDE_OBJECT_START NAME=..., which

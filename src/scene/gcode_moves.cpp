@@ -13,7 +13,8 @@ namespace gcode_detail {
 
 namespace {
 
-constexpr double kHomingFeedMmS = 50.0;  // Marlin's default homing speed
+// Marlin's default homing speeds (HOMING_FEEDRATE_MM_M: 50 mm/s for X and Y, 4 mm/s for Z).
+constexpr double kHomingFeedMmS[3] = {50.0, 50.0, 4.0};
 // Marlin's feed rate at power-on (1500 mm/min), for moves before the file's first F.
 constexpr double kPowerOnFeedMmS = 25.0;
 // An arc's end may lie off its circle by this much (rounding of I/J and X/Y).
@@ -105,8 +106,40 @@ double GcodeReader::MoveFeed(double length_mm, double extruded_mm) {
 }
 
 void GcodeReader::Move(int gcode) {
-  Expect("XYZEF", CommandName('G', gcode));
+  Expect("XYZEFH", CommandName('G', gcode));
+  // RepRapFirmware's H: 0 an ordinary move; 2 moves the motors without kinematics
+  // (homing files lift Z so before the position is known; on the Cartesian printers
+  // modelled here, the same motion as the axes' move); 1, 3 and 4 move towards the
+  // endstops and stop where they trigger, homing the axes named.
+  int h_mode = 0;
+  if (const Word* h = Find('H')) {
+    if (*h->value != std::floor(*h->value) || *h->value < 0 || *h->value > 4) {
+      Fail(CommandName('G', gcode) + " H must be 0, 1, 2, 3 or 4 (RepRapFirmware's move modes), got " +
+           FormatNumber(*h->value));
+    }
+    h_mode = int(*h->value);
+    if (h_mode != 0 && Find('E')) {
+      Fail(CommandName('G', gcode) + " H" + std::to_string(h_mode) +
+           " with E is not supported: H1-H4 are RepRapFirmware's homing and motor moves, not print moves");
+    }
+  }
   SetFeed();
+  if (h_mode == 1 || h_mode == 3 || h_mode == 4) {
+    // Towards the endstop: the move ends where the axis homes, taken as 0 as G28 does
+    // (its length is not what the line asks, which only has to reach beyond the
+    // endstop); at the line's feed rate.
+    Eigen::Vector3d end = pos_mm_;
+    const char axes[3] = {'X', 'Y', 'Z'};
+    for (int k = 0; k < 3; ++k) {
+      if (Find(axes[k])) {
+        end[k] = 0;
+        offset_mm_[k] = 0;
+      }
+    }
+    double length = (end - pos_mm_).norm();
+    AddSegment(28, end, 0, length, (end - pos_mm_).head<2>().norm(), nullptr, MoveFeed(length, 0));
+    return;
+  }
   Eigen::Vector3d end = Target();
   double extruded = ExtrudedFrom(Find('E'));
   double length = (end - pos_mm_).norm();
@@ -207,17 +240,20 @@ void GcodeReader::Dwell() {
 }
 
 void GcodeReader::Home() {
+  // The axes home one after another, X, Y then Z (Marlin's order, and the usual
+  // homing files of RepRapFirmware and Klipper), each at its homing speed, whatever
+  // the modal F (which G28 leaves as it was). Home is taken as 0; the nozzle starts
+  // at the origin, so a G28 before any move takes no time.
   bool any = Find('X') || Find('Y') || Find('Z');
-  Eigen::Vector3d end = pos_mm_;
   const char axes[3] = {'X', 'Y', 'Z'};
   for (int k = 0; k < 3; ++k) {
-    if (!any || Find(axes[k])) {
-      end[k] = 0;
-      offset_mm_[k] = 0;
-    }
+    if (any && !Find(axes[k])) continue;
+    Eigen::Vector3d end = pos_mm_;
+    end[k] = 0;
+    offset_mm_[k] = 0;
+    const double length = std::abs(pos_mm_[k]);
+    AddSegment(28, end, 0, length, k < 2 ? length : 0.0, nullptr, kHomingFeedMmS[k]);
   }
-  double feed = feed_mm_s_ > 0 ? feed_mm_s_ : kHomingFeedMmS;
-  AddSegment(28, end, 0, (end - pos_mm_).norm(), (end - pos_mm_).head<2>().norm(), nullptr, feed);
 }
 
 void GcodeReader::SetPosition() {

@@ -65,8 +65,9 @@ class GcodeReader {
   // Firmware retraction (G10/G11) and its settings (M207).
   void FirmwareRetract(bool retract);
   void RetractSettings();
-  // Checks a line's checksum ("N12 G1 X5*57": XOR of the bytes before '*').
-  void CheckChecksum(std::string_view line, size_t star);
+  // Checks a line's checksum ("N12 G1 X5*57": XOR of the bytes before '*'; the
+  // number runs to `end`, the line's ';' comment or npos).
+  void CheckChecksum(std::string_view line, size_t star, size_t end);
   // Layers from the heights at which the path extrudes, for files without layer comments.
   void LayersFromZ();
   // The feed rate of a G0-G3 move: the modal F, or before any F the firmware's

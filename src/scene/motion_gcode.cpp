@@ -166,10 +166,14 @@ std::vector<std::string> GcodeMotionNotes(const GcodeMotion& m) {
   std::vector<std::string> notes;
   const Toolpath& path = m.toolpath->path();
   const int layers = path.LayerCount();
+  const int sequences = path.LayerSequences();
   notes.push_back(m.file.string() + ": " + std::to_string(path.segments.size()) + " moves, " +
                   Fixed(path.Duration(), 1) + " s at constant speed, " + Fixed(path.PathLength(), 3) + " m of path, " +
                   std::to_string(layers) + " layer" + (layers == 1 ? "" : "s") +
-                  (path.layers_from_z ? " (from the extrusion heights: no layer comments)" : ""));
+                  (path.layers_from_z ? " (from the extrusion heights: no layer comments)" : "") +
+                  (sequences > 1 ? " in " + std::to_string(sequences) +
+                                       " objects printed one after another (the layer numbers start again at each)"
+                                 : ""));
   if (path.program_end_line > 0 && path.lines_after_program_end > 0) {
     notes.push_back(m.file.string() + ":" + std::to_string(path.program_end_line) + ": " + path.program_end_command +
                     " ends the program; " + std::to_string(path.lines_after_program_end) + " line" +

@@ -57,13 +57,41 @@ double Toolpath::PathLength() const {
   return sum;
 }
 
-int Toolpath::LayerCount() const {
+namespace {
+
+// Calls visit(first, end) for each run of the extruding moves' layers in print order
+// (outside any layer left out), a new run starting where the layer number drops.
+template <class Visit>
+void ForEachLayerRun(const std::vector<ToolpathSegment>& segments, Visit visit) {
   std::vector<int> layers;
   for (const auto& s : segments) {
     if (s.LaysBead() && s.layer != ToolpathSegment::kNoLayer) layers.push_back(s.layer);
   }
-  std::sort(layers.begin(), layers.end());
-  return int(std::unique(layers.begin(), layers.end()) - layers.begin());
+  size_t first = 0;
+  for (size_t k = 1; k <= layers.size(); ++k) {
+    if (k == layers.size() || layers[k] < layers[k - 1]) {
+      visit(layers.begin() + first, layers.begin() + k);
+      first = k;
+    }
+  }
+}
+
+}  // namespace
+
+int Toolpath::LayerCount() const {
+  int count = 0;
+  ForEachLayerRun(segments, [&](auto first, auto end) {
+    std::vector<int> run(first, end);
+    std::sort(run.begin(), run.end());
+    count += int(std::unique(run.begin(), run.end()) - run.begin());
+  });
+  return count;
+}
+
+int Toolpath::LayerSequences() const {
+  int runs = 0;
+  ForEachLayerRun(segments, [&](auto, auto) { ++runs; });
+  return runs;
 }
 
 int Toolpath::TypeIndex(const std::string& name) const {

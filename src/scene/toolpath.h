@@ -108,8 +108,14 @@ struct Toolpath {
   // retract and its re-prime cancel) and the distance travelled.
   double ExtrudedLength() const;
   double PathLength() const;
-  // Distinct layers among the moves that extrude (outside any layer counts as none).
+  // Layers printed: the distinct layers among the moves that lay beads (outside any
+  // layer counts as none), counted in each run of them that LayerSequences finds.
   int LayerCount() const;
+  // Runs of layers in print order, a new run starting where the layer number drops:
+  // 1 for a print made layer by layer; one per object for objects printed one after
+  // another from the bed up (Cura's "one at a time" numbers ;LAYER: from 0 again for
+  // each object); 0 without layers.
+  int LayerSequences() const;
   // Index of a type name in type_names, -1 when absent.
   int TypeIndex(const std::string& name) const;
   // "skipped N commands without effect on motion: M104 x3, M106 x2, ..." (the

@@ -172,19 +172,19 @@ TEST(Gcode, ModesUnitsOffsetsAndSyntax) {
   EXPECT_NEAR(p.segments[5].end_m.y(), 2 * kMm, 1e-15);
   EXPECT_EQ(p.segments[2].line, 4);
 
-  // G92 without axes zeroes all; G28 X homes only x, as a travel move; a move without
-  // change makes no segment; F alone only sets the feed.
+  // G92 without axes zeroes all; G28 X homes only x, as a travel move at the homing
+  // speed; a move without change makes no segment; F alone only sets the feed.
   Toolpath h = ParseGcode("G1 X3 Y4 F6000\nG92\nG1 X1\nG1 X1\nG1 F60\nG28 X\n", "h.gcode");
   ASSERT_EQ(h.segments.size(), 3u);
   EXPECT_NEAR(h.segments[1].end_m.x(), 4 * kMm, 1e-15);
   EXPECT_EQ(h.segments[2].gcode, 28);
   EXPECT_TRUE(h.segments[2].end_m.isApprox(Eigen::Vector3d(0, 4, 0) * kMm));
-  EXPECT_NEAR(h.segments[2].Duration(), 4.0, 1e-12);  // 4 mm at 1 mm/s (F60)
+  EXPECT_NEAR(h.segments[2].Duration(), 4.0 / 50, 1e-12);  // 4 mm at 50 mm/s, not F60's 1 mm/s
 }
 
 // Moves before the first F run at Marlin's power-on feed rate (1500 mm/min =
-// 25 mm/s) and are counted with the line of the first; homing keeps Marlin's
-// homing speed (50 mm/s); moves after an F use it.
+// 25 mm/s) and are counted with the line of the first; homing runs at Marlin's
+// homing speed (50 mm/s for X), before and after an F; moves after an F use it.
 TEST(Gcode, MovesBeforeAnyFeedRateRunAtThePowerOnRate) {
   Toolpath p = ParseGcode("G28\nG1 X10\nG0 Y5\nG1 Z0 F600\nG1 X20\n", "g.gcode");
   ASSERT_EQ(p.segments.size(), 3u);  // homing from the origin and the F-only line do not move
@@ -195,7 +195,7 @@ TEST(Gcode, MovesBeforeAnyFeedRateRunAtThePowerOnRate) {
   EXPECT_EQ(p.first_power_on_feed_line, 2);
   Toolpath homed = ParseGcode("G1 X10 F1200\nG28 X\n", "g.gcode");
   EXPECT_EQ(homed.moves_at_power_on_feed, 0);
-  EXPECT_NEAR(homed.segments[1].t_end_s - homed.segments[1].t_start_s, 10.0 / 20.0, 1e-12);
+  EXPECT_NEAR(homed.segments[1].t_end_s - homed.segments[1].t_start_s, 10.0 / 50.0, 1e-12);  // homing speed
 }
 
 TEST(Gcode, MalformedLinesAreErrorsAtFileAndLine) {
