@@ -315,7 +315,8 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
                      "glTF version must be 2.x, got " + (version == asset->end() ? std::string("none") : version->dump()));
   }
   static const std::set<std::string> kSupported = {"KHR_materials_emissive_strength", "KHR_mesh_quantization",
-                                                     "KHR_texture_transform"};
+                                                     "KHR_texture_transform", "EXT_mesh_gpu_instancing",
+                                                     "KHR_materials_pbrSpecularGlossiness"};
   if (auto req = root.find("extensionsRequired"); req != root.end() && req->is_array()) {
     for (size_t i = 0; i < req->size(); ++i) {
       const auto& e = (*req)[i];

@@ -8,6 +8,8 @@
 #include <fstream>
 #include <map>
 #include <optional>
+#include <set>
+#include <tuple>
 #include <sstream>
 
 #include "core/error.h"
@@ -184,6 +186,7 @@ struct NodeUse {
   Eigen::Affine3d transform;  // identity for a skinned mesh (its joints place it)
   std::string node_name;
   int skin = -1;
+  GltfMorphWeights morph;     // the node's weights, else the mesh's
 };
 
 // The global transform of node `index`, from the root of its hierarchy (which
@@ -252,10 +255,66 @@ GltfSkinPose SkinPose(const GltfSource& src, int index) {
   return pose;
 }
 
-// Walks the default scene (iteratively, so deep hierarchies cannot overflow the stack).
+// The instance transforms of a node's EXT_mesh_gpu_instancing: T * R * S from
+// its TRANSLATION, ROTATION (unit quaternion x, y, z, w) and SCALE accessors.
+std::vector<Eigen::Affine3d> GpuInstances(const GltfSource& src, const tinygltf::Value& ext, const std::string& where) {
+  const tinygltf::Value& attributes = ext.IsObject() ? ext.Get("attributes") : ext;
+  if (!attributes.IsObject()) throw InputError(where + "/attributes", "must be an object");
+  const char* kNames[3] = {"TRANSLATION", "ROTATION", "SCALE"};
+  std::vector<float> values[3];
+  size_t count = 0;
+  const char* first = nullptr;
+  for (int a = 0; a < 3; ++a) {
+    if (!attributes.Has(kNames[a])) continue;
+    const std::string at = where + "/attributes/" + kNames[a];
+    const tinygltf::Value& index = attributes.Get(kNames[a]);
+    if (!index.IsInt() || index.GetNumberAsInt() < 0 || size_t(index.GetNumberAsInt()) >= src.model.accessors.size()) {
+      throw InputError(at, "must name one of the " + std::to_string(src.model.accessors.size()) + " accessors");
+    }
+    const int components = a == 1 ? 4 : 3;
+    values[a] = ReadFloatAccessor(src, index.GetNumberAsInt(), components);
+    const size_t n = values[a].size() / size_t(components);
+    if (first == nullptr) {
+      first = kNames[a];
+      count = n;
+    } else if (n != count) {
+      throw InputError(at, std::to_string(n) + " elements, " + first + " has " + std::to_string(count));
+    }
+    for (size_t i = 0; i < values[a].size(); ++i) {
+      if (!std::isfinite(values[a][i])) {
+        throw InputError(GltfWhere(src, "accessors", index.GetNumberAsInt()),
+                         "instance " + std::to_string(i / size_t(components)) + " is not finite (" +
+                             FormatNumber(values[a][i]) + ")");
+      }
+    }
+  }
+  if (first == nullptr) throw InputError(where + "/attributes", "needs TRANSLATION, ROTATION or SCALE");
+  std::vector<Eigen::Affine3d> out(count, Eigen::Affine3d::Identity());
+  for (size_t i = 0; i < count; ++i) {
+    if (!values[0].empty()) out[i].translate(Eigen::Vector3d(values[0][3 * i], values[0][3 * i + 1], values[0][3 * i + 2]));
+    if (!values[1].empty()) {
+      const float* q = values[1].data() + 4 * i;
+      const Eigen::Quaterniond r(q[3], q[0], q[1], q[2]);  // x y z w
+      if (r.norm() < 1e-6) {
+        throw InputError(where + "/attributes/ROTATION", "instance " + std::to_string(i) +
+                                                             " is not a unit quaternion (norm " +
+                                                             FormatNumber(r.norm()) + ")");
+      }
+      out[i].rotate(r.normalized());
+    }
+    if (!values[2].empty()) out[i].scale(Eigen::Vector3d(values[2][3 * i], values[2][3 * i + 1], values[2][3 * i + 2]));
+  }
+  return out;
+}
+
+// Walks the default scene (iteratively, so deep hierarchies cannot overflow the
+// stack). glTF asks for a tree; a node listed under several parents is placed
+// under each (with a warning), a node listed twice in one list is placed once,
+// and a node that is its own ancestor is an error.
 std::vector<NodeUse> WalkScene(const GltfSource& src, std::vector<std::string>* warnings) {
   const auto& m = src.model;
   std::vector<int> roots;
+  std::string roots_where;  // "/scenes/0/nodes", or empty for the parentless nodes
   if (m.defaultScene >= 0 || !m.scenes.empty()) {
     int scene = m.defaultScene >= 0 ? m.defaultScene : 0;
     if (size_t(scene) >= m.scenes.size()) {
@@ -263,9 +322,10 @@ std::vector<NodeUse> WalkScene(const GltfSource& src, std::vector<std::string>* 
                                                   std::to_string(m.scenes.size()) + " scenes)");
     }
     roots = m.scenes[size_t(scene)].nodes;
+    roots_where = "/scenes/" + std::to_string(scene) + "/nodes";
     for (size_t i = 0; i < roots.size(); ++i) {
       if (roots[i] < 0 || size_t(roots[i]) >= m.nodes.size()) {
-        throw InputError(GltfWhere(src, "scenes", scene) + "/nodes/" + std::to_string(i),
+        throw InputError(src.file + ": " + roots_where + "/" + std::to_string(i),
                          "node " + std::to_string(roots[i]) + " does not exist (" + std::to_string(m.nodes.size()) +
                              " nodes)");
       }
@@ -282,56 +342,138 @@ std::vector<NodeUse> WalkScene(const GltfSource& src, std::vector<std::string>* 
     }
     if (!m.meshes.empty()) warnings->push_back(src.file + ": no scene defined; all root nodes are loaded");
   }
+  auto node_name = [&](int index) {
+    const std::string& name = m.nodes[size_t(index)].name;
+    return name.empty() ? "node " + std::to_string(index) : name;
+  };
+  // A list (scene roots or a node's children) without repeats: a repeat would be
+  // a second, coincident copy of the same subtree.
+  auto unique = [&](const std::vector<int>& list, const std::string& list_where) {
+    std::vector<int> out;
+    std::set<int> seen;
+    for (size_t i = 0; i < list.size(); ++i) {
+      if (seen.insert(list[i]).second) {
+        out.push_back(list[i]);
+      } else {
+        warnings->push_back(src.file + ": " + list_where + "/" + std::to_string(i) + ": node " +
+                            std::to_string(list[i]) + " is listed twice; placed once");
+      }
+    }
+    return out;
+  };
+  // Parents of each node (distinct), for the warning about shared nodes.
+  std::vector<int> parents(m.nodes.size(), 0);
+  for (size_t i = 0; i < m.nodes.size(); ++i) {
+    std::set<int> children(m.nodes[i].children.begin(), m.nodes[i].children.end());
+    for (int c : children) {
+      if (c >= 0 && size_t(c) < m.nodes.size()) ++parents[size_t(c)];
+    }
+  }
 
+  struct Entry {
+    int index;
+    Eigen::Affine3d parent;
+    size_t depth;  // length of the path above the node
+  };
   std::vector<NodeUse> uses;
-  std::vector<char> visited(m.nodes.size(), 0);
-  std::vector<std::pair<int, Eigen::Affine3d>> stack;
-  for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.emplace_back(*it, Eigen::Affine3d::Identity());
+  std::vector<int> path;               // the nodes from the root down to the current one
+  std::vector<char> on_path(m.nodes.size(), 0), warned(m.nodes.size(), 0);
+  // Shared nodes multiply: a bound on the placements keeps a malicious file from
+  // expanding exponentially.
+  const size_t max_visits = std::max<size_t>(1000000, 16 * m.nodes.size());
+  size_t visits = 0;
+  std::vector<Entry> stack;
+  roots = unique(roots, roots_where.empty() ? "/nodes (parentless)" : roots_where);
+  for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.push_back({*it, Eigen::Affine3d::Identity(), 0});
   while (!stack.empty()) {
-    auto [index, parent] = stack.back();
+    Entry e = stack.back();
     stack.pop_back();
+    while (path.size() > e.depth) {
+      on_path[size_t(path.back())] = 0;
+      path.pop_back();
+    }
+    const int index = e.index;
     const std::string where = GltfWhere(src, "nodes", index);
-    if (visited[size_t(index)]) {
-      throw InputError(where, "node is reached twice from the scene (the node hierarchy must be a tree)");
+    if (on_path[size_t(index)]) throw InputError(where, "node is its own ancestor (the node hierarchy has a cycle)");
+    if (++visits > max_visits) {
+      throw InputError(src.file, "the node hierarchy places more than " + std::to_string(max_visits) +
+                                     " nodes (nodes shared by several parents multiply)");
     }
-    visited[size_t(index)] = 1;
+    on_path[size_t(index)] = 1;
+    path.push_back(index);
+    if (parents[size_t(index)] > 1 && !warned[size_t(index)]) {
+      warned[size_t(index)] = 1;
+      warnings->push_back(src.file + ": node \"" + node_name(index) + "\" has " +
+                          std::to_string(parents[size_t(index)]) +
+                          " parents (glTF asks for a tree); it is placed under each");
+    }
     const tinygltf::Node& node = m.nodes[size_t(index)];
-    Eigen::Affine3d global = parent * LocalTransform(node, where);
-    if (node.extensions.count("EXT_mesh_gpu_instancing") != 0) {
-      warnings->push_back(src.file + ": node \"" + (node.name.empty() ? "node " + std::to_string(index) : node.name) +
-                          "\": EXT_mesh_gpu_instancing ignored: its instances are not created (only the node's "
-                          "own mesh is placed)");
-    }
+    Eigen::Affine3d global = e.parent * LocalTransform(node, where);
     if (node.mesh >= 0) {
       if (size_t(node.mesh) >= m.meshes.size()) {
         throw InputError(where + "/mesh", "mesh " + std::to_string(node.mesh) + " does not exist (" +
                                               std::to_string(m.meshes.size()) + " meshes)");
       }
-      std::string name = node.name.empty() ? "node " + std::to_string(index) : node.name;
+      const std::string name = node_name(index);
+      GltfMorphWeights morph;
+      if (!node.weights.empty()) {
+        morph = {node.weights, "/nodes/" + std::to_string(index) + "/weights"};
+      } else if (!m.meshes[size_t(node.mesh)].weights.empty()) {
+        morph = {m.meshes[size_t(node.mesh)].weights, "/meshes/" + std::to_string(node.mesh) + "/weights"};
+      }
+      auto instancing = node.extensions.find("EXT_mesh_gpu_instancing");
       if (node.skin >= 0) {
         if (size_t(node.skin) >= m.skins.size()) {
           throw InputError(where + "/skin", "skin " + std::to_string(node.skin) + " does not exist (" +
                                                 std::to_string(m.skins.size()) + " skins)");
         }
+        if (instancing != node.extensions.end()) {
+          warnings->push_back(src.file + ": node \"" + name + "\": EXT_mesh_gpu_instancing of a skinned mesh "
+                              "ignored (the skin places the mesh once)");
+        }
         // glTF 2.0 3.7.3.3: the joints place a skinned mesh; its node's transform is ignored.
-        uses.push_back({node.mesh, Eigen::Affine3d::Identity(), name, node.skin});
-      } else if (double det = global.linear().determinant(); !(std::abs(det) > 1e-30) || !global.matrix().allFinite()) {
-        warnings->push_back(src.file + ": node \"" + name + "\" has a singular transform; its mesh is skipped");
+        uses.push_back({node.mesh, Eigen::Affine3d::Identity(), name, node.skin, morph});
       } else {
-        uses.push_back({node.mesh, global, name});
+        std::vector<std::pair<Eigen::Affine3d, std::string>> placements;
+        if (instancing != node.extensions.end()) {
+          const std::vector<Eigen::Affine3d> instances =
+              GpuInstances(src, instancing->second, where + "/extensions/EXT_mesh_gpu_instancing");
+          for (size_t k = 0; k < instances.size(); ++k) {
+            placements.emplace_back(global * instances[k], name + "/instance " + std::to_string(k));
+          }
+        } else {
+          placements.emplace_back(global, name);
+        }
+        size_t singular = 0;
+        for (auto& [transform, placed_name] : placements) {
+          const double det = transform.linear().determinant();
+          if (!(std::abs(det) > 1e-30) || !transform.matrix().allFinite()) {
+            ++singular;
+          } else {
+            uses.push_back({node.mesh, transform, placed_name, -1, morph});
+          }
+        }
+        if (singular == 1 && placements.size() == 1) {
+          warnings->push_back(src.file + ": node \"" + name + "\" has a singular transform; its mesh is skipped");
+        } else if (singular > 0) {
+          warnings->push_back(src.file + ": node \"" + name + "\": " + std::to_string(singular) + " of its " +
+                              std::to_string(placements.size()) +
+                              " EXT_mesh_gpu_instancing instances have a singular transform; they are skipped");
+        }
       }
     } else if (node.mesh < -1) {
       throw InputError(where + "/mesh", "must be >= 0, got " + std::to_string(node.mesh));
     }
-    for (size_t c = node.children.size(); c-- > 0;) {
+    for (size_t c = 0; c < node.children.size(); ++c) {
       int child = node.children[c];
       if (child < 0 || size_t(child) >= m.nodes.size()) {
         throw InputError(where + "/children/" + std::to_string(c),
                          "node " + std::to_string(child) + " does not exist (" + std::to_string(m.nodes.size()) +
                              " nodes)");
       }
-      stack.emplace_back(child, global);
     }
+    const std::vector<int> children = unique(node.children, "/nodes/" + std::to_string(index) + "/children");
+    for (auto it = children.rbegin(); it != children.rend(); ++it) stack.push_back({*it, global, path.size()});
   }
   return uses;
 }
@@ -378,12 +520,15 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
 
   const uint32_t default_material = uint32_t(asset.materials.size());
   bool uses_default = false;
-  // (glTF mesh, skin or -1) -> index in asset.meshes, -1 when empty. A skinned
-  // mesh is posed by its skin alone, so each (mesh, skin) pair is loaded once.
-  std::map<std::pair<int, int>, long> mesh_slot;
+  // (glTF mesh, skin or -1, morph weights) -> index in asset.meshes, -1 when
+  // empty. A skinned mesh is posed by its skin alone and a morphed one by its
+  // weights, so each such triple is loaded once.
+  using MeshKey = std::tuple<int, int, std::vector<double>>;
+  std::map<MeshKey, long> mesh_slot;
   std::map<int, GltfSkinPose> skin_poses;
   for (const NodeUse& use : uses) {
-    auto it = mesh_slot.find({use.gltf_mesh, use.skin});
+    const MeshKey key{use.gltf_mesh, use.skin, use.morph.weights};
+    auto it = mesh_slot.find(key);
     if (it == mesh_slot.end()) {
       GltfMeshStats stats;
       const GltfSkinPose* skin = nullptr;
@@ -392,7 +537,8 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
         if (pose == skin_poses.end()) pose = skin_poses.emplace(use.skin, SkinPose(src, use.skin)).first;
         skin = &pose->second;
       }
-      Mesh mesh = ConvertGltfMesh(src, use.gltf_mesh, default_material, &stats, &asset.warnings, skin);
+      Mesh mesh = ConvertGltfMesh(src, use.gltf_mesh, asset.materials, default_material, &stats, &asset.warnings,
+                                  skin, &use.morph);
       asset.degenerate_triangles += stats.degenerate_triangles;
       long slot = -1;
       if (mesh.TriangleCount() > 0) {
@@ -403,11 +549,16 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
       } else {
         asset.warnings.push_back(file + ": mesh \"" + mesh.name + "\" has no triangles; it is skipped");
       }
-      it = mesh_slot.emplace(std::pair{use.gltf_mesh, use.skin}, slot).first;
+      it = mesh_slot.emplace(key, slot).first;
     }
     if (it->second >= 0) asset.instances.push_back({size_t(it->second), use.transform, use.node_name});
   }
   if (uses_default) asset.materials.push_back(DefaultMaterial());
+  if (!model.animations.empty()) {
+    asset.warnings.push_back(file + ": " + std::to_string(model.animations.size()) +
+                             (model.animations.size() == 1 ? " animation" : " animations") +
+                             " not played: the nodes' transforms and morph weights are used as written");
+  }
   if (asset.degenerate_triangles > 0) {
     asset.warnings.push_back(file + ": " + std::to_string(asset.degenerate_triangles) +
                              " degenerate triangles dropped");

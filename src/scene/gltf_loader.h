@@ -5,14 +5,16 @@
 // meshes with several primitives, triangles / triangle strips / triangle fans,
 // indexed (u8/u16/u32) or not, normalized and sparse accessors (and accessors
 // without data: zeros), POSITION, NORMAL (flat normals computed where missing, as
-// glTF 2.0 specifies), TEXCOORD_0, metallic-roughness factors, base-colour textures
-// with their samplers and KHR_texture_transform, emissive factor (with
-// KHR_materials_emissive_strength), KHR_materials_pbrSpecularGlossiness (converted),
-// skinned meshes posed by their joints (JOINTS_n / WEIGHTS_n, inverse bind matrices;
-// the skinned node's transform ignored, as glTF specifies), the uncompressed fallback
-// of Draco / meshopt compression that is not required.
+// glTF 2.0 specifies), the TEXCOORD_n set each material's base-colour texture
+// reads, metallic-roughness factors, base-colour textures with their samplers and
+// KHR_texture_transform, emissive factor (with KHR_materials_emissive_strength),
+// KHR_materials_pbrSpecularGlossiness (converted), morph targets posed by their
+// default weights, skinned meshes posed by their joints (JOINTS_n / WEIGHTS_n,
+// inverse bind matrices; the skinned node's transform ignored, as glTF specifies),
+// EXT_mesh_gpu_instancing, the uncompressed fallback of Draco / meshopt
+// compression that is not required.
 // Points and lines are skipped with a warning naming the mesh; so are other unrendered
-// features (COLOR_0, material extensions, EXT_mesh_gpu_instancing). Degenerate
+// features (COLOR_0, material extensions, animations). Degenerate
 // triangles are counted and dropped. See docs/scene-format.md.
 // A mesh used by several nodes is loaded once and instanced.
 //

@@ -143,19 +143,13 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
   out.reserve(m.materials.size());
   std::map<std::string, std::string> ignored_extensions;  // name -> the materials using it
   // Makes texture info.index (in range) mat's base colour texture, each texture
-  // decoded once, with info's KHR_texture_transform; warns when it reads a
-  // TEXCOORD set other than the one loaded.
-  auto use_texture = [&](const tinygltf::TextureInfo& info, const std::string& info_where, const char* what,
-                         Material* mat) {
+  // decoded once, with info's KHR_texture_transform and the TEXCOORD set it reads
+  // (the meshes load that set for the primitives using the material).
+  auto use_texture = [&](const tinygltf::TextureInfo& info, const std::string& info_where, Material* mat) {
     if (!textures[size_t(info.index)]) textures[size_t(info.index)] = MakeTexture(src, info.index);
     mat->base_color_texture = textures[size_t(info.index)];
-    const int texcoord = ReadTextureTransform(info, info_where, mat);
-    if (texcoord != 0) {
-      const bool from_ext = texcoord != info.texCoord;
-      warnings->push_back(src.file + ": material \"" + mat->name + "\": " + what + " reads TEXCOORD_" +
-                          std::to_string(texcoord) + (from_ext ? " (KHR_texture_transform's texCoord)" : "") +
-                          ", which is not loaded; TEXCOORD_0 is used instead");
-    }
+    if (info.texCoord < 0) throw InputError(info_where + "/texCoord", "must be an integer >= 0");
+    mat->base_color_texcoord = ReadTextureTransform(info, info_where, mat);
   };
   for (size_t i = 0; i < m.materials.size(); ++i) {
     const tinygltf::Material& gm = m.materials[i];
@@ -198,7 +192,7 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
                          "texture " + std::to_string(tex) + " does not exist (" + std::to_string(m.textures.size()) +
                              " textures)");
       }
-      use_texture(pbr.baseColorTexture, where + "/pbrMetallicRoughness/baseColorTexture", "base colour texture", &mat);
+      use_texture(pbr.baseColorTexture, where + "/pbrMetallicRoughness/baseColorTexture", &mat);
     } else if (tex < -1) {
       throw InputError(where + "/pbrMetallicRoughness/baseColorTexture/index", "must be >= 0");
     }
@@ -223,6 +217,7 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
       mat.roughness = float(1.0 - UnitFactor(ExtNumber(sg, "glossinessFactor", 1.0, sg_where), sg_where + "/glossinessFactor"));
       mat.base_color_texture = nullptr;
       mat.base_color_uv_transform = UvTransform();
+      mat.base_color_texcoord = 0;
       if (sg.Has("diffuseTexture")) {
         const std::string dt_where = sg_where + "/diffuseTexture";
         const tinygltf::Value& dt = sg.Get("diffuseTexture");
@@ -232,12 +227,16 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
         }
         tinygltf::TextureInfo info;
         info.index = index.GetNumberAsInt();
-        if (dt.Has("texCoord")) info.texCoord = dt.Get("texCoord").GetNumberAsInt();
+        if (dt.Has("texCoord")) {
+          const tinygltf::Value& tc = dt.Get("texCoord");
+          if (!tc.IsInt() || tc.GetNumberAsInt() < 0) throw InputError(dt_where + "/texCoord", "must be an integer >= 0");
+          info.texCoord = tc.GetNumberAsInt();
+        }
         if (dt.Has("extensions") && dt.Get("extensions").IsObject()) {
           const tinygltf::Value& exts = dt.Get("extensions");
           for (const std::string& key : exts.Keys()) info.extensions[key] = exts.Get(key);
         }
-        use_texture(info, dt_where, "diffuse texture", &mat);
+        use_texture(info, dt_where, &mat);
       }
       warnings->push_back(src.file + ": material \"" + mat.name +
                           "\": KHR_materials_pbrSpecularGlossiness converted to metallic-roughness (diffuse as base "

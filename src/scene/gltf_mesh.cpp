@@ -151,19 +151,71 @@ void ApplySkin(const GltfSource& src, const tinygltf::Primitive& prim, const std
   }
 }
 
+// Adds the morph targets of a primitive, weighted, to its positions and normals
+// (glTF 2.0 3.7.2.2). Targets' other attributes (TANGENT, TEXCOORD_n, COLOR_n) are not used.
+void ApplyMorphTargets(const GltfSource& src, const tinygltf::Primitive& prim, const std::string& where,
+                       const GltfMorphWeights* morph, std::vector<float>* pos, std::vector<float>* nrm) {
+  if (prim.targets.empty() || morph == nullptr || morph->weights.empty()) return;
+  if (morph->weights.size() != prim.targets.size()) {
+    const size_t at = where.find(": ");
+    throw InputError(src.file + ": " + morph->pointer,
+                     std::to_string(morph->weights.size()) + " weights for the " + std::to_string(prim.targets.size()) +
+                         " morph targets of " + (at == std::string::npos ? where : where.substr(at + 2)));
+  }
+  for (size_t k = 0; k < prim.targets.size(); ++k) {
+    const double w = morph->weights[k];
+    if (!std::isfinite(w)) {
+      throw InputError(src.file + ": " + morph->pointer + "/" + std::to_string(k), "must be finite, got " + FormatNumber(w));
+    }
+    if (w == 0) continue;
+    const std::string target_where = where + "/targets/" + std::to_string(k);
+    for (auto [name, values] : {std::pair{"POSITION", pos}, std::pair{"NORMAL", nrm}}) {
+      auto it = prim.targets[k].find(name);
+      if (it == prim.targets[k].end() || values->empty()) continue;
+      CheckAccessorRef(src, it->second, target_where + "/" + name);
+      const std::vector<float> delta = ReadFloatAccessor(src, it->second, 3);
+      CheckFinite(src, it->second, delta, 3, "morph target displacement");
+      if (delta.size() != values->size()) {
+        throw InputError(GltfWhere(src, "accessors", it->second),
+                         std::to_string(delta.size() / 3) + " elements, POSITION " + std::to_string(pos->size() / 3));
+      }
+      for (size_t i = 0; i < delta.size(); ++i) (*values)[i] = float(double((*values)[i]) + w * double(delta[i]));
+    }
+  }
+}
+
 }  // namespace
 
-Mesh ConvertGltfMesh(const GltfSource& src, int index, uint32_t default_material, GltfMeshStats* stats,
-                     std::vector<std::string>* warnings, const GltfSkinPose* skin) {
+Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Material>& materials,
+                     uint32_t default_material, GltfMeshStats* stats, std::vector<std::string>* warnings,
+                     const GltfSkinPose* skin, const GltfMorphWeights* morph) {
   const tinygltf::Mesh& gm = src.model.meshes[size_t(index)];
   const std::string mesh_where = GltfWhere(src, "meshes", index);
   Mesh mesh;
   mesh.name = gm.name.empty() ? "mesh " + std::to_string(index) : gm.name;
 
+  // The texture coordinates of each primitive: the set its material's base-colour
+  // texture reads, else TEXCOORD_0 (-1: the primitive has neither).
+  std::vector<int> uv_accessor(gm.primitives.size(), -1);
+  std::vector<std::string> uv_name(gm.primitives.size(), "TEXCOORD_0");
   bool any_texcoords = false, any_colors = false;
   for (size_t pi = 0; pi < gm.primitives.size(); ++pi) {
-    any_texcoords |= FindAttribute(src, gm.primitives[pi], "TEXCOORD_0", mesh_where + "/primitives/" + std::to_string(pi)) >= 0;
-    any_colors |= gm.primitives[pi].attributes.count("COLOR_0") != 0;
+    const tinygltf::Primitive& prim = gm.primitives[pi];
+    const std::string where = mesh_where + "/primitives/" + std::to_string(pi);
+    const bool own_material = prim.material >= 0 && size_t(prim.material) < materials.size();
+    const int set = own_material ? materials[size_t(prim.material)].base_color_texcoord : 0;
+    const std::string set_name = "TEXCOORD_" + std::to_string(set);
+    uv_accessor[pi] = FindAttribute(src, prim, set_name.c_str(), where);
+    if (uv_accessor[pi] >= 0) uv_name[pi] = set_name;
+    if (uv_accessor[pi] < 0 && set != 0) {
+      uv_accessor[pi] = FindAttribute(src, prim, "TEXCOORD_0", where);
+      warnings->push_back(src.file + ": mesh \"" + mesh.name + "\" primitive " + std::to_string(pi) +
+                          ": material \"" + materials[size_t(prim.material)].name + "\" reads " + set_name +
+                          ", which the primitive does not have; TEXCOORD_0 is used" +
+                          (uv_accessor[pi] < 0 ? " (it has none either: all coordinates 0)" : ""));
+    }
+    any_texcoords |= uv_accessor[pi] >= 0;
+    any_colors |= prim.attributes.count("COLOR_0") != 0;
   }
   if (any_colors) {
     warnings->push_back(src.file + ": mesh \"" + mesh.name + "\": COLOR_0 vertex colours ignored (not rendered)");
@@ -181,10 +233,6 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, uint32_t default_material
     if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
         prim.mode != TINYGLTF_MODE_TRIANGLE_FAN) {
       throw InputError(where + "/mode", "unknown primitive mode " + std::to_string(prim.mode));
-    }
-    if (!prim.targets.empty()) {
-      warnings->push_back(src.file + ": mesh \"" + mesh.name + "\" primitive " + std::to_string(pi) +
-                          ": morph targets ignored");
     }
     uint32_t material = default_material;
     if (prim.material >= 0) {
@@ -216,14 +264,17 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, uint32_t default_material
       }
     }
     std::vector<float> uv;
-    if (int acc = FindAttribute(src, prim, "TEXCOORD_0", where); acc >= 0) {
+    if (int acc = uv_accessor[pi]; acc >= 0) {
       uv = ReadFloatAccessor(src, acc, 2);
       CheckFinite(src, acc, uv, 2, "texture coordinate");
       if (uv.size() / 2 != nverts) {
-        throw InputError(GltfWhere(src, "accessors", acc), "TEXCOORD_0 has " + std::to_string(uv.size() / 2) +
+        throw InputError(GltfWhere(src, "accessors", acc), uv_name[pi] + " has " + std::to_string(uv.size() / 2) +
                                                                " elements, POSITION " + std::to_string(nverts));
       }
     }
+
+    ApplyMorphTargets(src, prim, where, morph, &pos, &nrm);
+    if (morph != nullptr && !prim.targets.empty()) CheckFinite(src, pos_acc, pos, 3, "morphed position");
 
     std::vector<char> mirrored;  // by vertex, when skinned
     if (skin != nullptr) {

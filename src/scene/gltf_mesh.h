@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "scene/gltf_accessors.h"
+#include "scene/material.h"
 #include "scene/mesh.h"
 
 namespace lt {
@@ -25,13 +26,25 @@ struct GltfSkinPose {
   std::string pointer;  // "/skins/0", for messages
 };
 
+// The weights of a mesh's morph targets (glTF 2.0 3.7.2.2): the node's `weights`,
+// else the mesh's; none (empty) means all 0.
+struct GltfMorphWeights {
+  std::vector<double> weights;
+  std::string pointer;  // "/nodes/3/weights" or "/meshes/0/weights", for messages
+};
+
 // Converts mesh `index`. Triangle strips and fans become triangle lists, points
 // and lines are skipped with a warning, primitives without NORMAL get flat normals
 // (their vertices are unshared). Primitives without a material get
-// `default_material`. With `skin`, the vertices and normals are skinned into the
-// skin's pose (triangles whose skinning mirrors are turned round, as a mirroring
-// node's are by its determinant). Throws lt::InputError on malformed data.
-Mesh ConvertGltfMesh(const GltfSource& src, int index, uint32_t default_material, GltfMeshStats* stats,
-                     std::vector<std::string>* warnings, const GltfSkinPose* skin = nullptr);
+// `default_material`; `materials` are the file's converted materials (by glTF
+// index): each primitive's texture coordinates are the TEXCOORD_n set its
+// material's base-colour texture reads. Morph targets' POSITION and NORMAL are
+// added with `morph` weights (the rest pose when null). With `skin`, the vertices
+// and normals are then skinned into the skin's pose (triangles whose skinning
+// mirrors are turned round, as a mirroring node's are by its determinant).
+// Throws lt::InputError on malformed data.
+Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Material>& materials,
+                     uint32_t default_material, GltfMeshStats* stats, std::vector<std::string>* warnings,
+                     const GltfSkinPose* skin = nullptr, const GltfMorphWeights* morph = nullptr);
 
 }  // namespace lt

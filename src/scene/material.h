@@ -57,7 +57,8 @@ struct Material {
   std::string name;
   Eigen::Vector3f base_color = Eigen::Vector3f::Ones();  // linear, [0, 1]
   std::shared_ptr<const Texture> base_color_texture;     // multiplies base_color; may be null
-  int base_color_texcoord = 0;                           // TEXCOORD_n the texture reads (0 only)
+  int base_color_texcoord = 0;                           // TEXCOORD_n the glTF texture reads (the mesh's
+                                                         // texcoords hold that set for its primitives)
   UvTransform base_color_uv_transform;                   // applied to uv before the texture lookup
   float metallic = 0;                                    // [0, 1]
   float roughness = 1;                                   // [0, 1], perceptual (alpha = roughness^2)

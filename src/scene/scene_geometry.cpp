@@ -1,5 +1,6 @@
 #include "scene/scene_geometry.h"
 
+#include <cstdio>
 #include <map>
 
 #include "scene/gltf_loader.h"
@@ -26,6 +27,41 @@ Eigen::AlignedBox3d SceneGeometry::WorldBounds() const {
   }
   return box;
 }
+
+namespace {
+
+// An object larger than this is no part for a laser-line scanner (working
+// ranges of centimetres to about a metre): most likely a file written in
+// millimetres (many CAD and STL converters do), read as metres.
+constexpr double kImplausibleObjectSizeM = 10.0;
+
+// Warns about each object whose world bounds exceed kImplausibleObjectSizeM
+// (from each mesh's bounding box through its instances: cheap for any mesh size).
+void WarnImplausibleSizes(const SceneFile& scene, SceneGeometry* g) {
+  std::vector<Eigen::AlignedBox3d> mesh_bounds(g->meshes.size());
+  for (size_t i = 0; i < g->meshes.size(); ++i) mesh_bounds[i] = g->meshes[i].Bounds();
+  std::vector<Eigen::AlignedBox3d> object_bounds(scene.objects.size());
+  for (const SceneInstance& inst : g->instances) {
+    if (inst.object >= object_bounds.size() || mesh_bounds[inst.mesh].isEmpty()) continue;
+    for (int c = 0; c < 8; ++c) {
+      const Eigen::Vector3d corner = mesh_bounds[inst.mesh].corner(Eigen::AlignedBox3d::CornerType(c));
+      object_bounds[inst.object].extend(inst.world_from_mesh * corner);
+    }
+  }
+  for (size_t oi = 0; oi < scene.objects.size(); ++oi) {
+    if (object_bounds[oi].isEmpty()) continue;
+    const double size = object_bounds[oi].sizes().maxCoeff();
+    if (size > kImplausibleObjectSizeM) {
+      char text[64];
+      std::snprintf(text, sizeof text, "%.3g", size);
+      g->warnings.push_back("object \"" + scene.objects[oi].name + "\" is " + text +
+                            " m across; glTF is in metres: if the file is in millimetres, give the object "
+                            "\"scale\": 0.001");
+    }
+  }
+}
+
+}  // namespace
 
 SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
   SceneGeometry g;
@@ -71,6 +107,7 @@ SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
       g.warnings.push_back("object \"" + obj.name + "\": " + obj.gltf.string() + " holds no triangles");
     }
   }
+  WarnImplausibleSizes(scene, &g);
   if (scene.print) {
     // The printed part: one empty mesh and instance per chunk, placed by the
     // motion's world_from_gcode; PrintedPart fills the meshes over time.

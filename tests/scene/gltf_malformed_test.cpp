@@ -342,7 +342,7 @@ TEST(GltfMalformed, NodeCycle) {
   b.AddNode("loop", -1, {}, false);
   b.json()["nodes"][0]["children"] = {1};
   b.json()["nodes"][1]["children"] = {0};
-  EXPECT_EQ(GlbError(b), "bad.glb: /nodes/0: node is reached twice from the scene (the node hierarchy must be a tree)");
+  EXPECT_EQ(GlbError(b), "bad.glb: /nodes/0: node is its own ancestor (the node hierarchy has a cycle)");
 }
 
 TEST(GltfMalformed, NonAffineMatrix) {
