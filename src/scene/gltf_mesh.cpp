@@ -40,10 +40,12 @@ int FindAttribute(const GltfSource& src, const tinygltf::Primitive& p, const cha
   return it->second;
 }
 
-// Fails when any value is not finite.
+// Fails when any value is not finite; with `used`, only the values of the used
+// elements are checked (a vertex no triangle uses cannot reach the render).
 void CheckFinite(const GltfSource& src, int accessor, const std::vector<float>& v, int components,
-                 const char* what) {
+                 const char* what, const std::vector<char>* used = nullptr) {
   for (size_t i = 0; i < v.size(); ++i) {
+    if (used != nullptr && !(*used)[i / size_t(components)]) continue;
     if (!std::isfinite(v[i])) {
       throw InputError(GltfWhere(src, "accessors", accessor),
                        std::string(what) + " " + std::to_string(i / components) + " is not finite (" +
@@ -250,37 +252,8 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Materia
     const int pos_acc = FindAttribute(src, prim, "POSITION", where);
     if (pos_acc < 0) throw InputError(where + "/attributes", "missing required attribute POSITION");
     std::vector<float> pos = ReadFloatAccessor(src, pos_acc, 3);
-    CheckFinite(src, pos_acc, pos, 3, "position");
     const size_t nverts = pos.size() / 3;
     if (nverts > size_t(UINT32_MAX)) throw InputError(where, "too many vertices");
-
-    std::vector<float> nrm;
-    if (int acc = FindAttribute(src, prim, "NORMAL", where); acc >= 0) {
-      nrm = ReadFloatAccessor(src, acc, 3);
-      CheckFinite(src, acc, nrm, 3, "normal");
-      if (nrm.size() != pos.size()) {
-        throw InputError(GltfWhere(src, "accessors", acc), "NORMAL has " + std::to_string(nrm.size() / 3) +
-                                                               " elements, POSITION " + std::to_string(nverts));
-      }
-    }
-    std::vector<float> uv;
-    if (int acc = uv_accessor[pi]; acc >= 0) {
-      uv = ReadFloatAccessor(src, acc, 2);
-      CheckFinite(src, acc, uv, 2, "texture coordinate");
-      if (uv.size() / 2 != nverts) {
-        throw InputError(GltfWhere(src, "accessors", acc), uv_name[pi] + " has " + std::to_string(uv.size() / 2) +
-                                                               " elements, POSITION " + std::to_string(nverts));
-      }
-    }
-
-    ApplyMorphTargets(src, prim, where, morph, &pos, &nrm);
-    if (morph != nullptr && !prim.targets.empty()) CheckFinite(src, pos_acc, pos, 3, "morphed position");
-
-    std::vector<char> mirrored;  // by vertex, when skinned
-    if (skin != nullptr) {
-      ApplySkin(src, prim, where, *skin, &pos, &nrm, &mirrored);
-      CheckFinite(src, pos_acc, pos, 3, "skinned position");
-    }
 
     std::vector<uint32_t> corners;
     if (prim.indices >= 0) {
@@ -299,6 +272,39 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Materia
     }
     std::vector<uint32_t> tri = Triangulate(corners, prim.mode, where);
     corners = {};
+    // The vertices the triangles use: only they are checked and kept (several
+    // primitives may share one large POSITION accessor, each using a part of it).
+    std::vector<char> used(nverts, 0);
+    for (uint32_t i : tri) used[i] = 1;
+    CheckFinite(src, pos_acc, pos, 3, "position", &used);
+
+    std::vector<float> nrm;
+    if (int acc = FindAttribute(src, prim, "NORMAL", where); acc >= 0) {
+      nrm = ReadFloatAccessor(src, acc, 3);
+      if (nrm.size() != pos.size()) {
+        throw InputError(GltfWhere(src, "accessors", acc), "NORMAL has " + std::to_string(nrm.size() / 3) +
+                                                               " elements, POSITION " + std::to_string(nverts));
+      }
+      CheckFinite(src, acc, nrm, 3, "normal", &used);
+    }
+    std::vector<float> uv;
+    if (int acc = uv_accessor[pi]; acc >= 0) {
+      uv = ReadFloatAccessor(src, acc, 2);
+      if (uv.size() / 2 != nverts) {
+        throw InputError(GltfWhere(src, "accessors", acc), uv_name[pi] + " has " + std::to_string(uv.size() / 2) +
+                                                               " elements, POSITION " + std::to_string(nverts));
+      }
+      CheckFinite(src, acc, uv, 2, "texture coordinate", &used);
+    }
+
+    ApplyMorphTargets(src, prim, where, morph, &pos, &nrm);
+    if (morph != nullptr && !prim.targets.empty()) CheckFinite(src, pos_acc, pos, 3, "morphed position", &used);
+
+    std::vector<char> mirrored;  // by vertex, when skinned
+    if (skin != nullptr) {
+      ApplySkin(src, prim, where, *skin, &pos, &nrm, &mirrored);
+      CheckFinite(src, pos_acc, pos, 3, "skinned position", &used);
+    }
 
     // Keep the non-degenerate triangles.
     size_t kept = 0;
@@ -320,27 +326,40 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Materia
 
     const size_t base = mesh.positions.size();
     if (!nrm.empty()) {
-      // Shared vertices with the file's normals. Zero-length normals are replaced
-      // by the area-weighted normal of the triangles around the vertex.
-      if (base + nverts > size_t(UINT32_MAX)) throw InputError(mesh_where, "too many vertices");
-      mesh.positions.reserve(base + nverts);
-      mesh.normals.reserve(base + nverts);
-      for (size_t v = 0; v < nverts; ++v) mesh.positions.push_back(Vec3At(pos, v));
-      std::vector<uint32_t> zero;
+      // Shared vertices with the file's normals: the vertices the kept triangles
+      // use, in their order in the file. Zero-length normals are replaced by the
+      // area-weighted normal of the triangles around the vertex.
+      std::vector<uint32_t> remap(nverts, UINT32_MAX);
+      for (uint32_t i : tri) remap[i] = 0;
+      size_t kept_vertices = 0;
       for (size_t v = 0; v < nverts; ++v) {
+        if (remap[v] == 0) remap[v] = uint32_t(kept_vertices++);
+      }
+      if (base + kept_vertices > size_t(UINT32_MAX)) throw InputError(mesh_where, "too many vertices");
+      mesh.positions.reserve(base + kept_vertices);
+      mesh.normals.reserve(base + kept_vertices);
+      if (any_texcoords) mesh.texcoords.reserve(base + kept_vertices);
+      std::vector<uint32_t> zero;  // new indices
+      for (size_t v = 0; v < nverts; ++v) {
+        if (remap[v] == UINT32_MAX) continue;
+        mesh.positions.push_back(Vec3At(pos, v));
         Eigen::Vector3f n = Vec3At(nrm, v);
         float len = n.norm();
-        if (!(len > 1e-12f)) zero.push_back(uint32_t(v));
+        if (!(len > 1e-12f)) zero.push_back(remap[v]);
         mesh.normals.push_back(len > 1e-12f ? Eigen::Vector3f(n / len) : Eigen::Vector3f::Zero());
+        if (any_texcoords) {
+          mesh.texcoords.push_back(uv.empty() ? Eigen::Vector2f::Zero() : Eigen::Vector2f(uv[2 * v], uv[2 * v + 1]));
+        }
       }
+      for (uint32_t& i : tri) i = remap[i];
       if (!zero.empty()) {
         // Accumulate face normals only into the vertices whose normal was zero.
         std::vector<Eigen::Vector3d> acc(zero.size(), Eigen::Vector3d::Zero());
-        std::vector<int64_t> slot(nverts, -1);
+        std::vector<int64_t> slot(kept_vertices, -1);
         for (size_t k = 0; k < zero.size(); ++k) slot[zero[k]] = int64_t(k);
+        const Eigen::Vector3f* p = mesh.positions.data() + base;
         for (size_t t = 0; t < tri.size() / 3; ++t) {
-          Eigen::Vector3d fn = FaceNormal(Vec3At(pos, tri[3 * t]), Vec3At(pos, tri[3 * t + 1]),
-                                          Vec3At(pos, tri[3 * t + 2]));
+          Eigen::Vector3d fn = FaceNormal(p[tri[3 * t]], p[tri[3 * t + 1]], p[tri[3 * t + 2]]);
           for (int k = 0; k < 3; ++k) {
             if (slot[tri[3 * t + k]] >= 0) acc[size_t(slot[tri[3 * t + k]])] += fn;
           }
@@ -351,12 +370,6 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Materia
         }
         warnings->push_back(src.file + ": mesh \"" + mesh.name + "\" primitive " + std::to_string(pi) + ": " +
                             std::to_string(zero.size()) + " zero-length normals replaced by face normals");
-      }
-      if (any_texcoords) {
-        mesh.texcoords.reserve(base + nverts);
-        for (size_t v = 0; v < nverts; ++v) {
-          mesh.texcoords.push_back(uv.empty() ? Eigen::Vector2f::Zero() : Eigen::Vector2f(uv[2 * v], uv[2 * v + 1]));
-        }
       }
       mesh.indices.reserve(mesh.indices.size() + tri.size());
       for (uint32_t i : tri) mesh.indices.push_back(uint32_t(base + i));

@@ -222,6 +222,53 @@ TEST(GltfExporters, NodeWithSeveralParentsIsPlacedUnderEach) {
   EXPECT_THAT(ErrorOf([&] { LoadGlb(b, dir); }), HasSubstr("(the node hierarchy has a cycle)"));
 }
 
+// ------------------------------------------------------------------ vertex buffers
+
+// Multi-material meshes (three.js geometry groups, older Sketchfab exports) give
+// every primitive the same POSITION / NORMAL accessors, each primitive indexing
+// its part. Each primitive keeps only the vertices it uses, so the mesh holds each
+// vertex once, not once per primitive.
+TEST(GltfExporters, PrimitivesSharingAVertexBufferKeepOnlyTheirVertices) {
+  TempDir dir;
+  GltfBuilder b = test::SquareBuilder();
+  auto& prims = b.json()["meshes"][0]["primitives"];
+  nlohmann::json second = prims[0];
+  prims[0]["indices"] = b.AddIndices({0, 1, 2}, 5123);
+  second["indices"] = b.AddIndices({0, 2, 3}, 5123);
+  second["material"] = b.AddMaterial("other", {1, 0, 0, 1}, 0, 0.5);
+  prims.push_back(second);
+  GltfAsset a = LoadGlb(b, dir);
+  ASSERT_EQ(a.meshes.size(), 1u);
+  const Mesh& m = a.meshes[0];
+  ASSERT_EQ(m.TriangleCount(), 2u);
+  EXPECT_EQ(m.VertexCount(), 6u);  // 3 + 3 (8 before: all 4 per primitive)
+  for (size_t t = 0; t < 2; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t want = t == 0 ? std::vector<uint32_t>{0, 1, 2}[size_t(k)] : std::vector<uint32_t>{0, 2, 3}[size_t(k)];
+      EXPECT_EQ(m.positions[m.indices[3 * t + size_t(k)]],
+                Eigen::Vector3f(test::SquarePositions()[3 * want], test::SquarePositions()[3 * want + 1], 0));
+    }
+  }
+}
+
+// A vertex no triangle uses may hold anything (NaN here, as point-cloud meshing
+// writes for invalid depth): it is dropped; a used NaN vertex is still an error.
+TEST(GltfExporters, UnusedVerticesAreNotCheckedNorKept) {
+  TempDir dir;
+  GltfBuilder b;
+  std::vector<float> p = test::SquarePositions(), n = test::SquareNormals();
+  p.insert(p.end(), 3, std::nanf(""));
+  n.insert(n.end(), {0, 0, 1});
+  b.AddNode("part", b.AddTriangleMesh("part", p, n, {}, test::SquareIndices()));
+  GltfAsset a = LoadGlb(b, dir);
+  ASSERT_EQ(a.meshes.size(), 1u);
+  EXPECT_EQ(a.meshes[0].VertexCount(), 4u);
+  EXPECT_TRUE(a.meshes[0].Bounds().isApprox(Eigen::AlignedBox3d(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 1, 0))));
+
+  b.json()["meshes"][0]["primitives"][0]["indices"] = b.AddIndices({0, 1, 4});
+  EXPECT_THAT(ErrorOf([&] { LoadGlb(b, dir); }), HasSubstr("model.glb: /accessors/0: position 4 is not finite (nan)"));
+}
+
 // ------------------------------------------------------------------ units
 
 TEST(GltfExporters, AnObjectTooLargeForTheScannerIsFlagged) {
