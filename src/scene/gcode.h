@@ -22,9 +22,10 @@
 //   G20, G21        inches / millimetres
 //   G28             home: the named axes (all when none named) to 0, one after another
 //                   (X, Y, Z) at Marlin's homing speeds (50, 50, 4 mm/s), not the modal F
-//   G90, G91        absolute / relative X Y Z (and E, unless M82/M83 set E's mode)
+//   G90, G91        absolute / relative X Y Z, and E relative under G91 (below)
 //   G92             set the current position (no motion); no axes: all axes to 0
-//   M82, M83        absolute / relative E (overrides G90/G91 for E, as Marlin does)
+//   M82, M83        absolute / relative E; E is relative under G91 or after M83
+//                   (Klipper's rule; Marlin's too, except that its G90 also ends M83)
 //   M2, M30         program end: later lines are not read, only counted ("M30 name",
 //                   Marlin's SD file delete, is skipped)
 //   M207            firmware retraction settings

@@ -77,7 +77,11 @@ class GcodeReader {
   // the state; `geometry` completes arc fields. Returns nothing when nothing moves.
   void AddSegment(int gcode, const Eigen::Vector3d& end_mm, double extruded_mm, double length_mm,
                   double xy_length_mm, const ToolpathSegment* arc, double feed_mm_s);
-  bool ERelative() const { return e_mode_ == EMode::kFollow ? xyz_relative_ : e_mode_ == EMode::kRelative; }
+  // E is relative under G91 and after M83 (until M82): Klipper's rule. Marlin's G90 and
+  // G91 also cancel an earlier M82/M83 (the last of the four holds); the two differ
+  // only where a file gives G90 after M83 without M83 again (relative under Klipper,
+  // absolute under Marlin), which slicers' templates avoid by repeating M83.
+  bool ERelative() const { return xyz_relative_ || e_mode_ == EMode::kRelative; }
   // Target machine position from X/Y/Z words (absolute or relative).
   Eigen::Vector3d Target() const;
   double ExtrudedFrom(const Word* e);
@@ -93,7 +97,7 @@ class GcodeReader {
   double feed_mm_s_ = 0;  // 0: none given yet
   double unit_mm_ = 1;    // 25.4 under G20
   bool xyz_relative_ = false;
-  enum class EMode { kFollow, kAbsolute, kRelative } e_mode_ = EMode::kFollow;
+  enum class EMode { kNone, kAbsolute, kRelative } e_mode_ = EMode::kNone;  // the last M82/M83
   bool xy_plane_ = true;
   int layer_ = ToolpathSegment::kNoLayer;
   bool layer_comments_ = false;  // any layer comment seen

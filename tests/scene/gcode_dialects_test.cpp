@@ -1,7 +1,8 @@
 // G-code in less common forms: RepRapFirmware's homing and motor moves (G1 H1/H2),
 // line ends of every kind (LF, CR LF, classic Mac OS's lone CR, mixed), ';' inside a
-// parenthesised comment, G28's axis order and homing speeds, and Cura's "one at a
-// time" sequence (objects printed one after another, ;LAYER: numbered from 0 again).
+// parenthesised comment, G28's axis order and homing speeds, E's mode under G90/G91
+// and M82/M83, and Cura's "one at a time" sequence (objects printed one after
+// another, ;LAYER: numbered from 0 again).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -111,6 +112,20 @@ TEST(GcodeDialects, HomingMovesEachAxisInTurnAtItsHomingSpeed) {
   EXPECT_TRUE(q.segments[1].end_m.isApprox(Eigen::Vector3d(10, 0, 2) * kMm));
   EXPECT_TRUE(q.segments[2].end_m.isApprox(Eigen::Vector3d(10, 0, 0) * kMm));
   EXPECT_NEAR(q.segments[2].Duration(), 0.5, 1e-12);
+}
+
+// E's mode: relative under G91 and after M83. Cura's end script "G91 / G1 E-3 / G90"
+// after its header's M82 retracts 3 mm (Marlin's G91 cancels M82), not to E = -3; an
+// M83 holds through G91 and G90 (Bambu Studio and the Klipper templates rely on it).
+TEST(GcodeDialects, G91MakesERelativeAfterM82AndM83HoldsThroughG90) {
+  Toolpath p = ParseGcode("M82\nG1 X1 E5 F600\nG91\nG1 E-3\nG1 Z10\nG90\nG1 X2 E4\n", "end.gcode");
+  ASSERT_EQ(p.segments.size(), 4u);
+  EXPECT_NEAR(p.segments[1].extruded_m, -3 * kMm, 1e-15);
+  EXPECT_NEAR(p.segments[1].Duration(), 0.3, 1e-12);
+  EXPECT_NEAR(p.segments[3].extruded_m, 2 * kMm, 1e-15);  // absolute again: E from 2 to 4
+  Toolpath q = ParseGcode("M83\nG91\nG1 Z1 F600\nG90\nG1 X1 E0.5\nG1 X2 E0.5\n", "m83.gcode");
+  ASSERT_EQ(q.segments.size(), 3u);
+  EXPECT_NEAR(q.ExtrudedLength(), 1 * kMm, 1e-15);
 }
 
 // Cura's "one at a time": each object from its layer 0 at the bed, ;LAYER: numbered

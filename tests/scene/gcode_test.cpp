@@ -45,9 +45,9 @@ TEST(Gcode, CuraFlavourLengthsTimesExtrusionLayersAndTypes) {
   ExpectSegment(s[9], 10, 0.5, 20, 29);
   ExpectSegment(s[10], 0.2, 0, 100, 33);
   ExpectSegment(s[11], 10, 0.5, 20, 35);
-  // End code: G91 then "G1 E-2" under an explicit M82 stays absolute E (Marlin): E goes
-  // from 5 to -2. Z10 is relative (G91): from 0.4 to 10.4.
-  ExpectSegment(s[12], 0, -7, 45, 40);
+  // End code: G91 then "G1 E-2" after the header's M82 is relative (Marlin's G91 sets E
+  // relative too, cancelling M82): a 2 mm retraction. Z10 is relative: from 0.4 to 10.4.
+  ExpectSegment(s[12], 0, -2, 45, 40);
   ExpectSegment(s[13], 10, 0, 45, 41);
   EXPECT_NEAR(s[13].end_m.z(), 10.4 * kMm, 1e-15);
 
@@ -59,9 +59,9 @@ TEST(Gcode, CuraFlavourLengthsTimesExtrusionLayersAndTypes) {
     EXPECT_EQ(s[k].t_start_s, s[k - 1].t_end_s) << k;
   }
   double total = 0.1 + 0.125 + std::sqrt(223.04) / 100 + 0.125 + 4 + std::sqrt(50.0) / 100 + 0.5 + 0.002 + 0.5 +
-                 7.0 / 45 + 10.0 / 45;
+                 2.0 / 45 + 10.0 / 45;
   EXPECT_NEAR(p.Duration(), total, 1e-12);
-  EXPECT_NEAR(p.ExtrudedLength(), (-5 + 5 + 4 + 0.5 + 0.5 - 7) * kMm, 1e-15);  // net
+  EXPECT_NEAR(p.ExtrudedLength(), (-5 + 5 + 4 + 0.5 + 0.5 - 2) * kMm, 1e-15);  // net
 
   // Layers and types from the comments.
   EXPECT_EQ(s[0].layer, ToolpathSegment::kNoLayer);
