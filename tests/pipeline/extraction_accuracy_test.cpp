@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <iterator>
+#include <string>
 
 #include "stripe_test_util.h"
 
@@ -247,6 +249,76 @@ TEST(ExtractionAccuracy, SaturatedStripe) {
     // Rounding to 8 bits leaves about +-0.5 DN; on the steep flanks of the
     // clipped profile that moves centroids by a few hundredths of a pixel.
     EXPECT_LT(e.max_abs, m == ExtractionMethod::kMax ? 0.75 : 0.1);
+  }
+}
+
+// The default options as a user meets them (threshold 10% of the sample type's
+// range, steger's width measured on the frame) on 16-bit frames: stripes of FWHM
+// 0.9 to 30 px (sigma 0.4 to 12.74 px, peak 40000, 5 degrees), and stripes
+// clipped at the 8-bit maximum (peak 4 and 10 times 255; without noise, and
+// with 2 DN of noise on a dark level of 8 given as --background). Detection is
+// the share of the 96 rows with a point (steger: rows within 3 filter sigmas of
+// the top and bottom give none, so its share falls with the width). Printed as
+// the table in docs/extraction.md ("Stripe widths and saturation"); each cell
+// must stay at or below its documented figure (detection at or above).
+struct DefaultsRow {
+  const char* frame;
+  double sigma, peak;
+  bool eight_bit;
+  double noise;
+};
+TEST(ExtractionAccuracy, WidthsAndSaturationWithDefaultOptions) {
+  const DefaultsRow rows[] = {
+      {"FWHM 0.9", 0.4, 40000, false, 0},   {"FWHM 2.4", 1, 40000, false, 0},
+      {"FWHM 4.7", 2, 40000, false, 0},     {"FWHM 9.4", 4, 40000, false, 0},
+      {"FWHM 18.8", 8, 40000, false, 0},    {"FWHM 30", 12.74, 40000, false, 0},
+      {"sigma 1, 4x 255", 1, 1020, true, 0}, {"sigma 2, 10x 255", 2, 2550, true, 0},
+      {"sigma 4, 10x 255", 4, 2550, true, 0}, {"sigma 1, 4x 255, 2 DN", 1, 1020, true, 2},
+      {"sigma 2, 10x 255, 2 DN", 2, 2550, true, 2}, {"sigma 4, 10x 255, 2 DN", 4, 2550, true, 2},
+  };
+  // Per row and method (max, com, multicom, steger): detection %, RMS, max |error| (px).
+  const double documented[12][4][3] = {
+      {{100.0, 0.2916, 0.4951}, {100.0, 0.0093, 0.0132}, {100.0, 0.0642, 0.0909}, {93.8, 0.0300, 0.0426}},
+      {{100.0, 0.2916, 0.4951}, {100.0, 0.0003, 0.0007}, {100.0, 0.0058, 0.0081}, {93.8, 0.0002, 0.0003}},
+      {{100.0, 0.2916, 0.4951}, {100.0, 0.0001, 0.0002}, {100.0, 0.0010, 0.0015}, {89.6, 0.0000, 0.0000}},
+      {{100.0, 0.2916, 0.4951}, {100.0, 0.0005, 0.0008}, {100.0, 0.0002, 0.0003}, {81.2, 0.0000, 0.0001}},
+      {{100.0, 0.2916, 0.4951}, {100.0, 0.0003, 0.0005}, {100.0, 0.0000, 0.0001}, {64.6, 0.0001, 0.0003}},
+      {{100.0, 0.2916, 0.4951}, {100.0, 0.0002, 0.0004}, {100.0, 0.0000, 0.0001}, {43.8, 0.0001, 0.0003}},
+      {{100.0, 0.1491, 0.2825}, {100.0, 0.0456, 0.0772}, {100.0, 0.0501, 0.0846}, {91.7, 0.0519, 0.0784}},
+      {{100.0, 0.1748, 0.3446}, {100.0, 0.0301, 0.0508}, {100.0, 0.0342, 0.0563}, {81.2, 0.0136, 0.0200}},
+      {{100.0, 0.1838, 0.3578}, {100.0, 0.0108, 0.0203}, {100.0, 0.0143, 0.0248}, {62.5, 0.0004, 0.0009}},
+      {{100.0, 0.1459, 0.2678}, {100.0, 0.0534, 0.1308}, {100.0, 0.0496, 0.0892}, {91.7, 0.0569, 0.0868}},
+      {{100.0, 0.1904, 0.3700}, {100.0, 0.0384, 0.1048}, {100.0, 0.0291, 0.0646}, {81.2, 0.0132, 0.0220}},
+      {{100.0, 0.1578, 0.3079}, {100.0, 0.0441, 0.1304}, {100.0, 0.0216, 0.0500}, {62.5, 0.0019, 0.0044}},
+  };
+  const ExtractionMethod methods[] = {ExtractionMethod::kMax, ExtractionMethod::kCom, ExtractionMethod::kMultiCom,
+                                      ExtractionMethod::kSteger};
+  std::printf("| frame | max | com | multicom | steger |\n| --- | --- | --- | --- | --- |\n");
+  for (size_t r = 0; r < std::size(rows); ++r) {
+    const DefaultsRow& d = rows[r];
+    SyntheticFrame f;
+    f.width = 160;
+    f.height = 96;
+    f.seed = 5;
+    f.background = d.noise > 0 ? 8 : 0;
+    f.noise_sigma = d.noise;
+    f.stripes.push_back(LineStripe(80.37, 48, 5, d.sigma, d.peak));
+    std::printf("| %s |", d.frame);
+    for (int m = 0; m < 4; ++m) {
+      ExtractionOptions o;
+      o.method = methods[m];
+      o.background = f.background;
+      const auto pts = d.eight_bit ? ExtractFrom<uint8_t>(f, o) : ExtractFrom<uint16_t>(f, o);
+      const ErrorStats e = RowErrors(pts, f);
+      const double detected = 100.0 * e.points / f.height;
+      std::printf(" %.1f%%, %.4f / %.4f |", detected, e.rms, e.max_abs);
+      SCOPED_TRACE(std::string(d.frame) + " " + MethodName(methods[m]));
+      EXPECT_EQ(e.unmatched, 0);
+      EXPECT_GE(detected, documented[r][m][0] - 0.1);  // printed to 0.1%
+      EXPECT_LE(e.rms, documented[r][m][1] + 5e-5);
+      EXPECT_LE(e.max_abs, documented[r][m][2] + 5e-5);
+    }
+    std::printf("\n");
   }
 }
 
