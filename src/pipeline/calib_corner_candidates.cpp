@@ -153,6 +153,38 @@ bool EdgeDirections(const Smoothed& s, const Eigen::Vector2d& p, double radius, 
   return EdgeDirectionsOnRing(v, floor, c);
 }
 
+namespace {
+
+// Whether the saddle at q (its Hessian at scale `sigma`) responds with at
+// least min_response of the ideal for the range of the smoothed image on the
+// validation circle of `sigma` around q, at scale `ideal_sigma`, and the
+// circle shows the X of step 3.
+bool ValidSaddleAt(const ImageView<float>& img, const Eigen::Vector2d& q, const Eigen::Matrix2d& hessian, double sigma,
+                   double ideal_sigma, const ContrastFloor& floor, double min_response) {
+  const GaussianKernels kernels(sigma);
+  const double circle = 2.5 * sigma + 1;
+  double v[kCircleSamples], lo = HUGE_VAL, hi = -HUGE_VAL;
+  for (int k = 0; k < kCircleSamples; ++k) {
+    const double a = 2 * M_PI * k / kCircleSamples;
+    v[k] = SmoothedDerivativesAt(img, q.x() + circle * std::cos(a), q.y() + circle * std::sin(a), sigma, kernels.radius).r;
+    lo = std::min(lo, v[k]), hi = std::max(hi, v[k]);
+  }
+  const double ideal = (hi - lo) / (M_PI * (ideal_sigma * ideal_sigma + 1.0 / 6.0));
+  if (!(std::sqrt(std::max(0.0, -hessian.determinant())) >= min_response * ideal)) return false;
+  Candidate c;
+  return EdgeDirectionsOnRing(v, floor, &c);
+}
+
+}  // namespace
+
+bool SaddleNear(const ImageView<float>& img, const Eigen::Vector2d& start, double sigma, const ContrastFloor& floor,
+                double min_response, Eigen::Vector2d* p, Eigen::Matrix2d* hessian) {
+  const GaussianKernels kernels(sigma);
+  *p = start;
+  if (!RefineSaddle(img, sigma, kernels.radius, 2 * sigma + 2, p, hessian)) return false;
+  return ValidSaddleAt(img, *p, *hessian, sigma, sigma, floor, min_response);
+}
+
 // Whether the image smoothed at `sigma` (smaller than the scale `found_sigma`
 // a corner was found at) has the corner's saddle too: Newton's method from p
 // converges within 0.05 px + 4 times the predicted standard deviation of the
@@ -178,17 +210,7 @@ bool SaddleAtScale(const ImageView<float>& img, const Eigen::Vector2d& p, double
   const double q_var = noise * noise * kg * k0 * (hinv * hinv.transpose()).trace() / 2;
   const double tol = 0.05 + 4 * std::sqrt(q_var + p_std * p_std);
   if (!((q - p).norm() <= tol)) return false;
-  const double circle = 2.5 * sigma + 1;
-  double v[kCircleSamples], lo = HUGE_VAL, hi = -HUGE_VAL;
-  for (int k = 0; k < kCircleSamples; ++k) {
-    const double a = 2 * M_PI * k / kCircleSamples;
-    v[k] = SmoothedDerivativesAt(img, q.x() + circle * std::cos(a), q.y() + circle * std::sin(a), sigma, kernels.radius).r;
-    lo = std::min(lo, v[k]), hi = std::max(hi, v[k]);
-  }
-  const double ideal = (hi - lo) / (M_PI * (found_sigma * found_sigma + 1.0 / 6.0));
-  if (!(std::sqrt(std::max(0.0, -hessian.determinant())) >= min_response * ideal)) return false;
-  Candidate c;
-  return EdgeDirectionsOnRing(v, floor, &c);
+  return ValidSaddleAt(img, q, hessian, sigma, found_sigma, floor, min_response);
 }
 
 double PointAsymmetry(const Image<float>& img, const Eigen::Vector2d& p, double r, double noise) {

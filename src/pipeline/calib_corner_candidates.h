@@ -77,6 +77,13 @@ double CircleSamples(const Smoothed& s, const Eigen::Vector2d& p, double radius,
 // bright four times, at two pairs of nearly opposite angles.
 bool EdgeDirections(const Smoothed& s, const Eigen::Vector2d& p, double radius, const ContrastFloor& floor, Candidate* c);
 
+// The saddle of the image smoothed at `sigma` that Newton's method reaches
+// from `start` (within 2 px), with its Hessian: found when it is a saddle of
+// at least min_response of the ideal response for the range on its validation
+// circle (radius 2.5·sigma + 1), with the X of step 3 there.
+bool SaddleNear(const ImageView<float>& img, const Eigen::Vector2d& start, double sigma, const ContrastFloor& floor,
+                double min_response, Eigen::Vector2d* p, Eigen::Matrix2d* hessian);
+
 // Whether the image smoothed at `sigma`, smaller than the scale `found_sigma`
 // the corner p was found at, has the corner's saddle too, at the same place.
 bool SaddleAtScale(const ImageView<float>& img, const Eigen::Vector2d& p, double p_std, double sigma, double found_sigma,

@@ -219,11 +219,12 @@ Failure GridFailure(const Grid& g, const std::vector<Candidate>& cands, const Ch
   return Failure::kIncompleteGrid;
 }
 
-// How far corner (i, j) of a rows x cols detection lies from where the
-// homography through its neighbours (those within one square, or two when
-// fewer than five) puts it. Perspective keeps the board's corners on a
-// homography; lens distortion bends it little over two squares.
-double OffGrid(const std::vector<Eigen::Vector2d>& corners, int rows, int cols, int i, int j) {
+// Where the homography through the neighbours of corner (i, j) (those within
+// one square, or two when fewer than five) puts it. Perspective keeps the
+// board's corners on a homography; lens distortion bends it little over two
+// squares.
+bool GridPrediction(const std::vector<Eigen::Vector2d>& corners, int rows, int cols, int i, int j,
+                    Eigen::Vector2d* predicted) {
   std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> pts;  // (board, image)
   for (int reach = 1; reach <= 2 && pts.size() < 5; ++reach) {
     pts.clear();
@@ -231,7 +232,7 @@ double OffGrid(const std::vector<Eigen::Vector2d>& corners, int rows, int cols, 
       for (int b = std::max(0, j - reach); b <= std::min(cols - 1, j + reach); ++b)
         if (a != i || b != j) pts.push_back({Eigen::Vector2d(b - j, a - i), corners[size_t(a * cols + b)]});
   }
-  if (pts.size() < 5) return 0;  // too few neighbours to compare with
+  if (pts.size() < 5) return false;  // too few neighbours
   // Normalised DLT: image points centred and scaled.
   Eigen::Vector2d mean = Eigen::Vector2d::Zero();
   for (const auto& pr : pts) mean += pr.second;
@@ -247,8 +248,18 @@ double OffGrid(const std::vector<Eigen::Vector2d>& corners, int rows, int cols, 
     a.row(2 * k + 1) << 0, 0, 0, x, y, 1, -q.y() * x, -q.y() * y, -q.y();
   }
   const Eigen::VectorXd h = Eigen::JacobiSVD<Eigen::MatrixXd>(a, Eigen::ComputeFullV).matrixV().col(8);
-  if (!(std::abs(h(8)) > 1e-12)) return HUGE_VAL;
-  const Eigen::Vector2d pred = Eigen::Vector2d(h(2), h(5)) / h(8) / scale + mean;  // board offset (0, 0)
+  if (!(std::abs(h(8)) > 1e-12)) return false;
+  *predicted = Eigen::Vector2d(h(2), h(5)) / h(8) / scale + mean;  // board offset (0, 0)
+  return predicted->allFinite();
+}
+
+double OffGrid(const std::vector<Eigen::Vector2d>& corners, int rows, int cols, int i, int j) {
+  int neighbours = 0;
+  for (int a = std::max(0, i - 2); a <= std::min(rows - 1, i + 2); ++a)
+    for (int b = std::max(0, j - 2); b <= std::min(cols - 1, j + 2); ++b) neighbours += a != i || b != j;
+  if (neighbours < 5) return 0;  // too few neighbours to compare with
+  Eigen::Vector2d pred;
+  if (!GridPrediction(corners, rows, cols, i, j, &pred)) return HUGE_VAL;
   return (pred - corners[size_t(i * cols + j)]).norm();
 }
 

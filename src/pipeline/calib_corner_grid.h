@@ -65,8 +65,13 @@ enum class Failure { kNone, kFewCandidates, kNoGrid, kIncompleteGrid, kNoContras
 Failure GridFailure(const Grid& g, const std::vector<Candidate>& cands, const CheckerboardSpec& board, int w, int h,
                     double border, double circle);
 
+// Where the homography through the neighbours of corner (i, j) of a rows x
+// cols detection (those within one step, or two when fewer than 5) puts it;
+// false when there are too few neighbours or the homography is degenerate.
+bool GridPrediction(const std::vector<Eigen::Vector2d>& corners, int rows, int cols, int i, int j,
+                    Eigen::Vector2d* predicted);
 // How far corner (i, j) of a rows x cols detection lies from where the
-// homography through its neighbours puts it.
+// homography through its neighbours puts it (0 with too few neighbours).
 double OffGrid(const std::vector<Eigen::Vector2d>& corners, int rows, int cols, int i, int j);
 
 }  // namespace corner_detail

@@ -17,6 +17,7 @@
 #include "pipeline/calib_corner_at_scale.h"
 #include "pipeline/calib_corner_candidates.h"
 #include "pipeline/calib_corner_grid.h"
+#include "pipeline/gaussian_filter.h"
 #include "pipeline/option_checks.h"
 
 namespace lt {
@@ -25,9 +26,12 @@ using corner_detail::DetectAtScale;
 using corner_detail::Failure;
 using corner_detail::kMaxAsymmetry;
 using corner_detail::NoiseSigma;
+using corner_detail::ContrastFloor;
+using corner_detail::GridPrediction;
 using corner_detail::OffGrid;
 using corner_detail::PointAsymmetry;
 using corner_detail::SaddleAtScale;
+using corner_detail::SaddleNear;
 using corner_detail::ScaleResult;
 
 namespace {
@@ -61,6 +65,74 @@ std::vector<double> ScaleLadder(double sigma) {
   return ladder;
 }
 
+// How far corner (i, j) may lie from where the homography through its
+// neighbours puts it: 0.35 px and 6 predicted standard deviations (model and
+// noise), and a tenth of the local spacing (the lens bends the grid in
+// proportion to its size). A point farther off is another feature.
+double OffGridTolerance(const CornerDetection& d, const CheckerboardSpec& board, int i, int j,
+                        const Eigen::Vector2d& at) {
+  double spacing = 0;
+  int n = 0;
+  for (const auto& [a, b] : {std::pair{i - 1, j}, std::pair{i + 1, j}, std::pair{i, j - 1}, std::pair{i, j + 1}}) {
+    if (a < 0 || b < 0 || a >= board.rows || b >= board.cols) continue;
+    spacing += (d.corners[size_t(a * board.cols + b)] - at).norm();
+    ++n;
+  }
+  return std::max(0.35 + 6 * d.corner_std_px[size_t(i * board.cols + j)], 0.1 * spacing / std::max(n, 1));
+}
+
+// Every corner of a complete board where its neighbours put it. The grid
+// takes the nearest candidate within neighbour_tolerance of the spacing of
+// its prediction: where the corner itself is no candidate (its saddle lost,
+// a saddle of noise in a square of a JPEG beside it) another point up to
+// that far off may take its place, and the whole view would then pull the
+// calibration. The worst such corner is looked for again by Newton's method
+// from its prediction, until none is left; when the corner's saddle is not
+// there the board is refused, naming the corner.
+bool CornersOnGrid(const Image<float>& img, double noise, const ContrastFloor& floor, double sigma,
+                   double min_response, const CheckerboardSpec& board, CornerDetection* d) {
+  const GaussianKernels kernels(sigma);
+  double kg = 0, k0 = 0;
+  for (float v : kernels.k1) kg += double(v) * v;
+  for (float v : kernels.k0) k0 += double(v) * v;
+  for (int round = 0; round < board.CornerCount(); ++round) {
+    int worst = -1;
+    double worst_ratio = 1;
+    for (int i = 0; i < board.rows; ++i) {
+      for (int j = 0; j < board.cols; ++j) {
+        const double ratio = OffGrid(d->corners, board.rows, board.cols, i, j) /
+                             OffGridTolerance(*d, board, i, j, d->corners[size_t(i * board.cols + j)]);
+        if (ratio > worst_ratio) worst_ratio = ratio, worst = i * board.cols + j;
+      }
+    }
+    if (worst < 0) return true;
+    const int i = worst / board.cols, j = worst % board.cols;
+    Eigen::Vector2d predicted, p;
+    Eigen::Matrix2d hessian;
+    std::vector<Eigen::Vector2d> trial = d->corners;
+    const bool found = GridPrediction(d->corners, board.rows, board.cols, i, j, &predicted) &&
+                       SaddleNear(img.View(), predicted, sigma, floor, min_response, &p, &hessian) &&
+                       (trial[size_t(worst)] = p, true) &&
+                       OffGrid(trial, board.rows, board.cols, i, j) <= OffGridTolerance(*d, board, i, j, p);
+    if (!found || (p - d->corners[size_t(worst)]).norm() < 1e-3) {
+      d->ok = false;
+      d->reason = "corner (" + std::to_string(i) + ", " + std::to_string(j) + ") of the grid lies " +
+                  Fmt(OffGrid(d->corners, board.rows, board.cols, i, j)) +
+                  " px from where its neighbours put it, and no corner was found there";
+      d->corners.clear();
+      d->corner_std_px.clear();
+      return false;
+    }
+    d->corners[size_t(worst)] = p;
+    const Eigen::Matrix2d hinv = hessian.inverse();
+    d->corner_std_px[size_t(worst)] = std::sqrt(noise * noise * kg * k0 * (hinv * hinv.transpose()).trace() / 2);
+    for (GridCorner& g : d->grid) {
+      if (g.i == i && g.j == j) g.pixel = p;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 void CornerDetectionOptions::Check() const {
@@ -82,6 +154,10 @@ CornerDetection DetectCheckerboard(const ImageView<T>& view, const CheckerboardS
   double noise = NoiseSigma(img);
   if (std::is_integral_v<T>) noise = std::sqrt(noise * noise + 1.0 / 12.0);  // quantisation
   ScaleResult first = DetectAtScale(img, noise, board, options, options.sigma_px);
+  if (first.det.ok &&
+      !CornersOnGrid(img, noise, first.floor, options.sigma_px, options.min_response, board, &first.det)) {
+    return std::move(first.det);
+  }
   if (first.det.ok || !options.other_scales ||
       !(first.failure == Failure::kFewCandidates || first.failure == Failure::kNoGrid ||
         first.failure == Failure::kIncompleteGrid)) {

@@ -24,7 +24,13 @@
 //     from a parallelogram of three) and taking the nearest
 //     candidate within neighbour_tolerance of the local spacing. A grid
 //     larger than the board loses the outer corners beyond the squares
-//     (their cells on the outer side not a black and a white square).
+//     (their cells on the outer side not a black and a white square). On a
+//     complete board every corner must lie where the homography through its
+//     neighbours puts it (within 0.35 px and 6 predicted standard deviations,
+//     or a tenth of the local spacing): a point that took a lost corner's
+//     place (a saddle of noise in a JPEG's square beside it) is replaced by
+//     the saddle found from that prediction, or the board is refused, naming
+//     the corner.
 //  5. Order: the grid must be complete and rows x cols (or cols x rows); the
 //     board's orientation follows from the colour convention of
 //     pipeline/calib_checkerboard.h (rows + cols odd).
