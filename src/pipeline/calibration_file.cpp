@@ -13,9 +13,9 @@ namespace lt {
 namespace {
 
 const std::set<std::string>& KnownKeys() {
-  static const std::set<std::string> keys = {"image_width",    "image_height",           "camera_matrix",
-                                             "distortion_model", "distortion_coefficients", "laser_planes",
-                                             "tool_from_cam"};
+  static const std::set<std::string> keys = {"image_width",      "image_height",  "camera_matrix",
+                                             "distortion_model", "fisheye_model", "distortion_coefficients",
+                                             "laser_planes",     "tool_from_cam"};
   return keys;
 }
 
@@ -73,6 +73,18 @@ CalibratedCamera ReadCamera(const OpenCvYaml& y) {
     if (model != "brown_conrady" && model != "fisheye") {
       throw InputError(y.Where(*dm), "distortion_model must be brown_conrady or fisheye, got '" + model + "'");
     }
+  }
+  // OpenCV's camera calibration sample says which model its coefficients
+  // belong to by `fisheye_model: 0 | 1` (cv::fisheye's k1..k4 are 4 values,
+  // as are Brown-Conrady's k1 k2 p1 p2).
+  if (const YamlEntry* fm = y.Find("fisheye_model")) {
+    const std::string by_flag = y.Integer(*fm, 0, 1) == 1 ? "fisheye" : "brown_conrady";
+    const YamlEntry* dm = y.Find("distortion_model");
+    if (dm && model != by_flag) {
+      throw InputError(y.Where(*fm), "fisheye_model " + fm->scalar + " contradicts distortion_model " +
+                                         y.String(*dm) + " (line " + std::to_string(dm->line) + ")");
+    }
+    model = by_flag;
   }
   const YamlEntry* dc = y.Find("distortion_coefficients");
   if (!dc) {

@@ -1,5 +1,6 @@
 // Calibration files: OpenCV FileStorage YAML (pipeline/opencv_yaml.h), so a
-// camera calibrated with OpenCV loads directly and ours load in OpenCV.
+// camera calibrated with OpenCV loads directly and ours load in OpenCV. The
+// reader takes OpenCV's XML form too (the same keys).
 // docs/pipeline.md ("Calibration file") documents the keys:
 //
 //   %YAML:1.0
@@ -8,6 +9,8 @@
 //   image_height: 1024
 //   camera_matrix: !!opencv-matrix        3x3 [fx 0 cx; 0 fy cy; 0 0 1], pixels
 //   distortion_model: brown_conrady       or fisheye (default brown_conrady)
+//   fisheye_model: 0                      read only: OpenCV's calibration sample's
+//                                         flag (1 fisheye, 0 brown_conrady)
 //   distortion_coefficients: !!opencv-matrix
 //                                         brown_conrady: k1 k2 p1 p2 [k3 [k4 k5 k6 ...]]
 //                                         (4 to 14 values, those after k3 must be 0);

@@ -80,7 +80,7 @@ class Parser {
   std::vector<YamlEntry> Run() {
     if (lines_.empty() || lines_[0].text.rfind("%YAML", 0) != 0) {
       Fail(lines_.empty() ? 1 : lines_[0].no,
-           "not an OpenCV FileStorage YAML file: the first line must be %YAML:1.0");
+           "not an OpenCV FileStorage YAML file: the first line must be %YAML:1.0 (the XML form starts with <?xml)");
     }
     std::vector<YamlEntry> entries;
     std::set<std::string> seen;
@@ -238,7 +238,13 @@ class Parser {
 OpenCvYaml OpenCvYaml::Parse(const std::string& text, const std::string& file) {
   OpenCvYaml y;
   y.file_ = file;
-  y.entries_ = Parser(text, file).Run();
+  const size_t first = text.find_first_not_of(" \t\r\n");
+  const bool bom = text.rfind("\xEF\xBB\xBF", 0) == 0;
+  if ((first != std::string::npos && text[first] == '<') || (bom && text.size() > 3 && text[3] == '<')) {
+    y.entries_ = ParseOpenCvXml(text, file);
+  } else {
+    y.entries_ = Parser(text, file).Run();
+  }
   return y;
 }
 

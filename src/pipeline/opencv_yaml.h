@@ -14,6 +14,12 @@
 // file written by OpenCV's calibration samples with extra entries still reads;
 // the consumer decides what to do with keys it does not know. Errors are
 // lt::InputError naming "file:line".
+//
+// OpenCV's XML form (cv::FileStorage to a .xml file) reads into the same
+// entries: "<?xml ...?>", then <opencv_storage> whose child elements are the
+// top-level keys: <key>scalar</key> (a "quoted" string or a number), a matrix
+// <key type_id="opencv-matrix"> with <rows>, <cols>, <dt> and <data> (values
+// separated by white space); other types and nested elements are "other".
 #pragma once
 
 #include <filesystem>
@@ -62,6 +68,10 @@ class OpenCvYaml {
   std::string file_;
   std::vector<YamlEntry> entries_;
 };
+
+// The entries of an OpenCV FileStorage XML text (OpenCvYaml::Parse calls it for
+// a text that starts with '<').
+std::vector<YamlEntry> ParseOpenCvXml(const std::string& text, const std::string& file);
 
 // Writes the same subset, formatted as OpenCV writes it (numbers round-trip exactly).
 class OpenCvYamlWriter {

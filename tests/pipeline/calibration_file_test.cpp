@@ -171,6 +171,119 @@ image_points: !!opencv-nd-matrix
                                       "image_points"}));
 }
 
+// OpenCV's camera calibration sample marks a fisheye calibration by
+// `fisheye_model: 1`, with 4x1 coefficients k1..k4 and no distortion_model:
+// they are cv::fisheye's, not Brown-Conrady's k1 k2 p1 p2. (Before: read as
+// Brown-Conrady, silently, and fisheye_model listed as ignored.)
+TEST(CalibrationFile, OpenCvSampleFisheyeModelFlag) {
+  const std::string head = R"(%YAML:1.0
+---
+image_width: 1024
+image_height: 768
+flags: 0
+)";
+  const std::string tail = R"(camera_matrix: !!opencv-matrix
+   rows: 3
+   cols: 3
+   dt: d
+   data: [ 3.3000000000000000e+02, 0., 5.1730000000000001e+02, 0.,
+       3.3100000000000000e+02, 3.8060000000000002e+02, 0., 0., 1. ]
+distortion_coefficients: !!opencv-matrix
+   rows: 4
+   cols: 1
+   dt: d
+   data: [ 5.0000000000000003e-02, -1.0000000000000000e-02,
+       2.0000000000000000e-03, 0. ]
+)";
+  CalibrationFile f = ReadCalibrationFile(TempFile("fisheye_flag.yml", head + "fisheye_model: 1\n" + tail));
+  ASSERT_TRUE(f.camera);
+  EXPECT_EQ(f.camera->distortion, DistortionModel::kFisheye);
+  EXPECT_EQ(f.camera->fisheye.k1, 0.05);
+  EXPECT_EQ(f.camera->fisheye.k3, 0.002);
+  EXPECT_EQ(f.ignored_keys, std::vector<std::string>{"flags"});
+  CalibrationFile b = ReadCalibrationFile(TempFile("pinhole_flag.yml", head + "fisheye_model: 0\n" + tail));
+  ASSERT_TRUE(b.camera);
+  EXPECT_EQ(b.camera->distortion, DistortionModel::kBrownConrady);
+  EXPECT_EQ(b.camera->brown_conrady.p1, 0.002);
+  // A flag that contradicts distortion_model is an error at its line.
+  try {
+    ReadCalibrationFile(TempFile("both.yml", head + "fisheye_model: 1\ndistortion_model: brown_conrady\n" + tail));
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("both.yml:6: fisheye_model 1 contradicts distortion_model brown_conrady"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+// OpenCV writes the XML form when the file name ends in .xml: the same keys
+// as child elements of <opencv_storage>, matrices with type_id
+// "opencv-matrix" and white-space separated data, strings in quotes.
+// (Before: refused, "the first line must be %YAML:1.0".)
+TEST(CalibrationFile, ReadsOpenCvXml) {
+  const std::string text = R"(<?xml version="1.0"?>
+<opencv_storage>
+<calibration_time>"Thu 26 Nov 2026 10:00:00 UTC"</calibration_time>
+<image_width>1024</image_width>
+<image_height>768</image_height>
+<!-- a comment -->
+<fisheye_model>0</fisheye_model>
+<camera_matrix type_id="opencv-matrix">
+  <rows>3</rows>
+  <cols>3</cols>
+  <dt>d</dt>
+  <data>
+    8.8000000000000000e+02 0. 5.1730000000000001e+02 0.
+    8.8400000000000000e+02 3.8060000000000002e+02 0. 0. 1.</data></camera_matrix>
+<distortion_coefficients type_id="opencv-matrix">
+  <rows>5</rows>
+  <cols>1</cols>
+  <dt>d</dt>
+  <data>
+    -2.8e-01 1.1e-01 6.0e-04 -4.0e-04 0.</data></distortion_coefficients>
+<extrinsic_parameters type_id="opencv-matrix">
+  <rows>1</rows>
+  <cols>6</cols>
+  <dt>f</dt>
+  <data>
+    1. 2. 3. 4. 5. 6.</data></extrinsic_parameters>
+<image_points type_id="opencv-nd-matrix">
+  <sizes>2 1</sizes>
+  <dt>"2f"</dt>
+  <data>1. 2. 3. 4.</data></image_points>
+</opencv_storage>
+)";
+  CalibrationFile c = ReadCalibrationFile(TempFile("opencv.xml", text));
+  ASSERT_TRUE(c.camera);
+  EXPECT_EQ(c.camera->width, 1024);
+  EXPECT_EQ(c.camera->height, 768);
+  EXPECT_EQ(c.camera->fx, 880);
+  EXPECT_EQ(c.camera->cy, 3.8060000000000002e+02);
+  EXPECT_EQ(c.camera->distortion, DistortionModel::kBrownConrady);
+  EXPECT_EQ(c.camera->brown_conrady.k1, -0.28);
+  EXPECT_EQ(c.camera->brown_conrady.p2, -4e-4);
+  EXPECT_EQ(c.ignored_keys,
+            (std::vector<std::string>{"calibration_time", "extrinsic_parameters", "image_points"}));
+  // Errors name the file and line.
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"<?xml version=\"1.0\"?>\n<storage>\n</storage>\n", "bad.xml:2: not an OpenCV FileStorage XML file"},
+      {"<?xml version=\"1.0\"?>\n<opencv_storage>\n<image_width>1024</image_height>\n</opencv_storage>\n",
+       "bad.xml:3: </image_height> closes <image_width>"},
+      {"<?xml version=\"1.0\"?>\n<opencv_storage>\n<laser_planes type_id=\"opencv-matrix\">\n<rows>1</rows><cols>4</cols>"
+       "<dt>d</dt>\n<data>0. 1. x 0.</data></laser_planes>\n</opencv_storage>\n",
+       "bad.xml:5: data value 2 is not a finite number: 'x'"},
+      {"<?xml version=\"1.0\"?>\n<opencv_storage>\n<image_width>1024</image_width>\n", "bad.xml:2: <opencv_storage> is not closed"},
+  };
+  for (const auto& [xml, message] : bad) {
+    try {
+      ReadCalibrationFile(TempFile("bad.xml", xml));
+      ADD_FAILURE() << "no error for: " << xml;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(OpenCvYaml, ScalarsAndStrings) {
   OpenCvYaml y = OpenCvYaml::Parse(
       "%YAML:1.0\n---\na: 12\nb: -3.5e-2  # comment\nc: \"quoted # not a comment\"\nd: 'it''s'\ne: plain text\n",
