@@ -237,6 +237,22 @@ TEST_F(ExtractCommand, TwelveBitFrameInASixteenBitFileIsNamedWhenBelowTheThresho
   EXPECT_THAT(d.err, HasSubstr(dark.string() + ": its brightest pixel is 3, below the threshold 6553.5 (10% of 65535)\n"));
 }
 
+// Frames of one camera share a size: an image of another size among them is
+// extracted, and named with both sizes.
+TEST_F(ExtractCommand, AnImageOfAnotherSizeIsNamed) {
+  WriteImage(dir_ / "a.png", StripeImage());
+  WriteImage(dir_ / "b.png", Image<uint8_t>(32, 20, 1, 0));
+  WriteImage(dir_ / "c.png", StripeImage());
+  const CliResult r = RunCli("extract " + Quoted(dir_ / "a.png") + " " + Quoted(dir_ / "b.png") + " " +
+                             Quoted(dir_ / "c.png") + " --out " + Quoted(dir_ / "out"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("warning: " + (dir_ / "b.png").string() + " is 32x20, the first image (" +
+                               (dir_ / "a.png").string() + ") 64x48"));
+  EXPECT_THAT(r.err, Not(HasSubstr((dir_ / "c.png").string() + " is")));
+  EXPECT_TRUE(fs::exists(dir_ / "out" / "b.csv"));
+  EXPECT_THAT(ReadFile(dir_ / "out" / "c.csv"), HasSubstr("20.0000,0.0000,"));
+}
+
 TEST_F(ExtractCommand, RoiOutsideTheImage) {
   const fs::path p = dir_ / "mono.png";
   WriteImage(p, StripeImage());

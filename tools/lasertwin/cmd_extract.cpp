@@ -108,6 +108,10 @@ void Run(ExtractArgs& a) {
   }
   size_t total = 0;
   WidthRejections rejected;
+  // The first image's size: the frames of one camera share it, so an image of
+  // another size (another camera's, a cropped or resized copy) is named.
+  std::string first_image;
+  int first_width = 0, first_height = 0;
   // One image's points, identified and written (or printed).
   auto extract_one = [&](const std::string& image) {
     AnyImage img = ReadImage(image, AlphaChannel::kDrop);
@@ -115,6 +119,13 @@ void Run(ExtractArgs& a) {
     int width = 0, height = 0;
     try {
       std::visit([&](const auto& im) { width = im.width, height = im.height; }, img);
+      if (first_image.empty()) {
+        first_image = image, first_width = width, first_height = height;
+      } else if (width != first_width || height != first_height) {
+        std::cerr << "lasertwin: warning: " << image << " is " << width << "x" << height << ", the first image ("
+                  << first_image << ") " << first_width << "x" << first_height
+                  << ": extracted on its own (frames of one camera have one size)\n";
+      }
       points = extractor.Extract(img);
       rejected += extractor.last_rejections();
     } catch (const InputError& e) {
