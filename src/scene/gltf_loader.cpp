@@ -32,7 +32,9 @@ bool FileExistsCallback(const std::string& path, void*) {
   return std::filesystem::path(path).is_absolute() && std::filesystem::is_regular_file(path, ec);
 }
 
-std::string ExpandFilePathCallback(const std::string& path, void*) { return path; }
+// Maps a uri's path to the file the exporter meant (backslashes, letter case:
+// FindExportedFile), as CheckGltfJson found it.
+std::string ExpandFilePathCallback(const std::string& path, void*) { return FindExportedFile(path).string(); }
 
 // An external buffer file may be longer than its byteLength (glTF 2.0 only asks
 // that it is not shorter), but tinygltf wants the exact size: such a file is cut

@@ -269,6 +269,36 @@ TEST(GltfExporters, UnusedVerticesAreNotCheckedNorKept) {
   EXPECT_THAT(ErrorOf([&] { LoadGlb(b, dir); }), HasSubstr("model.glb: /accessors/0: position 4 is not finite (nan)"));
 }
 
+// ------------------------------------------------------------------ file names
+
+// Exporters on Windows write backslashes in uris and names whose letter case
+// differs from the files' (harmless on a case-insensitive file system): the files
+// are found all the same. A file that does not exist in any of these forms is
+// still an error naming the path looked for.
+TEST(GltfExporters, UrisWithBackslashesOrAnotherLetterCaseFindTheirFiles) {
+  TempDir dir;
+  std::filesystem::create_directories(dir / "Textures");
+  WriteImage(dir / "Textures" / "Wood.png", Image<uint8_t>(1, 1, 4, 255));
+  GltfBuilder b = test::SquareBuilder(true, true);
+  b.json()["textures"] = {{{"source", 0}}};
+  b.json()["meshes"][0]["primitives"][0]["material"] = b.AddMaterial("wood", {1, 1, 1, 1}, 0, 0.5);
+  b.json()["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  for (const char* uri : {"Textures\\Wood.png", "textures/wood.PNG", "TEXTURES\\wood.png"}) {
+    b.json()["images"] = {{{"uri", uri}}};
+    b.WriteGltf(dir / "model.gltf", false);
+    std::filesystem::rename(dir / "model.bin", dir / "Model.bin");  // the buffer's uri says model.bin
+    GltfAsset a = LoadGltf(dir / "model.gltf");
+    ASSERT_EQ(a.materials.size(), 1u) << uri;
+    EXPECT_TRUE(a.materials[0].base_color_texture) << uri;
+    EXPECT_EQ(a.meshes.at(0).TriangleCount(), 2u) << uri;
+    std::filesystem::remove(dir / "Model.bin");
+  }
+  b.json()["images"] = {{{"uri", "Textures\\Oak.png"}}};
+  b.WriteGltf(dir / "model.gltf", false);
+  EXPECT_THAT(ErrorOf([&] { LoadGltf(dir / "model.gltf", "model.gltf"); }),
+              HasSubstr("model.gltf: /images/0/uri: texture image file not found (looked for "));
+}
+
 // ------------------------------------------------------------------ units
 
 TEST(GltfExporters, AnObjectTooLargeForTheScannerIsFlagged) {
