@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
@@ -357,8 +358,17 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
     for (size_t i = 0; i < req->size(); ++i) {
       const auto& e = (*req)[i];
       if (!e.is_string() || kSupported.count(e.get<std::string>()) == 0) {
+        // What to do about the extensions that optimising tools write.
+        static const std::map<std::string, std::string> kHints = {
+            {"KHR_draco_mesh_compression", "the meshes are Draco-compressed: write or convert the file without compression"},
+            {"EXT_meshopt_compression", "the buffers are meshopt-compressed: write the file without it, e.g. gltfpack without -c/-cc"},
+            {"KHR_texture_basisu", "the textures are KTX2: write or convert them as PNG or JPEG"},
+            {"EXT_texture_webp", "the textures are WebP: write or convert them as PNG or JPEG"},
+            {"EXT_texture_avif", "the textures are AVIF: write or convert them as PNG or JPEG"}};
+        auto hint = e.is_string() ? kHints.find(e.get<std::string>()) : kHints.end();
         throw InputError(file + ": /extensionsRequired/" + std::to_string(i),
-                         "required extension " + e.dump() + " is not supported");
+                         "required extension " + e.dump() + " is not supported" +
+                             (hint != kHints.end() ? " (" + hint->second + ")" : std::string()));
       }
     }
   }

@@ -721,7 +721,8 @@ TEST(GltfLoader, UnsupportedRequiredExtensionIsAnError) {
   b.json()["extensionsRequired"] = {"KHR_draco_mesh_compression"};
   TempDir dir;
   EXPECT_THAT(ErrorOf([&] { LoadBuilt(b, dir, Format::kGlb); }),
-              HasSubstr("model.glb: /extensionsRequired/0: required extension \"KHR_draco_mesh_compression\" is not supported"));
+              HasSubstr("model.glb: /extensionsRequired/0: required extension \"KHR_draco_mesh_compression\" is not "
+                        "supported (the meshes are Draco-compressed: write or convert the file without compression)"));
 }
 
 }  // namespace
