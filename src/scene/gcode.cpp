@@ -20,6 +20,40 @@ char Upper(char c) { return (c >= 'a' && c <= 'z') ? char(c - 'a' + 'A') : c; }
 bool IsNumberChar(char c) { return (c >= '0' && c <= '9') || c == '.' || c == '-' || c == '+'; }
 bool IsBlank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
 
+// Marlin's commands whose parameter is free text, a message or a file name (M23 select,
+// M28 write, M30 delete, M32 and M33 files; M117 and M118 messages, M928 log): a '*' in
+// the text is no checksum.
+bool IsTextCommand(std::string_view code) {
+  size_t pos = 0;
+  while (pos < code.size() && IsBlank(code[pos])) ++pos;
+  if (pos < code.size() && Upper(code[pos]) == 'N') {  // a line number first
+    ++pos;
+    while (pos < code.size() && IsNumberChar(code[pos])) ++pos;
+    while (pos < code.size() && IsBlank(code[pos])) ++pos;
+  }
+  if (pos >= code.size() || Upper(code[pos]) != 'M') return false;
+  int n = 0;
+  size_t digits = 0;
+  for (++pos; pos < code.size() && code[pos] >= '0' && code[pos] <= '9' && digits < 6; ++pos, ++digits) {
+    n = 10 * n + (code[pos] - '0');
+  }
+  if (digits == 0 || (pos < code.size() && (code[pos] == '.' || (code[pos] >= '0' && code[pos] <= '9')))) return false;
+  for (int text : {23, 28, 30, 32, 33, 117, 118, 928}) {
+    if (n == text) return true;
+  }
+  return false;
+}
+
+// A checksum's digits: 1 to 3 of them between blanks.
+bool IsChecksum(std::string_view text) {
+  text = TrimBlanks(text);
+  if (text.empty() || text.size() > 3) return false;
+  for (char c : text) {
+    if (c < '0' || c > '9') return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 Toolpath GcodeReader::Finish() {
@@ -96,14 +130,17 @@ void GcodeReader::ReadLine(std::string_view line, int line_no) {
   line_no_ = line_no;
   if (line.find('\0') != std::string_view::npos) Fail("a NUL byte: this is not a text G-code file");
   // One pass over the line: a parenthesised comment runs to its ')' (a ';' or '*'
-  // inside it is part of the comment, as in RS-274 and Marlin's PAREN_COMMENTS);
-  // outside one, ';' starts the line's comment and the first '*' its checksum.
+  // inside it is part of the comment, as in RS-274 and Marlin's PAREN_COMMENTS), a
+  // quoted string to its closing '"' (RepRapFirmware's M291 P"..." and file names);
+  // outside them, ';' starts the line's comment and the first '*' its checksum.
   size_t semicolon = std::string_view::npos, star = std::string_view::npos;
-  bool paren = false, inside = false;
+  bool paren = false, inside = false, quoted = false;
   for (size_t i = 0; i < line.size(); ++i) {
     const char c = line[i];
     if (inside) {
       if (c == ')') inside = false;
+    } else if (quoted || c == '"') {
+      if (c == '"') quoted = !quoted;
     } else if (c == '(') {
       inside = true;
       paren = true;
@@ -115,16 +152,21 @@ void GcodeReader::ReadLine(std::string_view line, int line_no) {
     }
   }
   std::string_view code = line.substr(0, semicolon);
-  // A checksum "*57" ends the code; it must match (a corrupted line is not read).
-  if (star != std::string_view::npos) {
+  // A checksum "*57" ends the code; it must match (a corrupted line is not read). In
+  // the text of a message or file name a '*' is text, unless only a checksum follows.
+  if (star != std::string_view::npos &&
+      (!IsTextCommand(code) || IsChecksum(line.substr(star + 1, semicolon == std::string_view::npos
+                                                                    ? semicolon
+                                                                    : semicolon - star - 1)))) {
     CheckChecksum(line, star, semicolon);
     code = code.substr(0, star);
   }
   std::string cleaned;
   if (paren) {
-    inside = false;
+    inside = quoted = false;
     for (char c : code) {
-      if (c == '(') inside = true;
+      if (!inside && c == '"') quoted = !quoted;
+      if (!quoted && c == '(') inside = true;
       if (!inside) cleaned += c;
       if (c == ')') inside = false;
     }
@@ -174,6 +216,10 @@ void GcodeReader::ReadLine(std::string_view line, int line_no) {
       case 2:
       case 3: ReadWords(code, pos, true); Arc(n); return;
       case 4: ReadWords(code, pos, true); Dwell(); return;
+      case 5:
+        // Skipped, the nozzle's path would go on from the curve's start: refused instead.
+        Fail("G5 (Marlin's cubic Bezier move) is not supported: its path would be missing; write the curve as "
+             "G1 or G2/G3 moves");
       case 10:
         ReadWords(code, pos, true);
         if (words_.empty()) {

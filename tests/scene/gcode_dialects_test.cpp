@@ -1,8 +1,8 @@
 // G-code in less common forms: RepRapFirmware's homing and motor moves (G1 H1/H2),
 // line ends of every kind (LF, CR LF, classic Mac OS's lone CR, mixed), ';' inside a
 // parenthesised comment, G28's axis order and homing speeds, E's mode under G90/G91
-// and M82/M83, and Cura's "one at a time" sequence (objects printed one after
-// another, ;LAYER: numbered from 0 again).
+// and M82/M83, text parameters (messages, file names, quoted strings), and Cura's "one
+// at a time" sequence (objects printed one after another, ;LAYER: numbered from 0 again).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -92,6 +92,24 @@ TEST(GcodeDialects, SemicolonInsideParenthesesIsPartOfTheComment) {
   Toolpath c = ParseGcode(body + "*" + std::to_string(sum) + "\n", "c.gcode");
   ASSERT_EQ(c.segments.size(), 1u);
   EXPECT_NEAR(c.segments[0].end_m.x(), 3 * kMm, 1e-15);
+}
+
+// Text parameters: a '*' in a message or file name (M117, M23, ...) is text unless only
+// a checksum follows it; a quoted string (RepRapFirmware's M291 P"...") holds ';', '('
+// and '*' as text. G5, a Bezier move whose path would be missing, is refused.
+TEST(GcodeDialects, MessagesFileNamesAndQuotedStringsHoldTheirText) {
+  Toolpath p = ParseGcode(
+      "G1 F600\nM117 Layer 5 * of 10\nM23 my*file.gco\nM291 P\"Insert; (filament\" R\"Hi*\" S2 (a note)\n"
+      "G1 X10 E1\n",
+      "t.gcode");
+  ASSERT_EQ(p.segments.size(), 1u);
+  EXPECT_EQ(p.segments[0].line, 5);
+  EXPECT_EQ(p.skipped_commands.at("M117"), 1u);
+  EXPECT_EQ(p.skipped_commands.at("M291"), 1u);
+  EXPECT_THAT(ErrorOf([] { ParseGcode("M117 Hi*5\n", "t.gcode"); }), HasSubstr("t.gcode:1: checksum *5 does not match"));
+  EXPECT_THAT(ErrorOf([] { ParseGcode("G1 X1 F600 *x\n", "t.gcode"); }), HasSubstr("t.gcode:1: checksum after '*'"));
+  EXPECT_THAT(ErrorOf([] { ParseGcode("G1 F600\nG5 I0 J3 P0 Q-3 X2 Y2 E1\n", "t.gcode"); }),
+              HasSubstr("t.gcode:2: G5 (Marlin's cubic Bezier move) is not supported"));
 }
 
 // G28 homes X, then Y, then Z, at Marlin's homing speeds (50, 50 and 4 mm/s),
