@@ -130,7 +130,7 @@ int ReadTextureTransform(const tinygltf::TextureInfo& info, const std::string& w
 
 // Material extensions whose effect is not rendered: one warning each, naming the materials.
 constexpr const char* kIgnoredMaterialExtensions[] = {
-    "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_ior",   "KHR_materials_specular",
+    "KHR_materials_volume",       "KHR_materials_ior",    "KHR_materials_specular",
     "KHR_materials_clearcoat",    "KHR_materials_sheen",  "KHR_materials_unlit", "KHR_materials_iridescence",
     "KHR_materials_anisotropy",   "KHR_materials_dispersion", "KHR_materials_diffuse_transmission"};
 
@@ -142,6 +142,7 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
   std::vector<Material> out;
   out.reserve(m.materials.size());
   std::map<std::string, std::string> ignored_extensions;  // name -> the materials using it
+  std::string transmissive[2];  // the materials with KHR_materials_transmission, [with a transmissionTexture]
   // Makes texture info.index (in range) mat's base colour texture, each texture
   // decoded once, with info's KHR_texture_transform and the TEXCOORD set it reads
   // (the meshes load that set for the primitives using the material).
@@ -245,6 +246,19 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
                                                                           : " is") +
                           " approximated by a dielectric's");
     }
+    // KHR_materials_transmission: glTF's dielectric is mix(diffuse, transmission,
+    // transmissionFactor) under the specular layer. Transmitted light is not traced,
+    // but the diffuse share it takes is removed, so a clear part does not show a
+    // bright diffuse laser stripe: the dielectric's base colour is scaled by
+    // 1 - transmission (exact for metallic 0; a metal has no transmission).
+    if (auto it = gm.extensions.find("KHR_materials_transmission"); it != gm.extensions.end()) {
+      const std::string t_where = where + "/extensions/KHR_materials_transmission";
+      if (!it->second.IsObject()) throw InputError(t_where, "must be an object");
+      const double t = UnitFactor(ExtNumber(it->second, "transmissionFactor", 0.0, t_where), t_where + "/transmissionFactor");
+      mat.base_color *= float(1.0 - t * (1.0 - double(mat.metallic)));
+      std::string& names = transmissive[it->second.Has("transmissionTexture")];
+      names += (names.empty() ? "\"" : ", \"") + mat.name + "\"";
+    }
     for (const char* name : kIgnoredMaterialExtensions) {
       if (gm.extensions.count(name) != 0) {
         std::string& names = ignored_extensions[name];
@@ -265,6 +279,14 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
       warnings->push_back(src.file + ": material \"" + mat.name + "\": ignored " + ignored);
     }
     out.push_back(std::move(mat));
+  }
+  for (int with_texture = 0; with_texture < 2; ++with_texture) {
+    const std::string& names = transmissive[with_texture];
+    if (names.empty()) continue;
+    warnings->push_back(src.file + ": KHR_materials_transmission: transmitted light is not traced; the diffuse "
+                        "share it takes is removed (base colour times 1 - transmissionFactor" +
+                        std::string(with_texture ? "; the transmission texture is ignored" : "") + "), material" +
+                        (names.find(',') != std::string::npos ? "s " : " ") + names);
   }
   for (const auto& [name, materials] : ignored_extensions) {
     warnings->push_back(src.file + ": " + name + " ignored (not rendered), used by material" +

@@ -153,6 +153,30 @@ TEST(GltfExporters, RequiredSpecularGlossinessIsConverted) {
   EXPECT_FLOAT_EQ(a.materials[0].roughness, 0.25f);
 }
 
+// KHR_materials_transmission (Blender's glass and clear plastics): glTF's
+// dielectric is mix(diffuse, transmission, transmissionFactor); transmitted light
+// is not traced, but the diffuse share goes, so a clear part shows no bright
+// diffuse stripe. A metal has no transmission.
+TEST(GltfExporters, TransmissionTakesItsShareFromTheDiffuseLayer) {
+  TempDir dir;
+  GltfBuilder b = test::SquareBuilder();
+  b.json()["meshes"][0]["primitives"][0]["material"] = b.AddMaterial("clear", {0.8, 0.4, 0.2, 1}, 0, 0.1);
+  b.AddMaterial("metal", {0.8, 0.4, 0.2, 1}, 1, 0.1);
+  b.AddMaterial("half", {0.8, 0.4, 0.2, 1}, 0.5, 0.1);
+  for (int m = 0; m < 3; ++m) b.json()["materials"][m]["extensions"]["KHR_materials_transmission"] = {{"transmissionFactor", 0.75}};
+  b.json()["extensionsUsed"] = {"KHR_materials_transmission"};
+  GltfAsset a = LoadGlb(b, dir);
+  ASSERT_EQ(a.materials.size(), 3u);
+  EXPECT_TRUE(a.materials[0].base_color.isApprox(Eigen::Vector3f(0.2f, 0.1f, 0.05f)));    // x (1 - 0.75)
+  EXPECT_TRUE(a.materials[1].base_color.isApprox(Eigen::Vector3f(0.8f, 0.4f, 0.2f)));     // metal: unchanged
+  EXPECT_TRUE(a.materials[2].base_color.isApprox(Eigen::Vector3f(0.5f, 0.25f, 0.125f)));  // x (1 - 0.75 * 0.5)
+  EXPECT_THAT(AllWarnings(a), HasSubstr("materials \"clear\", \"metal\", \"half\""));
+
+  b.json()["materials"][0]["extensions"]["KHR_materials_transmission"]["transmissionFactor"] = 2;
+  EXPECT_THAT(ErrorOf([&] { LoadGlb(b, dir); }),
+              HasSubstr("model.glb: /materials/0/extensions/KHR_materials_transmission/transmissionFactor"));
+}
+
 // ------------------------------------------------------------------ morph targets
 
 TEST(GltfExporters, MorphTargetsArePosedByTheirDefaultWeights) {

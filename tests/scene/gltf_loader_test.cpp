@@ -543,7 +543,8 @@ TEST(GltfLoader, IgnoredExtensionsAndVertexColoursAreWarned) {
   GltfAsset a = LoadGltf(dir / "model.glb", "model.glb");
   EXPECT_THAT(a.warnings, ::testing::UnorderedElementsAre(
                               "model.glb: KHR_materials_ior ignored (not rendered), used by material \"glass\"",
-                              "model.glb: KHR_materials_transmission ignored (not rendered), used by materials "
+                              "model.glb: KHR_materials_transmission: transmitted light is not traced; the diffuse "
+                              "share it takes is removed (base colour times 1 - transmissionFactor), materials "
                               "\"glass\", \"bottle\"",
                               "model.glb: mesh \"square\": COLOR_0 vertex colours ignored (not rendered)"));
 }
