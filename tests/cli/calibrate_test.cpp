@@ -15,9 +15,11 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <unistd.h>
 
 #include "core/image.h"
 #include "core/image_io.h"
+#include "pipeline/calib_checkerboard.h"
 #include "pipeline/calib_geometry.h"
 #include "pipeline/calib_laser_plane.h"
 #include "pipeline/calibration_file.h"
@@ -202,6 +204,57 @@ TEST(CalibrateCli, PartlyVisibleBoardIsSkipped) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.err, HasSubstr("frame 0: "));
   EXPECT_THAT(r.out, HasSubstr("camera from 5 of 6 views"));
+}
+
+// `calibrate camera FOLDER` on a folder of photographs (no manifest.jsonl):
+// every image file is a view; the board must be given. (Before: "manifest.jsonl:
+// run manifest not found", whatever the folder held.)
+TEST(CalibrateCli, AFolderOfPhotographs) {
+  CameraParams p;
+  p.width = 640, p.height = 480, p.fx = 805, p.fy = 803, p.cx = 323.4, p.cy = 236.8;
+  p.distortion = DistortionModel::kBrownConrady;
+  p.brown_conrady = {-0.18, 0.08, 0, 0, 0};
+  const Camera cam(p);
+  CheckerboardSpec b;
+  b.rows = 7, b.cols = 10, b.square_m = 6e-3;
+  const fs::path dir = fs::temp_directory_path() / ("lt_calibrate_photos_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "photos");
+  fs::create_directories(dir / "empty");
+  const Eigen::Vector3d centre(4.5 * b.square_m, 3 * b.square_m, 0);
+  const double views[][4] = {{0, 0, 30, 0}, {0.02, -0.01, 35, 90}, {-0.02, 0.01, 30, 45}, {0.02, 0.02, 25, 135},
+                             {-0.02, -0.01, 40, 200}, {0, 0.02, 20, 270}};
+  int k = 0;
+  for (const auto& v : views) {
+    Pose pose = Pose::Identity();
+    pose.linear() =
+        Eigen::AngleAxisd(v[2] * kDeg, Eigen::Vector3d(std::cos(v[3] * kDeg), std::sin(v[3] * kDeg), 0)).toRotationMatrix();
+    pose.translation() = Eigen::Vector3d(v[0], v[1], 0.21) - pose.linear() * centre;
+    SyntheticBoardOptions o;
+    o.supersampling = 8;
+    const Image<float> f = RenderCheckerboard(cam, pose, b, o);
+    Image<uint8_t> img(f.width, f.height);
+    for (size_t i = 0; i < f.pixels.size(); ++i) img.pixels[i] = uint8_t(std::lround(20 + 210 * f.pixels[i]));
+    WriteImage(dir / "photos" / ("view" + std::to_string(k++) + ".png"), img);
+  }
+  const fs::path out = dir / "camera.yaml";
+  const std::vector<CliResult> r = RunMany({
+      "calibrate camera " + Quoted(dir / "photos") + " --rows 7 --cols 10 --square-mm 6 --fix-k3 --out " + Quoted(out),
+      "calibrate camera " + Quoted(dir / "photos") + " --out " + Quoted(dir / "x.yaml"),
+      "calibrate camera " + Quoted(dir / "empty") + " --rows 7 --cols 10 --square-mm 6 --out " + Quoted(dir / "x.yaml"),
+  });
+  ASSERT_EQ(r[0].exit_code, 0) << r[0].err;
+  EXPECT_THAT(r[0].out, HasSubstr("camera from 6 of 6 images, 640x480"));
+  const CalibrationFile c = ReadCalibrationFile(out);
+  ASSERT_TRUE(c.camera);
+  EXPECT_NEAR(c.camera->fx, p.fx, 1.0);  // noise-free 8-bit images: measured within 0.1 px
+  EXPECT_NEAR(c.camera->cx, p.cx, 1.0);
+  EXPECT_NEAR(c.camera->brown_conrady.k1, -0.18, 0.005);
+  EXPECT_EQ(r[1].exit_code, 2);
+  EXPECT_THAT(r[1].err, HasSubstr("a folder of photographs (no manifest.jsonl): give the board"));
+  EXPECT_EQ(r[2].exit_code, 2);
+  EXPECT_THAT(r[2].err, HasSubstr("empty: no image files in the folder"));
+  EXPECT_FALSE(fs::exists(dir / "x.yaml"));
 }
 
 TEST(CalibrateCli, RefusalsAreClearAndWriteNothing) {

@@ -1,7 +1,8 @@
 // `lasertwin calibrate camera|laser|hand-eye RUN_DIR --out calib.yaml
 // [--calib IN.yaml] [--board FILE | --rows R --cols C --square-mm S]`:
 // calibrates one part of the scanner from a calibration session's run folder
-// (pipeline/calib_session.h) and writes the calibration file (OpenCV YAML,
+// (pipeline/calib_session.h), or the camera from a folder of photographs
+// (pipeline/calib_camera_images.h), and writes the calibration file (OpenCV YAML,
 // pipeline/calibration_file.h) with that part added to IN.yaml's. Prints the
 // result with its uncertainty, and against the run's ground truth (rig.json,
 // scene.json) when the run has one.
@@ -11,6 +12,7 @@
 #include <memory>
 
 #include "core/error.h"
+#include "pipeline/calib_camera_images.h"
 #include "pipeline/calib_output.h"
 #include "pipeline/calib_session.h"
 #include "pipeline/calibration_file.h"
@@ -60,6 +62,10 @@ CheckerboardSpec Board(const CalibrateArgs& a) {
   return ReadCheckerboardFile(a.board.empty() ? FindSessionBoardFile(a.run_dir) : std::filesystem::path(a.board));
 }
 
+// A run folder has a manifest; any other folder is one of photographs.
+bool IsRunFolder(const std::string& dir) { return std::filesystem::exists(std::filesystem::path(dir) / "manifest.jsonl"); }
+
+
 CalibrationFile InputFile(const CalibrateArgs& a) {
   if (a.calib.empty()) return {};
   CalibrationFile f = ReadCalibrationFile(a.calib);
@@ -93,7 +99,6 @@ void PrintSkipped(const std::vector<SessionView>& views) {
 }
 
 void CameraStep(const CalibrateArgs& a, CalibrationFile* file) {
-  const CheckerboardSpec board = Board(a);
   CameraCalibrationOptions o;
   if (a.model == "fisheye") {
     o.model = DistortionModel::kFisheye;
@@ -103,17 +108,44 @@ void CameraStep(const CalibrateArgs& a, CalibrationFile* file) {
     throw InputError("--model", "expected brown_conrady, fisheye or none, got '" + a.model + "'");
   }
   o.fix_k3 = a.fix_k3;
-  o.Check();  // before the session's images are read
-  const SessionCameraResult r = CalibrateSessionCamera(a.run_dir, board, o);
-  PrintSkipped(r.views);
-  const CameraCalibrationResult& c = r.calibration;
-  if (!c.ok) {
-    throw InputError(a.run_dir, "camera calibration refused (" + std::to_string(r.used.size()) + " of " +
-                                    std::to_string(r.views.size()) + " views with the board): " + c.reason);
+  o.Check();  // before the images are read
+  std::string counts;                // "N of M views"
+  CameraCalibrationResult c;
+  const bool photos = !IsRunFolder(a.run_dir);
+  if (photos) {
+    if (a.board.empty() && a.rows <= 0 && a.cols <= 0 && a.square_mm <= 0) {
+      throw InputError(a.run_dir, "a folder of photographs (no manifest.jsonl): give the board with --rows, --cols "
+                                  "and --square-mm (inner corners) or --board FILE");
+    }
+    const CheckerboardSpec board = Board(a);
+    const PhotoCameraResult r = CalibrateCameraFromImages(ListImageFiles(a.run_dir), board, o);
+    for (const PhotoView& v : r.views) {
+      if (!v.detection.ok) Warn(v.image.string() + ": " + v.detection.reason);
+    }
+    counts = std::to_string(r.used.size()) + " of " + std::to_string(r.views.size()) + " images";
+    c = r.calibration;
+  } else {
+    const CheckerboardSpec board = Board(a);
+    const SessionCameraResult r = CalibrateSessionCamera(a.run_dir, board, o);
+    PrintSkipped(r.views);
+    counts = std::to_string(r.used.size()) + " of " + std::to_string(r.views.size()) + " views";
+    c = r.calibration;
   }
+  if (!c.ok) throw InputError(a.run_dir, "camera calibration refused (" + counts + " with the board): " + c.reason);
   if (!c.note.empty()) std::cerr << "lasertwin: note: " << c.note << "\n";
   file->camera = MakeCalibrationFile(&c, nullptr, nullptr).camera;
   if (a.quiet) return;
+  if (photos) {
+    std::cout << "camera from " << counts << ", " << c.camera.width << "x" << c.camera.height
+              << ": reprojection RMS " << Fmt("%.4f", c.rms_px) << " px\n";
+    std::cout << "  param        recovered        std\n";
+    for (int i = 0; i < int(c.params.size()); ++i) {
+      std::cout << "  " << c.param_names[size_t(i)]
+                << std::string(8 - std::min<size_t>(7, c.param_names[size_t(i)].size()), ' ')
+                << Fmt("%14.6g  %11.3g", c.params[i], c.param_std[i]) << "\n";
+    }
+    return;
+  }
   const RunRig rig = ReadRunRig(a.run_dir);
   const CameraParams& t = rig.camera.params();
   std::vector<double> truth = {t.fx, t.fy, t.cx, t.cy};
@@ -125,7 +157,7 @@ void CameraStep(const CalibrateArgs& a, CalibrationFile* file) {
     truth.insert(truth.end(), {k.k1, k.k2, k.k3, k.k4});
   }
   const bool same_model = t.distortion == o.model || t.distortion == DistortionModel::kNone;
-  std::cout << "camera from " << r.used.size() << " of " << r.views.size() << " views, " << c.camera.width << "x"
+  std::cout << "camera from " << counts << ", " << c.camera.width << "x"
             << c.camera.height << ": reprojection RMS " << Fmt("%.4f", c.rms_px) << " px\n";
   std::cout << "  param        recovered        std         true (" << rig.source.filename().string()
             << ")   error   error/std\n";
@@ -246,7 +278,9 @@ void Add(CLI::App& app) {
   cmd->add_option("STEP", args->step, "camera | laser | hand-eye")
       ->required()
       ->check(CLI::IsMember({"camera", "laser", "hand-eye"}));
-  cmd->add_option("RUN_DIR", args->run_dir, "Run folder of a calibration session (bright/dim frame pairs)")
+  cmd->add_option("RUN_DIR", args->run_dir,
+                  "Run folder of a calibration session (bright/dim frame pairs); camera: or a folder of photographs "
+                  "of the board (every image file, no manifest.jsonl; give the board)")
       ->required();
   cmd->add_option("--out", args->out, "Calibration file to write (OpenCV YAML)")->required();
   cmd->add_option("--calib", args->calib,

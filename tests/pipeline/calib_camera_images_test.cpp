@@ -1,0 +1,122 @@
+// Camera calibration from a folder of photographs (pipeline/calib_camera_images.h):
+// the folder's image files in name order, a view without the board skipped,
+// and the clear errors for a folder without images, images of another size
+// and an unreadable file.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include "calib_test_util.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+
+#include "core/error.h"
+#include "core/image_io.h"
+#include "core/random.h"
+#include "pipeline/calib_camera_images.h"
+
+namespace lt {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kDeg = M_PI / 180.0;
+
+fs::path Folder(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("lt_calib_images_" + std::to_string(::getpid())) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// The board rendered as an 8-bit image (black 20, white 230 of 255, 1% noise).
+Image<uint8_t> Photo(const Camera& cam, const Pose& pose, uint64_t seed) {
+  SyntheticBoardOptions o;
+  o.supersampling = 8;
+  const Image<float> f = RenderCheckerboard(cam, pose, Board(), o);
+  Image<uint8_t> img(f.width, f.height);
+  for (size_t k = 0; k < f.pixels.size(); ++k) {
+    const double v = 255 * (0.08 + 0.82 * f.pixels[k]) + 2.5 * Rng::For(seed, 0, k, 0).NextGaussian();
+    img.pixels[k] = uint8_t(std::clamp(std::lround(v), 0L, 255L));
+  }
+  return img;
+}
+
+const std::vector<Pose>& Poses() {
+  static const std::vector<Pose> poses = {BoardPose(0, 0, 0.20, 30 * kDeg, 0, 0),
+                                          BoardPose(0.03, -0.02, 0.21, 35 * kDeg, 90 * kDeg, 15 * kDeg),
+                                          BoardPose(-0.03, 0.02, 0.22, 30 * kDeg, 45 * kDeg, -20 * kDeg),
+                                          BoardPose(0.03, 0.025, 0.19, 25 * kDeg, 135 * kDeg, 180 * kDeg),
+                                          BoardPose(-0.035, -0.02, 0.23, 40 * kDeg, 200 * kDeg, 5 * kDeg),
+                                          BoardPose(0.0, 0.03, 0.20, 20 * kDeg, 270 * kDeg, 90 * kDeg)};
+  return poses;
+}
+
+TEST(CalibCameraImages, AFolderOfPhotographsCalibratesTheCamera) {
+  const CameraParams truth = Camera640Params({-0.18, 0.08, 3e-4, -2e-4, 0});
+  const Camera cam(truth);
+  const fs::path dir = Folder("photos");
+  for (size_t v = 0; v < Poses().size(); ++v) {
+    WriteImage(dir / ("IMG_" + std::to_string(10 + v) + ".png"), Photo(cam, Poses()[v], v + 1));
+  }
+  WriteImage(dir / "IMG_99.PNG", Image<uint8_t>(640, 480, 1, 128));  // no board: skipped
+  std::ofstream(dir / "notes.txt") << "not an image\n";
+  fs::create_directories(dir / "sub.png");  // a folder, not an image
+
+  const std::vector<fs::path> files = ListImageFiles(dir);
+  ASSERT_EQ(files.size(), 7u);
+  EXPECT_EQ(files.front().filename(), "IMG_10.png");
+  EXPECT_EQ(files.back().filename(), "IMG_99.PNG");
+  CameraCalibrationOptions o;
+  o.fix_k3 = true;
+  const PhotoCameraResult r = CalibrateCameraFromImages(files, Board(), o);
+  EXPECT_EQ(r.width, 640);
+  EXPECT_EQ(r.height, 480);
+  ASSERT_EQ(r.views.size(), 7u);
+  EXPECT_EQ(r.used, (std::vector<int>{0, 1, 2, 3, 4, 5}));
+  EXPECT_FALSE(r.views[6].detection.ok);
+  ASSERT_TRUE(r.calibration.ok) << r.calibration.reason;
+  // Every parameter within 4 of its reported standard deviations (plus 0.02 px
+  // for the saddle's pixel-phase error) of the truth.
+  const std::vector<double> t = {truth.fx, truth.fy, truth.cx, truth.cy, -0.18, 0.08, 3e-4, -2e-4, 0};
+  for (int i = 0; i < 8; ++i) {
+    EXPECT_LT(std::abs(r.calibration.params[i] - t[size_t(i)]), 4 * r.calibration.param_std[i] + (i < 4 ? 0.02 : 0))
+        << r.calibration.param_names[size_t(i)] << " = " << r.calibration.params[i];
+  }
+}
+
+TEST(CalibCameraImages, BadFoldersAndImagesAreErrorsNamingTheFile) {
+  const Camera cam(Camera640Params({-0.18, 0.08, 0, 0, 0}));
+  auto message = [](const std::function<void()>& f) -> std::string {
+    try {
+      f();
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  const fs::path empty = Folder("empty");
+  std::ofstream(empty / "readme.txt") << "x\n";
+  EXPECT_NE(message([&] { ListImageFiles(empty); }).find(empty.string() + ": no image files in the folder"),
+            std::string::npos);
+  EXPECT_NE(message([&] { ListImageFiles(empty / "none"); }).find("none: no such folder"), std::string::npos);
+
+  const fs::path sizes = Folder("sizes");
+  WriteImage(sizes / "a.png", Photo(cam, Poses()[0], 1));
+  WriteImage(sizes / "b.png", Image<uint8_t>(320, 240, 1, 128));
+  EXPECT_NE(message([&] { CalibrateCameraFromImages(ListImageFiles(sizes), Board()); })
+                .find((sizes / "b.png").string() + ": the image is 320x240 but " + (sizes / "a.png").string() +
+                      " is 640x480"),
+            std::string::npos);
+
+  const fs::path broken = Folder("broken");
+  WriteImage(broken / "a.png", Photo(cam, Poses()[0], 1));
+  std::ofstream(broken / "b.jpg") << "not a JPEG\n";
+  EXPECT_NE(message([&] { CalibrateCameraFromImages(ListImageFiles(broken), Board()); })
+                .find((broken / "b.jpg").string() + ": "),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace lt
