@@ -18,19 +18,24 @@ void GcodeReader::LayersFromZ() {
   // A layer begins at the first move that extrudes at a height above every height at
   // which the current layer has extruded (the end of a rising move counts: a spiral
   // stays one layer); it takes the moves since the previous layer's last extrusion.
+  // A move that extrudes below every height of the current layer starts the next
+  // object of a sequential print (Slic3r's "complete objects") at layer 0 again, as
+  // Cura numbers them (Toolpath::LayerSequences).
   constexpr double kTolM = 1e-9;
   int layer = ToolpathSegment::kNoLayer;
-  double top = 0;
+  double top = 0, bottom = 0;
   size_t first_free = 0;  // the first segment after the last extrusion
   auto& segs = path_.segments;
   for (size_t k = 0; k < segs.size(); ++k) {
     ToolpathSegment& s = segs[k];
     if (!s.LaysBead()) continue;
     const double z0 = s.start_m.z(), z1 = std::max(z0, s.end_m.z());
-    if (layer == ToolpathSegment::kNoLayer || z0 > top + kTolM) {
-      layer = layer == ToolpathSegment::kNoLayer ? 0 : layer + 1;
-      if (layer == 0) first_free = k;  // moves before the first extrusion stay outside
+    if (layer == ToolpathSegment::kNoLayer || z0 > top + kTolM || z0 < bottom - kTolM) {
+      const bool first = layer == ToolpathSegment::kNoLayer;
+      layer = first || z0 < bottom - kTolM ? 0 : layer + 1;
+      if (first) first_free = k;  // moves before the first extrusion stay outside
       top = z1;
+      bottom = z0;
     } else {
       top = std::max(top, z1);
     }

@@ -204,5 +204,22 @@ TEST(GcodeDialects, CuraOneAtATimeLayersHeightsAndGrowth) {
   EXPECT_NEAR(MeshVolume(BeadMeshUpTo(p, p.Duration())), 6 * kMm * filament_area, 1e-3 * 6 * kMm * filament_area);
 }
 
+// The same print without layer comments (Slic3r's "complete objects", a streamed file):
+// layers from the extrusion heights, a new run where the height drops to the next
+// object's first layer.
+TEST(GcodeDialects, SequentialObjectsWithoutLayerCommentsStartTheirLayersAgain) {
+  std::string text = OneAtATime();
+  for (size_t at; (at = text.find(";LAYER:")) != std::string::npos;) text.erase(at, text.find('\n', at) + 1 - at);
+  Toolpath p = ParseGcode(text, "seq.gcode");
+  EXPECT_TRUE(p.layers_from_z);
+  EXPECT_EQ(p.LayerSequences(), 2);
+  EXPECT_EQ(p.LayerCount(), 6);
+  std::vector<int> layers;
+  for (const auto& s : p.segments) {
+    if (s.LaysBead()) layers.push_back(s.layer);
+  }
+  EXPECT_THAT(layers, ::testing::ElementsAre(0, 0, 1, 1, 2, 2, 0, 0, 1, 1, 2, 2));
+}
+
 }  // namespace
 }  // namespace lt
