@@ -204,6 +204,13 @@ void GcodeReader::ReadLine(std::string_view line, int line_no) {
   size_t start = ++pos;
   while (pos < code.size() && IsNumberChar(code[pos])) ++pos;
   std::string_view number = code.substr(start, pos - start);
+  if (number.empty() && letter == 'T' && pos < code.size() && !IsBlank(code[pos])) {
+    // Prusa firmware's MMU tool commands "Tx", "Tc", "T?": skipped, counted by name.
+    std::string name = "T";
+    for (; pos < code.size() && !IsBlank(code[pos]); ++pos) name += Upper(code[pos]);
+    ++path_.skipped_commands[name];
+    return;
+  }
   if (number.empty()) Fail(std::string(1, letter) + " without a number");
   auto value = ParseFiniteNumber(number);
   if (!value) Fail(std::string(1, letter) + " has a malformed number \"" + std::string(number) + "\"");

@@ -106,6 +106,12 @@ TEST(GcodeDialects, MessagesFileNamesAndQuotedStringsHoldTheirText) {
   EXPECT_EQ(p.segments[0].line, 5);
   EXPECT_EQ(p.skipped_commands.at("M117"), 1u);
   EXPECT_EQ(p.skipped_commands.at("M291"), 1u);
+  // Prusa firmware's MMU tool commands without a number are skipped by name.
+  Toolpath mmu = ParseGcode("G1 F600\nTx\nTc\nT?\nG1 X1 E1\n", "t.gcode");
+  EXPECT_EQ(mmu.skipped_commands.at("TX"), 1u);
+  EXPECT_EQ(mmu.skipped_commands.at("T?"), 1u);
+  EXPECT_EQ(mmu.segments.size(), 1u);
+  EXPECT_THAT(ErrorOf([] { ParseGcode("T\n", "t.gcode"); }), HasSubstr("t.gcode:1: T without a number"));
   EXPECT_THAT(ErrorOf([] { ParseGcode("M117 Hi*5\n", "t.gcode"); }), HasSubstr("t.gcode:1: checksum *5 does not match"));
   EXPECT_THAT(ErrorOf([] { ParseGcode("G1 X1 F600 *x\n", "t.gcode"); }), HasSubstr("t.gcode:1: checksum after '*'"));
   EXPECT_THAT(ErrorOf([] { ParseGcode("G1 F600\nG5 I0 J3 P0 Q-3 X2 Y2 E1\n", "t.gcode"); }),
