@@ -319,6 +319,10 @@ Toolpath ParseGcode(std::string_view text, const std::string& display_name) {
                      "is a zip archive, not G-code (Bambu Studio's and OrcaSlicer's .gcode.3mf hold each plate's "
                      "G-code as Metadata/plate_1.gcode, ...): extract the plate's .gcode file");
   }
+  // UTF-16 (Windows editors' "Unicode"): every other byte is NUL.
+  if (StartsWith(text, "\xFF\xFE") || StartsWith(text, "\xFE\xFF")) {
+    throw InputError(display_name, "is UTF-16 text (it starts with a UTF-16 byte order mark): save it as UTF-8 or ASCII");
+  }
   GcodeReader reader(display_name);
   size_t pos = StartsWith(text, "\xEF\xBB\xBF") ? 3 : 0;  // a UTF-8 byte order mark
   reader.ReserveSegments(MoveLinesAtMost(text.substr(pos)));

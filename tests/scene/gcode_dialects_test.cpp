@@ -74,6 +74,9 @@ TEST(GcodeDialects, LineEndsOfEveryKindAreRead) {
     EXPECT_EQ(p.LayerCount(), 2);
     EXPECT_THAT(ErrorOf([&] { ParseGcode(text + lines[5] + end[5], "e.gcode"); }), HasSubstr("e.gcode:6: G1 takes no"));
   }
+  // UTF-16 is named as such (it was "a NUL byte" on line 1).
+  EXPECT_THAT(ErrorOf([] { ParseGcode(std::string("\xFF\xFEG\0001\0", 6), "u.gcode"); }),
+              HasSubstr("u.gcode: is UTF-16 text"));
 }
 
 // A parenthesised comment runs to its ')': a ';' or '*' inside it neither ends the
