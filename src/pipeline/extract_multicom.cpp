@@ -59,13 +59,19 @@ bool ClippedCentroid(const T* row, int n, int a, int b, double floor, double t, 
 // few pixels whose centroid follows the pixel grid, not the stripe (peak 1.05
 // to 1.2 times the threshold, sigma 1 to 1.5 px, noise-free: up to 0.37 px);
 // above its half maximum it is weighted as a stripe of twice the threshold
-// (0.01 px). False when the walk reaches the line's end (the stripe may go on
-// outside). Stripes reaching twice the threshold keep the threshold as floor.
+// (0.01 px). True when the line falls to `half` on both sides before the walk
+// stops (at a rise or the line's end); otherwise (ambient light above the half
+// maximum, a neighbour's flank, noise on the flank) [a, b] is left as it was
+// and the threshold stays the floor. Stripes reaching twice the threshold keep
+// the threshold as floor.
 template <typename V>
 bool WidenToHalfMaximum(const V* row, int n, double half, int* a, int* b) {
-  while (*a > 0 && double(row[*a - 1]) > half && row[*a - 1] <= row[*a]) --*a;
-  while (*b < n - 1 && double(row[*b + 1]) > half && row[*b + 1] <= row[*b]) ++*b;
-  return *a > 0 && *b < n - 1;
+  int lo = *a, hi = *b;
+  while (lo > 0 && double(row[lo - 1]) > half && row[lo - 1] <= row[lo]) --lo;
+  while (hi < n - 1 && double(row[hi + 1]) > half && row[hi + 1] <= row[hi]) ++hi;
+  if (!(lo > 0 && double(row[lo - 1]) <= half && hi < n - 1 && double(row[hi + 1]) <= half)) return false;
+  *a = lo, *b = hi;
+  return true;
 }
 
 // Emits the point of one part [a, b] of a run of pixels >= t; `floor` is the
@@ -85,10 +91,7 @@ void EmitPart(const ImageView<T>& image, int a, int b, double floor, double t, b
   double fwhm = PeakFwhm(row, n, first, last, peak, o.background);
   if (!WidthAccepted(fwhm, o, rejected, image, y, LinePeak{first, last, peak}, o.background, t)) return;
   const double half = o.background + 0.5 * (peak - o.background);
-  if (whole_run && half < floor) {
-    floor = half;
-    if (!WidenToHalfMaximum(row, n, floor, &a, &b)) return;
-  }
+  if (whole_run && half < floor && WidenToHalfMaximum(row, n, half, &a, &b)) floor = half;
   double c = 0;
   if (!ClippedCentroid(row, n, a, b, floor, std::min(floor, t), &c)) return;
   points->push_back({c, double(y), fwhm, peak, -1});
@@ -176,9 +179,9 @@ void ProcessLineLocal(const ImageView<T>& image, double t, int y, const Extracti
       cut_b = true;
     }
     if ((a == 0 && !cut_a) || (b == len - 1 && !cut_b)) continue;
-    if (!cut_a && !cut_b && 0.5 * p.height < floor) {  // a dim stripe: above its half maximum
+    // A dim stripe: above its half maximum.
+    if (!cut_a && !cut_b && 0.5 * p.height < floor && WidenToHalfMaximum(r, len, 0.5 * p.height, &a, &b)) {
       floor = 0.5 * p.height;
-      if (!WidenToHalfMaximum(r, len, floor, &a, &b)) continue;
     }
     double c = 0;
     if (!ClippedCentroid(r, len, a, b, floor, std::min(floor, t), &c)) continue;
