@@ -203,6 +203,16 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
     if (it->second >= 0) asset.instances.push_back({size_t(it->second), use.transform, use.node_name});
   }
   if (uses_default) asset.materials.push_back(DefaultMaterial());
+  if (!model.cameras.empty() || !model.lights.empty()) {
+    auto count = [](size_t n, const char* one, const char* many) {
+      return std::to_string(n) + " " + (n == 1 ? one : many);
+    };
+    std::string what = !model.cameras.empty() ? count(model.cameras.size(), "camera", "cameras") : "";
+    if (!model.lights.empty()) {
+      what += (what.empty() ? "" : " and ") + count(model.lights.size(), "KHR_lights_punctual light", "KHR_lights_punctual lights");
+    }
+    asset.warnings.push_back(file + ": " + what + " ignored (the scene file sets the sensor and the lights)");
+  }
   if (!model.animations.empty()) {
     asset.warnings.push_back(file + ": " + std::to_string(model.animations.size()) +
                              (model.animations.size() == 1 ? " animation" : " animations") +

@@ -215,6 +215,25 @@ TEST(GltfExporters, MorphTargetsArePosedByTheirDefaultWeights) {
               HasSubstr("model.glb: /nodes/1/weights: 1 weights for the 2 morph targets of /meshes/0/primitives/0"));
 }
 
+// Blender exports its camera and lamps with the meshes; they are not used (the
+// scene file sets the sensor and the light) and one warning says so.
+TEST(GltfExporters, CamerasAndLightsAreIgnoredWithOneWarning) {
+  TempDir dir;
+  GltfBuilder b = test::SquareBuilder();
+  b.json()["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.01}}}}};
+  b.json()["extensionsUsed"] = {"KHR_lights_punctual"};
+  b.json()["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"intensity", 100}},
+                                                             {{"type", "directional"}}};
+  b.AddNode("camera", -1);
+  b.json()["nodes"][1]["camera"] = 0;
+  b.AddNode("lamp", -1);
+  b.json()["nodes"][2]["extensions"]["KHR_lights_punctual"] = {{"light", 1}};
+  GltfAsset a = LoadGlb(b, dir);
+  EXPECT_EQ(a.instances.size(), 1u);
+  EXPECT_EQ(AllWarnings(a), "model.glb: 1 camera and 2 KHR_lights_punctual lights ignored (the scene file sets the "
+                            "sensor and the lights)\n");
+}
+
 // ------------------------------------------------------------------ node hierarchy
 
 TEST(GltfExporters, NodeWithSeveralParentsIsPlacedUnderEach) {
