@@ -4,6 +4,7 @@
 #include "scene/gcode.h"
 
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <string_view>
 
@@ -133,9 +134,15 @@ void GcodeReader::ReadLine(std::string_view line, int line_no) {
   // inside it is part of the comment, as in RS-274 and Marlin's PAREN_COMMENTS), a
   // quoted string to its closing '"' (RepRapFirmware's M291 P"..." and file names);
   // outside them, ';' starts the line's comment and the first '*' its checksum.
-  size_t semicolon = std::string_view::npos, star = std::string_view::npos;
+  size_t semicolon = line.find(';'), star = std::string_view::npos;
   bool paren = false, inside = false, quoted = false;
-  for (size_t i = 0; i < line.size(); ++i) {
+  // Most lines hold neither '(' nor '"' before a ';': the searches suffice (the pass
+  // over every character made a 44 MB file's parse 18 % slower).
+  const std::string_view before = line.substr(0, semicolon);
+  const bool plain = before.find('(') == std::string_view::npos && before.find('"') == std::string_view::npos;
+  if (plain) star = before.find('*');
+  semicolon = plain ? semicolon : std::string_view::npos;
+  for (size_t i = 0; !plain && i < line.size(); ++i) {
     const char c = line[i];
     if (inside) {
       if (c == ')') inside = false;
@@ -284,19 +291,40 @@ using gcode_detail::StartsWith;
 
 namespace {
 
+// Where the line from `pos` ends: at LF, CR (of CR LF or a lone CR) or the text's end.
+// Two memchr searches (a search for either byte was 15 % of a 44 MB file's parse); the
+// next LF is remembered, so a file of lone CRs is not searched to its end per line.
+class LineEnds {
+ public:
+  explicit LineEnds(std::string_view text) : text_(text) {}
+  size_t From(size_t pos) {
+    if (next_lf_ == std::string_view::npos || next_lf_ < pos) {
+      const void* lf = std::memchr(text_.data() + pos, '\n', text_.size() - pos);
+      next_lf_ = lf ? size_t(static_cast<const char*>(lf) - text_.data()) : text_.size();
+    }
+    const void* cr = std::memchr(text_.data() + pos, '\r', next_lf_ - pos);
+    return cr ? size_t(static_cast<const char*>(cr) - text_.data()) : next_lf_;
+  }
+
+ private:
+  std::string_view text_;
+  size_t next_lf_ = std::string_view::npos;  // the first LF at or after the last position asked (or the end)
+};
+
 // The lines whose first word may be a move (G..., or N... followed by one): room
 // for their segments is made once, so a large file's toolpath is not copied as it
 // grows (a 38 MB file of 1.2 M moves: peak memory 424 -> 243 MB).
 size_t MoveLinesAtMost(std::string_view text) {
   size_t count = 0;
+  LineEnds ends(text);
   for (size_t pos = 0; pos < text.size();) {
     while (pos < text.size() && (text[pos] == ' ' || text[pos] == '\t')) ++pos;
     if (pos < text.size()) {
       const char c = text[pos];
       if (c == 'G' || c == 'g' || c == 'N' || c == 'n') ++count;
     }
-    size_t end = text.find_first_of("\r\n", pos);
-    if (end == std::string_view::npos) break;
+    size_t end = ends.From(pos);
+    if (end == text.size()) break;
     pos = end + 1;
   }
   return count;
@@ -328,10 +356,10 @@ Toolpath ParseGcode(std::string_view text, const std::string& display_name) {
   reader.ReserveSegments(MoveLinesAtMost(text.substr(pos)));
   int line_no = 0;
   int after_end = 0;
+  LineEnds ends(text);
   while (pos < text.size()) {
     // A line ends at LF, CR LF or a lone CR (classic Mac OS), mixed as they come.
-    size_t end = text.find_first_of("\r\n", pos);
-    if (end == std::string_view::npos) end = text.size();
+    size_t end = ends.From(pos);
     std::string_view line = text.substr(pos, end - pos);
     if (end + 1 < text.size() && text[end] == '\r' && text[end + 1] == '\n') ++end;
     ++line_no;
