@@ -17,6 +17,7 @@
 #include "scene/gltf_accessors.h"
 #include "scene/gltf_mesh.h"
 #include "scene/gltf_nodes.h"
+#include "scene/gltf_uri.h"
 
 namespace lt {
 
