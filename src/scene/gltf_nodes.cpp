@@ -202,6 +202,10 @@ std::vector<GltfNodeUse> WalkGltfScene(const GltfSource& src, std::vector<std::s
       throw InputError(src.file + ": /scene", "scene " + std::to_string(scene) + " does not exist (" +
                                                   std::to_string(m.scenes.size()) + " scenes)");
     }
+    if (m.defaultScene < 0 && m.scenes.size() > 1) {
+      warnings->push_back(src.file + ": no default scene (\"scene\"); scene 0 of " + std::to_string(m.scenes.size()) +
+                          " is loaded");
+    }
     roots = m.scenes[size_t(scene)].nodes;
     roots_where = "/scenes/" + std::to_string(scene) + "/nodes";
     for (size_t i = 0; i < roots.size(); ++i) {

@@ -265,6 +265,24 @@ TEST(GltfExporters, NodeWithSeveralParentsIsPlacedUnderEach) {
   EXPECT_THAT(ErrorOf([&] { LoadGlb(b, dir); }), HasSubstr("(the node hierarchy has a cycle)"));
 }
 
+// Several scenes and no "scene": scene 0 is loaded, and the warning says so.
+TEST(GltfExporters, WithoutADefaultSceneTheFirstOfSeveralIsLoaded) {
+  TempDir dir;
+  GltfBuilder b = test::SquareBuilder();
+  b.AddNode("elsewhere", 0, {5, 0, 0}, false);
+  b.json()["scenes"].push_back({{"nodes", {1}}});
+  b.json().erase("scene");
+  GltfAsset a = LoadGlb(b, dir);
+  ASSERT_EQ(a.instances.size(), 1u);
+  EXPECT_EQ(a.instances[0].node_name, "square_node");
+  EXPECT_EQ(AllWarnings(a), "model.glb: no default scene (\"scene\"); scene 0 of 2 is loaded\n");
+  b.json()["scene"] = 1;
+  GltfAsset a1 = LoadGlb(b, dir);
+  ASSERT_EQ(a1.instances.size(), 1u);
+  EXPECT_EQ(a1.instances[0].node_name, "elsewhere");
+  EXPECT_TRUE(a1.warnings.empty()) << AllWarnings(a1);
+}
+
 // ------------------------------------------------------------------ vertex buffers
 
 // Multi-material meshes (three.js geometry groups, older Sketchfab exports) give
