@@ -4,7 +4,9 @@
 //
 // Understood, everything else skipped and counted per command (Toolpath::
 // skipped_commands: temperatures, fans, accelerations, T tool changes, ...):
-//   G0, G1          straight moves (X Y Z E F); RepRapFirmware's H1, H3, H4 (towards the
+//   G0, G1          straight moves (X Y Z E F; A or B instead of E: the extruder axes of
+//                   the Mach3/Machinekit and MakerBot flavours, each with its own
+//                   position); RepRapFirmware's H1, H3, H4 (towards the
 //                   endstops: the named axes home to 0, a move tagged 28 laying nothing)
 //                   and H2 (motors without kinematics: the same move on a Cartesian
 //                   printer); E with H1-H4 is an error

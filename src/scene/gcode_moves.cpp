@@ -60,11 +60,22 @@ Eigen::Vector3d GcodeReader::Target() const {
   return target;
 }
 
-double GcodeReader::ExtrudedFrom(const Word* e) {
+double GcodeReader::Extruded() {
+  const Word* e = nullptr;
+  int axis = -1;
+  const char letters[3] = {'E', 'A', 'B'};
+  for (int k = 0; k < 3; ++k) {
+    if (const Word* w = Find(letters[k])) {
+      if (e) Fail(std::string("both ") + letters[axis] + " and " + letters[k] + ": one extruder axis per move");
+      e = w;
+      axis = k;
+    }
+  }
   if (!e) return 0;
   double v = *e->value * unit_mm_;
-  double delta = ERelative() ? v : v - e_logical_mm_;
-  e_logical_mm_ = ERelative() ? e_logical_mm_ + v : v;
+  double& logical = e_logical_mm_[axis];
+  double delta = ERelative() ? v : v - logical;
+  logical = ERelative() ? logical + v : v;
   return delta;
 }
 
@@ -106,7 +117,7 @@ double GcodeReader::MoveFeed(double length_mm, double extruded_mm) {
 }
 
 void GcodeReader::Move(int gcode) {
-  Expect("XYZEFH", CommandName('G', gcode));
+  Expect("XYZEFHAB", CommandName('G', gcode));
   // RepRapFirmware's H: 0 an ordinary move; 2 moves the motors without kinematics
   // (homing files lift Z so before the position is known; on the Cartesian printers
   // modelled here, the same motion as the axes' move); 1, 3 and 4 move towards the
@@ -118,7 +129,7 @@ void GcodeReader::Move(int gcode) {
            FormatNumber(*h->value));
     }
     h_mode = int(*h->value);
-    if (h_mode != 0 && Find('E')) {
+    if (h_mode != 0 && (Find('E') || Find('A') || Find('B'))) {
       Fail(CommandName('G', gcode) + " H" + std::to_string(h_mode) +
            " with E is not supported: H1-H4 are RepRapFirmware's homing and motor moves, not print moves");
     }
@@ -141,14 +152,14 @@ void GcodeReader::Move(int gcode) {
     return;
   }
   Eigen::Vector3d end = Target();
-  double extruded = ExtrudedFrom(Find('E'));
+  double extruded = Extruded();
   double length = (end - pos_mm_).norm();
   AddSegment(gcode, end, extruded, length, (end - pos_mm_).head<2>().norm(), nullptr, MoveFeed(length, extruded));
 }
 
 void GcodeReader::Arc(int gcode) {
   const std::string command = CommandName('G', gcode);
-  Expect("XYZEFIJRP", command);
+  Expect("XYZEFIJRPAB", command);
   if (!xy_plane_) Fail(command + " outside the XY plane (G18/G19) is not supported");
   const Word* i = Find('I');
   const Word* j = Find('J');
@@ -215,7 +226,7 @@ void GcodeReader::Arc(int gcode) {
   arc.sweep_rad = sweep;
   double xy_length = 0.5 * (r0 + r1) * std::abs(sweep);
   double length = std::hypot(xy_length, end.z() - pos_mm_.z());
-  double extruded = ExtrudedFrom(Find('E'));
+  double extruded = Extruded();
   AddSegment(gcode, end, extruded, length, xy_length, &arc, MoveFeed(length, extruded));
 }
 
@@ -257,17 +268,20 @@ void GcodeReader::Home() {
 }
 
 void GcodeReader::SetPosition() {
-  Expect("XYZE", "G92");
+  Expect("XYZEAB", "G92");
   if (words_.empty()) {
     offset_mm_ = pos_mm_;
-    e_logical_mm_ = 0;
+    for (double& e : e_logical_mm_) e = 0;
     return;
   }
   const char axes[3] = {'X', 'Y', 'Z'};
   for (int k = 0; k < 3; ++k) {
     if (const Word* w = Find(axes[k])) offset_mm_[k] = pos_mm_[k] - *w->value * unit_mm_;
   }
-  if (const Word* e = Find('E')) e_logical_mm_ = *e->value * unit_mm_;
+  const char letters[3] = {'E', 'A', 'B'};
+  for (int k = 0; k < 3; ++k) {
+    if (const Word* e = Find(letters[k])) e_logical_mm_[k] = *e->value * unit_mm_;
+  }
 }
 
 }  // namespace gcode_detail

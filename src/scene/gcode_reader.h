@@ -84,7 +84,10 @@ class GcodeReader {
   bool ERelative() const { return xyz_relative_ || e_mode_ == EMode::kRelative; }
   // Target machine position from X/Y/Z words (absolute or relative).
   Eigen::Vector3d Target() const;
-  double ExtrudedFrom(const Word* e);
+  // The filament fed by the line's extruder word: E, or A or B (the extruder axes of
+  // Cura's and PrusaSlicer's Mach3 and Machinekit flavours, MakerBot's two extruders),
+  // each axis with its own position; two of them on one line are an error.
+  double Extruded();
 
   std::string name_;
   int line_no_ = 0;
@@ -93,7 +96,7 @@ class GcodeReader {
 
   Eigen::Vector3d pos_mm_ = Eigen::Vector3d::Zero();     // machine position
   Eigen::Vector3d offset_mm_ = Eigen::Vector3d::Zero();  // machine = logical + offset (G92)
-  double e_logical_mm_ = 0;
+  double e_logical_mm_[3] = {0, 0, 0};  // E, A, B
   double feed_mm_s_ = 0;  // 0: none given yet
   double unit_mm_ = 1;    // 25.4 under G20
   bool xyz_relative_ = false;

@@ -155,6 +155,19 @@ TEST(GcodeDialects, G91MakesERelativeAfterM82AndM83HoldsThroughG90) {
   EXPECT_NEAR(q.ExtrudedLength(), 1 * kMm, 1e-15);
 }
 
+// Mach3 and Machinekit flavours (Cura, PrusaSlicer) extrude on A, MakerBot's second
+// extruder on B: each is an extruder axis with its own position, reset by G92.
+TEST(GcodeDialects, ExtruderAxesAAndBAreExtrusion) {
+  Toolpath p = ParseGcode("G1 X10 A1 F600\nG1 X20 A3\nG1 X30 B0.5\nG92 A0\nG1 X40 A0.25\nG2 X50 I5 A1.25\n",
+                          "mach3.gcode");
+  ASSERT_EQ(p.segments.size(), 5u);
+  const double fed_mm[] = {1, 2, 0.5, 0.25, 1};
+  for (int k = 0; k < 5; ++k) EXPECT_NEAR(p.segments[k].extruded_m, fed_mm[k] * kMm, 1e-15) << k;
+  EXPECT_EQ(p.LayerCount(), 1);
+  EXPECT_THAT(ErrorOf([] { ParseGcode("G1 X1 E1 A1 F600\n", "m.gcode"); }),
+              HasSubstr("m.gcode:1: both E and A: one extruder axis per move"));
+}
+
 // Cura's "one at a time": each object from its layer 0 at the bed, ;LAYER: numbered
 // from 0 again, a travel above the printed objects between them.
 std::string OneAtATime() {
