@@ -1,7 +1,9 @@
 #include "scene/calib_session.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -205,6 +207,30 @@ bool ViewFits(const SensorRig& rig, const CalibSessionOptions& o, const Pose& ca
   return true;
 }
 
+// The radical inverse of i in `base`: the Halton sequence's coordinate.
+double RadicalInverse(int i, int base) {
+  double inv = 1.0 / base, f = inv, r = 0;
+  for (; i > 0; i /= base, f *= inv) r += f * (i % base);
+  return r;
+}
+
+// The direction (camera frame, z = 1) the board's centre is placed along.
+// View 0 looks at the image centre; the others aim at Halton points spread
+// over the image, so that a session's corners reach the image's edges, where
+// a wide lens's distortion is strongest and boards near the centre leave it
+// unconstrained. An aim whose board does not fit moves toward the centre over
+// the attempts (the centre from half of them on).
+std::optional<Eigen::Vector3d> AimDirection(const Camera& cam, int view, int attempt) {
+  const Eigen::Vector2d centre(0.5 * (cam.width() - 1), 0.5 * (cam.height() - 1));
+  const double reach = view == 0 ? 0.0 : std::max(0.0, 1.0 - attempt / (0.5 * kMaxAttempts));
+  const Eigen::Vector2d aim =
+      centre + reach * Eigen::Vector2d((RadicalInverse(view, 2) - 0.5) * cam.width(),
+                                       (RadicalInverse(view, 3) - 0.5) * cam.height());
+  const auto ray = cam.Unproject(aim);
+  if (!ray || !(ray->z() > 0)) return std::nullopt;
+  return *ray / ray->z();
+}
+
 }  // namespace
 
 Pose CalibSessionOptions::DefaultToolFromCam() {
@@ -269,12 +295,13 @@ CalibSession WriteCalibSession(const CalibSessionOptions& o, const fs::path& out
       const double axis = 2 * M_PI * rng.NextDouble();
       const double spin = 2 * M_PI * rng.NextDouble() - M_PI;
       const double dist = o.min_distance_m + (o.max_distance_m - o.min_distance_m) * rng.NextDouble();
-      const double ox = (rng.NextDouble() - 0.5) * 0.1 * dist, oy = (rng.NextDouble() - 0.5) * 0.1 * dist;
+      const auto aim = AimDirection(rig.camera, v, attempt);
+      if (!aim) continue;
       Pose cam_from_board = Pose::Identity();
       cam_from_board.linear() = (Eigen::AngleAxisd(tilt, Eigen::Vector3d(std::cos(axis), std::sin(axis), 0)) *
                                  Eigen::AngleAxisd(spin, Eigen::Vector3d::UnitZ()))
                                     .toRotationMatrix();
-      cam_from_board.translation() = Eigen::Vector3d(ox, oy, dist) - cam_from_board.linear() * BoardCentre(o);
+      cam_from_board.translation() = dist * *aim - cam_from_board.linear() * BoardCentre(o);
       if (!ViewFits(rig, o, cam_from_board)) continue;
       CalibSessionView view;
       view.cam_from_board = cam_from_board;
