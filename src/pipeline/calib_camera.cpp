@@ -3,8 +3,11 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
+#include <limits>
 
 #include "core/error.h"
 #include "pipeline/option_checks.h"
@@ -241,6 +244,86 @@ bool EstimateHomography(const std::vector<Eigen::Vector2d>& from, const std::vec
   return homography->allFinite();
 }
 
+namespace {
+
+// An equidistant lens (r = f θ about the image centre) seen as a pinhole: the
+// pixel's ray, on the plane z = 1. Rays beyond 80° from the axis are left out
+// (their tangent runs away).
+std::optional<Eigen::Vector2d> LiftEquidistant(const Eigen::Vector2d& px, const Eigen::Vector2d& centre, double f) {
+  const Eigen::Vector2d d = (px - centre) / f;
+  const double theta = d.norm();
+  if (theta >= 80.0 * M_PI / 180.0) return std::nullopt;
+  return theta > 0 ? Eigen::Vector2d(d * (std::tan(theta) / theta)) : Eigen::Vector2d(d);
+}
+
+// The start of a fisheye calibration: Zhang's closed form on distorted pixels
+// fails for a wide lens (a board spanning 90° of the field is no homography
+// of the plane), so the lens is first taken as equidistant about the image
+// centre, the Kannala–Brandt model with k1..k4 = 0. Its focal length is the
+// one, on a geometric ladder from a 10° to a 200° diagonal field, whose lifted
+// corners fit a homography per view best (RMS in pixels, through the same
+// lens); the ladder's step (3%) is refined by a parabola through the best
+// rung and its neighbours. Returns K = [f 0 cx; 0 f cy] and the homographies
+// of the lifted corners (pinhole coordinates, K = identity); false when no
+// focal length fits every view.
+bool FisheyeStart(const std::vector<CalibrationView>& views, int width, int height, Eigen::Matrix3d* k,
+                  std::vector<Eigen::Matrix3d>* lifted_homographies) {
+  const Eigen::Vector2d centre(0.5 * (width - 1), 0.5 * (height - 1));
+  const double half_diagonal = centre.norm();
+  auto fit = [&](double f, std::vector<Eigen::Matrix3d>* hs) {
+    double sum2 = 0;
+    size_t n = 0;
+    if (hs) hs->clear();
+    for (const CalibrationView& view : views) {
+      std::vector<Eigen::Vector2d> from, to, seen;
+      for (size_t i = 0; i < view.pixels.size(); ++i) {
+        const auto q = LiftEquidistant(view.pixels[i], centre, f);
+        if (!q) continue;
+        from.push_back(view.target_points[i].head<2>());
+        to.push_back(*q);
+        seen.push_back(view.pixels[i]);
+      }
+      Eigen::Matrix3d h;
+      if (from.size() < 4 || !EstimateHomography(from, to, &h)) return std::numeric_limits<double>::infinity();
+      for (size_t i = 0; i < from.size(); ++i) {
+        const Eigen::Vector3d q = h * from[i].homogeneous();
+        if (!(q.z() > 0)) return std::numeric_limits<double>::infinity();
+        const Eigen::Vector2d m = q.head<2>() / q.z();
+        const double r = m.norm();
+        const Eigen::Vector2d px = centre + (r > 0 ? Eigen::Vector2d(m * (f * std::atan(r) / r)) : Eigen::Vector2d(f * m));
+        sum2 += (px - seen[i]).squaredNorm();
+        ++n;
+      }
+      if (hs) hs->push_back(h);
+    }
+    return n > 0 ? std::sqrt(sum2 / double(n)) : std::numeric_limits<double>::infinity();
+  };
+  // f = half diagonal / half field angle: 100° (wide) to 5° (narrow) half fields.
+  const double f_min = half_diagonal / (100.0 * M_PI / 180.0), f_max = half_diagonal / (5.0 * M_PI / 180.0);
+  const double step = std::log(1.03);
+  std::vector<double> fs, rms;
+  for (double lf = std::log(f_min); lf <= std::log(f_max); lf += step) {
+    fs.push_back(std::exp(lf));
+    rms.push_back(fit(fs.back(), nullptr));
+  }
+  const size_t best = size_t(std::min_element(rms.begin(), rms.end()) - rms.begin());
+  if (!std::isfinite(rms[best])) return false;
+  double lf = std::log(fs[best]);
+  if (best > 0 && best + 1 < fs.size() && std::isfinite(rms[best - 1]) && std::isfinite(rms[best + 1])) {
+    const double a = rms[best - 1], b = rms[best], c = rms[best + 1];
+    const double den = a - 2 * b + c;
+    if (den > 0) lf += 0.5 * step * (a - c) / den;
+  }
+  const double f = std::exp(lf);
+  if (!std::isfinite(fit(f, lifted_homographies))) return false;
+  *k << f, 0, centre.x(), 0, f, centre.y(), 0, 0, 1;
+  // Pinhole coordinates of the lifted corners: K = identity for the extrinsics.
+  for (auto& h : *lifted_homographies) h = *k * h;
+  return true;
+}
+
+}  // namespace
+
 CameraCalibrationResult CalibrateCamera(const std::vector<CalibrationView>& views, int width, int height,
                                         const CameraCalibrationOptions& options) {
   options.Check();
@@ -302,13 +385,25 @@ CameraCalibrationResult CalibrateCamera(const std::vector<CalibrationView>& view
 
   // ---- closed form
   Eigen::Matrix3d k;
-  if (!ClosedFormIntrinsics(homographies, width, height, &k)) {
+  std::vector<Eigen::Matrix3d> start_homographies = homographies;
+  bool closed_form = false;
+  if (options.model == DistortionModel::kFisheye) {
+    // A wide lens's board is far from a projective image of a plane: the
+    // start is that of an equidistant lens (FisheyeStart), whose pixels lifted
+    // to a pinhole's give the homographies.
+    closed_form = FisheyeStart(views, width, height, &k, &start_homographies);
+  }
+  if (!closed_form) {
+    start_homographies = homographies;
+    closed_form = ClosedFormIntrinsics(homographies, width, height, &k);
+  }
+  if (!closed_form) {
     return refuse(
         "closed-form intrinsics do not exist for these views (the image of the absolute conic is not positive "
         "definite): the views are too close to parallel to the image plane, or too few");
   }
   res.closed_form_fx = k(0, 0), res.closed_form_fy = k(1, 1), res.closed_form_cx = k(0, 2), res.closed_form_cy = k(1, 2);
-  for (const auto& h : homographies) res.closed_form_cam_from_target.push_back(ClosedFormExtrinsics(k, h));
+  for (const auto& h : start_homographies) res.closed_form_cam_from_target.push_back(ClosedFormExtrinsics(k, h));
 
   // ---- refinement
   Layout layout;
