@@ -189,7 +189,7 @@ void Run(ExtractArgs& a) {
 void AddExtract(CLI::App& app) {
   auto args = std::make_shared<ExtractArgs>();
   auto* cmd = app.add_subcommand("extract", "Find laser stripe centres in images (CSV: u,v,width,strength[,plane])");
-  cmd->add_option("images", args->images, "Image files (PNG, TIFF, EXR; 8/16-bit or float)")->required();
+  cmd->add_option("images", args->images, "Image files (PNG, TIFF, EXR, JPEG, PGM; 8/16-bit or float; an alpha channel is left out)")->required();
   cmd->add_option("--method", args->method, "max | com | multicom | steger")->capture_default_str();
   cmd->add_option("--axis", args->axis, "rows (stripes run top to bottom) | cols (left to right)")
       ->capture_default_str();
