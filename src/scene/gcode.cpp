@@ -268,6 +268,11 @@ void GcodeReader::ReadLine(std::string_view line, int line_no) {
     path_.program_end_command = CommandName('M', n);
     return;
   }
+  if (letter == 'M' && n == 200) {
+    ReadWords(code, pos, true, true);
+    VolumetricExtrusion();
+    return;
+  }
   if (letter == 'M' && n == 207) {
     ReadWords(code, pos, true, true);
     RetractSettings();

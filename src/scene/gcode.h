@@ -30,6 +30,8 @@
 //                   (Klipper's rule; Marlin's too, except that its G90 also ends M83)
 //   M2, M30         program end: later lines are not read, only counted ("M30 name",
 //                   Marlin's SD file delete, is skipped)
+//   M200            volumetric extrusion: D diameter (D0 off), S0/S1 off/on; E in mm^3,
+//                   held as the length of that diameter's filament (Marlin's rules)
 //   M207            firmware retraction settings
 //   F               feed rate in mm/min (inch/min under G20), modal, shared by G0-G3
 // Comments: ;LAYER:n (Cura) sets the layer; ;LAYER_CHANGE (PrusaSlicer) starts the

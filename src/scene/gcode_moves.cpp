@@ -76,7 +76,24 @@ double GcodeReader::Extruded() {
   double& logical = e_logical_mm_[axis];
   double delta = ERelative() ? v : v - logical;
   logical = ERelative() ? logical + v : v;
+  // Volumetric: mm^3 of filament, as the length of the M200 diameter's filament.
+  if (volumetric_ && volumetric_diameter_mm_ > 0) delta /= M_PI * 0.25 * volumetric_diameter_mm_ * volumetric_diameter_mm_;
   return delta;
+}
+
+void GcodeReader::VolumetricExtrusion() {
+  // Marlin's and RepRapFirmware's M200: D the filament diameter (mm; D0 turns volumetric
+  // extrusion off), S0/S1 off/on with the last diameter; T the extruder (all alike here).
+  Expect("DSTL", "M200");
+  if (const Word* d = Find('D')) {
+    if (*d->value < 0) Fail("M200 D (filament diameter) must be >= 0, got " + FormatNumber(*d->value));
+    // As Marlin: D0 turns it off and keeps the diameter for a later S1.
+    if (*d->value > 0) volumetric_diameter_mm_ = *d->value * unit_mm_;
+    volumetric_ = *d->value > 0;
+  }
+  if (const Word* on = Find('S')) volumetric_ = *on->value != 0 && !(Find('D') && *Find('D')->value == 0);
+  // The part's beads take the filament's volume: the diameter the lengths are of.
+  if (volumetric_ && volumetric_diameter_mm_ > 0) path_.filament_diameter_m = volumetric_diameter_mm_ * kMetresPerMm;
 }
 
 void GcodeReader::AddSegment(int gcode, const Eigen::Vector3d& end_mm, double extruded_mm, double length_mm,

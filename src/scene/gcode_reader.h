@@ -65,6 +65,8 @@ class GcodeReader {
   // Firmware retraction (G10/G11) and its settings (M207).
   void FirmwareRetract(bool retract);
   void RetractSettings();
+  // M200 D (filament diameter; D0 off) and S (0 off, 1 on): E in cubic millimetres.
+  void VolumetricExtrusion();
   // Checks a line's checksum ("N12 G1 X5*57": XOR of the bytes before '*'; the
   // number runs to `end`, the line's ';' comment or npos).
   void CheckChecksum(std::string_view line, size_t star, size_t end);
@@ -97,6 +99,9 @@ class GcodeReader {
   Eigen::Vector3d pos_mm_ = Eigen::Vector3d::Zero();     // machine position
   Eigen::Vector3d offset_mm_ = Eigen::Vector3d::Zero();  // machine = logical + offset (G92)
   double e_logical_mm_[3] = {0, 0, 0};  // E, A, B
+  // Volumetric extrusion (M200): E words are mm^3 of this diameter's filament (0: off).
+  double volumetric_diameter_mm_ = 0;
+  bool volumetric_ = false;
   double feed_mm_s_ = 0;  // 0: none given yet
   double unit_mm_ = 1;    // 25.4 under G20
   bool xyz_relative_ = false;

@@ -168,6 +168,21 @@ TEST(GcodeDialects, ExtruderAxesAAndBAreExtrusion) {
               HasSubstr("m.gcode:1: both E and A: one extruder axis per move"));
 }
 
+// Volumetric extrusion (M200 D, PrusaSlicer's "use_volumetric_e"): E is mm^3; the
+// toolpath holds the length of the M200 diameter's filament, and the beads its volume.
+TEST(GcodeDialects, VolumetricExtrusionReadsEAsCubicMillimetres) {
+  Toolpath p = ParseGcode("M83\nM200 D2.85\nG1 X10 E6 F600\nM200 D0\nG1 X20 E1\nM200 S1\nG1 X30 E6\n", "vol.gcode");
+  ASSERT_EQ(p.segments.size(), 3u);
+  const double area_mm2 = M_PI * 0.25 * 2.85 * 2.85;
+  EXPECT_NEAR(p.segments[0].extruded_m, 6 / area_mm2 * kMm, 1e-15);
+  EXPECT_NEAR(p.segments[1].extruded_m, 1 * kMm, 1e-15);  // D0: lengths again
+  EXPECT_NEAR(p.segments[2].extruded_m, 6 / area_mm2 * kMm, 1e-15);  // S1: on with the last D
+  EXPECT_NEAR(p.filament_diameter_m, 2.85 * kMm, 1e-15);
+  Mesh first = BeadMeshUpTo(p, p.segments[0].t_end_s, BeadOptions{.layer_height_m = 0.2e-3});
+  EXPECT_NEAR(MeshVolume(first), 6e-9, 1e-3 * 6e-9);  // 6 mm^3
+  EXPECT_THAT(ErrorOf([] { ParseGcode("M200 D-1\n", "v.gcode"); }), HasSubstr("v.gcode:1: M200 D"));
+}
+
 // Cura's "one at a time": each object from its layer 0 at the bed, ;LAYER: numbered
 // from 0 again, a travel above the printed objects between them.
 std::string OneAtATime() {
