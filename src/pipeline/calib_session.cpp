@@ -179,11 +179,34 @@ SessionTruth ReadSessionTruth(const fs::path& run_dir) {
   return t;
 }
 
+namespace {
+
+// A frame must have the rig camera's size: the corners and the stripe are
+// read in its pixels.
+void CheckFrameSize(const AnyImage& image, const RunFrame& frame, const RunRig& rig) {
+  int w = 0, h = 0;
+  std::visit(
+      [&](const auto& im) {
+        w = im.width;
+        h = im.height;
+      },
+      image);
+  if (w == rig.camera.width() && h == rig.camera.height()) return;
+  throw InputError(frame.image.string(), "the image is " + std::to_string(w) + "x" + std::to_string(h) +
+                                             " but the camera (" + rig.source.string() + ") is " +
+                                             std::to_string(rig.camera.width()) + "x" +
+                                             std::to_string(rig.camera.height()) + " (frame " +
+                                             std::to_string(frame.index) + ")");
+}
+
+}  // namespace
+
 std::vector<SessionView> ReadSessionViews(const fs::path& run_dir, const CheckerboardSpec& board,
                                           const CornerDetectionOptions& corners) {
   board.Check();
   corners.Check();
   const std::vector<RunFrame> frames = ReadRunManifest(run_dir);
+  const RunRig rig = ReadRunRig(run_dir);
   std::vector<SessionView> views;
   for (size_t i = 0; i < frames.size(); ++i) {
     const RunFrame& f = frames[i];
@@ -193,7 +216,9 @@ std::vector<SessionView> ReadSessionViews(const fs::path& run_dir, const Checker
     if (i + 1 < frames.size() && frames[i + 1].IsLaserFrame()) v.dim_frame = frames[i + 1].index;
     v.world_from_tool = f.world_from_tool;
     v.world_from_cam = f.world_from_cam;
-    v.detection = DetectCheckerboard(ReadFrameImage(f), board, corners);
+    const AnyImage image = ReadFrameImage(f);
+    CheckFrameSize(image, f, rig);
+    v.detection = DetectCheckerboard(image, board, corners);
     views.push_back(std::move(v));
   }
   if (views.empty()) {
@@ -273,6 +298,7 @@ SessionLaserResult CalibrateSessionLaser(const fs::path& run_dir, const Checkerb
     }
     const RunFrame& dim = frames.at(sv.dim_frame);
     const AnyImage image = ReadFrameImage(dim);
+    CheckFrameSize(image, dim, rig);
     ExtractionOptions given = options.extraction;
     given.axis = r.axis;
     // As in scan: a mosaic demosaiced, a colour frame on the laser's channels.

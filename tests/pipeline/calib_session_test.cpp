@@ -196,6 +196,25 @@ TEST(CalibSessionRun, CameraAndHandEyeFromARecordedSession) {
     EXPECT_NE(v.note.find("no stripe on the board"), std::string::npos) << v.note;
   }
   for (const LaserPlaneFit& f : laser.fits) EXPECT_FALSE(f.ok);
+
+  // A bright or dim frame of another size than the rig's camera is an error
+  // naming it (the corners or the stripe would be read in the wrong pixels).
+  for (const char* frame : {"frames/4.png", "frames/5.png"}) {
+    const Image<uint16_t> original = std::get<Image<uint16_t>>(ReadImage(run / frame));
+    WriteImage(run / frame, Image<uint16_t>(320, 240, 1));
+    try {
+      if (std::string(frame) == "frames/4.png") {
+        CalibrateSessionCamera(run, board);
+      } else {
+        CalibrateSessionLaser(run, board, calibrated, o);
+      }
+      ADD_FAILURE() << frame << " of another size was taken";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(frame), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("the image is 320x240 but the camera"), std::string::npos) << e.what();
+    }
+    WriteImage(run / frame, original);
+  }
   std::filesystem::remove_all(run);
 }
 
