@@ -43,7 +43,8 @@
 // KISSlicer's "; BEGIN_LAYER_OBJECT z=.. z_thickness=h" start the next layer (with
 // height h); Simplify3D's "; feature name", KISSlicer's "; 'Name Path', ..." and
 // CraftWare's ";segType:name" name the type; header "layerHeight,", "filamentDiameters,"
-// (Simplify3D), "layer_thickness_mm =", "fiber_dia_mm =" (KISSlicer). Comments hold
+// (Simplify3D), "layer_thickness_mm =", "fiber_dia_mm =" (KISSlicer), "sliceHeight ="
+// (Kiri:Moto). Comments hold
 // millimetres under G20 too. A file without any layer comment takes its layers from
 // the heights it extrudes at (Toolpath::layers_from_z). Structured
 // comments count only on lines holding nothing else. Line numbers (N) are dropped; a

@@ -109,6 +109,8 @@ void GcodeReader::Comment(std::string_view comment) {
     path_.header_layer_height_m = *CommentNumber(c.substr(14), "layer_height") * kMetresPerMm;
   } else if (StartsWith(c, "layer_thickness_mm =")) {  // KISSlicer
     path_.header_layer_height_m = *CommentNumber(c.substr(20), "layer_thickness_mm") * kMetresPerMm;
+  } else if (StartsWith(c, "sliceHeight =")) {  // Kiri:Moto's process settings
+    path_.header_layer_height_m = *CommentNumber(c.substr(13), "sliceHeight") * kMetresPerMm;
   } else if (StartsWith(c, "layerHeight,")) {  // Simplify3D's settings summary
     path_.header_layer_height_m = *CommentNumber(c.substr(12), "layerHeight") * kMetresPerMm;
   } else if (StartsWith(c, "filament_diameter =")) {
