@@ -236,7 +236,7 @@ void PathTracer::Trace(const Ray& camera_ray, const FrameLights& lights, Rng& rn
     v.wo = v.ToLocal(-dir);
     if (v.wo.z() <= 0) v.wo.z() = 1e-6f;  // shading normal bent away from the viewer
     v.wo.normalize();
-    v.base_color = v.material->BaseColorAt(hit->uv);
+    v.base_color = BaseColorAt(*v.material, *hit);
     v.ggx = material_ggx_[hit->material_id];
     for (int g = 0; g < lights.groups && g < kMaxGroups; ++g) {
       v.albedo_mono[size_t(g)] = ValueAtWavelength(v.base_color, group_wavelength[size_t(g)]);

@@ -149,7 +149,7 @@ void PathTracer::ConnectToLaserLight(const Vertex& v, const FrameLights& lights,
       if (wo1.z() <= 0) wo1.z() = 1e-6f;
       wo1.normalize();
       const Eigen::Vector3f wl1 = frame1.ToLocal(wl.cast<float>());
-      const float a1 = float(ValueAtWavelength(m1.BaseColorAt(hit->uv), e.wavelength_m));
+      const float a1 = float(ValueAtWavelength(BaseColorAt(m1, *hit), e.wavelength_m));
       const Eigen::Vector3d p1_proj = e.projector_from_world * x1;
       double l1 = 0;
       if (wl1.z() > 0) {

@@ -190,7 +190,7 @@ void PathTracer::TraceLightPaths(const FrameLights& lights, const Camera& camera
           const Frame frame1 = Frame::FromNormal(ns1.cast<float>());
           const Eigen::Vector3f wl1 = frame1.ToLocal(wl.cast<float>());
           if (wl1.z() <= 0) continue;
-          const float a1 = float(ValueAtWavelength(m1.BaseColorAt(hit1->uv), e.wavelength_m));
+          const float a1 = float(ValueAtWavelength(BaseColorAt(m1, *hit1), e.wavelength_m));
           const BsdfParams params = EmitterReflection(m1, ScattersBelowSurface(m1), a1);
           const Bsdf bsdf1(params.base_color, params.metallic, material_ggx_[hit1->material_id]);
           const BsdfSample bs1 = bsdf1.Sample(wl1, rng.NextFloat(), rng.NextFloat(), rng.NextFloat());
@@ -216,7 +216,7 @@ void PathTracer::TraceLightPaths(const FrameLights& lights, const Camera& camera
             const Frame frame_x = Frame::FromNormal(ns.cast<float>());
             const Eigen::Vector3f w_in = frame_x.ToLocal((-w).cast<float>());
             if (!(cos_in > 0) || w_in.z() <= 0) break;
-            const float a = float(ValueAtWavelength(m.BaseColorAt(hit->uv), e.wavelength_m));
+            const float a = float(ValueAtWavelength(BaseColorAt(m, *hit), e.wavelength_m));
             const Bsdf bsdf(Eigen::Vector3f::Constant(a), m.metallic, material_ggx_[hit->material_id]);
             const double shading = double(w_in.z()) / cos_in;
             // Connect x to a point of the lens.

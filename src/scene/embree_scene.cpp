@@ -258,6 +258,11 @@ Hit EmbreeScene::MakeHit(const Ray& ray, uint32_t instance_id, uint32_t primitiv
               bv * mesh.texcoords[tri[2]].cast<double>())
                  .cast<float>();
   }
+  if (!mesh.colors.empty()) {
+    hit.vertex_color = (bw * mesh.colors[tri[0]].cast<double>() + bu * mesh.colors[tri[1]].cast<double>() +
+                        bv * mesh.colors[tri[2]].cast<double>())
+                           .cast<float>();
+  }
   hit.front_face = ray.direction.dot(hit.geometric_normal) < 0;
   return hit;
 }

@@ -50,13 +50,20 @@ struct Hit {
   Eigen::Vector3d position;               // world frame, metres
   Eigen::Vector3d geometric_normal;       // world, unit, front side (counter-clockwise winding)
   Eigen::Vector3d shading_normal;         // world, unit, interpolated vertex normal
-  Eigen::Vector2f uv = Eigen::Vector2f::Zero();  // interpolated TEXCOORD_0 (0 when the mesh has none)
+  Eigen::Vector2f uv = Eigen::Vector2f::Zero();  // interpolated texture coordinates (0 when the mesh has none)
+  Eigen::Vector3f vertex_color = Eigen::Vector3f::Ones();  // interpolated Mesh::colors (1 when the mesh has none)
   Eigen::Vector2f barycentric;            // (u, v): position = (1-u-v) p0 + u p1 + v p2 (refined in double)
   uint32_t material_id = 0;               // index into SceneGeometry::materials
   uint32_t instance_id = 0;               // index into SceneGeometry::instances
   uint32_t primitive_id = 0;              // triangle index within the instance's mesh
   bool front_face = true;                 // the ray arrived on the side geometric_normal points to
 };
+
+// The base colour at a hit: the material's (its texture at hit.uv) times the
+// mesh's vertex colour there (glTF: COLOR_0 multiplies the base colour).
+inline Eigen::Vector3f BaseColorAt(const Material& material, const Hit& hit) {
+  return material.BaseColorAt(hit.uv).cwiseProduct(hit.vertex_color);
+}
 
 class EmbreeScene {
  public:

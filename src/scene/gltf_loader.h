@@ -13,8 +13,9 @@
 // inverse bind matrices; the skinned node's transform ignored, as glTF specifies),
 // EXT_mesh_gpu_instancing, the uncompressed fallback of Draco / meshopt
 // compression that is not required.
+// COLOR_0 vertex colours multiply the base colour (Mesh::colors).
 // Points and lines are skipped with a warning naming the mesh; so are other unrendered
-// features (COLOR_0, material extensions, animations). Degenerate
+// features (material extensions, animations). Degenerate
 // triangles are counted and dropped. See docs/scene-format.md.
 // A mesh used by several nodes is loaded once and instanced.
 //

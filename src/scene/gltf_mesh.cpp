@@ -1,5 +1,7 @@
 #include "scene/gltf_mesh.h"
 
+#include <algorithm>
+
 #include <tiny_gltf.h>
 
 #include <cmath>
@@ -219,9 +221,6 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Materia
     any_texcoords |= uv_accessor[pi] >= 0;
     any_colors |= prim.attributes.count("COLOR_0") != 0;
   }
-  if (any_colors) {
-    warnings->push_back(src.file + ": mesh \"" + mesh.name + "\": COLOR_0 vertex colours ignored (not rendered)");
-  }
 
   for (size_t pi = 0; pi < gm.primitives.size(); ++pi) {
     const tinygltf::Primitive& prim = gm.primitives[pi];
@@ -297,6 +296,24 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Materia
       CheckFinite(src, acc, uv, 2, "texture coordinate", &used);
     }
 
+    // COLOR_0 (RGB or RGBA, linear; glTF 3.7.2.1): multiplies the base
+    // colour. Alpha is dropped (surfaces are opaque); a primitive without it
+    // in a mesh with it gets white.
+    std::vector<float> rgb;
+    if (int acc = FindAttribute(src, prim, "COLOR_0", where); acc >= 0) {
+      const int components = src.model.accessors[size_t(acc)].type == TINYGLTF_TYPE_VEC4 ? 4 : 3;
+      const std::vector<float> c = ReadFloatAccessor(src, acc, components);
+      if (c.size() / size_t(components) != nverts) {
+        throw InputError(GltfWhere(src, "accessors", acc), "COLOR_0 has " + std::to_string(c.size() / size_t(components)) +
+                                                               " elements, POSITION " + std::to_string(nverts));
+      }
+      CheckFinite(src, acc, c, components, "vertex colour", &used);
+      rgb.resize(3 * nverts);
+      for (size_t v = 0; v < nverts; ++v)
+        for (int k = 0; k < 3; ++k) rgb[3 * v + size_t(k)] = std::clamp(c[size_t(components) * v + size_t(k)], 0.0f, 1.0f);
+    }
+    auto color_of = [&](size_t v) { return rgb.empty() ? Eigen::Vector3f::Ones().eval() : Vec3At(rgb, v); };
+
     ApplyMorphTargets(src, prim, where, morph, &pos, &nrm);
     if (morph != nullptr && !prim.targets.empty()) CheckFinite(src, pos_acc, pos, 3, "morphed position", &used);
 
@@ -339,6 +356,7 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Materia
       mesh.positions.reserve(base + kept_vertices);
       mesh.normals.reserve(base + kept_vertices);
       if (any_texcoords) mesh.texcoords.reserve(base + kept_vertices);
+      if (any_colors) mesh.colors.reserve(base + kept_vertices);
       std::vector<uint32_t> zero;  // new indices
       for (size_t v = 0; v < nverts; ++v) {
         if (remap[v] == UINT32_MAX) continue;
@@ -350,6 +368,7 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Materia
         if (any_texcoords) {
           mesh.texcoords.push_back(uv.empty() ? Eigen::Vector2f::Zero() : Eigen::Vector2f(uv[2 * v], uv[2 * v + 1]));
         }
+        if (any_colors) mesh.colors.push_back(color_of(v));
       }
       for (uint32_t& i : tri) i = remap[i];
       if (!zero.empty()) {
@@ -380,6 +399,7 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Materia
       mesh.positions.reserve(base + tri.size());
       mesh.normals.reserve(base + tri.size());
       if (any_texcoords) mesh.texcoords.reserve(base + tri.size());
+      if (any_colors) mesh.colors.reserve(base + tri.size());
       mesh.indices.reserve(mesh.indices.size() + tri.size());
       for (size_t t = 0; t < tri.size() / 3; ++t) {
         Eigen::Vector3f p[3] = {Vec3At(pos, tri[3 * t]), Vec3At(pos, tri[3 * t + 1]), Vec3At(pos, tri[3 * t + 2])};
@@ -388,10 +408,11 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Materia
           mesh.indices.push_back(uint32_t(mesh.positions.size()));
           mesh.positions.push_back(p[k]);
           mesh.normals.push_back(fn);
+          const uint32_t v = tri[3 * t + k];
           if (any_texcoords) {
-            uint32_t v = tri[3 * t + k];
             mesh.texcoords.push_back(uv.empty() ? Eigen::Vector2f::Zero() : Eigen::Vector2f(uv[2 * v], uv[2 * v + 1]));
           }
+          if (any_colors) mesh.colors.push_back(color_of(v));
         }
       }
     }

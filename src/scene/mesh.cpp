@@ -13,7 +13,8 @@ Eigen::AlignedBox3d Mesh::Bounds() const {
 
 size_t Mesh::MemoryBytes() const {
   return positions.capacity() * sizeof(Eigen::Vector3f) + normals.capacity() * sizeof(Eigen::Vector3f) +
-         texcoords.capacity() * sizeof(Eigen::Vector2f) + indices.capacity() * sizeof(uint32_t) +
+         texcoords.capacity() * sizeof(Eigen::Vector2f) + colors.capacity() * sizeof(Eigen::Vector3f) +
+         indices.capacity() * sizeof(uint32_t) +
          triangle_material.capacity() * sizeof(uint32_t);
 }
 
@@ -22,6 +23,9 @@ void Mesh::Validate() const {
   if (normals.size() != positions.size()) throw std::logic_error(what + "normals/positions size mismatch");
   if (!texcoords.empty() && texcoords.size() != positions.size()) {
     throw std::logic_error(what + "texcoords/positions size mismatch");
+  }
+  if (!colors.empty() && colors.size() != positions.size()) {
+    throw std::logic_error(what + "colors/positions size mismatch");
   }
   if (indices.size() % 3 != 0) throw std::logic_error(what + "index count not a multiple of 3");
   if (triangle_material.size() != TriangleCount()) {

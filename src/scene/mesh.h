@@ -21,6 +21,9 @@ struct Mesh {
   std::vector<Eigen::Vector3f> positions;
   std::vector<Eigen::Vector3f> normals;    // unit length
   std::vector<Eigen::Vector2f> texcoords;  // glTF UV: (0,0) top left of the image
+  // Linear RGB per vertex (glTF COLOR_0), multiplying the material's base
+  // colour; empty when the mesh has none.
+  std::vector<Eigen::Vector3f> colors;
   std::vector<uint32_t> indices;           // 3 per triangle
   std::vector<uint32_t> triangle_material; // 1 per triangle
 

@@ -74,6 +74,28 @@ TEST(EmbreeScene, HitsTheSquareWhereItIs) {
   EXPECT_EQ(back->primitive_id, 0u);
 }
 
+// Vertex colours are interpolated at the hit and multiply the material's base
+// colour. Colours affine in x and y over the square are exact under the
+// barycentric interpolation anywhere on it.
+TEST(EmbreeScene, VertexColoursMultiplyTheBaseColour) {
+  auto g = Geometry({Eigen::Affine3d::Identity()});
+  auto colour = [](double x, double y) { return Eigen::Vector3f(float(0.2 + 0.6 * x), float(0.3 + 0.4 * y), 0.9f); };
+  Mesh& m = g->meshes[0];
+  for (const Eigen::Vector3f& p : m.positions) m.colors.push_back(colour(p.x(), p.y()));
+  m.Validate();
+  g->materials[0].base_color = {0.5f, 0.8f, 1.0f};
+  const EmbreeScene scene(g);
+  for (auto [x, y] : {std::pair{0.25, 0.5}, {0.8, 0.1}, {0.1, 0.9}}) {
+    const auto hit = scene.Intersect(Down(x, y));
+    ASSERT_TRUE(hit);
+    EXPECT_TRUE(hit->vertex_color.isApprox(colour(x, y), 1e-6f)) << hit->vertex_color.transpose();
+    EXPECT_TRUE(BaseColorAt(g->materials[0], *hit).isApprox(colour(x, y).cwiseProduct(Eigen::Vector3f(0.5f, 0.8f, 1.0f)), 1e-6f));
+  }
+  // Without colours: white, the material's colour as it is.
+  const EmbreeScene plain(Geometry({Eigen::Affine3d::Identity()}));
+  EXPECT_EQ(plain.Intersect(Down(0.25, 0.5))->vertex_color, Eigen::Vector3f::Ones());
+}
+
 TEST(EmbreeScene, RespectsTheRayInterval) {
   EmbreeScene scene(Geometry({Eigen::Affine3d::Identity()}));
   Ray r = Down(0.5, 0.25, 1);

@@ -528,7 +528,7 @@ TEST(GltfLoader, SpecularGlossinessIsConvertedWithAWarning) {
 }
 
 // Features that are not rendered are reported, never silently dropped.
-TEST(GltfLoader, IgnoredExtensionsAndVertexColoursAreWarned) {
+TEST(GltfLoader, IgnoredExtensionsAreWarned) {
   GltfBuilder b = test::SquareBuilder();
   int glass = b.AddMaterial("glass", {1, 1, 1, 1}, 0, 0);
   int bottle = b.AddMaterial("bottle", {1, 1, 1, 1}, 0, 0);
@@ -536,8 +536,6 @@ TEST(GltfLoader, IgnoredExtensionsAndVertexColoursAreWarned) {
                                                         {"KHR_materials_ior", {{"ior", 1.5}}}};
   b.json()["materials"][size_t(bottle)]["extensions"] = {{"KHR_materials_transmission", {{"transmissionFactor", 1}}}};
   b.json()["meshes"][0]["primitives"][0]["material"] = glass;
-  std::vector<float> colours(16, 1.0f);
-  b.json()["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = b.AddFloats(colours, "VEC4");
   TempDir dir;
   b.WriteGlb(dir / "model.glb");
   GltfAsset a = LoadGltf(dir / "model.glb", "model.glb");
@@ -545,8 +543,53 @@ TEST(GltfLoader, IgnoredExtensionsAndVertexColoursAreWarned) {
                               "model.glb: KHR_materials_ior ignored (not rendered), used by material \"glass\"",
                               "model.glb: KHR_materials_transmission: transmitted light is not traced; the diffuse "
                               "share it takes is removed (base colour times 1 - transmissionFactor), materials "
-                              "\"glass\", \"bottle\"",
-                              "model.glb: mesh \"square\": COLOR_0 vertex colours ignored (not rendered)"));
+                              "\"glass\", \"bottle\""));
+}
+
+// COLOR_0 (Meshroom, Open3D and trimesh meshes carry their colour only so):
+// RGB or RGBA, float or normalised integers, read as linear RGB per vertex
+// (alpha dropped) into Mesh::colors, which multiply the base colour
+// (scene/embree_scene.h BaseColorAt; tests/scene/embree_scene_test.cpp).
+TEST(GltfLoader, VertexColoursAreRead) {
+  {
+    GltfBuilder b = test::SquareBuilder();
+    const std::vector<float> rgba = {1, 0, 0, 0.5f, 0, 1, 0, 1, 0, 0, 1, 1, 0.25f, 0.5f, 0.75f, 0};
+    b.json()["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = b.AddFloats(rgba, "VEC4");
+    TempDir dir;
+    b.WriteGlb(dir / "model.glb");
+    const GltfAsset a = LoadGltf(dir / "model.glb", "model.glb");
+    EXPECT_TRUE(a.warnings.empty()) << a.warnings[0];
+    ASSERT_EQ(a.meshes.size(), 1u);
+    const Mesh& m = a.meshes[0];
+    ASSERT_EQ(m.colors.size(), m.positions.size());
+    for (size_t v = 0; v < m.positions.size(); ++v) {
+      // The loader keeps the file's vertex order for the square (all used).
+      EXPECT_EQ(m.colors[v], Eigen::Vector3f(rgba[4 * v], rgba[4 * v + 1], rgba[4 * v + 2])) << v;
+    }
+  }
+  {
+    // Normalised unsigned bytes, RGB, on a primitive without normals (flat:
+    // each triangle gets its own corners, which keep their colours).
+    GltfBuilder b = test::SquareBuilder(false);
+    // Each element padded to 4 bytes, as glTF aligns vertex attributes.
+    const std::vector<uint8_t> rgb = {255, 0, 0, 0, 255, 0, 0, 0, 255, 51, 102, 204};
+    std::vector<uint8_t> padded;
+    for (size_t v = 0; v < 4; ++v) padded.insert(padded.end(), {rgb[3 * v], rgb[3 * v + 1], rgb[3 * v + 2], 0});
+    const int view = b.AddBufferView(padded.data(), padded.size(), 4);
+    const int acc = b.AddAccessor(view, 5121, 4, "VEC3", true);
+    b.json()["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = acc;
+    TempDir dir;
+    b.WriteGlb(dir / "model.glb");
+    const GltfAsset a = LoadGltf(dir / "model.glb", "model.glb");
+    const Mesh& m = a.meshes.at(0);
+    ASSERT_EQ(m.colors.size(), 6u);
+    const std::vector<uint32_t> corners = test::SquareIndices();
+    for (size_t k = 0; k < 6; ++k) {
+      const uint32_t v = corners[k];
+      EXPECT_TRUE(m.colors[k].isApprox(Eigen::Vector3f(rgb[3 * v], rgb[3 * v + 1], rgb[3 * v + 2]) / 255.0f))
+          << k << ": " << m.colors[k].transpose();
+    }
+  }
 }
 
 // Adds JOINTS_0 (unsigned bytes) and WEIGHTS_0 (floats) to primitive 0 of mesh 0.
