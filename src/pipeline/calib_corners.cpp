@@ -6,6 +6,7 @@
 #include "pipeline/calib_corners.h"
 
 #include <algorithm>
+#include <optional>
 #include <cmath>
 #include <string>
 #include <type_traits>
@@ -31,6 +32,7 @@ using corner_detail::GridPrediction;
 using corner_detail::OffGrid;
 using corner_detail::PointAsymmetry;
 using corner_detail::SaddleAtScale;
+using corner_detail::RefineSaddle;
 using corner_detail::SaddleNear;
 using corner_detail::ScaleResult;
 
@@ -133,6 +135,49 @@ bool CornersOnGrid(const Image<float>& img, double noise, const ContrastFloor& f
   return true;
 }
 
+// The image halved in each direction, each pixel the mean of a 2 x 2 block
+// (an odd last row or column dropped): half-image pixel (x, y) is centred on
+// full-image point (2x + 0.5, 2y + 0.5).
+Image<float> Halved(const Image<float>& img) {
+  Image<float> h(img.width / 2, img.height / 2, 1);
+  for (int y = 0; y < h.height; ++y)
+    for (int x = 0; x < h.width; ++x)
+      h.At(x, y) = 0.25f * (img.At(2 * x, 2 * y) + img.At(2 * x + 1, 2 * y) + img.At(2 * x, 2 * y + 1) +
+                            img.At(2 * x + 1, 2 * y + 1));
+  return h;
+}
+
+// The board found on the image halved (recursively, while the image keeps at
+// least 128 px a side), its corners refined on this image by Newton's method
+// at twice the scale they were found at, from twice their position plus half
+// a pixel; their standard deviations from this image's noise at that scale.
+// nullopt when not found, or when a corner's saddle is not within 2 px here.
+std::optional<CornerDetection> DetectOnHalfImage(const Image<float>& img, double noise,
+                                                 const CheckerboardSpec& board, const CornerDetectionOptions& options) {
+  if (std::min(img.width, img.height) < 256) return std::nullopt;
+  const Image<float> half = Halved(img);
+  CornerDetection d = DetectCheckerboard(half.View(), board, options);
+  if (!d.ok) return std::nullopt;
+  const double sigma = 2 * d.sigma_px;
+  const GaussianKernels kernels(sigma);
+  double kg = 0, k0 = 0;
+  for (float v : kernels.k1) kg += double(v) * v;
+  for (float v : kernels.k0) k0 += double(v) * v;
+  for (size_t k = 0; k < d.corners.size(); ++k) {
+    Eigen::Vector2d p = 2.0 * d.corners[k] + Eigen::Vector2d(0.5, 0.5);
+    Eigen::Matrix2d hessian;
+    if (!RefineSaddle(img.View(), sigma, kernels.radius, 2 * sigma + 2, &p, &hessian)) return std::nullopt;
+    d.corners[k] = p;
+    const Eigen::Matrix2d hinv = hessian.inverse();
+    d.corner_std_px[k] = std::sqrt(noise * noise * kg * k0 * (hinv * hinv.transpose()).trace() / 2);
+  }
+  for (GridCorner& g : d.grid) g.pixel = d.corners[size_t(g.i * board.cols + g.j)];
+  d.sigma_px = sigma;
+  d.noise_sigma = noise;
+  ++d.other_scales_tried;
+  return d;
+}
+
 }  // namespace
 
 void CornerDetectionOptions::Check() const {
@@ -207,6 +252,12 @@ CornerDetection DetectCheckerboard(const ImageView<T>& view, const CheckerboardS
     tried += (tried.empty() ? "" : ", ") + Fmt(s);
   }
   first.det.reason += " (also refused at sigma_px = " + tried + ")";
+  // A board blurred beyond the ladder's largest scale (a large photograph out
+  // of focus): found on the image halved, then each corner refined here.
+  if (std::optional<CornerDetection> half = DetectOnHalfImage(img, noise, board, options)) {
+    half->other_scales_tried += first.det.other_scales_tried;
+    return std::move(*half);
+  }
   return std::move(first.det);
 }
 

@@ -58,7 +58,10 @@
 // corners would lie well inside the image (a board of another size), no
 // contrast, and ambiguous colours are refused at once. When every scale
 // fails, the reason (and grid) is that of the requested scale, with the
-// other scales named.
+// other scales named, unless the board is found on the image halved (a 2 x 2
+// mean, recursively while at least 128 px a side are left: a large photograph
+// out of focus beyond the ladder's largest scale), its corners then refined on
+// the image by Newton's method at twice the scale they were found at.
 //
 // Each corner comes with its predicted standard deviation from the image
 // noise (estimated from the image, Immerkær's operator with a median) through
