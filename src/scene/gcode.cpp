@@ -90,7 +90,12 @@ void GcodeReader::ReadWords(std::string_view code, size_t pos, bool numbers_requ
       w.value = ParseFiniteNumber(number);
       if (!w.value) Fail(std::string(1, letter) + " has a malformed number \"" + std::string(number) + "\"");
     }
-    if (letter == 'G' || letter == 'M' || (letter == 'T' && !t_parameter)) Fail("one command per line: found " + std::string(1, letter) + " after the command");
+    if (letter == 'G' || letter == 'M') {
+      // Several commands on one line ("G21 G90", "G90 G94 G17"): each in turn.
+      next_command_ = code.substr(start - 1);
+      return;
+    }
+    if (letter == 'T' && !t_parameter) Fail("one command per line: found T after the command");
     for (const Word& other : words_) {
       if (other.letter == letter) Fail(std::string(1, letter) + " given twice");
     }
@@ -193,6 +198,15 @@ void GcodeReader::ReadLine(std::string_view line, int line_no) {
     while (pos < code.size() && IsBlank(code[pos])) ++pos;
     if (pos == code.size()) return;
   }
+  ReadCommand(code, pos);
+  while (!next_command_.empty()) {
+    const std::string_view next = next_command_;
+    next_command_ = {};
+    ReadCommand(next, 0);
+  }
+}
+
+void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
   // An extended command (Klipper's PRINT_START, EXCLUDE_OBJECT_START NAME=...,
   // SET_PRESSURE_ADVANCE ADVANCE=...): a name of letters, digits and
   // underscores that does not start with a letter and a number. Skipped, counted by name.

@@ -50,9 +50,13 @@ class GcodeReader {
 
   void Comment(std::string_view comment);
   std::optional<double> CommentNumber(std::string_view text, const char* what) const;
+  // The command at code[pos] (after any line number) and its words.
+  void ReadCommand(std::string_view code, size_t pos);
   // Splits the words after the command. `numbers_required`: every letter needs a number;
-  // `t_parameter`: T is a parameter (M207's), not a tool change.
+  // `t_parameter`: T is a parameter (M207's), not a tool change. A G or M word
+  // ends them: it starts the line's next command (`next_command_`; "G21 G90").
   void ReadWords(std::string_view code, size_t pos, bool numbers_required, bool t_parameter = false);
+  std::string_view next_command_;
   const Word* Find(char letter) const;
   void Expect(std::string_view allowed, const std::string& command) const;
 

@@ -155,6 +155,31 @@ TEST(GcodeDialects, G91MakesERelativeAfterM82AndM83HoldsThroughG90) {
   EXPECT_NEAR(q.ExtrudedLength(), 1 * kMm, 1e-15);
 }
 
+// Several commands on one line, as CNC-style headers write them ("G21 G90",
+// "G90 G94 G17"), run in turn; each takes the words up to the next G or M word.
+// (Before: "one command per line: found G after the command".) A skipped
+// command's text is not split: "M486 AMesh2" names an object, it is no M2.
+TEST(GcodeDialects, SeveralCommandsOnOneLineRunInTurn) {
+  const Toolpath p = ParseGcode(
+      "G20 G91\n"                  // inches, relative
+      "G1 X1 F60 G90 M83\n"        // 1 in along x at 1 in/s, then absolute, E relative
+      "G1 X2 E0.1 G21\n"           // to x = 2 in, extruding 0.1 in; then millimetres
+      "G1 X60.8 E2\n"              // to 60.8 mm (0.4 in on), 2 mm of filament
+      "M486 AMesh2\nG1 X70 E1\n",  // an object's name, then on
+      "multi.gcode");
+  ASSERT_EQ(p.segments.size(), 4u);
+  EXPECT_TRUE(p.segments[0].end_m.isApprox(Eigen::Vector3d(25.4, 0, 0) * kMm));
+  EXPECT_NEAR(p.segments[0].Duration(), 1.0, 1e-12);
+  EXPECT_TRUE(p.segments[1].end_m.isApprox(Eigen::Vector3d(50.8, 0, 0) * kMm));
+  EXPECT_NEAR(p.segments[1].extruded_m, 2.54 * kMm, 1e-12);
+  EXPECT_TRUE(p.segments[2].end_m.isApprox(Eigen::Vector3d(60.8, 0, 0) * kMm));
+  EXPECT_NEAR(p.segments[2].extruded_m, 2 * kMm, 1e-12);
+  EXPECT_EQ(p.program_end_line, 0);
+  EXPECT_EQ(p.segments.size(), 4u);
+  EXPECT_THAT(ErrorOf([] { ParseGcode("G90 G1 X1 T2\n", "t.gcode"); }),
+              HasSubstr("t.gcode:1: one command per line: found T after the command"));
+}
+
 // Mach3 and Machinekit flavours (Cura, PrusaSlicer) extrude on A, MakerBot's second
 // extruder on B: each is an extruder axis with its own position, reset by G92.
 TEST(GcodeDialects, ExtruderAxesAAndBAreExtrusion) {

@@ -209,7 +209,7 @@ TEST(Gcode, MalformedLinesAreErrorsAtFileAndLine) {
       {"G1 X10 F600\nG1 X1.2.3\n", "g.gcode:2: X has a malformed number \"1.2.3\""},
       {"G1 X10 F600\nG1 X1 X2\n", "g.gcode:2: X given twice"},
       {"G1 X10 F600\nG1 X1 Q2\n", "g.gcode:2: G1 takes no parameter Q"},
-      {"G1 X10 F600\nG1 X1 G4\n", "g.gcode:2: one command per line"},
+      {"G1 X10 F600\nG1 X1 T1\n", "g.gcode:2: one command per line: found T after the command"},
       {"G1 X10 F0\n", "g.gcode:1: feed rate F must be > 0, got 0"},
       {"G1 X10 F600\n\nG2 X20 Y10\n", "g.gcode:3: G2 needs I/J (centre offset) or R (radius)"},
       {"G1 X10 F600\nG3 X20 I5 R5\n", "g.gcode:2: G3 takes I/J or R, not both"},
