@@ -179,28 +179,6 @@ SessionTruth ReadSessionTruth(const fs::path& run_dir) {
   return t;
 }
 
-namespace {
-
-// A frame must have the rig camera's size: the corners and the stripe are
-// read in its pixels.
-void CheckFrameSize(const AnyImage& image, const RunFrame& frame, const RunRig& rig) {
-  int w = 0, h = 0;
-  std::visit(
-      [&](const auto& im) {
-        w = im.width;
-        h = im.height;
-      },
-      image);
-  if (w == rig.camera.width() && h == rig.camera.height()) return;
-  throw InputError(frame.image.string(), "the image is " + std::to_string(w) + "x" + std::to_string(h) +
-                                             " but the camera (" + rig.source.string() + ") is " +
-                                             std::to_string(rig.camera.width()) + "x" +
-                                             std::to_string(rig.camera.height()) + " (frame " +
-                                             std::to_string(frame.index) + ")");
-}
-
-}  // namespace
-
 std::vector<SessionView> ReadSessionViews(const fs::path& run_dir, const CheckerboardSpec& board,
                                           const CornerDetectionOptions& corners) {
   board.Check();
@@ -217,7 +195,7 @@ std::vector<SessionView> ReadSessionViews(const fs::path& run_dir, const Checker
     v.world_from_tool = f.world_from_tool;
     v.world_from_cam = f.world_from_cam;
     const AnyImage image = ReadFrameImage(f);
-    CheckFrameSize(image, f, rig);
+    CheckFrameImageSize(image, f, rig.camera, rig.source.string());
     v.detection = DetectCheckerboard(image, board, corners);
     views.push_back(std::move(v));
   }
@@ -298,7 +276,7 @@ SessionLaserResult CalibrateSessionLaser(const fs::path& run_dir, const Checkerb
     }
     const RunFrame& dim = frames.at(sv.dim_frame);
     const AnyImage image = ReadFrameImage(dim);
-    CheckFrameSize(image, dim, rig);
+    CheckFrameImageSize(image, dim, rig.camera, rig.source.string());
     ExtractionOptions given = options.extraction;
     given.axis = r.axis;
     // As in scan: a mosaic demosaiced, a colour frame on the laser's channels.

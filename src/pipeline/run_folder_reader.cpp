@@ -258,6 +258,22 @@ ExtractionLevels FrameExtractionLevels(double threshold, double background, cons
   return l;
 }
 
+void CheckFrameImageSize(const AnyImage& image, const RunFrame& frame, const Camera& camera,
+                         const std::string& camera_source) {
+  int w = 0, h = 0;
+  std::visit(
+      [&](const auto& im) {
+        w = im.width;
+        h = im.height;
+      },
+      image);
+  if (w == camera.width() && h == camera.height()) return;
+  auto size = [](int a, int b) { return std::to_string(a) + "x" + std::to_string(b); };
+  throw InputError(frame.image.string(), "the image is " + size(w, h) + " but the camera (" + camera_source + ") is " +
+                                             size(camera.width(), camera.height()) + " (frame " +
+                                             std::to_string(frame.index) + ", " + frame.where + ")");
+}
+
 double ImageTypeFullScale(const AnyImage& image) {
   return std::visit([](const auto& im) { return TypeFullScale<std::decay_t<decltype(im.pixels[0])>>(); }, image);
 }

@@ -136,6 +136,11 @@ struct ExtractionLevels {
 };
 ExtractionLevels FrameExtractionLevels(double threshold, double background, const RunFrame& frame, int rig_bit_depth,
                                        double rig_black_level_dn, double type_full_scale);
+// A frame's image must have the camera's size (its pixels are the camera's):
+// throws lt::InputError naming the image, "the image is WxH but the camera
+// (camera_source) is WxH (frame N, <where in the manifest>)", otherwise.
+void CheckFrameImageSize(const AnyImage& image, const RunFrame& frame, const Camera& camera,
+                         const std::string& camera_source);
 // The largest sample value of an image's type: 255, 65535, or 1 for float.
 double ImageTypeFullScale(const AnyImage& image);
 

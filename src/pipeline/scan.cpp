@@ -177,19 +177,9 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     } catch (const InputError& e) {
       throw InputError(e.where(), e.message() + context);
     }
-    int width = 0, height = 0;
-    std::visit(
-        [&](const auto& im) {
-          width = im.width;
-          height = im.height;
-        },
-        image);
+    CheckFrameImageSize(image, frame, camera, summary.plane_source.string());
+    const int width = camera.width(), height = camera.height();
     const double type_full_scale = ImageTypeFullScale(image);
-    if (width != camera.width() || height != camera.height()) {
-      throw InputError(frame.image.string(), "the image is " + Size(width, height) + " but the camera (" +
-                                                 summary.plane_source.string() + ") is " +
-                                                 Size(camera.width(), camera.height()) + context);
-    }
     const SearchAxis axis = options.axis ? *options.axis : frame.gt_axis ? *frame.gt_axis : planes_axis;
     ExtractionOptions given = options.extraction;
     given.axis = axis;
