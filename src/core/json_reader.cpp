@@ -358,7 +358,10 @@ class DuplicateKeyCheck {
   }
   std::string Pointer() const {
     std::string p;
-    for (const Frame& f : frames_) p += "/" + (f.object ? EscapePointerToken(f.key) : std::to_string(f.index));
+    for (const Frame& f : frames_) {
+      p += '/';
+      p += f.object ? EscapePointerToken(f.key) : std::to_string(f.index);
+    }
     return p;
   }
   nlohmann::detail::json_sax_dom_parser<json> dom_;
