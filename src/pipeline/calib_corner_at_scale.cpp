@@ -219,17 +219,12 @@ ScaleResult DetectAtScale(const Image<float>& img, double noise, const Checkerbo
   if (odd_darker > even_darker) flip_both = true;
 
   // ---- output, with the predicted standard deviations
-  double kg = 0, k0 = 0;
-  for (float v : kernels.k1) kg += double(v) * v;
-  for (float v : kernels.k0) k0 += double(v) * v;
-  const double gradient_var = noise * noise * kg * k0;
   det.grid.clear();
   for (int i = 0; i < R; ++i) {
     for (int j = 0; j < C; ++j) {
       const Candidate& c = at(i, j);
       det.corners.push_back(c.p);
-      const Eigen::Matrix2d hinv = c.hessian.inverse();
-      det.corner_std_px.push_back(std::sqrt(gradient_var * (hinv * hinv.transpose()).trace() / 2));
+      det.corner_std_px.push_back(SaddleStdPx(kernels, noise, c.hessian));
       det.grid.push_back({c.p, i, j});
     }
   }

@@ -80,6 +80,14 @@ Smoothed Smooth(const Image<float>& img, const GaussianKernels& k) {
 }
 
 // Newton's method on the gradient of the smoothed image: the saddle point.
+double SaddleStdPx(const GaussianKernels& kernels, double noise, const Eigen::Matrix2d& hessian) {
+  double kg = 0, k0 = 0;
+  for (float v : kernels.k1) kg += double(v) * v;
+  for (float v : kernels.k0) k0 += double(v) * v;
+  const Eigen::Matrix2d hinv = hessian.inverse();
+  return std::sqrt(noise * noise * kg * k0 * (hinv * hinv.transpose()).trace() / 2);
+}
+
 bool RefineSaddle(const ImageView<float>& img, double sigma, int radius, double border, Eigen::Vector2d* p,
                   Eigen::Matrix2d* hessian) {
   const Eigen::Vector2d start = *p;
@@ -203,12 +211,8 @@ bool SaddleAtScale(const ImageView<float>& img, const Eigen::Vector2d& p, double
   if (!RefineSaddle(img, sigma, kernels.radius, 2 * sigma + 2, &q, &hessian)) return false;
   // The two saddles differ by the noise (the predicted standard deviations
   // of both) and by a few hundredths of a pixel of model error.
-  double kg = 0, k0 = 0;
-  for (float v : kernels.k1) kg += double(v) * v;
-  for (float v : kernels.k0) k0 += double(v) * v;
-  const Eigen::Matrix2d hinv = hessian.inverse();
-  const double q_var = noise * noise * kg * k0 * (hinv * hinv.transpose()).trace() / 2;
-  const double tol = 0.05 + 4 * std::sqrt(q_var + p_std * p_std);
+  const double q_std = SaddleStdPx(kernels, noise, hessian);
+  const double tol = 0.05 + 4 * std::sqrt(q_std * q_std + p_std * p_std);
   if (!((q - p).norm() <= tol)) return false;
   return ValidSaddleAt(img, q, hessian, sigma, found_sigma, floor, min_response);
 }

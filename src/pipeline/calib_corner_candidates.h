@@ -61,6 +61,12 @@ struct Candidate {
   Eigen::Matrix2d hessian;
 };
 
+// The predicted standard deviation per axis of a saddle found on the image
+// smoothed with `kernels` (image noise `noise`, Hessian `hessian` there): the
+// gradient's noise σ_n² c with c = Σk1² Σk0² through the Newton step,
+// Cov = σ_n² c H⁻¹H⁻ᵀ; half its trace.
+double SaddleStdPx(const GaussianKernels& kernels, double noise, const Eigen::Matrix2d& hessian);
+
 // Newton's method on the gradient of the smoothed image: the saddle point.
 bool RefineSaddle(const ImageView<float>& img, double sigma, int radius, double border, Eigen::Vector2d* p,
                   Eigen::Matrix2d* hessian);

@@ -34,6 +34,7 @@ using corner_detail::PointAsymmetry;
 using corner_detail::SaddleAtScale;
 using corner_detail::RefineSaddle;
 using corner_detail::SaddleNear;
+using corner_detail::SaddleStdPx;
 using corner_detail::ScaleResult;
 
 namespace {
@@ -94,9 +95,6 @@ double OffGridTolerance(const CornerDetection& d, const CheckerboardSpec& board,
 bool CornersOnGrid(const Image<float>& img, double noise, const ContrastFloor& floor, double sigma,
                    double min_response, const CheckerboardSpec& board, CornerDetection* d) {
   const GaussianKernels kernels(sigma);
-  double kg = 0, k0 = 0;
-  for (float v : kernels.k1) kg += double(v) * v;
-  for (float v : kernels.k0) k0 += double(v) * v;
   for (int round = 0; round < board.CornerCount(); ++round) {
     int worst = -1;
     double worst_ratio = 1;
@@ -126,8 +124,7 @@ bool CornersOnGrid(const Image<float>& img, double noise, const ContrastFloor& f
       return false;
     }
     d->corners[size_t(worst)] = p;
-    const Eigen::Matrix2d hinv = hessian.inverse();
-    d->corner_std_px[size_t(worst)] = std::sqrt(noise * noise * kg * k0 * (hinv * hinv.transpose()).trace() / 2);
+    d->corner_std_px[size_t(worst)] = SaddleStdPx(kernels, noise, hessian);
     for (GridCorner& g : d->grid) {
       if (g.i == i && g.j == j) g.pixel = p;
     }
@@ -160,16 +157,12 @@ std::optional<CornerDetection> DetectOnHalfImage(const Image<float>& img, double
   if (!d.ok) return std::nullopt;
   const double sigma = 2 * d.sigma_px;
   const GaussianKernels kernels(sigma);
-  double kg = 0, k0 = 0;
-  for (float v : kernels.k1) kg += double(v) * v;
-  for (float v : kernels.k0) k0 += double(v) * v;
   for (size_t k = 0; k < d.corners.size(); ++k) {
     Eigen::Vector2d p = 2.0 * d.corners[k] + Eigen::Vector2d(0.5, 0.5);
     Eigen::Matrix2d hessian;
     if (!RefineSaddle(img.View(), sigma, kernels.radius, 2 * sigma + 2, &p, &hessian)) return std::nullopt;
     d.corners[k] = p;
-    const Eigen::Matrix2d hinv = hessian.inverse();
-    d.corner_std_px[k] = std::sqrt(noise * noise * kg * k0 * (hinv * hinv.transpose()).trace() / 2);
+    d.corner_std_px[k] = SaddleStdPx(kernels, noise, hessian);
   }
   for (GridCorner& g : d.grid) g.pixel = d.corners[size_t(g.i * board.cols + g.j)];
   d.sigma_px = sigma;
