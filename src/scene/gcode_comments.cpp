@@ -14,6 +14,13 @@
 namespace lt {
 namespace gcode_detail {
 
+namespace {
+
+// The filament diameter of the Ultimaker 2 family, which Cura's UltiGCode flavour is for.
+constexpr double kUltimakerFilamentMm = 2.85;
+
+}  // namespace
+
 void GcodeReader::LayersFromZ() {
   // A layer begins at the first move that extrudes at a height above every height at
   // which the current layer has extruded (the end of a rising move counts: a spiral
@@ -103,6 +110,13 @@ void GcodeReader::Comment(std::string_view comment) {
     double h = *CommentNumber(c.substr(c.find(':') + 1), "HEIGHT");
     // Slicers' comments are in millimetres, whatever G20/G21 say.
     state_height(h * kMetresPerMm);
+  } else if (StartsWith(c, "FLAVOR:") && TrimBlanks(c.substr(7)) == "UltiGCode") {
+    // Cura's UltiGCode flavour (Ultimaker 2 and 2+): E is the volume of filament in
+    // mm^3 (the printer knows the material's diameter), as under M200; held as lengths
+    // of Ultimaker's 2.85 mm filament (the beads' volume does not depend on the choice).
+    volumetric_ = true;
+    if (volumetric_diameter_mm_ <= 0) volumetric_diameter_mm_ = kUltimakerFilamentMm;
+    path_.filament_diameter_m = volumetric_diameter_mm_ * kMetresPerMm;
   } else if (StartsWith(c, "Layer height:")) {
     path_.header_layer_height_m = *CommentNumber(c.substr(13), "Layer height") * kMetresPerMm;
   } else if (StartsWith(c, "layer_height =")) {

@@ -134,7 +134,7 @@ double GcodeReader::MoveFeed(double length_mm, double extruded_mm) {
 }
 
 void GcodeReader::Move(int gcode) {
-  Expect("XYZEFHAB", CommandName('G', gcode));
+  Expect("XYZEFHABUVWC", CommandName('G', gcode));
   // RepRapFirmware's H: 0 an ordinary move; 2 moves the motors without kinematics
   // (homing files lift Z so before the position is known; on the Cartesian printers
   // modelled here, the same motion as the axes' move); 1, 3 and 4 move towards the
@@ -162,21 +162,25 @@ void GcodeReader::Move(int gcode) {
       if (Find(axes[k])) {
         end[k] = 0;
         offset_mm_[k] = 0;
+        axis_known_[k] = true;
       }
     }
+    ExtraAxes(CommandName('G', gcode), 0);
     double length = (end - pos_mm_).norm();
     AddSegment(28, end, 0, length, (end - pos_mm_).head<2>().norm(), nullptr, MoveFeed(length, 0));
     return;
   }
+  TrackKnownAxes(CommandName('G', gcode), false);
   Eigen::Vector3d end = Target();
   double extruded = Extruded();
+  ExtraAxes(CommandName('G', gcode), extruded);
   double length = (end - pos_mm_).norm();
   AddSegment(gcode, end, extruded, length, (end - pos_mm_).head<2>().norm(), nullptr, MoveFeed(length, extruded));
 }
 
 void GcodeReader::Arc(int gcode) {
   const std::string command = CommandName('G', gcode);
-  Expect("XYZEFIJRPAB", command);
+  Expect("XYZEFIJRPABUVWC", command);
   if (!xy_plane_) Fail(command + " outside the XY plane (G18/G19) is not supported");
   const Word* i = Find('I');
   const Word* j = Find('J');
@@ -184,6 +188,7 @@ void GcodeReader::Arc(int gcode) {
   if (!i && !j && !r) Fail(command + " needs I/J (centre offset) or R (radius)");
   if ((i || j) && r) Fail(command + " takes I/J or R, not both");
   SetFeed();
+  TrackKnownAxes(command, true);
   Eigen::Vector3d end = Target();
   Eigen::Vector2d start2 = pos_mm_.head<2>(), end2 = end.head<2>();
   const bool clockwise = gcode == 2;
@@ -244,6 +249,7 @@ void GcodeReader::Arc(int gcode) {
   double xy_length = 0.5 * (r0 + r1) * std::abs(sweep);
   double length = std::hypot(xy_length, end.z() - pos_mm_.z());
   double extruded = Extruded();
+  ExtraAxes(command, extruded);
   AddSegment(gcode, end, extruded, length, xy_length, &arc, MoveFeed(length, extruded));
 }
 
@@ -271,26 +277,32 @@ void GcodeReader::Home() {
   // The axes home one after another, X, Y then Z (Marlin's order, and the usual
   // homing files of RepRapFirmware and Klipper), each at its homing speed, whatever
   // the modal F (which G28 leaves as it was). Home is taken as 0; the nozzle starts
-  // at the origin, so a G28 before any move takes no time.
-  bool any = Find('X') || Find('Y') || Find('Z');
+  // at the origin, so a G28 before any move takes no time. Extra axes named alone
+  // ("G28 U", a tool changer's coupler) home only those (not modelled); W is no axis
+  // here: Prusa firmware's "G28 W" homes all axes without mesh levelling.
+  const bool any = Find('X') || Find('Y') || Find('Z');
+  const bool extra = ExtraAxes("G28", 0, ExtraAxesUse::kHome);
   const char axes[3] = {'X', 'Y', 'Z'};
   for (int k = 0; k < 3; ++k) {
-    if (any && !Find(axes[k])) continue;
+    if ((any || extra) && !Find(axes[k])) continue;
     Eigen::Vector3d end = pos_mm_;
     end[k] = 0;
     offset_mm_[k] = 0;
+    axis_known_[k] = true;
     const double length = std::abs(pos_mm_[k]);
     AddSegment(28, end, 0, length, k < 2 ? length : 0.0, nullptr, kHomingFeedMmS[k]);
   }
 }
 
 void GcodeReader::SetPosition() {
-  Expect("XYZEAB", "G92");
+  Expect("XYZEABUVWC", "G92");
   if (words_.empty()) {
     offset_mm_ = pos_mm_;
     for (double& e : e_logical_mm_) e = 0;
+    for (double& a : extra_axes_) a = 0;
     return;
   }
+  ExtraAxes("G92", 0, ExtraAxesUse::kSet);
   const char axes[3] = {'X', 'Y', 'Z'};
   for (int k = 0; k < 3; ++k) {
     if (const Word* w = Find(axes[k])) offset_mm_[k] = pos_mm_[k] - *w->value * unit_mm_;

@@ -24,6 +24,13 @@ inline std::string CommandName(char letter, int n) {
   return name;
 }
 
+inline bool IsLetter(char c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'); }
+inline char Upper(char c) { return (c >= 'a' && c <= 'z') ? char(c - 'a' + 'A') : c; }
+inline bool IsNumberChar(char c) { return (c >= '0' && c <= '9') || c == '.' || c == '-' || c == '+'; }
+inline bool IsBlank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+// The warning for extra axes (U, V, W, C) ignored, naming them ("UC").
+std::string ExtraAxesWarning(const std::string& axes);
+
 inline bool StartsWith(std::string_view s, std::string_view prefix) { return s.substr(0, prefix.size()) == prefix; }
 
 // One parameter word: a letter and (for most commands, required) a number.
@@ -48,6 +55,12 @@ class GcodeReader {
     throw InputError(name_ + ":" + std::to_string(line_no_), message);
   }
 
+  // An approximation of the file (Toolpath::warnings): the first of each kind keeps
+  // its line and text, later ones are counted.
+  enum WarningKind { kUnclosedParen, kRelativeFromUnknown, kExtraAxes, kWarningKinds };
+  void Warn(WarningKind kind, const std::string& text);
+  int warning_index_[kWarningKinds] = {-1, -1, -1};
+
   void Comment(std::string_view comment);
   std::optional<double> CommentNumber(std::string_view text, const char* what) const;
   // The command at code[pos] (after any line number) and its words.
@@ -66,6 +79,20 @@ class GcodeReader {
   void Home();
   void SetPosition();
   void SetFeed();
+  // Probing and levelling (G29, G30, G32-G34, G38.2-5, Prusa's G80, M48, Klipper's
+  // BED_MESH_CALIBRATE, ...) end where the firmware stops: X, Y and Z unknown.
+  void PositionUnknown(const std::string& command);
+  // Before a move: its absolute X/Y/Z words make those axes known again; a relative
+  // one on an unknown axis (or an arc, whose centre is relative, from an unknown
+  // start) is built from the last known position, with a warning.
+  void TrackKnownAxes(const std::string& command, bool arc);
+  // U, V, W, C words (a tool changer's coupler, a second carriage, a rotary axis): not
+  // modelled, ignored with a warning; one that moves while the line extrudes is an
+  // error, since it would change the printed path.
+  // `use`: a move's words (relative under G91), G92's (set) or G28's (homed to 0;
+  // W is no axis for G28, see Home). Returns whether the line named any.
+  enum class ExtraAxesUse { kMove, kSet, kHome };
+  bool ExtraAxes(const std::string& command, double extruded_mm, ExtraAxesUse use = ExtraAxesUse::kMove);
   // Firmware retraction (G10/G11) and its settings (M207).
   void FirmwareRetract(bool retract);
   void RetractSettings();
@@ -111,6 +138,11 @@ class GcodeReader {
   bool xyz_relative_ = false;
   enum class EMode { kNone, kAbsolute, kRelative } e_mode_ = EMode::kNone;  // the last M82/M83
   bool xy_plane_ = true;
+  bool axis_known_[3] = {true, true, true};  // false after probing, until an absolute move
+  std::string unknown_since_;                // "G29 (line 12)": what made the position unknown
+  double extra_axes_[4] = {0, 0, 0, 0};      // U, V, W, C as the file sets them (file units)
+  std::string extra_axes_seen_;              // the extra axes named in the file, in order of appearance
+  int commands_on_line_ = 0;
   int layer_ = ToolpathSegment::kNoLayer;
   bool layer_comments_ = false;  // any layer comment seen
   int type_ = -1;

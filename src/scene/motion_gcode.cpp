@@ -185,6 +185,10 @@ std::vector<std::string> GcodeMotionNotes(const GcodeMotion& m) {
                     " G11 (firmware retraction) without M207 in the file: Marlin's defaults assumed (3 mm at 45 mm/s, "
                     "recovered at 8 mm/s, no Z hop)");
   }
+  for (const ToolpathWarning& w : path.warnings) {
+    notes.push_back(m.file.string() + ":" + std::to_string(w.line) + ": " + w.text +
+                    (w.count > 1 ? " (" + std::to_string(w.count) + " times)" : ""));
+  }
   if (!path.skipped_commands.empty()) notes.push_back(m.file.string() + ": " + path.SkippedCommandsNote());
   if (path.moves_at_power_on_feed > 0) {
     notes.push_back(m.file.string() + ":" + std::to_string(path.first_power_on_feed_line) + ": " +

@@ -68,6 +68,15 @@ struct ToolpathSegment {
   Eigen::Vector2d TangentXy(double u) const;
 };
 
+// Something the file asks that the reader could only approximate (a relative move
+// from a position probing left unknown, an axis it does not model, an unclosed
+// comment): the first line it happened on, how many times, and what was done.
+struct ToolpathWarning {
+  int line = 0;
+  int count = 0;
+  std::string text;
+};
+
 struct Toolpath {
   std::vector<ToolpathSegment> segments;  // in time order, contiguous in time and space
   std::vector<std::string> type_names;    // the distinct ;TYPE: names, in order of appearance
@@ -96,6 +105,9 @@ struct Toolpath {
   int program_end_line = 0;
   std::string program_end_command;
   int lines_after_program_end = 0;
+  // Approximations, one per kind, in order of their first line (`info` and `render`
+  // print them as "file:line: text").
+  std::vector<ToolpathWarning> warnings;
 
   double Duration() const { return segments.empty() ? 0.0 : segments.back().t_end_s; }
   // The segment running at time t: the first whose end is >= t (clamped to the

@@ -1,0 +1,87 @@
+// The G-code reader's axes beyond the modelled X, Y, Z and extruders: a position
+// that probing left unknown, and extra axes (U, V, W, C) that are ignored; and the
+// warnings that say so (Toolpath::warnings).
+#include <string>
+
+#include "core/error.h"
+#include "scene/gcode_reader.h"
+#include "scene/motion_text.h"
+
+namespace lt {
+namespace gcode_detail {
+
+namespace {
+
+constexpr char kExtraAxisLetters[4] = {'U', 'V', 'W', 'C'};
+
+}  // namespace
+
+std::string ExtraAxesWarning(const std::string& axes) {
+  std::string list;
+  for (size_t i = 0; i < axes.size(); ++i) list += (i ? ", " : "") + std::string(1, axes[i]);
+  return "axis " + list +
+         " ignored: the toolpath models X, Y, Z and the extruders (U, V, W and C drive a tool changer's coupler, a "
+         "second carriage or a rotary axis); none of them moves while the file extrudes";
+}
+
+void GcodeReader::Warn(WarningKind kind, const std::string& text) {
+  int& index = warning_index_[kind];
+  if (index < 0) {
+    index = int(path_.warnings.size());
+    path_.warnings.push_back(ToolpathWarning{line_no_, 0, text});
+  }
+  ++path_.warnings[size_t(index)].count;
+}
+
+void GcodeReader::PositionUnknown(const std::string& command) {
+  for (bool& known : axis_known_) known = false;
+  unknown_since_ = command + " (line " + std::to_string(line_no_) + ")";
+}
+
+void GcodeReader::TrackKnownAxes(const std::string& command, bool arc) {
+  const char axes[3] = {'X', 'Y', 'Z'};
+  std::string unknown;
+  for (int k = 0; k < 3; ++k) {
+    // An arc's centre is an offset from its start: an unknown start in X or Y puts it off too.
+    const bool named = Find(axes[k]) != nullptr;
+    if (!axis_known_[k] && ((named && xyz_relative_) || (arc && k < 2 && Find(k == 0 ? 'I' : 'J')))) {
+      unknown += axes[k];
+    }
+  }
+  if (!unknown.empty()) {
+    const Eigen::Vector3d last = pos_mm_ - offset_mm_;
+    Warn(kRelativeFromUnknown,
+         command + " moves relative to a position " + unknown_since_ + " left unknown in " + unknown +
+             " (probing ends where the firmware stops it): built from the last known position X" +
+             FormatNumber(last.x() / unit_mm_) + " Y" + FormatNumber(last.y() / unit_mm_) + " Z" +
+             FormatNumber(last.z() / unit_mm_) + "; the path after it is off by as much until an absolute move on each axis");
+  }
+  for (int k = 0; k < 3; ++k) {
+    if (Find(axes[k]) && !xyz_relative_) axis_known_[k] = true;
+  }
+}
+
+bool GcodeReader::ExtraAxes(const std::string& command, double extruded_mm, ExtraAxesUse use) {
+  bool named = false;
+  for (int k = 0; k < 4; ++k) {
+    const Word* w = Find(kExtraAxisLetters[k]);
+    // Prusa firmware's "G28 W" homes X, Y and Z without mesh levelling: W is no axis there.
+    if (!w || (use == ExtraAxesUse::kHome && kExtraAxisLetters[k] == 'W')) continue;
+    double target = 0;  // homed
+    if (use == ExtraAxesUse::kSet) target = *w->value;
+    if (use == ExtraAxesUse::kMove) target = xyz_relative_ ? extra_axes_[k] + *w->value : *w->value;
+    if (extruded_mm > 0 && target != extra_axes_[k]) {
+      Fail(command + " moves the " + std::string(1, kExtraAxisLetters[k]) +
+           " axis while it extrudes: an extra axis (a second carriage, a rotary axis) moving during a print move "
+           "changes the printed path, which a toolpath of X, Y and Z cannot hold");
+    }
+    extra_axes_[k] = target;
+    if (extra_axes_seen_.find(kExtraAxisLetters[k]) == std::string::npos) extra_axes_seen_ += kExtraAxisLetters[k];
+    named = true;
+  }
+  if (named) Warn(kExtraAxes, ExtraAxesWarning(extra_axes_seen_));
+  return named;
+}
+
+}  // namespace gcode_detail
+}  // namespace lt

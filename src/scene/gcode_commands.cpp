@@ -1,0 +1,162 @@
+// The G-code reader's commands: which command a line holds and what each does
+// (the motion commands are in scene/gcode_moves.cpp, firmware retraction in
+// gcode_retraction.cpp), or how it is skipped and counted.
+#include <cmath>
+#include <string>
+#include <string_view>
+
+#include "scene/gcode_reader.h"
+#include "scene/motion_text.h"
+
+namespace lt {
+namespace gcode_detail {
+
+namespace {
+
+// Klipper's probing and levelling commands (the names its documentation gives): the
+// toolhead ends where the probing stops.
+bool IsProbingMacro(const std::string& name) {
+  for (const char* probing : {"BED_MESH_CALIBRATE", "QUAD_GANTRY_LEVEL", "Z_TILT_ADJUST", "SCREWS_TILT_CALCULATE",
+                              "PROBE", "PROBE_ACCURACY", "DELTA_CALIBRATE", "BED_TILT_CALIBRATE"}) {
+    if (name == probing) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
+  // An extended command (Klipper's PRINT_START, EXCLUDE_OBJECT_START NAME=...,
+  // SET_PRESSURE_ADVANCE ADVANCE=...): a name of letters, digits and
+  // underscores that does not start with a letter and a number. Skipped, counted by name.
+  if (pos + 1 < code.size() && IsLetter(code[pos]) && (IsLetter(code[pos + 1]) || code[pos + 1] == '_')) {
+    size_t end = pos;
+    while (end < code.size() && !IsBlank(code[end])) ++end;
+    std::string name(code.substr(pos, end - pos));
+    for (char& ch : name) ch = Upper(ch);
+    if (IsProbingMacro(name)) {
+      PositionUnknown(name);
+      return;
+    }
+    ++path_.skipped_commands[name];
+    return;
+  }
+  char letter = Upper(code[pos]);
+  if (letter != 'G' && letter != 'M' && letter != 'T') {
+    Fail("expected a command (G, M or T), got \"" + std::string(code.substr(pos)) + "\"");
+  }
+  size_t start = ++pos;
+  while (pos < code.size() && IsNumberChar(code[pos])) ++pos;
+  std::string_view number = code.substr(start, pos - start);
+  if (number.empty() && letter == 'T' && pos < code.size() && !IsBlank(code[pos])) {
+    // Prusa firmware's MMU tool commands "Tx", "Tc", "T?": skipped, counted by name.
+    std::string name = "T";
+    for (; pos < code.size() && !IsBlank(code[pos]); ++pos) name += Upper(code[pos]);
+    ++path_.skipped_commands[name];
+    return;
+  }
+  if (number.empty()) Fail(std::string(1, letter) + " without a number");
+  auto value = ParseFiniteNumber(number);
+  if (!value) Fail(std::string(1, letter) + " has a malformed number \"" + std::string(number) + "\"");
+  const bool integral = *value == std::floor(*value) && std::abs(*value) < 1e6;
+  const int n = integral ? int(*value) : -1;
+  ++commands_on_line_;
+  // G38.2-G38.5: a straight probe towards the point, stopping where the probe triggers.
+  if (letter == 'G' && (number == "38.2" || number == "38.3" || number == "38.4" || number == "38.5")) {
+    ReadWords(code, pos, false);
+    std::string name(1, 'G');  // appended: GCC 12 warns falsely on "G" + std::string
+    name.append(number);
+    PositionUnknown(name);
+    return;
+  }
+  if (letter == 'G' && integral) {
+    switch (n) {
+      case 0:
+      case 1: ReadWords(code, pos, true); Move(n); return;
+      case 2:
+      case 3: ReadWords(code, pos, true); Arc(n); return;
+      case 4: ReadWords(code, pos, true); Dwell(); return;
+      case 5:
+        // Skipped, the nozzle's path would go on from the curve's start: refused instead.
+        Fail("G5 (Marlin's cubic Bezier move) is not supported: its path would be missing; write the curve as "
+             "G1 or G2/G3 moves");
+      case 10:
+        ReadWords(code, pos, true);
+        if (words_.empty()) {
+          FirmwareRetract(true);
+          return;
+        }
+        // With parameters: tool offsets and temperatures (RepRapFirmware's G10 P),
+        // coordinate systems (G10 L), Marlin's swap retraction (G10 S1): skipped.
+        ++path_.skipped_commands["G10"];
+        return;
+      case 11: ReadWords(code, pos, true); Expect("", "G11"); FirmwareRetract(false); return;
+      case 17:
+      case 18:
+      case 19: ReadWords(code, pos, true); Expect("", CommandName('G', n)); xy_plane_ = n == 17; return;
+      case 20:
+      case 21: ReadWords(code, pos, true); Expect("", CommandName('G', n)); unit_mm_ = n == 20 ? 25.4 : 1.0; return;
+      case 28: ReadWords(code, pos, false); Home(); return;
+      case 29:  // bed levelling (Marlin, RepRapFirmware, Bambu): probes the bed
+      case 30:  // a single Z probe
+      case 32:  // RepRapFirmware's bed.g (probing); Marlin's sled undock
+      case 33:  // delta auto-calibration
+      case 34:  // Z steppers' auto-alignment (probes)
+        ReadWords(code, pos, false);
+        PositionUnknown(CommandName('G', n));
+        return;
+      case 80:
+        // Prusa firmware's mesh bed levelling, alone on its line; RS-274's "cancel canned
+        // cycle" in a CNC header ("G17 G80 G90") moves nothing.
+        ReadWords(code, pos, false);
+        if (commands_on_line_ == 1 && next_command_.empty()) {
+          PositionUnknown("G80");
+        } else {
+          ++path_.skipped_commands["G80"];
+        }
+        return;
+      case 90:
+      case 91: ReadWords(code, pos, true); Expect("", CommandName('G', n)); xyz_relative_ = n == 91; return;
+      case 92: ReadWords(code, pos, true); SetPosition(); return;
+      default: break;
+    }
+  }
+  if (letter == 'M' && (n == 2 || n == 30)) {
+    // Program end (RS-274, RepRapFirmware, Klipper's M2-less world aside): nothing
+    // after it runs. Marlin's "M30 name" deletes a file on the SD card: skipped.
+    if (n == 30 && !TrimBlanks(code.substr(pos)).empty()) {
+      ++path_.skipped_commands["M30"];
+      return;
+    }
+    path_.program_end_line = line_no_;
+    path_.program_end_command = CommandName('M', n);
+    return;
+  }
+  if (letter == 'M' && n == 48) {  // Marlin's probe repeatability test: probes around a point
+    ReadWords(code, pos, false);
+    PositionUnknown("M48");
+    return;
+  }
+  if (letter == 'M' && n == 200) {
+    ReadWords(code, pos, true, true);
+    VolumetricExtrusion();
+    return;
+  }
+  if (letter == 'M' && n == 207) {
+    ReadWords(code, pos, true, true);
+    RetractSettings();
+    return;
+  }
+  if (letter == 'M' && (n == 82 || n == 83)) {
+    ReadWords(code, pos, true);
+    Expect("", CommandName('M', n));
+    e_mode_ = n == 82 ? EMode::kAbsolute : EMode::kRelative;
+    return;
+  }
+  std::string name(1, letter);
+  name += integral ? std::to_string(n) : std::string(number);
+  ++path_.skipped_commands[name];
+}
+
+}  // namespace gcode_detail
+}  // namespace lt

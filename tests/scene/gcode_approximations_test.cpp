@@ -1,0 +1,123 @@
+// G-code the reader can only approximate, and says so (Toolpath::warnings): an
+// unclosed '(' comment, relative moves from a position that probing (G29, G80, ...)
+// left unknown, extra axes (U, V, W, C) the toolpath does not model; and Cura's
+// UltiGCode flavour, whose E is a volume.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "scene/bead_geometry.h"
+#include "scene/gcode.h"
+#include "test_util.h"
+
+namespace lt {
+namespace {
+
+using test::ErrorOf;
+using ::testing::HasSubstr;
+constexpr double kMm = 1e-3;
+
+// Marlin (PAREN_COMMENTS) and RepRapFirmware end a '(' comment without ')' at the
+// line's end: the words before it are read, the rest is not, and a warning names the
+// first such line and counts them.
+TEST(GcodeApproximations, UnclosedParenCommentRunsToTheLineEndWithAWarning) {
+  Toolpath p = ParseGcode(
+      "G1 X10 F600 (fast Y5\n"  // Y5 is inside the comment
+      "G1 X20 (closed) Y7\n"
+      "(unclosed again\n"
+      "G1 X30 Y7 E1\n",
+      "paren.gcode");
+  ASSERT_EQ(p.segments.size(), 3u);
+  EXPECT_TRUE(p.segments[0].end_m.isApprox(Eigen::Vector3d(10, 0, 0) * kMm));
+  EXPECT_TRUE(p.segments[1].end_m.isApprox(Eigen::Vector3d(20, 7, 0) * kMm));
+  ASSERT_EQ(p.warnings.size(), 1u);
+  EXPECT_EQ(p.warnings[0].line, 1);
+  EXPECT_EQ(p.warnings[0].count, 2);
+  EXPECT_THAT(p.warnings[0].text, HasSubstr("\"(fast Y5\" is not read"));
+  EXPECT_TRUE(ParseGcode("G1 X10 F600 (closed)\n", "p.gcode").warnings.empty());
+}
+
+// Probing ends where the firmware stops: X, Y and Z are unknown until an absolute move
+// (or homing) sets each. A relative move on an unknown axis is built from the last
+// known position, with a warning naming its line and the probing command's.
+TEST(GcodeApproximations, ProbingLeavesThePositionUnknownUntilAnAbsoluteMove) {
+  Toolpath p = ParseGcode(
+      "G28\n"
+      "G1 X50 Y50 Z10 F6000\n"
+      "G29 ; auto bed levelling\n"
+      "G91\n"
+      "G1 Z5\n"  // Z unknown: warned
+      "G90\n"
+      "G1 X10 Y10\n"  // X, Y known again
+      "G91\n"
+      "G1 Z-1\n"  // Z still unknown: counted
+      "G1 X1\n"   // X known: fine
+      "G90\n",
+      "probe.gcode");
+  ASSERT_EQ(p.warnings.size(), 1u);
+  EXPECT_EQ(p.warnings[0].line, 5);
+  EXPECT_EQ(p.warnings[0].count, 2);
+  EXPECT_THAT(p.warnings[0].text, HasSubstr("G1 moves relative to a position G29 (line 3) left unknown in Z"));
+  EXPECT_THAT(p.warnings[0].text, HasSubstr("last known position X50 Y50 Z10"));
+  EXPECT_EQ(p.skipped_commands.count("G29"), 0u);
+
+  auto warnings = [](const std::string& g) { return ParseGcode(g, "p.gcode").warnings; };
+  // Homing and absolute moves make the axes known; G80 in a CNC header cancels a cycle.
+  EXPECT_TRUE(warnings("G29\nG28\nG91\nG1 X1 Y1 Z5 F600\n").empty());
+  EXPECT_TRUE(warnings("G29\nG1 X0 Y0 Z1 F600\nG91\nG1 X1 Y1 Z5\n").empty());
+  EXPECT_TRUE(warnings("G17 G80 G90\nG91\nG1 X1 F600\n").empty());
+  // Prusa's mesh levelling, Klipper's macros, a straight probe, an arc's centre.
+  EXPECT_THAT(warnings("G80\nG91\nG1 X1 F600\n").at(0).text, HasSubstr("G80 (line 1) left unknown in X"));
+  EXPECT_THAT(warnings("BED_MESH_CALIBRATE\nG91\nG1 Z1 F600\n").at(0).text,
+              HasSubstr("BED_MESH_CALIBRATE (line 1) left unknown in Z"));
+  EXPECT_THAT(warnings("G38.2 Z-10 F100\nG91\nG1 Z1\n").at(0).text, HasSubstr("G38.2 (line 1) left unknown in Z"));
+  EXPECT_THAT(warnings("G29\nG2 X10 Y0 I5 J0 F600\n").at(0).text, HasSubstr("G2 moves relative to a position G29"));
+}
+
+// U, V, W and C (a tool changer's coupler, a second carriage, a rotary axis) are not
+// modelled: ignored with one warning that names them, unless one moves while the line
+// extrudes, which would change the printed path.
+TEST(GcodeApproximations, ExtraAxesAreIgnoredUnlessTheyMoveWhileExtruding) {
+  Toolpath p = ParseGcode(
+      "G1 X10 Y10 F6000\n"
+      "G1 U10\n"           // RepRapFirmware tool changer: park
+      "G1 C-50 F5000\n"    // the coupler locks
+      "G92 U0\n"
+      "G28 C\n"            // homes C only: X, Y, Z stay
+      "G1 X20 U0 E1\n"     // U named but not moving: a print move
+      "G28 W\n",           // Prusa firmware: home all without mesh levelling (W is no axis)
+      "toolchanger.gcode");
+  ASSERT_EQ(p.segments.size(), 4u);  // the two moves, then X and Y home
+  EXPECT_TRUE(p.segments[1].end_m.isApprox(Eigen::Vector3d(20, 10, 0) * kMm));
+  EXPECT_NEAR(p.segments[1].t_start_s, 10 * std::sqrt(2.0) / 100, 1e-12);  // C's move took no time
+  EXPECT_NEAR(p.segments[1].extruded_m, 1 * kMm, 1e-15);
+  EXPECT_EQ(p.segments[3].gcode, 28);
+  ASSERT_EQ(p.warnings.size(), 1u);
+  EXPECT_EQ(p.warnings[0].line, 2);
+  EXPECT_EQ(p.warnings[0].count, 5);
+  EXPECT_THAT(p.warnings[0].text, HasSubstr("axis U, C ignored"));
+
+  EXPECT_THAT(ErrorOf([] { ParseGcode("G1 X10 F600\nG1 X20 V5 E1\n", "v.gcode"); }),
+              HasSubstr("v.gcode:2: G1 moves the V axis while it extrudes"));
+  EXPECT_THAT(ErrorOf([] { ParseGcode("M83\nG3 X0 Y0 I5 J0 W1 E2 F600\n", "w.gcode"); }),
+              HasSubstr("w.gcode:2: G3 moves the W axis while it extrudes"));
+}
+
+// Cura's UltiGCode flavour (Ultimaker 2): E in mm^3, no M200. Held as lengths of
+// Ultimaker's 2.85 mm filament; the beads hold the volume.
+TEST(GcodeApproximations, UltiGCodeExtrusionIsVolume) {
+  Toolpath p = ParseGcode(";FLAVOR:UltiGCode\n;TIME:12\n;MATERIAL:6\nG90\nG1 X10 E6 F600\nG10\nG11\n", "um2.gcode");
+  ASSERT_EQ(p.segments.size(), 3u);
+  const double area_mm2 = M_PI * 0.25 * 2.85 * 2.85;
+  EXPECT_NEAR(p.segments[0].extruded_m, 6 / area_mm2 * kMm, 1e-15);
+  EXPECT_NEAR(p.filament_diameter_m, 2.85 * kMm, 1e-15);
+  Mesh bead = BeadMeshUpTo(p, p.segments[0].t_end_s, BeadOptions{.layer_height_m = 0.2e-3});
+  EXPECT_NEAR(MeshVolume(bead), 6e-9, 1e-3 * 6e-9);  // 6 mm^3
+  // Cura's other flavours are lengths.
+  EXPECT_NEAR(ParseGcode(";FLAVOR:Marlin\nG1 X10 E6 F600\n", "m.gcode").segments[0].extruded_m, 6 * kMm, 1e-15);
+}
+
+}  // namespace
+}  // namespace lt
