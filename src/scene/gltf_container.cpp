@@ -79,15 +79,17 @@ void CheckBufferDataUri(const std::string& uri, const std::string& where, int64_
 }
 
 // Fails when an external file named by uri does not exist (or is shorter than
-// byte_length). Returns its normalized path and size.
+// byte_length). Returns its normalized path and size, and enters it in `external`.
 std::pair<std::filesystem::path, uint64_t> CheckExternal(const nlohmann::json& uri, const std::string& where,
                                                          const std::string& what,
-                                                         const std::filesystem::path& base_dir, int64_t byte_length) {
+                                                         const std::filesystem::path& base_dir, int64_t byte_length,
+                                                         GltfExternalFiles* external) {
   if (!uri.is_string()) throw InputError(where, "uri must be a string");
   const std::string s = uri.get<std::string>();
   if (s.rfind("data:", 0) == 0) return {};
   if (s.empty()) throw InputError(where, "uri must not be empty");
-  std::filesystem::path p = FindExportedFile((base_dir / DecodeUri(s)).lexically_normal());
+  std::filesystem::path p = ResolveGltfUri(s, base_dir, where);
+  if (external != nullptr) external->by_lookup_path[TinygltfLookupPath(s, base_dir.string())] = p;
   std::error_code ec;
   if (!std::filesystem::is_regular_file(p, ec)) {
     throw InputError(where, what + " file not found (looked for " + p.string() + ")");
@@ -284,7 +286,7 @@ bool MatrixPlacesAsTrs(const nlohmann::json& node) {
 }  // namespace
 
 void CheckGltfJson(const GltfContainer& container, const std::string& file, const std::filesystem::path& base_dir,
-                   std::map<std::filesystem::path, uint64_t>* external_buffer_lengths) {
+                   GltfExternalFiles* external) {
   CheckJsonDepth(container.json_text, file);
   json::Document doc = json::Document::Parse(container.json_text, file, base_dir);
   const nlohmann::json& root = doc.Root().raw();
@@ -364,10 +366,10 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
       if (uri->is_string() && uri->get_ref<const std::string&>().rfind("data:", 0) == 0) {
         CheckBufferDataUri(uri->get_ref<const std::string&>(), where, byte_length);
       } else {
-        auto [path, size] = CheckExternal(*uri, where, "buffer", base_dir, byte_length);
-        if (external_buffer_lengths != nullptr && byte_length >= 0 && size > uint64_t(byte_length)) {
+        auto [path, size] = CheckExternal(*uri, where, "buffer", base_dir, byte_length, external);
+        if (external != nullptr && byte_length >= 0 && size > uint64_t(byte_length)) {
           // Two buffers naming one file with different lengths: left to tinygltf to refuse.
-          auto [it, added] = external_buffer_lengths->emplace(path, uint64_t(byte_length));
+          auto [it, added] = external->buffer_lengths.emplace(path, uint64_t(byte_length));
           if (!added && it->second != uint64_t(byte_length)) it->second = size;
         }
       }
@@ -419,7 +421,8 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
       if (!im.is_object()) continue;
       auto uri = im.find("uri");
       if (uri == im.end()) continue;
-      CheckExternal(*uri, file + ": /images/" + std::to_string(i) + "/uri", "texture image", base_dir, -1);
+      CheckExternal(*uri, file + ": /images/" + std::to_string(i) + "/uri", "texture image", base_dir, -1,
+                    external);
     }
   }
 }

@@ -26,11 +26,21 @@ std::vector<unsigned char> ReadFileBytes(const std::filesystem::path& path, cons
 // "glTF" magic). Throws lt::InputError for a truncated or inconsistent container.
 GltfContainer ParseGltfContainer(const std::vector<unsigned char>& bytes, const std::string& file);
 
-// Checks the JSON before the full parse (see above). base_dir is the folder of the file.
-// external_buffer_lengths (optional) receives the byteLength of each external
-// buffer file, by its normalized path, where it is shorter than the file.
+// The external files of a glTF as CheckGltfJson found them, for tinygltf's file
+// callbacks.
+struct GltfExternalFiles {
+  // The path tinygltf asks for (TinygltfLookupPath) -> the file the uri names
+  // (ResolveGltfUri), for every external buffer and image.
+  std::map<std::string, std::filesystem::path> by_lookup_path;
+  // The byteLength of each external buffer file, by its normalized path, where it
+  // is shorter than the file.
+  std::map<std::filesystem::path, uint64_t> buffer_lengths;
+};
+
+// Checks the JSON before the full parse (see above). base_dir is the folder of the
+// file; `external` (optional) receives what the external files are.
 void CheckGltfJson(const GltfContainer& container, const std::string& file, const std::filesystem::path& base_dir,
-                   std::map<std::filesystem::path, uint64_t>* external_buffer_lengths = nullptr);
+                   GltfExternalFiles* external = nullptr);
 
 // Cuts every data: URI quoted in a message to its first `keep` characters plus
 // "..." (a message must not carry megabytes of base64).

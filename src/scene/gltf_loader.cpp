@@ -17,7 +17,6 @@
 #include "scene/gltf_accessors.h"
 #include "scene/gltf_mesh.h"
 #include "scene/gltf_nodes.h"
-#include "scene/gltf_uri.h"
 
 namespace lt {
 
@@ -33,21 +32,25 @@ bool FileExistsCallback(const std::string& path, void*) {
   return std::filesystem::path(path).is_absolute() && std::filesystem::is_regular_file(path, ec);
 }
 
-// Maps a uri's path to the file the exporter meant (backslashes, letter case:
-// FindExportedFile), as CheckGltfJson found it.
-std::string ExpandFilePathCallback(const std::string& path, void*) { return FindExportedFile(path).string(); }
+// Maps the path tinygltf asks for to the file the uri names, as CheckGltfJson
+// resolved it (ResolveGltfUri: file: URIs, backslashes, letter case; and '+',
+// which tinygltf alone would read as a space). `user` is CheckGltfJson's
+// GltfExternalFiles.
+std::string ExpandFilePathCallback(const std::string& path, void* user) {
+  const auto& files = static_cast<const GltfExternalFiles*>(user)->by_lookup_path;
+  auto it = files.find(path);
+  return it != files.end() ? it->second.string() : path;
+}
 
 // An external buffer file may be longer than its byteLength (glTF 2.0 only asks
 // that it is not shorter), but tinygltf wants the exact size: such a file is cut
-// to byteLength as it is read. `user` is the map from CheckGltfJson.
+// to byteLength as it is read.
 bool ReadWholeFileCallback(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
   try {
     *out = ReadFileBytes(path, path);
-    const auto* lengths = static_cast<const std::map<std::filesystem::path, uint64_t>*>(user);
-    if (lengths != nullptr) {
-      auto it = lengths->find(std::filesystem::path(path).lexically_normal());
-      if (it != lengths->end() && out->size() > it->second) out->resize(size_t(it->second));
-    }
+    const auto& lengths = static_cast<const GltfExternalFiles*>(user)->buffer_lengths;
+    auto it = lengths.find(std::filesystem::path(path).lexically_normal());
+    if (it != lengths.end() && out->size() > it->second) out->resize(size_t(it->second));
     return true;
   } catch (const InputError& e) {
     if (err) *err += e.what();
@@ -138,15 +141,15 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
   std::vector<unsigned char> bytes = ReadFileBytes(abs, file);
   GltfContainer container = ParseGltfContainer(bytes, file);
   const std::filesystem::path base = abs.parent_path();
-  std::map<std::filesystem::path, uint64_t> buffer_lengths;
-  CheckGltfJson(container, file, base, &buffer_lengths);
+  GltfExternalFiles external;
+  CheckGltfJson(container, file, base, &external);
 
   GltfAsset asset;
   asset.path = path;
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
   tinygltf::FsCallbacks fs{&FileExistsCallback, &ExpandFilePathCallback, &ReadWholeFileCallback,
-                           &WriteWholeFileCallback, &buffer_lengths};
+                           &WriteWholeFileCallback, &external};
   loader.SetFsCallbacks(fs);
   ImageLoadContext image_ctx{&model, {}};
   loader.SetImageLoader(&LoadImageCallback, &image_ctx);

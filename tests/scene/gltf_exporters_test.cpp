@@ -360,6 +360,41 @@ TEST(GltfExporters, UrisWithBackslashesOrAnotherLetterCaseFindTheirFiles) {
               HasSubstr("model.gltf: /images/0/uri: texture image file not found (looked for "));
 }
 
+// A uri may be a file: URI naming an absolute path (converters write them), and a
+// '+' in a relative uri is a plus (tinygltf alone reads it as a space, form
+// encoding). Remote URIs, and file: URIs on another host, are refused by name.
+TEST(GltfExporters, FileUrisAndPlusSignsNameTheirFiles) {
+  TempDir dir;
+  std::filesystem::create_directories(dir / "my parts");
+  WriteImage(dir / "my parts" / "wood+oak.png", Image<uint8_t>(1, 1, 4, 255));
+  GltfBuilder b = test::SquareBuilder(true, true);
+  b.json()["textures"] = {{{"source", 0}}};
+  b.json()["meshes"][0]["primitives"][0]["material"] = b.AddMaterial("wood", {1, 1, 1, 1}, 0, 0.5);
+  b.json()["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  const std::string abs = std::filesystem::absolute(dir.path()).lexically_normal().string();
+  for (const std::string& uri : {std::string("my%20parts/wood+oak.png"), "file://" + abs + "/my%20parts/wood+oak.png",
+                                 "file://localhost" + abs + "/my parts/wood%2Boak.png"}) {
+    b.json()["images"] = {{{"uri", uri}}};
+    b.WriteGltf(dir / "model.gltf", false);
+    test::WriteText(dir / "model2.gltf", b.ToGltf("file://" + abs + "/model.bin"));
+    for (const char* name : {"model.gltf", "model2.gltf"}) {
+      GltfAsset a = LoadGltf(dir / name, name);
+      ASSERT_EQ(a.materials.size(), 1u) << uri;
+      EXPECT_TRUE(a.materials[0].base_color_texture) << name << " " << uri;
+      EXPECT_EQ(a.meshes.at(0).TriangleCount(), 2u) << name << " " << uri;
+    }
+  }
+  b.json()["images"] = {{{"uri", "https://example.com/wood.png"}}};
+  b.WriteGltf(dir / "model.gltf", false);
+  EXPECT_THAT(ErrorOf([&] { LoadGltf(dir / "model.gltf", "model.gltf"); }),
+              HasSubstr("model.gltf: /images/0/uri: \"https://example.com/wood.png\" is a https: URI; only local "
+                        "files are read"));
+  b.json()["images"] = {{{"uri", "file://server/share/wood.png"}}};
+  b.WriteGltf(dir / "model.gltf", false);
+  EXPECT_THAT(ErrorOf([&] { LoadGltf(dir / "model.gltf", "model.gltf"); }),
+              HasSubstr("model.gltf: /images/0/uri: \"file://server/share/wood.png\" names a file on host \"server\""));
+}
+
 // ------------------------------------------------------------------ units
 
 TEST(GltfExporters, AnObjectTooLargeForTheScannerIsFlagged) {
