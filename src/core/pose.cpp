@@ -1,6 +1,7 @@
 #include "core/pose.h"
 
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "core/error.h"
@@ -35,7 +36,13 @@ Pose ReadPose(const json::Value& v) {
   if (auto look = o.FindObject("look_at")) {
     Eigen::Vector3d eye = look->Vec3("eye_m");
     Eigen::Vector3d target = look->Vec3("target_m");
-    Eigen::Vector3d up = look->Vec3("up", Eigen::Vector3d(0, 0, 1));
+    const std::optional<json::Value> up_value = look->Find("up");
+    Eigen::Vector3d up = up_value ? up_value->Vec3() : Eigen::Vector3d(0, 0, 1);
+    if (up_value && up.squaredNorm() == 0) up_value->Fail("must not be the zero vector");
+    // The default up (+z) is parallel to a view straight down or up: then image
+    // top toward +y (x right along +x looking down), as a plan view shows it.
+    const Eigen::Vector3d view = target - eye;
+    if (!up_value && view.squaredNorm() > 0 && view.normalized().cross(up).norm() < 1e-9) up = Eigen::Vector3d(0, 1, 0);
     look->Finish();
     o.Finish();
     try {

@@ -17,7 +17,8 @@ using Pose = Eigen::Isometry3d;
 //   {"translation_m": [...], "rotation_matrix": [[r00, r01, r02], [..], [..]]}  (rows)
 //   {"look_at": {"eye_m": [...], "target_m": [...], "up": [...]}}
 // look_at builds a camera-to-parent pose in the OpenCV convention (z toward the
-// target, y down, x right). Quaternions and matrices must be a rotation to 1e-4
+// target, y down, x right); "up" defaults to +z, or to +y when the view is along
+// z (a camera straight down or up) and "up" is not given. Quaternions and matrices must be a rotation to 1e-4
 // (unit norm; orthonormal with determinant +1), then they are re-normalised.
 Pose ReadPose(const json::Value& v);
 

@@ -133,6 +133,13 @@ int SceneFile::FindMaterial(const std::string& name) const {
 }
 
 SceneFile LoadSceneFile(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    // A run or scene folder given for its scene file: the JSON reader would call it empty JSON.
+    const bool has_scene = std::filesystem::is_regular_file(path / "scene.json", ec);
+    throw InputError(path.string(), "is a folder, not a scene file" +
+                                        (has_scene ? " (it holds " + (path / "scene.json").string() + ")" : std::string()));
+  }
   std::filesystem::path base = path.parent_path();
   if (base.empty()) base = ".";
   return Parse(json::Document::Load(path), path, base);

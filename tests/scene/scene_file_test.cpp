@@ -202,6 +202,46 @@ TEST(SceneFile, MotionTypes) {
   EXPECT_EQ(j["world_from_cam"]["translation_m"], nlohmann::json({1.0, 2.0, 3.0}));
 }
 
+// A camera straight above (or below) its target with no "up": the default up, +z,
+// is parallel to the view, which was refused ("up is parallel to the view
+// direction"). It is a plan view now, image top toward +y; an "up" given
+// parallel to the view, or zero, is still an error naming it.
+TEST(SceneFile, LookAtStraightDownWithoutUpIsAPlanView) {
+  auto motion = [](const std::string& look_at) {
+    return Parse("{" + std::string(R"("objects": [{"name": "a", "gltf": "../gltf/square.gltf"}], )") + kSensor +
+                 R"(, "motion": {"type": "static", "world_from_cam": {"look_at": )" + look_at + "}}}")
+        .motion;
+  };
+  Pose down = WorldFromCamAt(motion(R"({"eye_m": [0.1, 0.2, 1], "target_m": [0.1, 0.2, 0]})"), 0);
+  EXPECT_TRUE(down.linear().isApprox((Eigen::Matrix3d() << 1, 0, 0, 0, -1, 0, 0, 0, -1).finished(), 1e-12))
+      << down.linear();
+  EXPECT_TRUE(down.translation().isApprox(Eigen::Vector3d(0.1, 0.2, 1)));
+  Pose up = WorldFromCamAt(motion(R"({"eye_m": [0, 0, -1], "target_m": [0, 0, 0]})"), 0);
+  EXPECT_TRUE(up.linear().col(2).isApprox(Eigen::Vector3d(0, 0, 1), 1e-12));
+  EXPECT_TRUE(up.linear().col(1).isApprox(Eigen::Vector3d(0, -1, 0), 1e-12));  // image top toward +y
+  EXPECT_NEAR(up.linear().determinant(), 1.0, 1e-12);
+  // Off the vertical the default up is +z as before.
+  Pose oblique = WorldFromCamAt(motion(R"({"eye_m": [1, 0, 1], "target_m": [0, 0, 0]})"), 0);
+  EXPECT_LT(oblique.linear().col(1).z(), 0);  // image down = world down
+  EXPECT_NEAR(oblique.linear().col(0).z(), 0, 1e-12);
+  EXPECT_EQ(ErrorOf([&] { motion(R"({"eye_m": [0, 0, 1], "target_m": [0, 0, 0], "up": [0, 0, 2]})"); }),
+            "scene.json: /motion/world_from_cam/look_at: up is parallel to the view direction");
+  EXPECT_EQ(ErrorOf([&] { motion(R"({"eye_m": [0, 0, 1], "target_m": [1, 0, 0], "up": [0, 0, 0]})"); }),
+            "scene.json: /motion/world_from_cam/look_at/up: must not be the zero vector");
+  EXPECT_EQ(ErrorOf([&] { motion(R"({"eye_m": [0, 0, 1], "target_m": [0, 0, 1]})"); }),
+            "scene.json: /motion/world_from_cam/look_at: eye and target coincide");
+}
+
+// A folder given for the scene file (`lasertwin render scenes/demo`) was read as
+// empty JSON: "scenes/demo:1:1: invalid JSON: ... unexpected end of input".
+TEST(SceneFile, AFolderIsNotASceneFile) {
+  EXPECT_EQ(ErrorOf([&] { LoadSceneFile(kScenes); }), kScenes.string() + ": is a folder, not a scene file");
+  test::TempDir dir;
+  test::WriteText(dir / "scene.json", "{}");
+  EXPECT_EQ(ErrorOf([&] { LoadSceneFile(dir.path()); }),
+            dir.path().string() + ": is a folder, not a scene file (it holds " + (dir / "scene.json").string() + ")");
+}
+
 TEST(SceneGeometry, ObjectsShareTheirGltfAndKeepTheirPoses) {
   SceneFile s = LoadSceneFile(kScenes / "full.json");
   auto g = std::make_shared<const SceneGeometry>(LoadSceneGeometry(s));
