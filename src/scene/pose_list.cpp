@@ -62,7 +62,8 @@ PoseTrajectory ParsePoseList(const std::string& text, PoseFileFormat format, con
   std::vector<PoseSample> samples;
   bool header_seen = false;
   size_t line_no = 0;
-  size_t pos = 0;
+  // A UTF-8 byte order mark (Excel's "CSV UTF-8", Windows editors) is not part of the first line.
+  size_t pos = text.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0;
   while (pos < text.size()) {
     size_t end = text.find('\n', pos);
     if (end == std::string::npos) end = text.size();

@@ -5,7 +5,8 @@
 //        (time in seconds, position in metres, rotation as a unit quaternion w first).
 //   tum  the TUM RGB-D benchmark trajectory format: `timestamp tx ty tz qx qy qz qw`
 //        separated by blanks (quaternion w LAST), no header.
-// In both, blank lines and lines starting with '#' are ignored. Times must strictly
+// In both, blank lines and lines starting with '#' are ignored, as is a UTF-8 byte
+// order mark at the start of the file. Times must strictly
 // increase; quaternions must have unit norm to 1e-3 (they are then re-normalised;
 // q and -q are the same rotation). At least two poses.
 //

@@ -134,6 +134,20 @@ TEST(PoseList, CrlfAndCommentsAreAccepted) {
   EXPECT_NEAR(traj.At(1).translation().x(), 0.5, 1e-15);
 }
 
+// Excel's "CSV UTF-8" and Windows editors start the file with a byte order mark;
+// it was read as part of the header ("expected the header ..."), or of a TUM time.
+TEST(PoseList, AByteOrderMarkIsSkipped) {
+  const std::string bom = "\xEF\xBB\xBF";
+  PoseTrajectory csv = ParsePoseList(bom + "t_s,x_m,y_m,z_m,qw,qx,qy,qz\r\n0,0,0,0,1,0,0,0\r\n2,1,0,0,1,0,0,0\r\n",
+                                     PoseFileFormat::kCsv, "p.csv");
+  EXPECT_NEAR(csv.At(1).translation().x(), 0.5, 1e-15);
+  PoseTrajectory tum = ParsePoseList(bom + "0 0 0 0 0 0 0 1\n2 1 0 0 0 0 0 1\n", PoseFileFormat::kTum, "p.tum");
+  EXPECT_NEAR(tum.At(1).translation().x(), 0.5, 1e-15);
+  // Only at the start of the file: elsewhere the bytes are no number.
+  EXPECT_THAT(ErrorOf([&] { ParsePoseList("0 0 0 0 0 0 0 1\n" + bom + "2 1 0 0 0 0 0 1\n", PoseFileFormat::kTum, "p.tum"); }),
+              HasSubstr("p.tum:2: field 1 is not a finite number"));
+}
+
 // The motion section of a scene file.
 Motion ParseMotionText(const std::string& text, const fs::path& base) {
   json::Document doc = json::Document::Parse(text, "scene.json", base);
