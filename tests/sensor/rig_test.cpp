@@ -68,6 +68,37 @@ TEST(Rig, PixelIntrinsicsNeedPixelPitch) {
             "scene.json: /camera: missing required key \"pixel_pitch_um\"");
 }
 
+// OpenCV's distCoeffs come in 4, 5, 8, 12 or 14 elements (calibrateCamera writes
+// 5, ROS camera_info and CALIB_RATIONAL_MODEL files 8, some tools 4); only 5 were
+// read ("must have 5 elements, got 4"). Terms past k3 are not modelled: zero only.
+TEST(Rig, DistortionCoefficientsTakeOpenCvLengths) {
+  auto camera = [](const std::string& coefficients) {
+    auto doc = Doc(R"({"camera": {"resolution": [64, 48], "fx": 100, "fy": 100, "cx": 31.5, "cy": 23.5, "pixel_pitch_um": 5,
+        "f_number": 4, "distortion": {"model": "brown_conrady", "coefficients": )" + coefficients + "}}}");
+    return ParseSensorRig(doc.Root().AsObject()).camera;
+  };
+  const auto four = camera("[-0.1, 0.02, 0.001, -0.002]").params().brown_conrady;
+  EXPECT_EQ(four.k1, -0.1);
+  EXPECT_EQ(four.k2, 0.02);
+  EXPECT_EQ(four.p1, 0.001);
+  EXPECT_EQ(four.p2, -0.002);
+  EXPECT_EQ(four.k3, 0.0);
+  const auto eight = camera("[-0.1, 0.02, 0.001, -0.002, 0.003, 0, 0, 0]").params().brown_conrady;
+  EXPECT_EQ(eight.k3, 0.003);
+  EXPECT_EQ(eight.p2, -0.002);
+  EXPECT_EQ(camera("[-0.1, 0.02, 0, 0, 0.003, 0, 0, 0, 0, 0, 0, 0, 0, 0]").params().brown_conrady.k3, 0.003);
+  EXPECT_EQ(ErrorOf([&] { camera("[-0.1, 0.02, 0, 0, 0, 0.5, 0, 0]"); }),
+            "scene.json: /camera/distortion/coefficients/5: k4 is not modelled (only k1 k2 p1 p2 k3): must be 0, got 0.5");
+  EXPECT_EQ(ErrorOf([&] { camera("[-0.1, 0.02, 0, 0, 0, 0]"); }).rfind(
+                "scene.json: /camera/distortion/coefficients: must have 4, 5, 8, 12 or 14 elements", 0),
+            0u);
+  // The fisheye model has OpenCV's four.
+  auto doc = Doc(R"({"camera": {"resolution": [64, 48], "fx": 100, "fy": 100, "cx": 31.5, "cy": 23.5, "pixel_pitch_um": 5,
+      "f_number": 4, "distortion": {"model": "fisheye", "coefficients": [0.1, 0, 0, 0, 0]}}})");
+  EXPECT_EQ(ErrorOf([&] { ParseSensorRig(doc.Root().AsObject()); }),
+            "scene.json: /camera/distortion/coefficients: must have 4 elements, got 5");
+}
+
 struct BadCase {
   std::string json;
   const char* expected;
