@@ -32,7 +32,10 @@
 //                   Marlin's SD file delete, is skipped)
 //   M200            volumetric extrusion: D diameter (D0 off), S0/S1 off/on; E in mm^3,
 //                   held as the length of that diameter's filament (Marlin's rules)
-//   M207            firmware retraction settings
+//   M207            firmware retraction settings; M208 (Marlin) S extra length and
+//                   F feed on recovery (with axis words, RepRapFirmware's limits: skipped)
+//   M220, M221      feed rate and flow percentages (S; M220 B/R save and restore),
+//                   scaling the feed and the E of later G0-G3 moves
 //   F               feed rate in mm/min (inch/min under G20), modal, shared by G0-G3
 // Comments: ;LAYER:n (Cura) sets the layer; ;LAYER_CHANGE (PrusaSlicer) starts the
 // next layer (0 first); ;TYPE:name names what follows (WALL-OUTER, External
@@ -68,7 +71,8 @@
 // .gcode.3mf) is refused as such, naming the file. Errors are lt::InputError naming "file:line": a NUL byte (not a text file), a letter without a number, a number
 // that is not finite or malformed, several values for one letter (RepRapFirmware's
 // "E0.1:0.2", amounts per drive), a parameter the command does not take or given
-// twice, F <= 0, a checksum that does not match, an M207 length < 0 or feed <= 0, an arc
+// twice, F <= 0, a checksum that does not match, an M207 or M208 length < 0 or feed <= 0,
+// an M220 percentage <= 0 or M221 < 0, an arc
 // without I/J or R, with both,
 // with zero radius, a P that is not a whole number of turns from 1 to 100, whose end is not on its circle (0.01 mm + 0.1 % of the radius),
 // or an R arc whose chord is longer than its diameter.

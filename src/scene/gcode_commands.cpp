@@ -142,6 +142,22 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
     VolumetricExtrusion();
     return;
   }
+  if (letter == 'M' && n == 208) {
+    // Marlin's recovery settings (S, F); RepRapFirmware's axis limits name axes
+    // ("M208 X0:200 Y0:200", "M208 S1 Z-0.2") and are skipped.
+    if (code.substr(pos).find_first_of("XYZUVWABCxyzuvwabc") != std::string_view::npos) {
+      ++path_.skipped_commands["M208"];
+      return;
+    }
+    ReadWords(code, pos, true);
+    RecoverSettings();
+    return;
+  }
+  if (letter == 'M' && (n == 220 || n == 221)) {
+    ReadWords(code, pos, false, true);
+    n == 220 ? SpeedFactor() : FlowFactor();
+    return;
+  }
   if (letter == 'M' && n == 207) {
     ReadWords(code, pos, true, true);
     RetractSettings();

@@ -78,7 +78,9 @@ double GcodeReader::Extruded() {
   logical = ERelative() ? logical + v : v;
   // Volumetric: mm^3 of filament, as the length of the M200 diameter's filament.
   if (volumetric_ && volumetric_diameter_mm_ > 0) delta /= M_PI * 0.25 * volumetric_diameter_mm_ * volumetric_diameter_mm_;
-  return delta;
+  // M221's flow percentage scales what the motor feeds (retractions too, as Marlin's
+  // e_factor does), not the logical E.
+  return delta * flow_factor_;
 }
 
 void GcodeReader::VolumetricExtrusion() {
@@ -126,11 +128,31 @@ void GcodeReader::AddSegment(int gcode, const Eigen::Vector3d& end_mm, double ex
 }
 
 double GcodeReader::MoveFeed(double length_mm, double extruded_mm) {
-  if (feed_mm_s_ > 0) return feed_mm_s_;
+  // M220's percentage scales every G0-G3 feed rate, as the firmware does.
+  if (feed_mm_s_ > 0) return feed_mm_s_ * speed_factor_;
   if (length_mm > 0 || extruded_mm != 0) {
     if (path_.moves_at_power_on_feed++ == 0) path_.first_power_on_feed_line = line_no_;
   }
-  return kPowerOnFeedMmS;
+  return kPowerOnFeedMmS * speed_factor_;
+}
+
+void GcodeReader::SpeedFactor() {
+  Expect("SBR", "M220");
+  if (Find('B')) saved_speed_factor_ = speed_factor_;
+  if (Find('R')) speed_factor_ = saved_speed_factor_;
+  if (const Word* s = Find('S')) {
+    if (!s->value || !(*s->value > 0)) Fail("M220 S (feed rate percentage) must be > 0");
+    speed_factor_ = *s->value / 100.0;
+  }
+}
+
+void GcodeReader::FlowFactor() {
+  // T (Marlin) or D (RepRapFirmware) picks the extruder: all extruders alike here.
+  Expect("STD", "M221");
+  if (const Word* s = Find('S')) {
+    if (!s->value || !(*s->value >= 0)) Fail("M221 S (flow percentage) must be >= 0");
+    flow_factor_ = *s->value / 100.0;
+  }
 }
 
 void GcodeReader::Move(int gcode) {

@@ -96,6 +96,13 @@ class GcodeReader {
   // Firmware retraction (G10/G11) and its settings (M207).
   void FirmwareRetract(bool retract);
   void RetractSettings();
+  // Marlin's M208 (S extra length, F feed on recovery); RepRapFirmware's M208 sets axis
+  // limits (X, Y, Z... words) and is skipped.
+  void RecoverSettings();
+  // M220 S: feed rate percentage (B saves it, R restores: Marlin); M221 S: flow
+  // percentage, scaling the E of G0-G3 (Marlin, RepRapFirmware, Klipper).
+  void SpeedFactor();
+  void FlowFactor();
   // M200 D (filament diameter; D0 off) and S (0 off, 1 on): E in cubic millimetres.
   void VolumetricExtrusion();
   // Checks a line's checksum ("N12 G1 X5*57": XOR of the bytes before '*'; the
@@ -134,6 +141,8 @@ class GcodeReader {
   double volumetric_diameter_mm_ = 0;
   bool volumetric_ = false;
   double feed_mm_s_ = 0;  // 0: none given yet
+  double speed_factor_ = 1, saved_speed_factor_ = 1;  // M220 (and its B backup)
+  double flow_factor_ = 1;                            // M221
   double unit_mm_ = 1;    // 25.4 under G20
   bool xyz_relative_ = false;
   enum class EMode { kNone, kAbsolute, kRelative } e_mode_ = EMode::kNone;  // the last M82/M83

@@ -57,5 +57,20 @@ void GcodeReader::RetractSettings() {
   path_.firmware_retraction_set = true;
 }
 
+void GcodeReader::RecoverSettings() {
+  // Marlin's M208: S extra length on recovery, F its feed (mm/min); R and W are the
+  // tool swap's (not used). (RepRapFirmware's M208, axis limits, is skipped before.)
+  Expect("SFR", "M208");
+  if (const Word* s = Find('S')) {
+    if (*s->value < 0) Fail("M208 S (extra length on recovery) must be >= 0, got " + FormatNumber(*s->value));
+    fw_recover_extra_mm_ = *s->value * unit_mm_;
+  }
+  if (const Word* f = Find('F')) {
+    if (!(*f->value > 0)) Fail("M208 F (recovery feed rate) must be > 0, got " + FormatNumber(*f->value));
+    fw_recover_feed_mm_s_ = *f->value * unit_mm_ / 60.0;
+  }
+  path_.firmware_retraction_set = true;
+}
+
 }  // namespace gcode_detail
 }  // namespace lt

@@ -119,5 +119,39 @@ TEST(GcodeApproximations, UltiGCodeExtrusionIsVolume) {
   EXPECT_NEAR(ParseGcode(";FLAVOR:Marlin\nG1 X10 E6 F600\n", "m.gcode").segments[0].extruded_m, 6 * kMm, 1e-15);
 }
 
+// M221's flow percentage scales what the extruder feeds (PrusaSlicer's MK3S start
+// script sets "M221 S95" for layers of 0.075 mm and more), M220's the feed rates
+// (B saves, R restores: Marlin); Marlin's M208 sets G11's extra length and feed.
+TEST(GcodeApproximations, FlowAndSpeedPercentagesAndRecoverySettings) {
+  Toolpath p = ParseGcode(
+      "M83\n"
+      "G1 X10 E1 F600\n"  // 10 mm/s, 1 mm
+      "M221 S95\n"
+      "M220 B S50\n"      // B saves 100 % before S sets 50 %
+      "G1 X20 E1\n"       // 0.95 mm at 5 mm/s: 2 s
+      "G1 E-0.5 F1800\n"  // retraction, scaled too: 0.475 mm at 15 mm/s
+      "M220 R\n"
+      "M221 S100 T0\n"
+      "G1 X30 E1 F600\n"
+      "M207 S2 F1800\n"
+      "M208 S0.5 F600\n"
+      "M208 X0:200 Y0:200\n"  // RepRapFirmware's axis limits
+      "G10\nG11\n",
+      "flow.gcode");
+  ASSERT_EQ(p.segments.size(), 6u);
+  EXPECT_NEAR(p.segments[0].extruded_m, 1 * kMm, 1e-15);
+  EXPECT_NEAR(p.segments[1].extruded_m, 0.95 * kMm, 1e-15);
+  EXPECT_NEAR(p.segments[1].Duration(), 2.0, 1e-12);
+  EXPECT_NEAR(p.segments[2].extruded_m, -0.475 * kMm, 1e-15);
+  EXPECT_NEAR(p.segments[2].Duration(), 0.475 / 15, 1e-12);
+  EXPECT_NEAR(p.segments[3].extruded_m, 1 * kMm, 1e-15);
+  EXPECT_NEAR(p.segments[3].Duration(), 1.0, 1e-12);        // M220 R: 100 % again
+  EXPECT_NEAR(p.segments[5].extruded_m, 2.5 * kMm, 1e-15);  // S2 + M208 S0.5
+  EXPECT_NEAR(p.segments[5].Duration(), 0.25, 1e-12);       // at M208's 10 mm/s
+  EXPECT_EQ(p.skipped_commands.at("M208"), 1u);
+  EXPECT_THAT(ErrorOf([] { ParseGcode("M221 S-5\n", "f.gcode"); }), HasSubstr("f.gcode:1: M221 S"));
+  EXPECT_THAT(ErrorOf([] { ParseGcode("M220 S0\n", "f.gcode"); }), HasSubstr("f.gcode:1: M220 S"));
+}
+
 }  // namespace
 }  // namespace lt
