@@ -1,5 +1,6 @@
 #include "pipeline/calibration_file.h"
 
+#include <cctype>
 #include <cmath>
 #include <set>
 
@@ -218,8 +219,18 @@ CalibrationFile ReadCalibrationFile(const std::filesystem::path& path) {
   return c;
 }
 
-std::string FormatCalibrationFile(const CalibrationFile& c) {
-  OpenCvYamlWriter w;
+StorageFormat CalibrationFileFormat(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+  if (ext == ".xml") return StorageFormat::kXml;
+  if (ext == ".yaml" || ext == ".yml") return StorageFormat::kYaml;
+  throw InputError(path.string(), (ext.empty() ? std::string("no extension") : "unknown extension '" + ext + "'") +
+                                      ": a calibration file is written as OpenCV YAML (.yaml, .yml) or OpenCV XML "
+                                      "(.xml)");
+}
+
+std::string FormatCalibrationFile(const CalibrationFile& c, StorageFormat format) {
+  OpenCvYamlWriter w(format);
   if (c.camera) {
     const CalibratedCamera& cam = *c.camera;
     w.Integer("image_width", cam.width);
@@ -251,7 +262,7 @@ std::string FormatCalibrationFile(const CalibrationFile& c) {
 }
 
 void WriteCalibrationFile(const std::filesystem::path& path, const CalibrationFile& calibration) {
-  WriteFileAtomically(path, FormatCalibrationFile(calibration));
+  WriteFileAtomically(path, FormatCalibrationFile(calibration, CalibrationFileFormat(path)));
 }
 
 }  // namespace lt

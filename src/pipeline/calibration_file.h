@@ -1,6 +1,7 @@
-// Calibration files: OpenCV FileStorage YAML (pipeline/opencv_yaml.h), so a
-// camera calibrated with OpenCV loads directly and ours load in OpenCV. The
-// reader takes OpenCV's XML form too (the same keys).
+// Calibration files: OpenCV FileStorage YAML or XML (pipeline/opencv_yaml.h),
+// so a camera calibrated with OpenCV loads directly and ours load in OpenCV.
+// The reader takes either form whatever the name; the writer picks the form by
+// the extension, as cv::FileStorage does (.xml XML, .yaml/.yml YAML).
 // docs/pipeline.md ("Calibration file") documents the keys:
 //
 //   %YAML:1.0
@@ -32,6 +33,7 @@
 #include <vector>
 
 #include "core/pose.h"
+#include "pipeline/opencv_yaml.h"
 #include "sensor/camera.h"
 #include "sensor/plane.h"
 
@@ -66,10 +68,15 @@ struct CalibrationFile {
 // Reads a calibration file; errors are lt::InputError naming "file:line".
 // Plane normals are normalised (n and d divided by |n|) unless already unit to 1e-12.
 CalibrationFile ReadCalibrationFile(const std::filesystem::path& path);
+// The form a calibration file of this name is written in: .xml is XML, .yaml
+// and .yml are YAML (any case). Throws lt::InputError naming the path for any
+// other extension (or none), so no file holds one form under another's name.
+StorageFormat CalibrationFileFormat(const std::filesystem::path& path);
 // The file's text (what WriteCalibrationFile writes). Throws std::invalid_argument
 // on non-finite values.
-std::string FormatCalibrationFile(const CalibrationFile& calibration);
-// Written atomically.
+std::string FormatCalibrationFile(const CalibrationFile& calibration, StorageFormat format = StorageFormat::kYaml);
+// Written atomically, in the form of CalibrationFileFormat(path) (which throws
+// before anything is written).
 void WriteCalibrationFile(const std::filesystem::path& path, const CalibrationFile& calibration);
 
 }  // namespace lt

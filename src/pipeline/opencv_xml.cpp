@@ -1,5 +1,6 @@
-// OpenCV FileStorage XML (pipeline/opencv_yaml.h, ParseOpenCvXml): the same
-// entries as the YAML form, from <opencv_storage>'s child elements.
+// OpenCV FileStorage XML (pipeline/opencv_yaml.h): ParseOpenCvXml reads the
+// same entries as the YAML form from <opencv_storage>'s child elements, and
+// OpenCvYamlWriter writes them in this form for StorageFormat::kXml.
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
@@ -234,6 +235,18 @@ std::vector<YamlEntry> ParseOpenCvXml(const std::string& text, const std::string
     entries.push_back(std::move(e));
   }
   return entries;
+}
+
+void OpenCvYamlWriter::XmlElement(const std::string& key, const std::string& value) {
+  text_ += "<" + key + ">" + value + "</" + key + ">\n";
+}
+
+// As cv::FileStorage writes a cv::Mat: the values separated by spaces, four to a line.
+void OpenCvYamlWriter::XmlMatrix(const std::string& key, int rows, int cols, const std::vector<double>& data) {
+  text_ += "<" + key + " type_id=\"opencv-matrix\">\n  <rows>" + std::to_string(rows) + "</rows>\n  <cols>" +
+           std::to_string(cols) + "</cols>\n  <dt>d</dt>\n  <data>";
+  for (size_t i = 0; i < data.size(); ++i) text_ += (i % 4 == 0 ? "\n    " : " ") + FormatYamlReal(data[i]);
+  text_ += "</data></" + key + ">\n";
 }
 
 }  // namespace lt

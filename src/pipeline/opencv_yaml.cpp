@@ -302,14 +302,22 @@ std::string FormatYamlReal(double v) {
   return s;
 }
 
-OpenCvYamlWriter::OpenCvYamlWriter() : text_("%YAML:1.0\n---\n") {}
+OpenCvYamlWriter::OpenCvYamlWriter(StorageFormat format)
+    : format_(format),
+      text_(format == StorageFormat::kXml ? "<?xml version=\"1.0\"?>\n<opencv_storage>\n" : "%YAML:1.0\n---\n") {}
+
+std::string OpenCvYamlWriter::text() const {
+  return format_ == StorageFormat::kXml ? text_ + "</opencv_storage>\n" : text_;
+}
 
 void OpenCvYamlWriter::Integer(const std::string& key, long long value) {
+  if (format_ == StorageFormat::kXml) return XmlElement(key, std::to_string(value));
   text_ += key + ": " + std::to_string(value) + "\n";
 }
 
 void OpenCvYamlWriter::Number(const std::string& key, double value) {
   if (!std::isfinite(value)) throw std::invalid_argument("OpenCvYamlWriter: " + key + " is not finite");
+  if (format_ == StorageFormat::kXml) return XmlElement(key, FormatYamlReal(value));
   text_ += key + ": " + FormatYamlReal(value) + "\n";
 }
 
@@ -320,11 +328,24 @@ void OpenCvYamlWriter::String(const std::string& key, const std::string& value) 
   }
   double ignored = 0;
   if (plain && !ParseReal(value, &ignored)) {
+    if (format_ == StorageFormat::kXml) return XmlElement(key, value);
     text_ += key + ": " + value + "\n";
     return;
   }
   std::string q = "\"";
   for (char c : value) {
+    if (format_ == StorageFormat::kXml) {
+      // OpenCV's entities; the surrounding quotes mark a string.
+      switch (c) {
+        case '<': q += "&lt;"; continue;
+        case '>': q += "&gt;"; continue;
+        case '&': q += "&amp;"; continue;
+        case '"': q += "&quot;"; continue;
+        case '\'': q += "&apos;"; continue;
+        case '\n': q += "&#xa;"; continue;
+        default: q += c; continue;
+      }
+    }
     if (c == '"' || c == '\\') q += '\\';
     if (c == '\n') {
       q += "\\n";
@@ -332,7 +353,9 @@ void OpenCvYamlWriter::String(const std::string& key, const std::string& value) 
     }
     q += c;
   }
-  text_ += key + ": " + q + "\"\n";
+  q += '"';
+  if (format_ == StorageFormat::kXml) return XmlElement(key, q);
+  text_ += key + ": " + q + "\n";
 }
 
 void OpenCvYamlWriter::Matrix(const std::string& key, int rows, int cols, const std::vector<double>& data) {
@@ -342,6 +365,7 @@ void OpenCvYamlWriter::Matrix(const std::string& key, int rows, int cols, const 
   for (double v : data) {
     if (!std::isfinite(v)) throw std::invalid_argument("OpenCvYamlWriter: " + key + " holds a non-finite value");
   }
+  if (format_ == StorageFormat::kXml) return XmlMatrix(key, rows, cols, data);
   text_ += key + ": !!opencv-matrix\n   rows: " + std::to_string(rows) + "\n   cols: " + std::to_string(cols) +
            "\n   dt: d\n   data: [ ";
   for (size_t i = 0; i < data.size(); ++i) {

@@ -73,18 +73,30 @@ class OpenCvYaml {
 // a text that starts with '<').
 std::vector<YamlEntry> ParseOpenCvXml(const std::string& text, const std::string& file);
 
-// Writes the same subset, formatted as OpenCV writes it (numbers round-trip exactly).
+// The two text forms of cv::FileStorage.
+enum class StorageFormat { kYaml, kXml };
+
+// Writes the same subset, formatted as OpenCV writes it (numbers round-trip
+// exactly): YAML ("%YAML:1.0", "key: value", "!!opencv-matrix"), or XML
+// ("<?xml version=\"1.0\"?>", <opencv_storage>, <key>value</key>, a matrix as
+// <key type_id="opencv-matrix"> with <rows>, <cols>, <dt>, <data>).
 class OpenCvYamlWriter {
  public:
-  OpenCvYamlWriter();
+  explicit OpenCvYamlWriter(StorageFormat format = StorageFormat::kYaml);
   void Integer(const std::string& key, long long value);
   void Number(const std::string& key, double value);
   void String(const std::string& key, const std::string& value);
   // rows x cols values, row-major, dt "d".
   void Matrix(const std::string& key, int rows, int cols, const std::vector<double>& data);
-  const std::string& text() const { return text_; }
+  // The whole text (XML: with the closing </opencv_storage>).
+  std::string text() const;
 
  private:
+  // XML forms, in opencv_xml.cpp: <key>value</key> (value already escaped) and a matrix.
+  void XmlElement(const std::string& key, const std::string& value);
+  void XmlMatrix(const std::string& key, int rows, int cols, const std::vector<double>& data);
+
+  StorageFormat format_;
   std::string text_;
 };
 

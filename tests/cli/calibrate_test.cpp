@@ -95,7 +95,8 @@ fs::path EditedRun(const std::string& name, size_t lines, const std::function<vo
 TEST(CalibrateCli, RenderedSessionCalibratesEndToEnd) {
   const Session& s = RenderedSession();
   ASSERT_TRUE(s.ok);
-  const fs::path cam_yaml = s.dir / "camera.yaml", laser_yaml = s.dir / "laser.yaml", all_yaml = s.dir / "all.yaml";
+  // The laser step writes OpenCV's XML form (by the extension), which the hand-eye step reads.
+  const fs::path cam_yaml = s.dir / "camera.yaml", laser_yaml = s.dir / "laser.xml", all_yaml = s.dir / "all.yaml";
   const CliResult cam = RunCli("calibrate camera " + Quoted(s.run) + " --fix-k3 --out " + Quoted(cam_yaml));
   ASSERT_EQ(cam.exit_code, 0) << cam.err;
   EXPECT_THAT(cam.out, HasSubstr("camera from 6 of 6 views, 320x256"));
@@ -108,6 +109,17 @@ TEST(CalibrateCli, RenderedSessionCalibratesEndToEnd) {
                               Quoted(all_yaml));
   ASSERT_EQ(he.exit_code, 0) << he.err;
   EXPECT_THAT(he.out, HasSubstr("against the true tool_from_cam"));
+  {
+    std::ifstream in(laser_yaml);
+    std::string first, second;
+    std::getline(in, first);
+    std::getline(in, second);
+    EXPECT_EQ(first, "<?xml version=\"1.0\"?>");  // was "%YAML:1.0" whatever the extension
+    EXPECT_EQ(second, "<opencv_storage>");
+    const CalibrationFile l = ReadCalibrationFile(laser_yaml);
+    EXPECT_TRUE(l.camera.has_value());
+    EXPECT_EQ(l.laser_planes.size(), 1u);
+  }
 
   // Each step kept the parts before it.
   const CalibrationFile f = ReadCalibrationFile(all_yaml);
@@ -186,6 +198,12 @@ TEST(CalibrateCli, RenderedSessionCalibratesEndToEnd) {
   EXPECT_DOUBLE_EQ(planes.at<double>(0, 3), f.laser_planes[0].d);
   ASSERT_EQ(x.rows, 4);
   EXPECT_DOUBLE_EQ(x.at<double>(0, 3), f.tool_from_cam->translation().x());
+  cv::FileStorage xml(laser_yaml.string(), cv::FileStorage::READ);  // the XML form
+  ASSERT_TRUE(xml.isOpened());
+  xml["laser_planes"] >> planes;
+  ASSERT_EQ(planes.cols, 4);
+  EXPECT_DOUBLE_EQ(planes.at<double>(0, 3), f.laser_planes[0].d);
+  EXPECT_EQ(std::string(xml["distortion_model"]), "brown_conrady");
 #endif
 }
 
@@ -277,6 +295,9 @@ TEST(CalibrateCli, RefusalsAreClearAndWriteNothing) {
       // Before any work: an output folder that does not exist, a coefficient the model has not.
       "calibrate camera " + Quoted(run) + " --out " + Quoted(out_in_no_folder),
       "calibrate camera " + Quoted(run) + " --model fisheye --fix-k3 --out " + Quoted(out),
+      // A form the writer does not have (it wrote YAML into any name before).
+      "calibrate camera " + Quoted(run) + " --out " + Quoted(two.parent_path() / "c.json"),
+      "calibrate laser " + Quoted(run) + " --out " + Quoted(two.parent_path() / "calib"),
   });
   for (size_t i = 0; i < r.size(); ++i) EXPECT_EQ(r[i].exit_code, 2) << i << ": " << r[i].out << r[i].err;
   EXPECT_THAT(r[0].err, HasSubstr("camera calibration refused (2 of 2 views with the board): too few views"));
@@ -291,6 +312,15 @@ TEST(CalibrateCli, RefusalsAreClearAndWriteNothing) {
   EXPECT_THAT(r[8].err, HasSubstr("--out: the folder of"));
   EXPECT_THAT(r[8].err, HasSubstr("does not exist"));
   EXPECT_THAT(r[9].err, HasSubstr("option fix_k3: holds the Brown–Conrady model's k3; the model is fisheye"));
+  EXPECT_THAT(r[10].err, HasSubstr("c.json: unknown extension '.json': a calibration file is written as OpenCV YAML "
+                                   "(.yaml, .yml) or OpenCV XML (.xml)"));
+  EXPECT_THAT(r[11].err, HasSubstr("calib: no extension"));
+  for (size_t i : {10, 11}) {  // refused before any work: no result, no warning of the laser step
+    EXPECT_THAT(r[i].out + r[i].err, ::testing::Not(HasSubstr("from 6 of 6")));
+    EXPECT_THAT(r[i].err, ::testing::Not(HasSubstr("warning")));
+  }
+  EXPECT_FALSE(fs::exists(two.parent_path() / "c.json"));
+  EXPECT_FALSE(fs::exists(two.parent_path() / "calib"));
   EXPECT_FALSE(fs::exists(out));
 }
 

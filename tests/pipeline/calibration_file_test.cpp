@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include "core/error.h"
 #include "pipeline/calibration_file.h"
@@ -82,6 +83,54 @@ TEST(CalibrationFile, RoundTripIsExact) {
   EXPECT_TRUE(r.ignored_keys.empty());
   // Writing what was read gives the same text.
   EXPECT_EQ(FormatCalibrationFile(r), text);
+}
+
+// A name ending in .xml is written in OpenCV's XML form (before: YAML under
+// any name), exactly as the YAML form reads back; other extensions are refused
+// before anything is written.
+TEST(CalibrationFile, FormIsChosenByTheExtension) {
+  const CalibrationFile c = Example();
+  const std::string xml = FormatCalibrationFile(c, StorageFormat::kXml);
+  EXPECT_EQ(xml.rfind("<?xml version=\"1.0\"?>\n<opencv_storage>\n<image_width>1280</image_width>\n", 0), 0u);
+  EXPECT_THAT(xml, HasSubstr("<camera_matrix type_id=\"opencv-matrix\">\n  <rows>3</rows>\n  <cols>3</cols>\n"
+                             "  <dt>d</dt>\n  <data>\n    1851.8541666666667 0. "));
+  EXPECT_THAT(xml, HasSubstr("<distortion_model>brown_conrady</distortion_model>\n"));
+  EXPECT_EQ(xml.substr(xml.size() - 18), "</opencv_storage>\n");
+  for (const char* name : {"c.xml", "c.XML"}) {
+    const fs::path p = TempFile(name, "");
+    WriteCalibrationFile(p, c);
+    std::ifstream in(p);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(text, xml) << name;
+    // Read back: the same values as the YAML form's, to the bit.
+    EXPECT_EQ(FormatCalibrationFile(ReadCalibrationFile(p)), FormatCalibrationFile(c)) << name;
+  }
+  for (const char* name : {"c.yaml", "c.YML"}) EXPECT_EQ(CalibrationFileFormat(name), StorageFormat::kYaml) << name;
+  for (const char* name : {"c.json", "calib", "c.yaml.gz"}) {
+    const fs::path p = fs::path(TempFile("x", "")).parent_path() / name;
+    fs::remove(p);
+    try {
+      WriteCalibrationFile(p, c);
+      ADD_FAILURE() << name << " was written";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr(p.string() + ": "));
+      EXPECT_THAT(e.what(), HasSubstr("OpenCV YAML (.yaml, .yml) or OpenCV XML (.xml)"));
+    }
+    EXPECT_FALSE(fs::exists(p)) << name;
+  }
+  // Strings that need quoting and entities read back as written.
+  OpenCvYamlWriter w(StorageFormat::kXml);
+  w.String("s", "two words <&> \"q\" 'a'");
+  w.String("t", "fisheye");
+  w.String("n", "12");
+  w.Integer("i", -3);
+  w.Number("r", 2.0);
+  const OpenCvYaml back = OpenCvYaml::Parse(w.text(), "w.xml");
+  EXPECT_EQ(back.String(*back.Find("s")), "two words <&> \"q\" 'a'");
+  EXPECT_EQ(back.String(*back.Find("t")), "fisheye");
+  EXPECT_TRUE(back.Find("n")->quoted);
+  EXPECT_EQ(back.Integer(*back.Find("i"), -10, 10), -3);
+  EXPECT_EQ(back.Number(*back.Find("r")), 2.0);
 }
 
 TEST(CalibrationFile, FisheyeAndNoDistortionRoundTrip) {

@@ -2,10 +2,10 @@
 // [--calib IN.yaml] [--board FILE | --rows R --cols C --square-mm S]`:
 // calibrates one part of the scanner from a calibration session's run folder
 // (pipeline/calib_session.h), or the camera from a folder of photographs
-// (pipeline/calib_camera_images.h), and writes the calibration file (OpenCV YAML,
-// pipeline/calibration_file.h) with that part added to IN.yaml's. Prints the
-// result with its uncertainty, and against the run's ground truth (rig.json,
-// scene.json) when the run has one.
+// (pipeline/calib_camera_images.h), and writes the calibration file (OpenCV
+// YAML, or OpenCV XML for an --out ending in .xml; pipeline/calibration_file.h)
+// with that part added to IN.yaml's. Prints the result with its uncertainty,
+// and against the run's ground truth (rig.json, scene.json) when the run has one.
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -258,6 +258,7 @@ void HandEyeStep(const CalibrateArgs& a, CalibrationFile* file) {
 
 void Run(const CalibrateArgs& a) {
   RequireOutputFolder("--out", a.out);
+  CalibrationFileFormat(a.out);  // an unknown extension is refused before the work
   CalibrationFile file = InputFile(a);
   file.ignored_keys.clear();
   if (a.step == "camera") {
@@ -282,7 +283,8 @@ void Add(CLI::App& app) {
                   "Run folder of a calibration session (bright/dim frame pairs); camera: or a folder of photographs "
                   "of the board (every image file, no manifest.jsonl; give the board)")
       ->required();
-  cmd->add_option("--out", args->out, "Calibration file to write (OpenCV YAML)")->required();
+  cmd->add_option("--out", args->out, "Calibration file to write: OpenCV YAML (.yaml, .yml) or OpenCV XML (.xml)")
+      ->required();
   cmd->add_option("--calib", args->calib,
                   "Calibration file to start from (its camera is used by the laser and hand-eye steps)");
   cmd->add_option("--board", args->board,
