@@ -38,6 +38,10 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
       PositionUnknown(name);
       return;
     }
+    if (name == "SET_RETRACTION") {
+      KlipperRetractSettings(code.substr(end));
+      return;
+    }
     ++path_.skipped_commands[name];
     return;
   }

@@ -96,6 +96,9 @@ class GcodeReader {
   // Firmware retraction (G10/G11) and its settings (M207).
   void FirmwareRetract(bool retract);
   void RetractSettings();
+  // Klipper's SET_RETRACTION RETRACT_LENGTH= RETRACT_SPEED= UNRETRACT_EXTRA_LENGTH=
+  // UNRETRACT_SPEED= (mm, mm/s; Kalico's Z_HOP_HEIGHT= too); `params` after the name.
+  void KlipperRetractSettings(std::string_view params);
   // Marlin's M208 (S extra length, F feed on recovery); RepRapFirmware's M208 sets axis
   // limits (X, Y, Z... words) and is skipped.
   void RecoverSettings();

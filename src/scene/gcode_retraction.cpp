@@ -4,6 +4,7 @@
 
 #include "core/error.h"
 #include "scene/gcode_reader.h"
+#include "scene/motion_text.h"
 
 namespace lt {
 namespace gcode_detail {
@@ -54,6 +55,43 @@ void GcodeReader::RetractSettings() {
   feed('F', fw_retract_feed_mm_s_);
   if (Find('F') && !Find('T')) fw_recover_feed_mm_s_ = fw_retract_feed_mm_s_;  // RepRapFirmware: T defaults to F
   feed('T', fw_recover_feed_mm_s_);
+  path_.firmware_retraction_set = true;
+}
+
+void GcodeReader::KlipperRetractSettings(std::string_view params) {
+  // Klipper's values are millimetres and mm/s whatever G20 says; other keys are ignored
+  // as Klipper ignores them.
+  struct Key {
+    const char* name;
+    double* value;
+    bool speed;
+  };
+  const Key keys[] = {{"RETRACT_LENGTH", &fw_retract_mm_, false},
+                      {"RETRACT_SPEED", &fw_retract_feed_mm_s_, true},
+                      {"UNRETRACT_EXTRA_LENGTH", &fw_recover_extra_mm_, false},
+                      {"UNRETRACT_SPEED", &fw_recover_feed_mm_s_, true},
+                      {"Z_HOP_HEIGHT", &fw_hop_mm_, false}};
+  size_t pos = 0;
+  while (pos < params.size()) {
+    while (pos < params.size() && IsBlank(params[pos])) ++pos;
+    size_t end = pos;
+    while (end < params.size() && !IsBlank(params[end])) ++end;
+    const std::string_view word = params.substr(pos, end - pos);
+    pos = end;
+    const size_t eq = word.find('=');
+    if (word.empty() || eq == std::string_view::npos) continue;
+    std::string key(word.substr(0, eq));
+    for (char& c : key) c = Upper(c);
+    for (const Key& k : keys) {
+      if (key != k.name) continue;
+      auto v = ParseFiniteNumber(word.substr(eq + 1));
+      if (!v || (k.speed ? !(*v > 0) : *v < 0)) {
+        Fail("SET_RETRACTION " + key + " must be a number " + (k.speed ? "> 0" : ">= 0") + ", got \"" +
+             std::string(word.substr(eq + 1)) + "\"");
+      }
+      *k.value = *v;
+    }
+  }
   path_.firmware_retraction_set = true;
 }
 

@@ -153,5 +153,23 @@ TEST(GcodeApproximations, FlowAndSpeedPercentagesAndRecoverySettings) {
   EXPECT_THAT(ErrorOf([] { ParseGcode("M220 S0\n", "f.gcode"); }), HasSubstr("f.gcode:1: M220 S"));
 }
 
+// Klipper's firmware retraction takes its settings from SET_RETRACTION (mm and mm/s),
+// which was skipped: G10/G11 ran with Marlin's 3 mm defaults.
+TEST(GcodeApproximations, KlipperSetRetractionSetsG10AndG11) {
+  Toolpath p = ParseGcode(
+      "SET_RETRACTION RETRACT_LENGTH=0.8 RETRACT_SPEED=40 UNRETRACT_EXTRA_LENGTH=0.1 UNRETRACT_SPEED=20\n"
+      "G1 X10 F600\nG10\nG11\n",
+      "klipper.gcode");
+  ASSERT_EQ(p.segments.size(), 3u);
+  EXPECT_NEAR(p.segments[1].extruded_m, -0.8 * kMm, 1e-15);
+  EXPECT_NEAR(p.segments[1].Duration(), 0.02, 1e-12);
+  EXPECT_NEAR(p.segments[2].extruded_m, 0.9 * kMm, 1e-15);
+  EXPECT_NEAR(p.segments[2].Duration(), 0.045, 1e-12);
+  EXPECT_TRUE(p.firmware_retraction_set);
+  EXPECT_EQ(p.skipped_commands.count("SET_RETRACTION"), 0u);
+  EXPECT_THAT(ErrorOf([] { ParseGcode("SET_RETRACTION RETRACT_SPEED=0\n", "k.gcode"); }),
+              HasSubstr("k.gcode:1: SET_RETRACTION RETRACT_SPEED must be a number > 0"));
+}
+
 }  // namespace
 }  // namespace lt
