@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "pipeline/option_checks.h"
+#include "pipeline/calib_camera_start.h"
 #include "pipeline/calib_lm.h"
 #include "sensor/param_error.h"
 
@@ -116,77 +117,22 @@ bool ViewResiduals(const CameraParams& p, const Pose& cam_from_target, const Cal
   return true;
 }
 
-// Nearest rotation matrix (SVD, determinant +1).
-Eigen::Matrix3d NearestRotation(const Eigen::Matrix3d& m) {
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(m, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
-  d(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
-  return svd.matrixU() * d * svd.matrixV().transpose();
-}
-
-Eigen::Matrix<double, 1, 6> ZhangRow(const Eigen::Matrix3d& h, int i, int j) {
-  Eigen::Matrix<double, 1, 6> v;
-  v << h(0, i) * h(0, j), h(0, i) * h(1, j) + h(1, i) * h(0, j), h(1, i) * h(1, j),
-      h(2, i) * h(0, j) + h(0, i) * h(2, j), h(2, i) * h(1, j) + h(1, i) * h(2, j), h(2, i) * h(2, j);
-  return v;
-}
-
-// Zhang's closed form with zero skew. Homographies are first expressed in
-// normalised pixels (centre of the image at 0, half-size 1) for conditioning.
-bool ClosedFormIntrinsics(const std::vector<Eigen::Matrix3d>& homographies, int width, int height,
-                          Eigen::Matrix3d* k) {
-  const double s = 0.5 * (width + height) * 0.5;
-  Eigen::Matrix3d t;
-  t << 1 / s, 0, -0.5 * (width - 1) / s, 0, 1 / s, -0.5 * (height - 1) / s, 0, 0, 1;
-  Eigen::MatrixXd v(2 * homographies.size() + 1, 6);
-  for (size_t i = 0; i < homographies.size(); ++i) {
-    Eigen::Matrix3d h = t * homographies[i];
-    h /= h.norm();
-    v.row(2 * i) = ZhangRow(h, 0, 1);
-    v.row(2 * i + 1) = ZhangRow(h, 0, 0) - ZhangRow(h, 1, 1);
-  }
-  v.row(v.rows() - 1) << 0, 1, 0, 0, 0, 0;  // zero skew: B12 = 0
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(v, Eigen::ComputeFullV);
-  const Eigen::VectorXd sv = svd.singularValues();
-  if (!(sv[4] > 1e-12 * sv[0])) return false;  // the null space is not one-dimensional
-  const Eigen::VectorXd b = svd.matrixV().col(5);
-  const double b11 = b[0], b12 = b[1], b22 = b[2], b13 = b[3], b23 = b[4], b33 = b[5];
-  const double den = b11 * b22 - b12 * b12;
-  if (!(den > 0)) return false;
-  const double v0 = (b12 * b13 - b11 * b23) / den;
-  const double lambda = b33 - (b13 * b13 + v0 * (b12 * b13 - b11 * b23)) / b11;
-  const double a2 = lambda / b11, b2 = lambda * b11 / den;
-  if (!(a2 > 0 && b2 > 0)) return false;
-  const double alpha = std::sqrt(a2), beta = std::sqrt(b2);
-  const double gamma = -b12 * alpha * alpha * beta / lambda;
-  const double u0 = gamma * v0 / beta - b13 * alpha * alpha / lambda;
-  Eigen::Matrix3d kn;
-  kn << alpha, 0, u0, 0, beta, v0, 0, 0, 1;
-  *k = t.inverse() * kn;
-  return k->allFinite();
-}
-
-Pose ClosedFormExtrinsics(const Eigen::Matrix3d& k, const Eigen::Matrix3d& h) {
-  Eigen::Matrix3d a = k.inverse() * h;
-  double scale = 1.0 / a.col(0).norm();
-  if (a(2, 2) * scale < 0) scale = -scale;  // the target lies in front of the camera
-  Eigen::Matrix3d r;
-  r.col(0) = scale * a.col(0);
-  r.col(1) = scale * a.col(1);
-  r.col(2) = r.col(0).cross(r.col(1));
-  Pose pose = Pose::Identity();
-  pose.linear() = NearestRotation(r);
-  pose.translation() = scale * a.col(2);
-  return pose;
-}
-
 std::string ViewName(size_t v) { return "view " + std::to_string(v); }
 
-}  // namespace
-
-Pose PoseFromHomography(const Eigen::Matrix3d& camera_matrix, const Eigen::Matrix3d& homography) {
-  return ClosedFormExtrinsics(camera_matrix, homography);
+// The angle from the axis where a Kannala–Brandt distortion folds (dθ_d/dθ
+// reaches 0; π without a fold), by the sensor's analysis of the lens on a
+// field too small to hold the fold. Throws ParamError when θ_d is not
+// positive there.
+double FisheyeFoldAngle(const KannalaBrandtCoeffs& c) {
+  ImageBounds centre;
+  centre.x_min = centre.y_min = -1e-9;
+  centre.x_max = centre.y_max = 1e-9;
+  return LensDistortion::Fisheye(c, centre).fisheye_theta_max();
 }
+
+std::string Deg(double rad) { return Fmt(rad * 180.0 / M_PI, 3); }
+
+}  // namespace
 
 void CameraCalibrationOptions::Check() const {
   Require(min_views >= 3, "min_views", "must be >= 3, got " + std::to_string(min_views));
@@ -198,6 +144,12 @@ void CameraCalibrationOptions::Check() const {
           std::string("holds the Brown–Conrady model's k3; the model is ") + DistortionModelName(model));
   Require(model == DistortionModel::kBrownConrady || !fix_tangential, "fix_tangential",
           std::string("holds the Brown–Conrady model's p1, p2; the model is ") + DistortionModelName(model));
+  Require(fisheye_coefficients >= 0 && fisheye_coefficients <= 4, "fisheye_coefficients",
+          "must be in [0, 4], got " + std::to_string(fisheye_coefficients));
+  Require(model == DistortionModel::kFisheye || fisheye_coefficients == 4, "fisheye_coefficients",
+          std::string("holds the fisheye model's coefficients; the model is ") + DistortionModelName(model));
+  Require(std::isfinite(fisheye_field_margin_deg) && fisheye_field_margin_deg >= 0 && fisheye_field_margin_deg <= 90,
+          "fisheye_field_margin_deg", "must be in [0, 90], got " + FormatNumber(fisheye_field_margin_deg));
 }
 
 bool ProjectWithModel(const CameraParams& p, const Eigen::Vector3d& q, Eigen::Vector2d* pixel) {
@@ -206,123 +158,6 @@ bool ProjectWithModel(const CameraParams& p, const Eigen::Vector3d& q, Eigen::Ve
   *pixel = {u, v};
   return true;
 }
-
-bool EstimateHomography(const std::vector<Eigen::Vector2d>& from, const std::vector<Eigen::Vector2d>& to,
-                        Eigen::Matrix3d* homography) {
-  const size_t n = from.size();
-  if (n < 4 || to.size() != n) return false;
-  auto normaliser = [](const std::vector<Eigen::Vector2d>& pts) {
-    Eigen::Vector2d c = Eigen::Vector2d::Zero();
-    for (const auto& p : pts) c += p;
-    c /= double(pts.size());
-    double d = 0;
-    for (const auto& p : pts) d += (p - c).norm();
-    d /= double(pts.size());
-    const double s = d > 0 ? std::sqrt(2.0) / d : 1.0;
-    Eigen::Matrix3d t;
-    t << s, 0, -s * c.x(), 0, s, -s * c.y(), 0, 0, 1;
-    return t;
-  };
-  const Eigen::Matrix3d tf = normaliser(from), tt = normaliser(to);
-  Eigen::MatrixXd a(2 * n, 9);
-  for (size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d p = tf * from[i].homogeneous();
-    const Eigen::Vector3d q = tt * to[i].homogeneous();
-    const double x = p.x(), y = p.y(), u = q.x(), v = q.y();
-    a.row(2 * i) << -x, -y, -1, 0, 0, 0, u * x, u * y, u;
-    a.row(2 * i + 1) << 0, 0, 0, -x, -y, -1, v * x, v * y, v;
-  }
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeFullV);
-  const Eigen::VectorXd sv = svd.singularValues();
-  if (!(sv[7] > 1e-10 * sv[0])) return false;
-  const Eigen::VectorXd h = svd.matrixV().col(8);
-  Eigen::Matrix3d hn;
-  hn << h[0], h[1], h[2], h[3], h[4], h[5], h[6], h[7], h[8];
-  Eigen::Matrix3d out = tt.inverse() * hn * tf;
-  if (!(std::abs(out(2, 2)) > 1e-300)) return false;
-  *homography = out / out(2, 2);
-  return homography->allFinite();
-}
-
-namespace {
-
-// An equidistant lens (r = f θ about the image centre) seen as a pinhole: the
-// pixel's ray, on the plane z = 1. Rays beyond 80° from the axis are left out
-// (their tangent runs away).
-std::optional<Eigen::Vector2d> LiftEquidistant(const Eigen::Vector2d& px, const Eigen::Vector2d& centre, double f) {
-  const Eigen::Vector2d d = (px - centre) / f;
-  const double theta = d.norm();
-  if (theta >= 80.0 * M_PI / 180.0) return std::nullopt;
-  return theta > 0 ? Eigen::Vector2d(d * (std::tan(theta) / theta)) : Eigen::Vector2d(d);
-}
-
-// The start of a fisheye calibration: Zhang's closed form on distorted pixels
-// fails for a wide lens (a board spanning 90° of the field is no homography
-// of the plane), so the lens is first taken as equidistant about the image
-// centre, the Kannala–Brandt model with k1..k4 = 0. Its focal length is the
-// one, on a geometric ladder from a 10° to a 200° diagonal field, whose lifted
-// corners fit a homography per view best (RMS in pixels, through the same
-// lens); the ladder's step (3%) is refined by a parabola through the best
-// rung and its neighbours. Returns K = [f 0 cx; 0 f cy] and the homographies
-// of the lifted corners (pinhole coordinates, K = identity); false when no
-// focal length fits every view.
-bool FisheyeStart(const std::vector<CalibrationView>& views, int width, int height, Eigen::Matrix3d* k,
-                  std::vector<Eigen::Matrix3d>* lifted_homographies) {
-  const Eigen::Vector2d centre(0.5 * (width - 1), 0.5 * (height - 1));
-  const double half_diagonal = centre.norm();
-  auto fit = [&](double f, std::vector<Eigen::Matrix3d>* hs) {
-    double sum2 = 0;
-    size_t n = 0;
-    if (hs) hs->clear();
-    for (const CalibrationView& view : views) {
-      std::vector<Eigen::Vector2d> from, to, seen;
-      for (size_t i = 0; i < view.pixels.size(); ++i) {
-        const auto q = LiftEquidistant(view.pixels[i], centre, f);
-        if (!q) continue;
-        from.push_back(view.target_points[i].head<2>());
-        to.push_back(*q);
-        seen.push_back(view.pixels[i]);
-      }
-      Eigen::Matrix3d h;
-      if (from.size() < 4 || !EstimateHomography(from, to, &h)) return std::numeric_limits<double>::infinity();
-      for (size_t i = 0; i < from.size(); ++i) {
-        const Eigen::Vector3d q = h * from[i].homogeneous();
-        if (!(q.z() > 0)) return std::numeric_limits<double>::infinity();
-        const Eigen::Vector2d m = q.head<2>() / q.z();
-        const double r = m.norm();
-        const Eigen::Vector2d px = centre + (r > 0 ? Eigen::Vector2d(m * (f * std::atan(r) / r)) : Eigen::Vector2d(f * m));
-        sum2 += (px - seen[i]).squaredNorm();
-        ++n;
-      }
-      if (hs) hs->push_back(h);
-    }
-    return n > 0 ? std::sqrt(sum2 / double(n)) : std::numeric_limits<double>::infinity();
-  };
-  // f = half diagonal / half field angle: 100° (wide) to 5° (narrow) half fields.
-  const double f_min = half_diagonal / (100.0 * M_PI / 180.0), f_max = half_diagonal / (5.0 * M_PI / 180.0);
-  const double step = std::log(1.03);
-  std::vector<double> fs, rms;
-  for (double lf = std::log(f_min); lf <= std::log(f_max); lf += step) {
-    fs.push_back(std::exp(lf));
-    rms.push_back(fit(fs.back(), nullptr));
-  }
-  const size_t best = size_t(std::min_element(rms.begin(), rms.end()) - rms.begin());
-  if (!std::isfinite(rms[best])) return false;
-  double lf = std::log(fs[best]);
-  if (best > 0 && best + 1 < fs.size() && std::isfinite(rms[best - 1]) && std::isfinite(rms[best + 1])) {
-    const double a = rms[best - 1], b = rms[best], c = rms[best + 1];
-    const double den = a - 2 * b + c;
-    if (den > 0) lf += 0.5 * step * (a - c) / den;
-  }
-  const double f = std::exp(lf);
-  if (!std::isfinite(fit(f, lifted_homographies))) return false;
-  *k << f, 0, centre.x(), 0, f, centre.y(), 0, 0, 1;
-  // Pinhole coordinates of the lifted corners: K = identity for the extrinsics.
-  for (auto& h : *lifted_homographies) h = *k * h;
-  return true;
-}
-
-}  // namespace
 
 CameraCalibrationResult CalibrateCamera(const std::vector<CalibrationView>& views, int width, int height,
                                         const CameraCalibrationOptions& options) {
@@ -403,7 +238,7 @@ CameraCalibrationResult CalibrateCamera(const std::vector<CalibrationView>& view
         "definite): the views are too close to parallel to the image plane, or too few");
   }
   res.closed_form_fx = k(0, 0), res.closed_form_fy = k(1, 1), res.closed_form_cx = k(0, 2), res.closed_form_cy = k(1, 2);
-  for (const auto& h : start_homographies) res.closed_form_cam_from_target.push_back(ClosedFormExtrinsics(k, h));
+  for (const auto& h : start_homographies) res.closed_form_cam_from_target.push_back(PoseFromHomography(k, h));
 
   // ---- refinement
   Layout layout;
@@ -413,7 +248,8 @@ CameraCalibrationResult CalibrateCamera(const std::vector<CalibrationView>& view
   for (int i = 0; i < layout.intrinsic_count; ++i) {
     const bool tangential = options.model == DistortionModel::kBrownConrady && (i == 6 || i == 7);
     const bool k3 = options.model == DistortionModel::kBrownConrady && i == 8;
-    if ((tangential && options.fix_tangential) || (k3 && options.fix_k3)) continue;
+    const bool fisheye_held = options.model == DistortionModel::kFisheye && i >= 4 + options.fisheye_coefficients;
+    if ((tangential && options.fix_tangential) || (k3 && options.fix_k3) || fisheye_held) continue;
     layout.free_intrinsics.push_back(i);
   }
   Eigen::VectorXd x0 = Eigen::VectorXd::Zero(layout.StateSize());
@@ -518,6 +354,34 @@ CameraCalibrationResult CalibrateCamera(const std::vector<CalibrationView>& view
                     " px): the views are too close to parallel to the image plane or too few");
     }
   }
+  // ---- the field the views observed
+  for (size_t v = 0; v < views.size(); ++v) {
+    for (size_t i = 0; i < views[v].pixels.size(); ++i) {
+      const Eigen::Vector3d q = res.cam_from_target[v] * views[v].target_points[i];
+      res.observed_field_rad = std::max(res.observed_field_rad, std::atan2(q.head<2>().norm(), q.z()));
+      const Eigen::Vector2d t((views[v].pixels[i].x() - res.camera.cx) / res.camera.fx,
+                              (views[v].pixels[i].y() - res.camera.cy) / res.camera.fy);
+      res.observed_radius = std::max(res.observed_radius, t.norm());
+    }
+  }
+  std::optional<double> fisheye_fold;  // beyond the observed field: the angle
+  if (options.model == DistortionModel::kFisheye) {
+    // Only the field the boards observed (plus the margin) has to be free of
+    // a fold: a fit that folds there does not describe the views.
+    const double field = std::min(M_PI, res.observed_field_rad + options.fisheye_field_margin_deg * M_PI / 180.0);
+    double fold = M_PI;
+    try {
+      fold = FisheyeFoldAngle(res.camera.fisheye);
+    } catch (const ParamError& e) {
+      return refuse(std::string("the estimated camera is not valid: ") + e.what());
+    }
+    if (fold <= field) {
+      return refuse("the fisheye distortion folds at " + Deg(fold) + " deg from the axis, within the field the boards "
+                    "observed (corners up to " + Deg(res.observed_field_rad) + " deg from the axis, checked to " +
+                    Deg(field) + " deg): the model does not describe the views");
+    }
+    fisheye_fold = fold;
+  }
   try {
     Camera check(res.camera);
   } catch (const ParamError& e) {
@@ -534,6 +398,25 @@ CameraCalibrationResult CalibrateCamera(const std::vector<CalibrationView>& view
                      e.what() + "); views with the board nearer the image's corners would determine it";
         return again;
       }
+    }
+    // A fisheye that folds beyond the observed field, inside the image: its
+    // highest free coefficient extrapolates wildly there. The fit again with
+    // it held at 0 (k1 and k2 stay free).
+    if (fisheye_fold) {
+      const int n = options.fisheye_coefficients;
+      std::string why = "the fisheye distortion folds at " + Deg(*fisheye_fold) + " deg from the axis, beyond the "
+                        "field the boards observed (corners up to " + Deg(res.observed_field_rad) + " deg) but inside "
+                        "the image";
+      if (n <= 2) return refuse(why + ": add views with the board nearer the image's corners");
+      CameraCalibrationOptions fewer = options;
+      fewer.fisheye_coefficients = n - 1;
+      CameraCalibrationResult again = CalibrateCamera(views, width, height, fewer);
+      if (!again.ok) return refuse(why + "; with k" + std::to_string(n) + " held at 0: " + again.reason);
+      if (again.note.empty()) {
+        again.note = "k" + std::to_string(n) + (n < 4 ? "..k4" : "") + " held at 0: with k" + std::to_string(n) +
+                     " free (" + Fmt(res.params[3 + n], 4) + ") " + why;
+      }
+      return again;
     }
     return refuse(std::string("the estimated camera is not valid: ") + e.what() +
                   ": the views do not reach far enough toward the image's corners to determine the distortion "

@@ -16,7 +16,8 @@
 // exist (views too close to parallel to the image plane), parameters that the
 // data do not determine (a singular normal matrix, or a focal length whose
 // relative standard deviation exceeds max_relative_focal_std), a distortion
-// that folds inside the image, or an optimisation that does not converge.
+// that folds inside the image (a fisheye: inside the field the boards observed,
+// plus fisheye_field_margin_deg), or an optimisation that does not converge.
 #pragma once
 
 #include <Eigen/Core>
@@ -42,6 +43,12 @@ struct CameraCalibrationOptions {
   // inside the image is made again with k3 at 0 (CameraCalibrationResult::note).
   bool fix_k3 = false;
   bool fix_tangential = false;  // Brown–Conrady: hold p1, p2 at 0
+  // Fisheye: k1..k<n> are fitted, the rest held at 0 (4: all). A fit whose
+  // distortion folds beyond the field the boards observed (plus the margin)
+  // but inside the image is made again with one coefficient fewer
+  // (CameraCalibrationResult::note); one that folds within that field is refused.
+  int fisheye_coefficients = 4;
+  double fisheye_field_margin_deg = 10;
   int min_views = 3;
   int min_points_per_view = 6;
   // Refuse when σ(fx)/fx or σ(fy)/fy exceeds this (the data barely determine the focal length).
@@ -56,6 +63,12 @@ struct CameraCalibrationResult {
   bool ok = false;
   std::string reason;  // why the calibration was refused (empty when ok)
   std::string note;    // what the calibration decided on its own (k3 held at 0), else empty
+  // The field the fit rests on: the largest angle between the optical axis and
+  // the ray of a corner (radians), and the distorted normalised radius
+  // |((u − cx)/fx, (v − cy)/fy)| of the farthest corner. Beyond it the
+  // distortion is extrapolated.
+  double observed_field_rad = 0;
+  double observed_radius = 0;
 
   // Width, height, fx, fy, cx, cy and the distortion; the other fields keep
   // their defaults.

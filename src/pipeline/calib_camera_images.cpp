@@ -64,7 +64,7 @@ PhotoCameraResult CalibrateCameraFromImages(const std::vector<fs::path>& images,
     }
     PhotoView v{path, DetectCheckerboard(image, board, corners)};
     if (v.detection.ok) {
-      views.push_back({board.CornerPoints(), v.detection.corners});
+      views.push_back(ViewOfDetection(board, v.detection));
       r.used.push_back(int(r.views.size()));
     }
     r.views.push_back(std::move(v));

@@ -266,4 +266,8 @@ CornerDetection DetectCheckerboard(const AnyImage& image, const CheckerboardSpec
   return std::visit([&](const auto& img) { return DetectCheckerboard(img.View(), board, options); }, image);
 }
 
+CalibrationView ViewOfDetection(const CheckerboardSpec& board, const CornerDetection& detection) {
+  return {board.CornerPoints(), detection.corners};
+}
+
 }  // namespace lt

@@ -74,6 +74,7 @@
 #include <vector>
 
 #include "core/image.h"
+#include "pipeline/calib_camera.h"
 #include "pipeline/calib_checkerboard.h"
 
 namespace lt {
@@ -119,5 +120,9 @@ CornerDetection DetectCheckerboard(const ImageView<T>& image, const Checkerboard
                                    const CornerDetectionOptions& options = {});
 CornerDetection DetectCheckerboard(const AnyImage& image, const CheckerboardSpec& board,
                                    const CornerDetectionOptions& options = {});
+
+// The calibration view of a complete detection (detection.ok): the board's
+// corner points (target frame) with their pixels, in board order.
+CalibrationView ViewOfDetection(const CheckerboardSpec& board, const CornerDetection& detection);
 
 }  // namespace lt

@@ -48,11 +48,6 @@ AnyImage ReadFrameImage(const RunFrame& frame) {
   }
 }
 
-CalibrationView ViewOf(const CheckerboardSpec& board, const CornerDetection& d) {
-  return {board.CornerPoints(), d.corners};
-}
-
-
 }  // namespace
 
 bool GroupStripesOnFlatTarget(std::vector<StripePoint>* points, const std::vector<StripeSegment>& segments, int n,
@@ -215,7 +210,7 @@ SessionCameraResult CalibrateSessionCamera(const fs::path& run_dir, const Checke
   std::vector<CalibrationView> views;
   for (size_t v = 0; v < r.views.size(); ++v) {
     if (!r.views[v].detection.ok) continue;
-    views.push_back(ViewOf(board, r.views[v].detection));
+    views.push_back(ViewOfDetection(board, r.views[v].detection));
     r.used.push_back(int(v));
   }
   const RunRig rig = ReadRunRig(run_dir);
@@ -267,7 +262,7 @@ SessionLaserResult CalibrateSessionLaser(const fs::path& run_dir, const Checkerb
     } else if (!sv.detection.ok) {
       lv.note = "board not found: " + sv.detection.reason;
     } else {
-      lv.pose = EstimateTargetPose(camera, ViewOf(board, sv.detection));
+      lv.pose = EstimateTargetPose(camera, ViewOfDetection(board, sv.detection));
       if (!lv.pose.ok) lv.note = "no board pose: " + lv.pose.reason;
     }
     if (!lv.note.empty()) {
@@ -359,7 +354,7 @@ SessionHandEyeResult CalibrateSessionHandEye(const fs::path& run_dir, const Chec
       r.notes.push_back(frame + "board not found: " + sv.detection.reason);
       continue;
     }
-    const CalibrationView cv = ViewOf(board, sv.detection);
+    const CalibrationView cv = ViewOfDetection(board, sv.detection);
     const TargetPoseResult pose = EstimateTargetPose(camera, cv);
     if (!pose.ok) {
       r.notes.push_back(frame + "no board pose: " + pose.reason);

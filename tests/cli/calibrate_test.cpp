@@ -101,6 +101,7 @@ TEST(CalibrateCli, RenderedSessionCalibratesEndToEnd) {
   ASSERT_EQ(cam.exit_code, 0) << cam.err;
   EXPECT_THAT(cam.out, HasSubstr("camera from 6 of 6 views, 320x256"));
   EXPECT_THAT(cam.out, HasSubstr("fx"));
+  EXPECT_THAT(cam.out, HasSubstr("  valid within the field the boards observed: corners up to "));
   const CliResult laser =
       RunCli("calibrate laser " + Quoted(s.run) + " --calib " + Quoted(cam_yaml) + " --out " + Quoted(laser_yaml));
   ASSERT_EQ(laser.exit_code, 0) << laser.err;

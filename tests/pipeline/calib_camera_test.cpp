@@ -8,6 +8,7 @@
 #include "core/random.h"
 #include "pipeline/calib_camera.h"
 #include "pipeline/calib_lm.h"
+#include "sensor/param_error.h"
 
 namespace lt {
 namespace {
@@ -330,6 +331,78 @@ TEST(CalibCamera, WideFisheyeStartsFromAnEquidistantLens) {
   for (int i = 0; i < 8; ++i) {
     EXPECT_LT(std::abs(res.params[i] - truth[i]), 4 * res.param_std[i]) << res.param_names[size_t(i)];
   }
+}
+
+// A wide fisheye (f 208 px on 640x512, 113 degrees at the image corner for an
+// equidistant lens) whose Kannala-Brandt polynomial folds at 100 degrees from
+// the axis, inside the image (k4 = -0.001236), seen by boards only out to
+// about 70 degrees. The views determine the lens there and nothing beyond;
+// the fit used to be refused because its fold lay inside the image. Now
+// only the observed field (plus 10 degrees) must be free of a fold: the fit
+// is made again with k4, then k3 held at 0, whose distortion does not fold in
+// the image, and matches the lens over the observed field. A margin reaching
+// past the fold keeps the refusal.
+TEST(CalibCamera, FisheyeFoldBeyondTheObservedFieldIsFitAgainWithFewerCoefficients) {
+  CameraParams p;
+  p.width = 640;
+  p.height = 512;
+  p.fx = p.fy = 208;
+  p.cx = 319.5;
+  p.cy = 255.5;
+  p.distortion = DistortionModel::kFisheye;
+  p.fisheye = {-0.02, 0.003, 0, -0.001236};
+  EXPECT_THROW(Camera{p}, ParamError);  // the sensor refuses the lens itself: it folds inside the image
+  std::vector<CalibrationView> views;
+  double seen = 0;
+  for (int v = 0; v < 12; ++v) {
+    const double a = v * 137.5 * kDeg, r = v == 0 ? 0.0 : 1.2 * std::sqrt(v / 12.0);
+    const double z = 0.024 + 0.008 * ((v * 5) % 12) / 11.0;
+    const Pose pose = ViewPose(r * z * std::cos(a), r * z * std::sin(a), z, (18 + 2.5 * (v % 10)) * kDeg, a + 1.0, 0.7 * v);
+    CalibrationView view;
+    for (const Eigen::Vector3d& t : TargetPoints()) {
+      const Eigen::Vector3d q = pose * t;
+      Eigen::Vector2d px;
+      if (!ProjectWithModel(p, q, &px)) continue;
+      if (px.x() < 0 || px.y() < 0 || px.x() > p.width - 1 || px.y() > p.height - 1) continue;
+      seen = std::max(seen, std::atan2(q.head<2>().norm(), q.z()));
+      view.target_points.push_back(t);
+      view.pixels.push_back(px);
+    }
+    views.push_back(view);
+  }
+  ASSERT_LT(seen, 75 * kDeg);
+  CameraCalibrationOptions o;
+  o.model = DistortionModel::kFisheye;
+  const auto res = CalibrateCamera(views, p.width, p.height, o);
+  ASSERT_TRUE(res.ok) << res.reason;
+  EXPECT_NEAR(res.observed_field_rad, seen, 1e-3);
+  // With k4 held the fit still folds in the image (at 110 degrees, measured), so k3 is held too.
+  EXPECT_NE(res.note.find("k3..k4 held at 0: with k3 free"), std::string::npos) << res.note;
+  EXPECT_NE(res.note.find("beyond the field the boards observed (corners up to"), std::string::npos) << res.note;
+  EXPECT_EQ(res.camera.fisheye.k3, 0.0);
+  EXPECT_EQ(res.camera.fisheye.k4, 0.0);
+  EXPECT_LT(res.rms_px, 0.05);  // noise-free corners: measured 0.009 px
+  const Camera fitted(res.camera);  // a camera of the sensor's model: no fold in the image
+  // Over the observed field the fit follows the lens.
+  double worst = 0;
+  for (double theta = 0; theta <= seen; theta += 0.5 * kDeg) {
+    for (double phi = 0; phi < 2 * M_PI; phi += 30 * kDeg) {
+      const Eigen::Vector3d ray(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+      Eigen::Vector2d truth;
+      ASSERT_TRUE(ProjectWithModel(p, ray, &truth));
+      const auto px = fitted.Project(ray);
+      ASSERT_TRUE(px);
+      worst = std::max(worst, (*px - truth).norm());
+    }
+  }
+  EXPECT_LT(worst, 0.5);
+  // Checked out to 45 degrees beyond the observed field, the fold at 100 degrees is within: refused.
+  o.fisheye_field_margin_deg = 45;
+  const auto refused = CalibrateCamera(views, p.width, p.height, o);
+  EXPECT_FALSE(refused.ok);
+  EXPECT_NE(refused.reason.find("the fisheye distortion folds at 100"), std::string::npos) << refused.reason;
+  EXPECT_NE(refused.reason.find("deg from the axis, within the field the boards observed"), std::string::npos)
+      << refused.reason;
 }
 
 TEST(CalibCamera, RefusesTooFewViews) {

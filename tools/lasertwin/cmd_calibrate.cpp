@@ -135,9 +135,13 @@ void CameraStep(const CalibrateArgs& a, CalibrationFile* file) {
   if (!c.note.empty()) std::cerr << "lasertwin: note: " << c.note << "\n";
   file->camera = MakeCalibrationFile(&c, nullptr, nullptr).camera;
   if (a.quiet) return;
+  // The distortion is determined only where the boards were seen.
+  const std::string field = Fmt("  valid within the field the boards observed: corners up to %.1f deg from the "
+                                "axis, %.0f px from the principal point; beyond, the distortion is extrapolated\n",
+                                c.observed_field_rad / kDeg, c.observed_radius * c.camera.fx);
   if (photos) {
     std::cout << "camera from " << counts << ", " << c.camera.width << "x" << c.camera.height
-              << ": reprojection RMS " << Fmt("%.4f", c.rms_px) << " px\n";
+              << ": reprojection RMS " << Fmt("%.4f", c.rms_px) << " px\n" << field;
     std::cout << "  param        recovered        std\n";
     for (int i = 0; i < int(c.params.size()); ++i) {
       std::cout << "  " << c.param_names[size_t(i)]
@@ -158,7 +162,7 @@ void CameraStep(const CalibrateArgs& a, CalibrationFile* file) {
   }
   const bool same_model = t.distortion == o.model || t.distortion == DistortionModel::kNone;
   std::cout << "camera from " << counts << ", " << c.camera.width << "x"
-            << c.camera.height << ": reprojection RMS " << Fmt("%.4f", c.rms_px) << " px\n";
+            << c.camera.height << ": reprojection RMS " << Fmt("%.4f", c.rms_px) << " px\n" << field;
   std::cout << "  param        recovered        std         true (" << rig.source.filename().string()
             << ")   error   error/std\n";
   for (int i = 0; i < int(c.params.size()); ++i) {
