@@ -18,11 +18,16 @@ constexpr uint64_t kNoisePurpose = 0x6e6f6973ull;  // "nois"
 void CheckerboardSpec::Check() const {
   Require(rows >= 2, "rows", "must be >= 2 inner corners, got " + std::to_string(rows));
   Require(cols >= 2, "cols", "must be >= 2 inner corners, got " + std::to_string(cols));
-  Require((rows + cols) % 2 == 1, "rows",
-          "rows + cols must be odd (one even, one odd) so that the board's orientation is unambiguous, got " +
-              std::to_string(rows) + " x " + std::to_string(cols));
   Require(std::isfinite(square_m) && square_m > 0, "square_m", "must be > 0, got " + FormatNumber(square_m));
   Require(margin_squares >= 0, "margin_squares", "must be >= 0, got " + std::to_string(margin_squares));
+}
+
+void CheckerboardSpec::RequireOrientation(const std::string& step) const {
+  Require(!Symmetric(), "rows",
+          "rows + cols must be odd (one even, one odd) for " + step + ", got " + std::to_string(rows) + " x " +
+              std::to_string(cols) + ": a " + (rows == cols ? "quarter" : "half") +
+              " turn of this board looks the same, so its frame may differ from view to view, and " + step +
+              " needs one board frame in every view (the camera and laser steps do not)");
 }
 
 std::vector<Eigen::Vector3d> CheckerboardSpec::CornerPoints() const {

@@ -10,17 +10,27 @@
 // so the corner square next to the origin, (−1, −1), is black. A white margin
 // of `margin_squares` squares surrounds the squares.
 //
-// Orientation. rows + cols must be odd (one even, one odd: e.g. 7 x 10 inner
-// corners, 8 x 11 squares). Then rows != cols, so the two grid directions are
-// told apart by their lengths, and the square at the far corner
-// (rows − 1, cols − 1) is white while the one at the origin is black, so a half
-// turn of the board is told apart by colour. A board seen from the back (a
-// mirror image) cannot occur; seen from the front, the corners come out in the
-// same board order whatever the camera's roll.
+// Orientation. When rows + cols is odd (one even, one odd: e.g. 7 x 10 inner
+// corners, 8 x 11 squares), rows != cols, so the two grid directions are told
+// apart by their lengths, and the square at the far corner (rows − 1, cols − 1)
+// is white while the one at the origin is black, so a half turn of the board
+// is told apart by colour. A board seen from the back (a mirror image) cannot
+// occur; seen from the front, the corners come out in the same board order
+// whatever the camera's roll.
+//
+// A symmetric board (rows + cols even, e.g. OpenCV's 9 x 6; a square one also
+// looks the same after a quarter turn) is detected too, with its corners in
+// one of the orders of a frame turned by a half (or quarter) turn about the
+// board's centre: a right-handed board frame, but not the same one in every
+// view. That is enough for the camera's intrinsics (each view has its own
+// pose) and for laser planes (the board's plane and area are the same); a
+// step that needs one board frame in every view (hand-eye: the board fixed in
+// the world) calls RequireOrientation.
 #pragma once
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "core/image.h"
@@ -36,8 +46,12 @@ struct CheckerboardSpec {
   int margin_squares = 1;  // white border, in squares (the detector needs at least 1)
 
   // Throws lt::InputError ("option <name>: ...") unless rows, cols >= 2,
-  // rows + cols is odd, square_m > 0 and margin_squares >= 0.
+  // square_m > 0 and margin_squares >= 0.
   void Check() const;
+  // A half or quarter turn about its centre maps the board onto itself (rows + cols even).
+  bool Symmetric() const { return (rows + cols) % 2 == 0; }
+  // Throws lt::InputError ("option rows: ...", naming `step`) for a symmetric board.
+  void RequireOrientation(const std::string& step) const;
   int CornerCount() const { return rows * cols; }
   // Inner corners in the board frame, row-major: index i·cols + j.
   std::vector<Eigen::Vector3d> CornerPoints() const;

@@ -33,7 +33,8 @@
 //     the corner.
 //  5. Order: the grid must be complete and rows x cols (or cols x rows); the
 //     board's orientation follows from the colour convention of
-//     pipeline/calib_checkerboard.h (rows + cols odd).
+//     pipeline/calib_checkerboard.h (rows + cols odd; a symmetric board comes
+//     out in one of the orders of its turned frames).
 //
 // Refusals (ok = false, with the reason): no contrast, no grid, a grid other
 // than rows x cols (a partly visible or occluded board: `grid` then holds the

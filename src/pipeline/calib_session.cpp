@@ -340,6 +340,7 @@ SessionHandEyeResult CalibrateSessionHandEye(const fs::path& run_dir, const Chec
                                              const Camera& camera, const HandEyeOptions& options,
                                              const CornerDetectionOptions& corners) {
   options.Check();
+  board.RequireOrientation("the hand-eye calibration");
   SessionHandEyeResult r;
   r.views = ReadSessionViews(run_dir, board, corners);
   std::vector<HandEyeObservation> observations;

@@ -5,6 +5,7 @@
 #include "calib_test_util.h"
 
 #include <cmath>
+#include <functional>
 
 #include "core/error.h"
 #include "core/random.h"
@@ -188,11 +189,51 @@ TEST(CalibCorners, RefusesABoardOfAnotherSize) {
   EXPECT_EQ(d.grid.size(), 70u);
 }
 
+// Symmetric boards (refused before: rows + cols must be odd): a 7 x 9 board
+// looks the same after a half turn, an 8 x 8 one after a quarter turn. Each
+// is found, its corners in the order of one of those turned board frames (a
+// right-handed frame: the same board, the same image, never a mirror image).
+TEST(CalibCorners, SymmetricBoardsComeOutInATurnedBoardOrder) {
+  const Camera cam = CornerTestCamera();
+  for (const auto& [rows, cols] : {std::pair{7, 9}, std::pair{8, 8}}) {
+    CheckerboardSpec b = Board();
+    b.rows = rows, b.cols = cols;
+    ASSERT_TRUE(b.Symmetric());
+    for (size_t v = 0; v < Poses().size(); ++v) {
+      Pose pose = Poses()[v];
+      // Board()'s centre moved to this board's.
+      pose.translation() -= pose.linear() * Eigen::Vector3d(0.5 * (cols - 10) * b.square_m, 0.5 * (rows - 7) * b.square_m, 0);
+      const CornerDetection d = DetectCheckerboard(RenderCheckerboard(cam, pose, b).View(), b);
+      ASSERT_TRUE(d.ok) << rows << " x " << cols << " pose " << v << ": " << d.reason;
+      ASSERT_EQ(d.corners.size(), size_t(rows * cols));
+      // The board orders of the turns that map the board onto itself.
+      std::vector<std::function<int(int, int)>> turns = {[&](int i, int j) { return i * cols + j; },
+                                                         [&](int i, int j) { return (rows - 1 - i) * cols + (cols - 1 - j); }};
+      if (rows == cols) {
+        turns.push_back([&](int i, int j) { return j * cols + (cols - 1 - i); });
+        turns.push_back([&](int i, int j) { return (rows - 1 - j) * cols + i; });
+      }
+      double best = 1e9;
+      for (const auto& turn : turns) {
+        double worst = 0;
+        for (int i = 0; i < rows; ++i) {
+          for (int j = 0; j < cols; ++j) {
+            const Eigen::Vector2d truth = *cam.Project(pose * Eigen::Vector3d(j * b.square_m, i * b.square_m, 0));
+            worst = std::max(worst, (d.corners[size_t(turn(i, j))] - truth).norm());
+          }
+        }
+        best = std::min(best, worst);
+      }
+      EXPECT_LT(best, 0.15) << rows << " x " << cols << " pose " << v;
+    }
+  }
+}
+
 TEST(CalibCorners, OptionsAndBoardAreChecked) {
   Image<float> img(64, 48, 1, 0.5f);
-  CheckerboardSpec even = Board();
-  even.cols = 9;  // 7 + 9 even: a half turn would be ambiguous
-  EXPECT_THROW(DetectCheckerboard(img.View(), even), InputError);
+  CheckerboardSpec small = Board();
+  small.cols = 1;
+  EXPECT_THROW(DetectCheckerboard(img.View(), small), InputError);
   CornerDetectionOptions o;
   o.sigma_px = 0.2;
   EXPECT_THROW(DetectCheckerboard(img.View(), Board(), o), InputError);

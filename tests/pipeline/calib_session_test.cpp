@@ -83,7 +83,9 @@ TEST(CalibSessionBoard, BoardFileIsReadStrictly) {
   EXPECT_EQ(b.cols, 9);
   EXPECT_DOUBLE_EQ(b.square_m, 2.5e-3);
   EXPECT_EQ(b.margin_squares, 1);
-  for (const char* bad : {R"({"rows": 6, "cols": 8, "square_mm": 3})", R"({"rows": 6, "cols": 9, "square_mm": 0})",
+  // A symmetric board (rows + cols even) is read: the camera and laser steps take it.
+  EXPECT_TRUE(ReadCheckerboardFile(write(R"({"rows": 6, "cols": 8, "square_mm": 3})")).Symmetric());
+  for (const char* bad : {R"({"rows": 6, "cols": 9, "square_mm": 0})",
                           R"({"rows": 6, "cols": 9, "square_mm": 3, "colour": 1})", R"({"rows": 6, "cols": 9})"}) {
     try {
       ReadCheckerboardFile(write(bad));
@@ -179,6 +181,19 @@ TEST(CalibSessionRun, CameraAndHandEyeFromARecordedSession) {
 
   const SessionHandEyeResult he = CalibrateSessionHandEye(run, board, calibrated);
   ASSERT_TRUE(he.hand_eye.ok) << he.hand_eye.reason;
+  // A symmetric board's frame may differ by a half turn from view to view: the
+  // hand-eye step, which needs one board frame in the world, refuses it.
+  CheckerboardSpec symmetric = board;
+  symmetric.cols = 9;
+  try {
+    CalibrateSessionHandEye(run, symmetric, calibrated);
+    ADD_FAILURE() << "a 7 x 9 board was taken for the hand-eye calibration";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("option rows: rows + cols must be odd (one even, one odd) for the hand-eye "
+                                         "calibration, got 7 x 9: a half turn of this board looks the same"),
+              std::string::npos)
+        << e.what();
+  }
   EXPECT_EQ(he.used.size(), 6u);
   const PoseError e = ComparePoses(he.hand_eye.tool_from_cam, session_run::ToolFromCam());
   EXPECT_LT(e.rotation_rad, 0.05 * session_run::kDeg);
