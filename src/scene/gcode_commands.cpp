@@ -23,6 +23,23 @@ bool IsProbingMacro(const std::string& name) {
   return false;
 }
 
+// Whether `text` holds `word` as a blank-separated word (letters in any case).
+bool HasWord(std::string_view text, std::string_view word) {
+  size_t pos = 0;
+  while (pos < text.size()) {
+    while (pos < text.size() && IsBlank(text[pos])) ++pos;
+    size_t end = pos;
+    while (end < text.size() && !IsBlank(text[end])) ++end;
+    if (end - pos == word.size()) {
+      bool same = true;
+      for (size_t i = 0; i < word.size(); ++i) same = same && Upper(text[pos + i]) == Upper(word[i]);
+      if (same) return true;
+    }
+    pos = end;
+  }
+  return false;
+}
+
 }  // namespace
 
 void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
@@ -46,7 +63,9 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
     return;
   }
   char letter = Upper(code[pos]);
-  if (letter != 'G' && letter != 'M' && letter != 'T') {
+  // P: Prusa firmware's (Buddy: XL) "P0 S1 L2 D0", parking the tool in its dock.
+  const bool park = letter == 'P' && pos + 1 < code.size() && code[pos + 1] >= '0' && code[pos + 1] <= '9';
+  if (letter != 'G' && letter != 'M' && letter != 'T' && !park) {
     Fail("expected a command (G, M or T), got \"" + std::string(code.substr(pos)) + "\"");
   }
   size_t start = ++pos;
@@ -176,6 +195,9 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
   std::string name(1, letter);
   name += integral ? std::to_string(n) : std::string(number);
   ++path_.skipped_commands[name];
+  // The nozzle moves to the dock and, for a park or a tool change with D0 (Prusa's
+  // XL: "T1 S1 L0 D0", do not return), stays there: where is the firmware's.
+  if (park || (letter == 'T' && HasWord(code.substr(pos), "D0"))) PositionUnknown(name);
 }
 
 }  // namespace gcode_detail

@@ -74,6 +74,10 @@ TEST(GcodeApproximations, ProbingLeavesThePositionUnknownUntilAnAbsoluteMove) {
               HasSubstr("BED_MESH_CALIBRATE (line 1) left unknown in Z"));
   EXPECT_THAT(warnings("G38.2 Z-10 F100\nG91\nG1 Z1\n").at(0).text, HasSubstr("G38.2 (line 1) left unknown in Z"));
   EXPECT_THAT(warnings("G29\nG2 X10 Y0 I5 J0 F600\n").at(0).text, HasSubstr("G2 moves relative to a position G29"));
+  // Prusa XL: a tool parked (P0) or changed without return (D0) leaves the head at the dock.
+  EXPECT_THAT(warnings("P0 S1 L2 D0\nG91\nG1 X1 F600\n").at(0).text, HasSubstr("P0 (line 1) left unknown in X"));
+  EXPECT_THAT(warnings("T1 S1 L0 D0\nG91\nG1 X1 F600\n").at(0).text, HasSubstr("T1 (line 1) left unknown in X"));
+  EXPECT_TRUE(warnings("T1\nG91\nG1 X1 F600\n").empty());
 }
 
 // U, V, W and C (a tool changer's coupler, a second carriage, a rotary axis) are not
