@@ -37,6 +37,13 @@
 //   M220, M221      feed rate and flow percentages (S; M220 B/R save and restore),
 //                   scaling the feed and the E of later G0-G3 moves
 //   F               feed rate in mm/min (inch/min under G20), modal, shared by G0-G3
+//   G29, G30, G32-G34, G38.2-5, M48, G80 alone on its line (Prusa), Klipper's
+//                   BED_MESH_CALIBRATE etc., Prusa XL's P0 park and T.. D0: probing or
+//                   docking; X, Y, Z unknown until an absolute move or homing sets each
+//                   (a relative move on an unknown axis is warned: Toolpath::warnings)
+//   U, V, W, C      extra axes on G0-G3, G92, G28: ignored with a warning; one moving
+//                   on an extruding line is an error
+//   SET_RETRACTION  Klipper's firmware retraction settings (mm, mm/s)
 // Comments: ;LAYER:n (Cura) sets the layer; ;LAYER_CHANGE (PrusaSlicer) starts the
 // next layer (0 first); ;TYPE:name names what follows (WALL-OUTER, External
 // perimeter, ...); ;HEIGHT:h (PrusaSlicer) the layer height; header ";Layer height:"
@@ -47,12 +54,14 @@
 // height h); Simplify3D's "; feature name", KISSlicer's "; 'Name Path', ..." and
 // CraftWare's ";segType:name" name the type; header "layerHeight,", "filamentDiameters,"
 // (Simplify3D), "layer_thickness_mm =", "fiber_dia_mm =" (KISSlicer), "sliceHeight ="
-// (Kiri:Moto). Comments hold
+// (Kiri:Moto); ";FLAVOR:UltiGCode" (Cura for Ultimaker 2): E in mm^3, held as lengths of
+// 2.85 mm filament. Comments hold
 // millimetres under G20 too. A file without any layer comment takes its layers from
 // the heights it extrudes at (Toolpath::layers_from_z). Structured
 // comments count only on lines holding nothing else. Line numbers (N) are dropped; a
 // checksum (*n) must match the line's bytes before it; parenthesised comments are
-// dropped (a ';' or '*' inside one is part of it), and so are a quoted string's and
+// dropped (a ';' or '*' inside one is part of it; one without ')' runs to the end of
+// the line, warned), and so are a quoted string's and
 // a message's or file name's (M23, M117, ...; unless only a checksum follows '*');
 // letters may be lower case; G5 (Bezier) is an error. A UTF-8
 // byte order mark, LF, CR LF and lone CR line ends (mixed too) and "%" lines (RS-274's
