@@ -98,7 +98,7 @@ SceneFile Parse(const json::Document& doc, const std::filesystem::path& path, co
   if (auto mats = o.Find("materials")) s.materials = ParseSceneMaterials(*mats);
   json::Value objects = o.Get("objects");
   std::set<std::string> names;
-  for (const json::Value& v : objects.Array(1)) {
+  for (const json::Value& v : objects.Array()) {
     SceneObject obj = ParseObject(v, s.materials);
     if (!names.insert(obj.name).second) v.Child("name").Fail("duplicate object name \"" + obj.name + "\"");
     s.objects.push_back(std::move(obj));

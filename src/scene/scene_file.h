@@ -37,7 +37,7 @@ struct SceneObject {
 struct SceneFile {
   std::filesystem::path path;               // the scene file as given
   uint64_t seed = 1;
-  std::vector<SceneObject> objects;         // at least one
+  std::vector<SceneObject> objects;         // may be empty (a dark or environment-only scene)
   std::vector<SceneMaterial> materials;     // sorted by name
   Environment environment;                  // default: black
   SensorRig sensor;

@@ -108,6 +108,9 @@ SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
     }
   }
   WarnImplausibleSizes(scene, &g);
+  if (scene.objects.empty() && !scene.print) {
+    g.warnings.push_back("the scene has no objects: the camera sees only the environment (dark frames without one)");
+  }
   if (scene.print) {
     // The printed part: one empty mesh and instance per chunk, placed by the
     // motion's world_from_gcode; PrintedPart fills the meshes over time.

@@ -126,7 +126,6 @@ std::vector<BadScene> BadScenes() {
        "output, print, render, seed, sensor)"},
       {"seed_negative.json", "/seed: must be >= 0, got -1"},
       {"seed_not_integer.json", "/seed: must be an integer, got 1.5"},
-      {"objects_empty.json", "/objects: must have at least 1 elements, got 0"},
       {"objects_missing.json", "/: missing required key \"objects\""},
       {"object_unknown_key.json",
        "/objects/0/colour: unknown key \"colour\" (known keys: gltf, material, name, scale, world_from_object)"},

@@ -242,6 +242,21 @@ TEST(SceneFile, AFolderIsNotASceneFile) {
             dir.path().string() + ": is a folder, not a scene file (it holds " + (dir / "scene.json").string() + ")");
 }
 
+// "objects": [] is a scene of nothing (dark frames, an environment-only flat
+// field); it was refused ("must have at least 1 elements, got 0").
+TEST(SceneFile, AnEmptySceneLoadsWithAWarning) {
+  SceneFile s = Parse(R"({"objects": [], "environment": {"radiance": [0.1, 0.1, 0.1]}, )" + std::string(kSensor) + "}");
+  EXPECT_TRUE(s.objects.empty());
+  EXPECT_EQ(s.resolved["objects"], nlohmann::json::array());
+  auto g = std::make_shared<const SceneGeometry>(LoadSceneGeometry(s));
+  EXPECT_TRUE(g->instances.empty());
+  EXPECT_THAT(g->warnings, ::testing::Contains(HasSubstr("the scene has no objects")));
+  EmbreeScene scene(g);
+  EXPECT_FALSE(scene.Intersect({{0, 0, 1}, {0, 0, -1}}));
+  // The key itself is still required: a scene without it is more likely a mistake.
+  EXPECT_EQ(ErrorOf([&] { Parse("{" + std::string(kSensor) + "}"); }), "scene.json: /: missing required key \"objects\"");
+}
+
 TEST(SceneGeometry, ObjectsShareTheirGltfAndKeepTheirPoses) {
   SceneFile s = LoadSceneFile(kScenes / "full.json");
   auto g = std::make_shared<const SceneGeometry>(LoadSceneGeometry(s));

@@ -66,7 +66,6 @@ TEST(SceneSchema, RejectsWhatTheParserRejects) {
       {"unknown_top_key", ": /: Additional properties are not allowed ('seeds' was unexpected)"},
       {"seed_negative", ": /seed: -1 is less than the minimum of 0"},
       {"seed_not_integer", ": /seed: 1.5 is not of type 'integer'"},
-      {"objects_empty", ": /objects: "},
       {"objects_missing", ": /: 'objects' is a required property"},
       {"object_unknown_key", ": /objects/0: Additional properties are not allowed ('colour' was unexpected)"},
       {"material_base_color_range", ": /materials/pla/base_color/0: 1.2 is greater than the maximum of 1"},
