@@ -20,7 +20,8 @@
 //                   parameters it sets tool offsets/temperatures and is skipped), by
 //                   M207's S length, F feed, Z hop, R extra and T recovery feed, else
 //                   Marlin's defaults (3 mm at 45 mm/s, recovered at 8 mm/s)
-//   G17             XY plane (G18/G19 are accepted, but an arc outside XY is an error)
+//   G17, G18, G19   the arcs' plane: XY (I, J), ZX (K, I), YZ (J, K); an arc outside XY
+//                   becomes straight chords within 1 um of it (the toolpath's arcs are XY)
 //   G20, G21        inches / millimetres
 //   G28             home: the named axes (all when none named) to 0, one after another
 //                   (X, Y, Z) at Marlin's homing speeds (50, 50, 4 mm/s), not the modal F

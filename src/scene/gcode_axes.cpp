@@ -38,13 +38,14 @@ void GcodeReader::PositionUnknown(const std::string& command) {
   unknown_since_ = command + " (line " + std::to_string(line_no_) + ")";
 }
 
-void GcodeReader::TrackKnownAxes(const std::string& command, bool arc) {
+void GcodeReader::TrackKnownAxes(const std::string& command, int arc_axes) {
   const char axes[3] = {'X', 'Y', 'Z'};
   std::string unknown;
   for (int k = 0; k < 3; ++k) {
-    // An arc's centre is an offset from its start: an unknown start in X or Y puts it off too.
+    // An arc's centre is an offset from its start (or, with R, found from it): an
+    // unknown start in its plane puts it off too.
     const bool named = Find(axes[k]) != nullptr;
-    if (!axis_known_[k] && ((named && xyz_relative_) || (arc && k < 2 && Find(k == 0 ? 'I' : 'J')))) {
+    if (!axis_known_[k] && ((named && xyz_relative_) || (arc_axes & (1 << k)))) {
       unknown += axes[k];
     }
   }

@@ -116,7 +116,7 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
       case 11: ReadWords(code, pos, true); Expect("", "G11"); FirmwareRetract(false); return;
       case 17:
       case 18:
-      case 19: ReadWords(code, pos, true); Expect("", CommandName('G', n)); xy_plane_ = n == 17; return;
+      case 19: ReadWords(code, pos, true); Expect("", CommandName('G', n)); plane_ = n; return;
       case 20:
       case 21: ReadWords(code, pos, true); Expect("", CommandName('G', n)); unit_mm_ = n == 20 ? 25.4 : 1.0; return;
       case 28: ReadWords(code, pos, false); Home(); return;

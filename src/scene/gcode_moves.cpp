@@ -24,6 +24,10 @@ constexpr double kArcRadiusToleranceRel = 1e-3;
 constexpr double kSamePointMm = 1e-9;
 // The most turns an arc's P may ask for (Marlin's ARC_P_CIRCLES takes up to 100).
 constexpr double kMaxArcTurns = 100;
+// Arcs outside the XY plane (G18, G19) become chords off the arc by at most this (mm),
+// and at most this many per arc.
+constexpr double kChordSagittaMm = 1e-3;
+constexpr double kMaxChords = 100000;
 
 // Angle wrapped into (0, 2 pi].
 double WrapPositive(double a) {
@@ -192,7 +196,7 @@ void GcodeReader::Move(int gcode) {
     AddSegment(28, end, 0, length, (end - pos_mm_).head<2>().norm(), nullptr, MoveFeed(length, 0));
     return;
   }
-  TrackKnownAxes(CommandName('G', gcode), false);
+  TrackKnownAxes(CommandName('G', gcode), 0);
   Eigen::Vector3d end = Target();
   double extruded = Extruded();
   ExtraAxes(CommandName('G', gcode), extruded);
@@ -202,17 +206,23 @@ void GcodeReader::Move(int gcode) {
 
 void GcodeReader::Arc(int gcode) {
   const std::string command = CommandName('G', gcode);
-  Expect("XYZEFIJRPABUVWC", command);
-  if (!xy_plane_) Fail(command + " outside the XY plane (G18/G19) is not supported");
-  const Word* i = Find('I');
-  const Word* j = Find('J');
+  // The plane's axes p, q (the arc turns from p towards q when counter-clockwise) and
+  // their centre offsets: G17 XY with I J, G18 ZX with K I, G19 YZ with J K (RS-274,
+  // Marlin's CNC_WORKSPACE_PLANES); the third axis moves linearly (a helix).
+  const int p = plane_ == 17 ? 0 : plane_ == 18 ? 2 : 1;
+  const int q = plane_ == 17 ? 1 : plane_ == 18 ? 0 : 2;
+  const char offset_p = "IJK"[p], offset_q = "IJK"[q];
+  Expect(std::string("XYZEFRPABUVWC") + offset_p + offset_q, command);
+  const std::string offsets = std::string(1, offset_p) + "/" + offset_q;
+  const Word* i = Find(offset_p);
+  const Word* j = Find(offset_q);
   const Word* r = Find('R');
-  if (!i && !j && !r) Fail(command + " needs I/J (centre offset) or R (radius)");
-  if ((i || j) && r) Fail(command + " takes I/J or R, not both");
+  if (!i && !j && !r) Fail(command + " needs " + offsets + " (centre offset) or R (radius)");
+  if ((i || j) && r) Fail(command + " takes " + offsets + " or R, not both");
   SetFeed();
-  TrackKnownAxes(command, true);
+  TrackKnownAxes(command, (1 << p) | (1 << q));
   Eigen::Vector3d end = Target();
-  Eigen::Vector2d start2 = pos_mm_.head<2>(), end2 = end.head<2>();
+  Eigen::Vector2d start2(pos_mm_[p], pos_mm_[q]), end2(end[p], end[q]);
   const bool clockwise = gcode == 2;
   Eigen::Vector2d centre;
   bool full_circle = false;
@@ -236,7 +246,7 @@ void GcodeReader::Arc(int gcode) {
     centre = start2 + chord / 2 + side * h * left;
   } else {
     Eigen::Vector2d offset(i ? *i->value * unit_mm_ : 0.0, j ? *j->value * unit_mm_ : 0.0);
-    if (offset.norm() == 0) Fail(command + " with zero radius (I and J are 0)");
+    if (offset.norm() == 0) Fail(command + " with zero radius (" + offset_p + " and " + offset_q + " are 0)");
     centre = start2 + offset;
     full_circle = (end2 - start2).norm() <= kSamePointMm;
   }
@@ -268,11 +278,34 @@ void GcodeReader::Arc(int gcode) {
   arc.radius_end_m = r1 * kMetresPerMm;
   arc.angle_start_rad = a0;
   arc.sweep_rad = sweep;
-  double xy_length = 0.5 * (r0 + r1) * std::abs(sweep);
-  double length = std::hypot(xy_length, end.z() - pos_mm_.z());
+  double plane_length = 0.5 * (r0 + r1) * std::abs(sweep);
+  const int l = 3 - p - q;
+  double length = std::hypot(plane_length, end[l] - pos_mm_[l]);
   double extruded = Extruded();
   ExtraAxes(command, extruded);
-  AddSegment(gcode, end, extruded, length, xy_length, &arc, MoveFeed(length, extruded));
+  const double feed = MoveFeed(length, extruded);
+  if (plane_ == 17) {
+    AddSegment(gcode, end, extruded, length, plane_length, &arc, feed);
+    return;
+  }
+  // Outside the bed plane (the toolpath's arcs lie in it): straight chords, as the
+  // firmware runs them, each off the arc by at most kChordSagittaMm.
+  const double r_max = std::max(r0, r1);
+  const double step = r_max > kChordSagittaMm ? 2 * std::acos(1 - kChordSagittaMm / r_max) : M_PI / 2;
+  const int chords = int(std::min(kMaxChords, std::max(1.0, std::ceil(std::abs(sweep) / step))));
+  const Eigen::Vector3d start = pos_mm_;
+  for (int k = 1; k <= chords; ++k) {
+    const double u = double(k) / chords;
+    Eigen::Vector3d point = end;
+    if (k < chords) {
+      const double a = a0 + u * sweep, radius = r0 + u * (r1 - r0);
+      point[p] = centre.x() + radius * std::cos(a);
+      point[q] = centre.y() + radius * std::sin(a);
+      point[l] = start[l] + u * (end[l] - start[l]);
+    }
+    const Eigen::Vector3d step_vector = point - pos_mm_;
+    AddSegment(gcode, point, extruded / chords, step_vector.norm(), step_vector.head<2>().norm(), nullptr, feed);
+  }
 }
 
 void GcodeReader::Dwell() {

@@ -83,9 +83,10 @@ class GcodeReader {
   // BED_MESH_CALIBRATE, ...) end where the firmware stops: X, Y and Z unknown.
   void PositionUnknown(const std::string& command);
   // Before a move: its absolute X/Y/Z words make those axes known again; a relative
-  // one on an unknown axis (or an arc, whose centre is relative, from an unknown
-  // start) is built from the last known position, with a warning.
-  void TrackKnownAxes(const std::string& command, bool arc);
+  // one on an unknown axis (or an arc, whose centre is relative, from a start unknown
+  // in its plane) is built from the last known position, with a warning.
+  // `arc_axes`: a mask (1 << axis) of the axes of an arc's plane.
+  void TrackKnownAxes(const std::string& command, int arc_axes);
   // U, V, W, C words (a tool changer's coupler, a second carriage, a rotary axis): not
   // modelled, ignored with a warning; one that moves while the line extrudes is an
   // error, since it would change the printed path.
@@ -149,7 +150,7 @@ class GcodeReader {
   double unit_mm_ = 1;    // 25.4 under G20
   bool xyz_relative_ = false;
   enum class EMode { kNone, kAbsolute, kRelative } e_mode_ = EMode::kNone;  // the last M82/M83
-  bool xy_plane_ = true;
+  int plane_ = 17;  // G17 XY, G18 ZX, G19 YZ
   bool axis_known_[3] = {true, true, true};  // false after probing, until an absolute move
   std::string unknown_since_;                // "G29 (line 12)": what made the position unknown
   double extra_axes_[4] = {0, 0, 0, 0};      // U, V, W, C as the file sets them (file units)

@@ -175,5 +175,35 @@ TEST(GcodeApproximations, KlipperSetRetractionSetsG10AndG11) {
               HasSubstr("k.gcode:1: SET_RETRACTION RETRACT_SPEED must be a number > 0"));
 }
 
+// Arcs in the ZX (G18: centre offsets K, I) and YZ (G19: J, K) planes, as RS-274 and
+// Marlin's CNC_WORKSPACE_PLANES turn them: straight chords within 1 um of the arc (they
+// were refused: "G2 outside the XY plane (G18/G19) is not supported").
+TEST(GcodeApproximations, ArcsInTheZxAndYzPlanesAreChords) {
+  Toolpath p = ParseGcode("G1 X10 Z5 F600\nG18\nG2 X20 K0 I5 E2\nG19\nG3 Y10 Z5 J5 K0\nG17\n", "planes.gcode");
+  // G18 G2: a half circle of radius 5 about (x 15, z 5), clockwise seen from +y: through z 0.
+  double t_half = 0, e = 0, t0 = 0, t1 = 0;
+  for (const ToolpathSegment& s : p.segments) {
+    if (s.line != 3) continue;
+    EXPECT_EQ(s.gcode, 2);
+    if (t0 == 0) t0 = s.t_start_s;
+    t1 = s.t_end_s;
+    e += s.extruded_m;
+    for (double u : {0.0, 0.5, 1.0}) {
+      const Eigen::Vector3d q = s.PointAt(u) / kMm;
+      EXPECT_NEAR(std::hypot(q.x() - 15, q.z() - 5), 5, 1.01e-3);
+      EXPECT_NEAR(q.y(), 0, 1e-12);
+    }
+  }
+  t_half = 0.5 * (t0 + t1);
+  EXPECT_NEAR(t1 - t0, 5 * M_PI / 10, 2e-4);  // 15.708 mm at 10 mm/s (the chords 7e-5 shorter)
+  EXPECT_NEAR(e, 2 * kMm, 1e-15);
+  EXPECT_TRUE(p.PositionAt(t_half).isApprox(Eigen::Vector3d(15, 0, 0) * kMm, 1e-3));
+  // G19 G3 from (20, 0, 5): centre (y 5, z 5), counter-clockwise seen from +x, to y 10.
+  const ToolpathSegment& last = p.segments.back();
+  EXPECT_EQ(last.line, 5);
+  EXPECT_TRUE(last.end_m.isApprox(Eigen::Vector3d(20, 10, 5) * kMm));
+  EXPECT_NEAR(p.Duration() - t1, 5 * M_PI / 10, 2e-4);
+}
+
 }  // namespace
 }  // namespace lt

@@ -218,7 +218,7 @@ TEST(Gcode, MalformedLinesAreErrorsAtFileAndLine) {
       {"G1 X10 F600\nG2 X20 R4\n", "g.gcode:2: G2 radius 4 is too small for a chord of 10"},
       {"G1 X10 F600\nG2 X10 R4\n", "g.gcode:2: G2 with R needs an end point away from the start"},
       {"G1 X10 F600\nG2 X20 I4\n", "g.gcode:2: G2 end point is not on the arc: radius 4 at the start, 6 at the end"},
-      {"G1 X10 F600\nG18\nG2 X20 I5\n", "g.gcode:3: G2 outside the XY plane"},
+      {"G1 X10 F600\nG18\nG2 X20 J5\n", "g.gcode:3: G2 takes no parameter J"},  // ZX: K and I
       {"X10 Y10\n", "g.gcode:1: expected a command (G, M or T)"},
       {"G\n", "g.gcode:1: G without a number"},
       {"G4 P-5\n", "g.gcode:1: G4 dwell time must be >= 0"},
