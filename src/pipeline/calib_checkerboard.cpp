@@ -22,14 +22,6 @@ void CheckerboardSpec::Check() const {
   Require(margin_squares >= 0, "margin_squares", "must be >= 0, got " + std::to_string(margin_squares));
 }
 
-void CheckerboardSpec::RequireOrientation(const std::string& step) const {
-  Require(!Symmetric(), "rows",
-          "rows + cols must be odd (one even, one odd) for " + step + ", got " + std::to_string(rows) + " x " +
-              std::to_string(cols) + ": a " + (rows == cols ? "quarter" : "half") +
-              " turn of this board looks the same, so its frame may differ from view to view, and " + step +
-              " needs one board frame in every view (the camera and laser steps do not)");
-}
-
 std::vector<Eigen::Vector3d> CheckerboardSpec::CornerPoints() const {
   std::vector<Eigen::Vector3d> pts;
   pts.reserve(size_t(rows) * size_t(cols));

@@ -23,14 +23,14 @@
 // one of the orders of a frame turned by a half (or quarter) turn about the
 // board's centre: a right-handed board frame, but not the same one in every
 // view. That is enough for the camera's intrinsics (each view has its own
-// pose) and for laser planes (the board's plane and area are the same); a
-// step that needs one board frame in every view (hand-eye: the board fixed in
-// the world) calls RequireOrientation.
+// pose) and for laser planes (the board's plane and area are the same); the
+// hand-eye step, which needs one board frame in every view (the board is fixed
+// in the world), chooses each view's turn from the robot's motion
+// (pipeline/calib_board_turns.h).
 #pragma once
 
 #include <Eigen/Core>
 #include <cstdint>
-#include <string>
 #include <vector>
 
 #include "core/image.h"
@@ -50,8 +50,6 @@ struct CheckerboardSpec {
   void Check() const;
   // A half or quarter turn about its centre maps the board onto itself (rows + cols even).
   bool Symmetric() const { return (rows + cols) % 2 == 0; }
-  // Throws lt::InputError ("option rows: ...", naming `step`) for a symmetric board.
-  void RequireOrientation(const std::string& step) const;
   int CornerCount() const { return rows * cols; }
   // Inner corners in the board frame, row-major: index i·cols + j.
   std::vector<Eigen::Vector3d> CornerPoints() const;

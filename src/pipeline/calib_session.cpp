@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/json_reader.h"
+#include "pipeline/calib_board_turns.h"
 #include "pipeline/frame_extraction.h"
 #include "pipeline/run_folder_reader.h"
 #include "pipeline/stripe_extractor.h"
@@ -340,7 +341,6 @@ SessionHandEyeResult CalibrateSessionHandEye(const fs::path& run_dir, const Chec
                                              const Camera& camera, const HandEyeOptions& options,
                                              const CornerDetectionOptions& corners) {
   options.Check();
-  board.RequireOrientation("the hand-eye calibration");
   SessionHandEyeResult r;
   r.views = ReadSessionViews(run_dir, board, corners);
   std::vector<HandEyeObservation> observations;
@@ -363,6 +363,23 @@ SessionHandEyeResult CalibrateSessionHandEye(const fs::path& run_dir, const Chec
     }
     observations.push_back({*sv.world_from_tool, pose.cam_from_target, cv.target_points, cv.pixels});
     r.used.push_back(int(v));
+  }
+  if (board.Symmetric()) {
+    // The detector's frame of a symmetric board may be turned from view to
+    // view: the first view's, chosen from the robot's motion.
+    const std::vector<std::string> why = AlignBoardFrames(board, &observations);
+    std::vector<HandEyeObservation> kept;
+    std::vector<int> used;
+    for (size_t k = 0; k < observations.size(); ++k) {
+      if (!why[k].empty()) {
+        r.notes.push_back("frame " + std::to_string(r.views[size_t(r.used[k])].bright_frame) + ": " + why[k]);
+        continue;
+      }
+      kept.push_back(std::move(observations[k]));
+      used.push_back(r.used[k]);
+    }
+    observations = std::move(kept);
+    r.used = std::move(used);
   }
   if (observations.empty()) {
     r.hand_eye.ok = false;
