@@ -114,54 +114,92 @@ std::vector<int> PlanesByStripeOrder(const std::vector<StripeSegment>& segments,
     }
     return true;
   };
-  Votes votes(segments.size(), std::vector<int>(size_t(n_planes), 0));
-  for (const auto* v : full) {
-    if (!spaced(*v, 0, n_planes - 1)) continue;
-    for (int r = 0; r < n_planes; ++r) ++votes[size_t((*v)[size_t(r)].second)][size_t(r)];
+  // A line that meets N segments but gives one of them another rank than its
+  // other lines' majority shows something that is no sheet (a speckle blob, a
+  // reflection) where a sheet is hidden: it does not vote either. The votes are
+  // counted again without such lines until none is left.
+  std::vector<char> voting(full.size());
+  for (size_t f = 0; f < full.size(); ++f) voting[f] = spaced(*full[f], 0, n_planes - 1);
+  for (bool dropped = true; dropped;) {
+    Votes votes(segments.size(), std::vector<int>(size_t(n_planes), 0));
+    for (size_t f = 0; f < full.size(); ++f) {
+      if (!voting[f]) continue;
+      for (int r = 0; r < n_planes; ++r) ++votes[size_t((*full[f])[size_t(r)].second)][size_t(r)];
+    }
+    std::fill(label.begin(), label.end(), -1);
+    decide(votes);
+    dropped = false;
+    for (size_t f = 0; f < full.size(); ++f) {
+      for (int r = 0; voting[f] && r < n_planes; ++r) {
+        const int lab = label[size_t((*full[f])[size_t(r)].second)];
+        if (lab >= 0 && lab != r) voting[f] = 0, dropped = true;
+      }
+    }
   }
-  decide(votes);
 
   // Segments never on such a line: the ranks between identified neighbours (or
   // the ends of the line), when exactly the missing ranks lie between them.
-  for (int pass = 0; pass < n_planes; ++pass) {
-    Votes between(segments.size(), std::vector<int>(size_t(n_planes), 0));
-    for (const auto& [line, v] : lines) {
-      int prev_label = -1, prev_index = -1;
-      for (int k = 0; k <= int(v.size()); ++k) {
-        const int lab = k < int(v.size()) ? label[size_t(v[size_t(k)].second)] : n_planes;
-        if (lab < 0) continue;
-        const int gap = k - prev_index - 1;
-        // Neighbours in the run (the numbered stripes at its ends included)
-        // must stand about one spacing apart.
-        if (gap > 0 && lab - prev_label - 1 == gap && spaced(v, std::max(prev_index, 0), std::min(k, int(v.size()) - 1))) {
-          for (int j = 1; j <= gap; ++j) ++between[size_t(v[size_t(prev_index + j)].second)][size_t(prev_label + j)];
+  // A segment numbered so that some line's numbered stripes stand out of
+  // order is excluded and the positions are read again without it.
+  const std::vector<int> by_votes = label;
+  std::vector<char> excluded(segments.size(), 0);
+  for (bool again = true; again;) {
+    label = by_votes;
+    for (int pass = 0; pass < n_planes; ++pass) {
+      Votes between(segments.size(), std::vector<int>(size_t(n_planes), 0));
+      for (const auto& [line, v] : lines) {
+        int prev_label = -1, prev_index = -1;
+        for (int k = 0; k <= int(v.size()); ++k) {
+          const int lab = k < int(v.size()) ? label[size_t(v[size_t(k)].second)] : n_planes;
+          if (lab < 0) continue;
+          const int gap = k - prev_index - 1;
+          // Neighbours in the run (the numbered stripes at its ends included)
+          // must stand about one spacing apart.
+          if (gap > 0 && lab - prev_label - 1 == gap &&
+              spaced(v, std::max(prev_index, 0), std::min(k, int(v.size()) - 1))) {
+            for (int j = 1; j <= gap; ++j) ++between[size_t(v[size_t(prev_index + j)].second)][size_t(prev_label + j)];
+          }
+          prev_label = lab, prev_index = k;
         }
-        prev_label = lab, prev_index = k;
       }
+      for (size_t s = 0; s < segments.size(); ++s) {
+        if (excluded[s]) std::fill(between[s].begin(), between[s].end(), 0);
+      }
+      if (!decide(between)) break;
     }
-    if (!decide(between)) break;
-  }
 
-  // Every line's identified stripes in increasing order. One sheet may meet a
-  // line twice where its stripe jumps at a depth step: the piece before the
-  // step ends where the piece after it begins, so on the lines they share each
-  // of the two runs on past the other's end. A piece whose lines all lie within
-  // another's of the same number (a stripe beside a stripe) contradicts.
-  auto hand_over = [&](int a, int b) {
-    const Ends &ea = ends[size_t(a)], &eb = ends[size_t(b)];
-    return (ea.first_along < eb.first_along && ea.last_along < eb.last_along) ||
-           (eb.first_along < ea.first_along && eb.last_along < ea.last_along);
-  };
-  for (const auto& [line, v] : lines) {
-    int last = -1, last_segment = -1;
-    for (const auto& [x, seg] : v) {
-      const int lab = label[size_t(seg)];
-      if (lab < 0) continue;
-      if (lab < last || (lab == last && seg != last_segment && !hand_over(seg, last_segment))) {
-        *error = "the stripes' order contradicts itself on search line " + std::to_string(line);
-        return {};
+    // Every line's identified stripes in increasing order. One sheet may meet
+    // a line twice where its stripe jumps at a depth step: the piece before the
+    // step ends where the piece after it begins, so on the lines they share
+    // each of the two runs on past the other's end. A piece whose lines all lie
+    // within another's of the same number (a stripe beside a stripe)
+    // contradicts. Two pieces numbered by lines that show all N sheets in
+    // order may stand reversed on other lines: a thin wall or rib seen by the
+    // camera beside sheets that pass it on the surface behind (the order of
+    // one projector's sheets holds on a height field, not past thin features).
+    auto hand_over = [&](int a, int b) {
+      const Ends &ea = ends[size_t(a)], &eb = ends[size_t(b)];
+      return (ea.first_along < eb.first_along && ea.last_along < eb.last_along) ||
+             (eb.first_along < ea.first_along && eb.last_along < ea.last_along);
+    };
+    again = false;
+    for (const auto& [line, v] : lines) {
+      int last = -1, last_segment = -1;
+      for (const auto& [x, seg] : v) {
+        const int lab = label[size_t(seg)];
+        if (lab < 0) continue;
+        const bool twice = lab == last && seg != last_segment && !hand_over(seg, last_segment);
+        if (lab < last || twice) {
+          const bool voted = by_votes[size_t(seg)] >= 0, last_voted = by_votes[size_t(last_segment)] >= 0;
+          if (voted && last_voted && twice) {
+            *error = "the stripes' order contradicts itself on search line " + std::to_string(line);
+            return {};
+          }
+          if (!voted) excluded[size_t(seg)] = 1, again = true;
+          if (!last_voted) excluded[size_t(last_segment)] = 1, again = true;
+        }
+        last = lab, last_segment = seg;
       }
-      last = lab, last_segment = seg;
     }
   }
   return label;

@@ -7,14 +7,17 @@
 // order, and each segment there gets a vote for its rank. A segment takes the
 // rank that holds at least 3/4 of its votes (not on lines whose neighbouring
 // stripes stand far closer or farther apart than the median spacing of such
-// lines: one sheet seen twice at a depth step). A segment that is never on such a
-// line takes the rank its position calls for on lines where it lies between
-// numbered segments (or the line's ends) with exactly the missing ranks between
-// them. Segments neither step decides keep no plane (not guessed); on every line
-// the numbered stripes must then be in increasing order (one sheet may meet a
-// line twice where its stripe jumps at a depth step and one piece hands over to
-// the next). It needs one search
-// line that meets all N stripes, and no stripe to reach an image edge.
+// lines: one sheet seen twice at a depth step; nor on lines that give a numbered
+// segment another rank: a blob where a sheet is hidden). A segment that is never
+// on such a line takes the rank its position calls for on lines where it lies
+// between numbered segments (or the line's ends) with exactly the missing ranks
+// between them. Segments neither step decides keep no plane (not guessed); on
+// every line the numbered stripes must then be in increasing order (one sheet
+// may meet a line twice where its stripe jumps at a depth step and one piece
+// hands over to the next; pieces numbered by votes may stand reversed beside a
+// thin wall), a piece numbered by its position that breaks it keeps no plane.
+// It needs one search line that meets all N stripes, and no stripe to reach an
+// image edge.
 //
 // Edge chains (when the order cannot decide; thesis section 2.1.3, after the
 // method of its reference [9]): segments are classified by the image edges they

@@ -316,5 +316,59 @@ TEST(PlaneIdentification, FiveSheetFrameWithAStripeBelowTheEdge) {
   }
 }
 
+// A speckle blob between the first two stripes on rows where the third sheet's
+// stripe is hidden: those rows meet four segments, and before they voted the
+// blob sheet 1 and the second stripe sheet 2 (its other rows say 1), so the
+// order contradicted itself and, the edge chains failing too, the whole frame
+// went without planes. A line that gives a segment another rank than its
+// other lines' majority does not vote: the blob keeps no plane, the rest is
+// numbered.
+TEST(PlaneIdentification, ALineShowingABlobWhereAStripeIsHiddenDoesNotVote) {
+  std::vector<StripePoint> pts;
+  AddLine(&pts, 20, 0, 120);
+  AddLine(&pts, 50, 0, 120);
+  AddLine(&pts, 80, 0, 40);
+  AddLine(&pts, 80, 61, 120);  // hidden on rows 40..60
+  AddLine(&pts, 110, 0, 120);
+  AddLine(&pts, 35, 45, 56);  // the blob
+  PlaneIdentification id = IdentifyPlanes(pts, {0, 0, 160, 120}, 4, PlaneIdOptions{});
+  ASSERT_TRUE(id.ok) << id.error;
+  EXPECT_EQ(id.method, PlaneIdMethod::kStripeOrder) << id.order_error;
+  EXPECT_EQ(id.unidentified_segments, 1);
+  for (const auto& p : id.points) EXPECT_EQ(p.plane, p.u == 35 ? -1 : int(p.u) / 30) << p.u << "," << p.v;
+}
+
+// N sheets (3 to 6) crossing an oblique depth step that moves each stripe 1.5
+// or 2.5 spacings across, the first sheet reaching the step first or last.
+// When the first reaches it first, rows between the first and the last sheet's
+// step show a sheet past the step beyond neighbours that have not reached it
+// (one projector's sheets keep their order on a height field, not beside thin
+// walls and ribs). Every piece is numbered by the rows that show all N sheets
+// in order; before, the reversed pieces on the step's rows failed the order,
+// the edge chains could not join the pieces, and the frame went without planes.
+TEST(PlaneIdentification, StripesPassingANeighbourAtAStepKeepTheirSheets) {
+  for (int n = 3; n <= 6; ++n) {
+    const double spacing = 150.0 / (n + 1);
+    for (double jump : {1.5, 2.5}) {
+      for (bool first_sheet_first : {true, false}) {
+        SCOPED_TRACE(std::to_string(n) + " sheets, jump " + std::to_string(jump) + (first_sheet_first ? ", first" : ", last"));
+        std::vector<StripePoint> pts;
+        std::vector<int> truth;
+        for (int k = 0; k < n; ++k) {
+          const int step_row = 50 + 4 * (first_sheet_first ? k : n - 1 - k);
+          AddLine(&pts, 5 + spacing * k, 0, step_row + 1);
+          AddLine(&pts, 5 + spacing * (k + jump), step_row, 120);
+          truth.resize(pts.size(), k);
+        }
+        PlaneIdentification id = IdentifyPlanes(pts, {0, 0, 160 + int(jump * spacing), 120}, n, PlaneIdOptions{});
+        ASSERT_TRUE(id.ok) << id.error;
+        EXPECT_EQ(id.method, PlaneIdMethod::kStripeOrder) << id.order_error;
+        EXPECT_EQ(id.unidentified_segments, 0);
+        for (size_t i = 0; i < pts.size(); ++i) EXPECT_EQ(id.points[i].plane, truth[i]) << pts[i].u << "," << pts[i].v;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace lt::test
