@@ -61,6 +61,27 @@ void WarnImplausibleSizes(const SceneFile& scene, SceneGeometry* g) {
   }
 }
 
+// A laser, pattern projector or LED farther than this from the camera is no
+// part of a scanner head (baselines of millimetres to about a metre): most likely
+// a translation written in millimetres where the key says metres.
+constexpr double kImplausibleEmitterDistanceM = 5.0;
+
+void WarnImplausibleRig(const SensorRig& rig, SceneGeometry* g) {
+  auto check = [&](const std::string& what, const Pose& cam_from_emitter) {
+    const double d = cam_from_emitter.translation().norm();
+    if (!(d > kImplausibleEmitterDistanceM)) return;
+    char text[64];
+    std::snprintf(text, sizeof text, "%.3g", d);
+    g->warnings.push_back(what + " is " + text + " m from the camera; its translation_m is in metres: if it is in "
+                          "millimetres, divide it by 1000");
+  };
+  for (size_t i = 0; i < rig.lasers.size(); ++i) {
+    check("sensor laser " + std::to_string(i), rig.lasers[i].cam_from_projector());
+  }
+  if (rig.pattern) check("sensor pattern projector", rig.pattern->cam_from_projector());
+  if (rig.led) check("sensor LED", rig.led->cam_from_led());
+}
+
 }  // namespace
 
 SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
@@ -108,6 +129,7 @@ SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
     }
   }
   WarnImplausibleSizes(scene, &g);
+  WarnImplausibleRig(scene.sensor, &g);
   if (scene.objects.empty() && !scene.print) {
     g.warnings.push_back("the scene has no objects: the camera sees only the environment (dark frames without one)");
   }

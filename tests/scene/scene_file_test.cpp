@@ -257,6 +257,25 @@ TEST(SceneFile, AnEmptySceneLoadsWithAWarning) {
   EXPECT_EQ(ErrorOf([&] { Parse("{" + std::string(kSensor) + "}"); }), "scene.json: /: missing required key \"objects\"");
 }
 
+// A laser or LED 40 m from the camera is a baseline written in millimetres
+// (40 for 0.04): the scene renders a stripe nowhere near the view, silently.
+TEST(SceneGeometry, EmittersFarFromTheCameraAreWarned) {
+  const std::string head = R"({"objects": [{"name": "a", "gltf": "../gltf/square.gltf"}],
+    "sensor": {"camera": {"resolution": [64, 48], "pixel_pitch_um": 5, "focal_length_mm": 4, "f_number": 4},)";
+  auto warnings = [&](const std::string& laser_m, const std::string& led_m) {
+    SceneFile s = Parse(head + R"("lasers": [{"power_mw": 5, "wavelength_nm": 650, "cam_from_projector": {"translation_m": )" +
+                        laser_m + R"(}}], "led": {"size_m": [0.01, 0.01], "radiance_w_per_m2_sr": 100,
+                        "cam_from_led": {"translation_m": )" + led_m + "}}}}");
+    return LoadSceneGeometry(s).warnings;
+  };
+  EXPECT_THAT(warnings("[0, 0.04, 0]", "[0, -0.03, 0]"), ::testing::IsEmpty());
+  EXPECT_THAT(warnings("[0, 1.5, 0]", "[0, -0.03, 0]"), ::testing::IsEmpty());  // a wide rig is no mistake
+  EXPECT_THAT(warnings("[0, 40, 0]", "[0, -30, 0]"),
+              ::testing::ElementsAre("sensor laser 0 is 40 m from the camera; its translation_m is in metres: if it is "
+                                     "in millimetres, divide it by 1000",
+                                     HasSubstr("sensor LED is 30 m from the camera")));
+}
+
 TEST(SceneGeometry, ObjectsShareTheirGltfAndKeepTheirPoses) {
   SceneFile s = LoadSceneFile(kScenes / "full.json");
   auto g = std::make_shared<const SceneGeometry>(LoadSceneGeometry(s));
