@@ -38,7 +38,7 @@
 //   M220, M221      feed rate and flow percentages (S; M220 B/R save and restore),
 //                   scaling the feed and the E of later G0-G3 moves
 //   F               feed rate in mm/min (inch/min under G20), modal, shared by G0-G3
-//   G29, G30, G32-G34, G38.2-5, M48, G80 alone on its line (Prusa), Klipper's
+//   G29, G30, G32-G34, G38.2-5, G380 (Bambu), M48, G80 alone on its line (Prusa), Klipper's
 //                   BED_MESH_CALIBRATE etc., Prusa XL's P0 park and T.. D0: probing or
 //                   docking; X, Y, Z unknown until an absolute move or homing sets each
 //                   (a relative move on an unknown axis is warned: Toolpath::warnings)

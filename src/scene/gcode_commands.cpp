@@ -125,6 +125,7 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
       case 32:  // RepRapFirmware's bed.g (probing); Marlin's sled undock
       case 33:  // delta auto-calibration
       case 34:  // Z steppers' auto-alignment (probes)
+      case 380:  // Bambu's move until contact ("G380 S2 Z-5 F300")
         ReadWords(code, pos, false);
         PositionUnknown(CommandName('G', n));
         return;

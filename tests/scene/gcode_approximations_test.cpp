@@ -73,6 +73,7 @@ TEST(GcodeApproximations, ProbingLeavesThePositionUnknownUntilAnAbsoluteMove) {
   EXPECT_THAT(warnings("BED_MESH_CALIBRATE\nG91\nG1 Z1 F600\n").at(0).text,
               HasSubstr("BED_MESH_CALIBRATE (line 1) left unknown in Z"));
   EXPECT_THAT(warnings("G38.2 Z-10 F100\nG91\nG1 Z1\n").at(0).text, HasSubstr("G38.2 (line 1) left unknown in Z"));
+  EXPECT_THAT(warnings("G380 S2 Z-5 F300\nG91\nG1 Z5\n").at(0).text, HasSubstr("G380 (line 1) left unknown in Z"));
   EXPECT_THAT(warnings("G29\nG2 X10 Y0 I5 J0 F600\n").at(0).text, HasSubstr("G2 moves relative to a position G29"));
   // Prusa XL: a tool parked (P0) or changed without return (D0) leaves the head at the dock.
   EXPECT_THAT(warnings("P0 S1 L2 D0\nG91\nG1 X1 F600\n").at(0).text, HasSubstr("P0 (line 1) left unknown in X"));
