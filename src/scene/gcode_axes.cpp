@@ -53,7 +53,7 @@ void GcodeReader::TrackKnownAxes(const std::string& command, int arc_axes) {
     const Eigen::Vector3d last = pos_mm_ - offset_mm_;
     Warn(kRelativeFromUnknown,
          command + " moves relative to a position " + unknown_since_ + " left unknown in " + unknown +
-             " (probing ends where the firmware stops it): built from the last known position X" +
+             " (probing and docking end where the firmware stops): built from the last known position X" +
              FormatNumber(last.x() / unit_mm_) + " Y" + FormatNumber(last.y() / unit_mm_) + " Z" +
              FormatNumber(last.z() / unit_mm_) + "; the path after it is off by as much until an absolute move on each axis");
   }

@@ -196,6 +196,7 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
   std::string name(1, letter);
   name += integral ? std::to_string(n) : std::string(number);
   ++path_.skipped_commands[name];
+  if (letter == 'T' && n >= 0) active_tool_ = n;  // the tool whose flow (M221) applies
   // The nozzle moves to the dock and, for a park or a tool change with D0 (Prusa's
   // XL: "T1 S1 L0 D0", do not return), stays there: where is the firmware's.
   if (park || (letter == 'T' && HasWord(code.substr(pos), "D0"))) PositionUnknown(name);

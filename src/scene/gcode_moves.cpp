@@ -84,7 +84,8 @@ double GcodeReader::Extruded() {
   if (volumetric_ && volumetric_diameter_mm_ > 0) delta /= M_PI * 0.25 * volumetric_diameter_mm_ * volumetric_diameter_mm_;
   // M221's flow percentage scales what the motor feeds (retractions too, as Marlin's
   // e_factor does), not the logical E.
-  return delta * flow_factor_;
+  const auto flow = flow_factor_.find(active_tool_);
+  return flow == flow_factor_.end() ? delta : delta * flow->second;
 }
 
 void GcodeReader::VolumetricExtrusion() {
@@ -151,11 +152,19 @@ void GcodeReader::SpeedFactor() {
 }
 
 void GcodeReader::FlowFactor() {
-  // T (Marlin) or D (RepRapFirmware) picks the extruder: all extruders alike here.
+  // T (Marlin) or D (RepRapFirmware's drive, taken as the tool) picks the extruder,
+  // else the active tool's.
   Expect("STD", "M221");
+  int tool = active_tool_;
+  for (char letter : {'T', 'D'}) {
+    if (const Word* w = Find(letter)) {
+      if (!w->value || *w->value < 0 || *w->value != std::floor(*w->value)) Fail(std::string("M221 ") + letter + " must be a tool number");
+      tool = int(*w->value);
+    }
+  }
   if (const Word* s = Find('S')) {
     if (!s->value || !(*s->value >= 0)) Fail("M221 S (flow percentage) must be >= 0");
-    flow_factor_ = *s->value / 100.0;
+    flow_factor_[tool] = *s->value / 100.0;
   }
 }
 

@@ -4,6 +4,7 @@
 // helpers that more than one of its files needs.
 #pragma once
 
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -146,7 +147,8 @@ class GcodeReader {
   bool volumetric_ = false;
   double feed_mm_s_ = 0;  // 0: none given yet
   double speed_factor_ = 1, saved_speed_factor_ = 1;  // M220 (and its B backup)
-  double flow_factor_ = 1;                            // M221
+  std::map<int, double> flow_factor_;                 // M221 per tool (absent: 100 %)
+  int active_tool_ = 0;                               // the last T n
   double unit_mm_ = 1;    // 25.4 under G20
   bool xyz_relative_ = false;
   enum class EMode { kNone, kAbsolute, kRelative } e_mode_ = EMode::kNone;  // the last M82/M83

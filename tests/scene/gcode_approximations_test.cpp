@@ -137,13 +137,15 @@ TEST(GcodeApproximations, FlowAndSpeedPercentagesAndRecoverySettings) {
       "G1 E-0.5 F1800\n"  // retraction, scaled too: 0.475 mm at 15 mm/s
       "M220 R\n"
       "M221 S100 T0\n"
+      "M221 T1 S50\n"   // another tool's flow: not T0's
       "G1 X30 E1 F600\n"
       "M207 S2 F1800\n"
       "M208 S0.5 F600\n"
       "M208 X0:200 Y0:200\n"  // RepRapFirmware's axis limits
-      "G10\nG11\n",
+      "G10\nG11\n"
+      "T1\nG1 X40 E1\n",  // tool 1 at its 50 %
       "flow.gcode");
-  ASSERT_EQ(p.segments.size(), 6u);
+  ASSERT_EQ(p.segments.size(), 7u);
   EXPECT_NEAR(p.segments[0].extruded_m, 1 * kMm, 1e-15);
   EXPECT_NEAR(p.segments[1].extruded_m, 0.95 * kMm, 1e-15);
   EXPECT_NEAR(p.segments[1].Duration(), 2.0, 1e-12);
@@ -153,6 +155,7 @@ TEST(GcodeApproximations, FlowAndSpeedPercentagesAndRecoverySettings) {
   EXPECT_NEAR(p.segments[3].Duration(), 1.0, 1e-12);        // M220 R: 100 % again
   EXPECT_NEAR(p.segments[5].extruded_m, 2.5 * kMm, 1e-15);  // S2 + M208 S0.5
   EXPECT_NEAR(p.segments[5].Duration(), 0.25, 1e-12);       // at M208's 10 mm/s
+  EXPECT_NEAR(p.segments[6].extruded_m, 0.5 * kMm, 1e-15);
   EXPECT_EQ(p.skipped_commands.at("M208"), 1u);
   EXPECT_THAT(ErrorOf([] { ParseGcode("M221 S-5\n", "f.gcode"); }), HasSubstr("f.gcode:1: M221 S"));
   EXPECT_THAT(ErrorOf([] { ParseGcode("M220 S0\n", "f.gcode"); }), HasSubstr("f.gcode:1: M220 S"));
