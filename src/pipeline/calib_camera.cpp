@@ -364,7 +364,7 @@ CameraCalibrationResult CalibrateCamera(const std::vector<CalibrationView>& view
       res.observed_radius = std::max(res.observed_radius, t.norm());
     }
   }
-  std::optional<double> fisheye_fold;  // beyond the observed field: the angle
+  std::optional<double> fisheye_fold;  // a fold beyond the observed field: its angle
   if (options.model == DistortionModel::kFisheye) {
     // Only the field the boards observed (plus the margin) has to be free of
     // a fold: a fit that folds there does not describe the views.
@@ -380,7 +380,7 @@ CameraCalibrationResult CalibrateCamera(const std::vector<CalibrationView>& view
                     "observed (corners up to " + Deg(res.observed_field_rad) + " deg from the axis, checked to " +
                     Deg(field) + " deg): the model does not describe the views");
     }
-    fisheye_fold = fold;
+    if (fold < M_PI) fisheye_fold = fold;
   }
   try {
     Camera check(res.camera);
