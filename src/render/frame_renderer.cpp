@@ -112,7 +112,9 @@ FrameRenderer::FrameRenderer(const SceneFile& scene, const EmbreeScene& embree, 
     print_ = std::make_unique<PrintedPart>(std::get<GcodeMotion>(scene.motion), *scene.print,
                                            embree.geometry().print_meshes);
   }
-  if (scene_.environment.kind == Environment::Kind::kMap) environment_map_ = ReadImageFloat(scene_.environment.exr);
+  if (scene_.environment.kind == Environment::Kind::kMap) {
+    environment_map_ = scene_.environment.map ? *scene_.environment.map : ReadImageFloat(scene_.environment.exr);
+  }
   PathTracerOptions options;
   options.max_bounces = scene.render.max_bounces;
   options.russian_roulette_depth = scene.render.russian_roulette_depth;

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "core/error.h"
+#include "core/image_io.h"
 
 namespace lt {
 
@@ -97,6 +98,24 @@ Environment ParseEnvironment(const json::Value& value) {
     json::Value exr = o.Get("exr");
     e.exr = exr.ExistingFile("environment map");
     if (!IsOpenExrFile(e.exr)) exr.Fail(e.exr.string() + " is not an OpenEXR file");
+    // Read now, so that `info` sees what the renderer would refuse, and a NaN, an
+    // infinity or a negative value (radiance) is named instead of spreading
+    // through the frames.
+    auto map = std::make_shared<Image<float>>();
+    try {
+      *map = ReadImageFloat(e.exr);
+    } catch (const InputError& err) {
+      exr.Fail(err.what());
+    }
+    for (size_t i = 0; i < map->pixels.size(); ++i) {
+      const float v = map->pixels[i];
+      if (std::isfinite(v) && v >= 0) continue;
+      const size_t c = size_t(map->channels), w = size_t(map->width);
+      exr.Fail(e.exr.string() + ": pixel (" + std::to_string(i / c % w) + ", " + std::to_string(i / c / w) +
+               ") channel " + std::to_string(i % c) + " is " + FormatNumber(v) +
+               "; an environment map holds radiance, finite and >= 0");
+    }
+    e.map = std::move(map);
     e.scale = o.Number("scale", 1.0, Range::NonNegative());
   }
   o.Finish();

@@ -6,8 +6,10 @@
 
 #include <Eigen/Core>
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 
+#include "core/image.h"
 #include "core/json_reader.h"
 
 namespace lt {
@@ -53,12 +55,17 @@ struct Environment {
   Eigen::Vector3d radiance = Eigen::Vector3d::Zero();  // kConstant, >= 0
   std::filesystem::path exr;                           // kMap: lat-long OpenEXR map
   double scale = 1.0;                                  // kMap: multiplies the map, >= 0
+  // kMap: the map as ParseEnvironment read and checked it (every value finite and
+  // >= 0), or null (an Environment made in code: the renderer reads `exr`).
+  std::shared_ptr<const Image<float>> map;
   void Check() const;
 };
 
 RenderSettings ParseRenderSettings(const json::Value& value);
 OutputSettings ParseOutputSettings(const json::Value& value);
-// Checks that an environment map file exists (the message names the path looked for).
+// Reads an environment map and checks it: the file exists (the message names the
+// path looked for), decodes, and holds radiance (every value finite and >= 0; the
+// message names the first pixel that is not).
 Environment ParseEnvironment(const json::Value& value);
 
 nlohmann::json ToJson(const RenderSettings& s);

@@ -6,6 +6,11 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <fstream>
+#include <limits>
+
+#include "core/image_io.h"
 #include "scene/embree_scene.h"
 #include "scene/scene_geometry.h"
 #include "test_util.h"
@@ -259,6 +264,35 @@ TEST(SceneFile, AnEmptySceneLoadsWithAWarning) {
 
 // A laser or LED 40 m from the camera is a baseline written in millimetres
 // (40 for 0.04): the scene renders a stripe nowhere near the view, silently.
+// An environment map was only read by the renderer: `info` called a truncated
+// EXR valid, and a NaN, infinite or negative radiance went into the frames.
+TEST(SceneFile, EnvironmentMapIsReadAndChecked) {
+  test::TempDir dir;
+  auto scene = [&](const fs::path& exr) {
+    return Parse(R"({"objects": [], "environment": {"exr": ")" + exr.string() + R"("}, )" + std::string(kSensor) + "}");
+  };
+  Image<float> map(4, 2, 3, 0.5f);
+  map.At(3, 1, 2) = 2.0f;
+  WriteImage(dir / "good.exr", map);
+  SceneFile good = scene(dir / "good.exr");
+  ASSERT_TRUE(good.environment.map);
+  EXPECT_EQ(good.environment.map->pixels, map.pixels);  // kept for the renderer: read once
+  const std::string where = "scene.json: /environment/exr: ";
+  for (float bad : {std::nanf(""), std::numeric_limits<float>::infinity(), -0.25f}) {
+    Image<float> m = map;
+    m.At(2, 1, 1) = bad;
+    WriteImage(dir / "bad.exr", m);
+    EXPECT_EQ(ErrorOf([&] { scene(dir / "bad.exr"); }),
+              where + (dir / "bad.exr").string() + ": pixel (2, 1) channel 1 is " + FormatNumber(bad) +
+                  "; an environment map holds radiance, finite and >= 0");
+  }
+  // A truncated file: its magic number is right, its pixels are missing.
+  std::ifstream in(dir / "good.exr", std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  test::WriteText(dir / "cut.exr", bytes.substr(0, bytes.size() / 2));
+  EXPECT_THAT(ErrorOf([&] { scene(dir / "cut.exr"); }), ::testing::StartsWith(where + (dir / "cut.exr").string() + ": "));
+}
+
 TEST(SceneGeometry, EmittersFarFromTheCameraAreWarned) {
   const std::string head = R"({"objects": [{"name": "a", "gltf": "../gltf/square.gltf"}],
     "sensor": {"camera": {"resolution": [64, 48], "pixel_pitch_um": 5, "focal_length_mm": 4, "f_number": 4},)";
