@@ -343,6 +343,8 @@ class DuplicateKeyCheck {
     return dom_.parse_error(position, token, e);  // throws e
   }
   const std::string& duplicate_pointer() const { return duplicate_; }
+  // The pointer of the value being read (after its key or its array position).
+  std::string current_pointer() const { return Pointer(); }
 
  private:
   struct Frame {
@@ -392,7 +394,14 @@ Document Document::Parse(const std::string& text, std::string display_name,
     std::string msg = e.what();
     auto pos = msg.find("] ");
     if (pos != std::string::npos) msg = msg.substr(pos + 2);
-    throw InputError(ctx->file, "invalid JSON: " + msg);
+    // Name the value (1e400, the only way to write an infinity, in "exposure_us").
+    std::string where = ctx->file;
+    const std::string pointer = duplicates.current_pointer();
+    if (!pointer.empty()) {
+      where += ": ";
+      where += pointer;
+    }
+    throw InputError(where, "invalid JSON: " + msg);
   }
   if (!duplicates.duplicate_pointer().empty()) {
     const std::string& p = duplicates.duplicate_pointer();

@@ -68,7 +68,11 @@ TEST(JsonReader, RepeatedKeyIsAnErrorNamingItsPointer) {
 
 TEST(JsonReader, NumberOverflowIsAnInputError) {
   EXPECT_EQ(ErrorOf([] { Doc(R"({"x": 1e999})"); }),
-            "scene.json: invalid JSON: number overflow parsing '1e999'");
+            "scene.json: /x: invalid JSON: number overflow parsing '1e999'");
+  // The pointer of the value, in objects and arrays (it had none: "scene.json: invalid JSON: ...").
+  EXPECT_EQ(ErrorOf([] { Doc(R"({"a": {"b": [1, 2, -1e400]}, "c": 1})"); }),
+            "scene.json: /a/b/2: invalid JSON: number overflow parsing '-1e400'");
+  EXPECT_EQ(ErrorOf([] { Doc("1e999"); }), "scene.json: invalid JSON: number overflow parsing '1e999'");
 }
 
 TEST(JsonReader, SyntaxErrorNamesLineAndColumn) {
