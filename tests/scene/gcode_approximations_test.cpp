@@ -10,6 +10,8 @@
 
 #include "scene/bead_geometry.h"
 #include "scene/gcode.h"
+#include "scene/motion.h"
+#include "scene/motion_gcode.h"
 #include "test_util.h"
 
 namespace lt {
@@ -207,6 +209,18 @@ TEST(GcodeApproximations, ArcsInTheZxAndYzPlanesAreChords) {
   EXPECT_EQ(last.line, 5);
   EXPECT_TRUE(last.end_m.isApprox(Eigen::Vector3d(20, 10, 5) * kMm));
   EXPECT_NEAR(p.Duration() - t1, 5 * M_PI / 10, 2e-4);
+}
+
+// The warnings reach the motion's notes, which `info` and `render` print: file:line,
+// the text and the count.
+TEST(GcodeApproximations, MotionNotesCarryTheWarnings) {
+  test::TempDir dir;
+  test::WriteText(dir / "u.gcode", "G1 X10 F600\nG1 U5\nG1 U6\nG1 X20 E1\n");
+  json::Document doc = json::Document::Parse(R"({"type": "gcode", "file": "u.gcode"})", "scene.json", dir.path());
+  std::string notes;
+  for (const std::string& note : MotionNotes(ParseMotion(doc.Root()))) notes += note + "\n";
+  EXPECT_THAT(notes, HasSubstr("u.gcode:2: axis U ignored"));
+  EXPECT_THAT(notes, HasSubstr("extrudes (2 times)\n"));
 }
 
 }  // namespace
