@@ -288,14 +288,16 @@ std::vector<StripeCenter> ComputeStripeCenters(const EmbreeScene& scene, const C
         // or cross two surfaces within one pixel, with no sign change between
         // the pixel centres. Near: a sheet crossing a's surface before the
         // break lies within the part of it that one pixel sees, as does one
-        // crossing b's surface after it.
+        // crossing b's surface after it. A silhouette (a hit beside a miss) is
+        // near by the same measure on its one surface: the sky beyond it has
+        // none to cross.
         auto within_a_pixel = [&](const Sample& x) {
           if (!x.valid) return false;
           const Eigen::Vector3d view = (x.p_world - world_from_cam.translation()).normalized();
           const double cos_view = std::max(std::abs(x.normal.dot(view)), 0.05);
           return std::abs(ws.plane_world.SignedDistance(x.p_world)) < 2 * scanner.Footprint(x.depth) / cos_view;
         };
-        const bool near = a.valid != b.valid || within_a_pixel(a) || within_a_pixel(b);
+        const bool near = within_a_pixel(a) || within_a_pixel(b);
         if (!near || !scanner.MayBreak(a, b)) {
           add_root(pos[i], a, pos[i + 1], b);
           continue;

@@ -128,14 +128,17 @@ bool SegmentHitsBox(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Ei
   return true;
 }
 
-// The stripe centres of a box on a floor against the closed form; returns the
-// number of rows compared and, per face, the centres expected on it.
+// The stripe centres of a box on a floor (or floating, with nothing behind it)
+// against the closed form; returns, per face, the centres expected on it (face 0
+// the floor).
 std::map<size_t, int> ExpectBoxMatchesClosedForm(const Camera& cam, const LaserProjector& laser,
                                                  const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
-                                                 const std::string& what) {
+                                                 const std::string& what, bool with_floor = true) {
   const double floor_z = 0.12;
   World world;
-  world.Add(test::Rectangle({0, 0, floor_z}, Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 0.3, 0.3));
+  if (with_floor) {
+    world.Add(test::Rectangle({0, 0, floor_z}, Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 0.3, 0.3));
+  }
   world.Add(test::Box(lo, hi));
   world.Build();
   std::vector<LaserProjector> lasers = {laser};
@@ -153,7 +156,7 @@ std::map<size_t, int> ExpectBoxMatchesClosedForm(const Camera& cam, const LaserP
   std::set<int> ambiguous;
   std::map<size_t, int> per_face;
   for (int v = 0; v < cam.height(); ++v) {
-    for (size_t f = 0; f < faces.size(); ++f) {
+    for (size_t f = with_floor ? 0 : 1; f < faces.size(); ++f) {
       const PlaneRect& r = faces[f];
       auto [X0, L] = PlaneLine(laser.SheetPlane(0), r);
       auto P = SolveOnLine(cam, X0, L, v, 0.5);
@@ -223,6 +226,23 @@ TEST(StripeTruth, StripeBetweenTheLastPixelCentreAndAnEdge) {
                                                                 {-0.04, -0.015, top_z}, {edge_x, 0.011, 0.12},
                                                                 distorted ? "distorted" : "");
     EXPECT_GT(per_face[6], 20);  // rows whose centre lies on the top, next to the edge
+  }
+}
+
+// As above, at a silhouette: a 10 um thin plate with nothing behind it, the
+// stripe on its face 0.15 px inside its edge. Beyond the edge the line meets
+// nothing (its wall is 0.001 px wide), so only the face searched up to its edge
+// holds the root.
+TEST(StripeTruth, StripeBetweenTheLastPixelCentreAndASilhouette) {
+  const double fx = 180, top_z = 0.095;
+  const double root_x = -0.03 * (1 - top_z / 0.11);
+  const double edge_x = root_x + 0.15 * top_z / fx;
+  for (bool distorted : {false, true}) {
+    Camera cam = distorted ? DistortedCamera() : test::TestCamera(200, 150, fx);
+    std::map<size_t, int> per_face =
+        ExpectBoxMatchesClosedForm(cam, test::TestLaser(-0.03, 0.11), {-0.04, -0.015, top_z},
+                                   {edge_x, 0.011, top_z + 1e-5}, distorted ? "distorted" : "", false);
+    EXPECT_GT(per_face[6], 20);
   }
 }
 
