@@ -45,6 +45,7 @@
 //   U, V, W, C      extra axes on G0-G3, G92, G28: ignored with a warning; one moving
 //                   on an extruding line is an error
 //   SET_RETRACTION  Klipper's firmware retraction settings (mm, mm/s)
+//   SET_GCODE_OFFSET  Klipper's offset of later absolute moves (X, Y, Z, *_ADJUST; MOVE=1)
 // Comments: ;LAYER:n (Cura) sets the layer; ;LAYER_CHANGE (PrusaSlicer) starts the
 // next layer (0 first); ;TYPE:name names what follows (WALL-OUTER, External
 // perimeter, ...); ;HEIGHT:h (PrusaSlicer) the layer height; header ";Layer height:"

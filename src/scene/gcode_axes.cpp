@@ -62,6 +62,34 @@ void GcodeReader::TrackKnownAxes(const std::string& command, int arc_axes) {
   }
 }
 
+void GcodeReader::KlipperGcodeOffset(std::string_view params) {
+  Eigen::Vector3d delta = Eigen::Vector3d::Zero();
+  bool move = false;
+  double move_speed = 0;
+  const char* axes[3] = {"X", "Y", "Z"};
+  for (const auto& [key, text] : KeyValues(params)) {
+    auto v = ParseFiniteNumber(text);
+    if (!v) Fail("SET_GCODE_OFFSET " + key + " must be a number, got \"" + std::string(text) + "\"");
+    for (int k = 0; k < 3; ++k) {
+      // Klipper's offsets are millimetres whatever G20 says.
+      if (key == axes[k]) delta[k] = *v - klipper_offset_mm_[k];
+      if (key == std::string(axes[k]) + "_ADJUST") delta[k] = *v;
+    }
+    if (key == "MOVE") move = *v != 0;
+    if (key == "MOVE_SPEED") {
+      if (!(*v > 0)) Fail("SET_GCODE_OFFSET MOVE_SPEED must be > 0, got \"" + std::string(text) + "\"");
+      move_speed = *v;
+    }
+  }
+  for (int k = 0; k < 3; ++k) klipper_offset_mm_[k] += delta[k];
+  offset_mm_ += delta;  // later absolute moves; relative ones go on from where the nozzle is
+  if (move) {
+    const Eigen::Vector3d end = pos_mm_ + delta;
+    AddSegment(1, end, 0, delta.norm(), delta.head<2>().norm(), nullptr,
+               move_speed > 0 ? move_speed : MoveFeed(delta.norm(), 0));
+  }
+}
+
 bool GcodeReader::ExtraAxes(const std::string& command, double extruded_mm, ExtraAxesUse use) {
   bool named = false;
   for (int k = 0; k < 4; ++k) {

@@ -59,6 +59,10 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
       KlipperRetractSettings(code.substr(end));
       return;
     }
+    if (name == "SET_GCODE_OFFSET") {
+      KlipperGcodeOffset(code.substr(end));
+      return;
+    }
     ++path_.skipped_commands[name];
     return;
   }

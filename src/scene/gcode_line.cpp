@@ -88,6 +88,24 @@ void GcodeReader::ReadWords(std::string_view code, size_t pos, bool numbers_requ
   }
 }
 
+std::vector<std::pair<std::string, std::string_view>> KeyValues(std::string_view params) {
+  std::vector<std::pair<std::string, std::string_view>> out;
+  size_t pos = 0;
+  while (pos < params.size()) {
+    while (pos < params.size() && IsBlank(params[pos])) ++pos;
+    size_t end = pos;
+    while (end < params.size() && !IsBlank(params[end])) ++end;
+    const std::string_view word = params.substr(pos, end - pos);
+    pos = end;
+    const size_t eq = word.find('=');
+    if (eq == std::string_view::npos) continue;
+    std::string key(word.substr(0, eq));
+    for (char& c : key) c = Upper(c);
+    out.emplace_back(std::move(key), word.substr(eq + 1));
+  }
+  return out;
+}
+
 const Word* GcodeReader::Find(char letter) const {
   for (const Word& w : words_) {
     if (w.letter == letter) return &w;

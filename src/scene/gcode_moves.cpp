@@ -196,7 +196,7 @@ void GcodeReader::Move(int gcode) {
     for (int k = 0; k < 3; ++k) {
       if (Find(axes[k])) {
         end[k] = 0;
-        offset_mm_[k] = 0;
+        offset_mm_[k] = klipper_offset_mm_[k];  // Klipper: homing keeps SET_GCODE_OFFSET
         axis_known_[k] = true;
       }
     }
@@ -351,7 +351,7 @@ void GcodeReader::Home() {
     if ((any || extra) && !Find(axes[k])) continue;
     Eigen::Vector3d end = pos_mm_;
     end[k] = 0;
-    offset_mm_[k] = 0;
+    offset_mm_[k] = klipper_offset_mm_[k];  // Klipper: homing keeps SET_GCODE_OFFSET
     axis_known_[k] = true;
     const double length = std::abs(pos_mm_[k]);
     AddSegment(28, end, 0, length, k < 2 ? length : 0.0, nullptr, kHomingFeedMmS[k]);

@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "core/error.h"
@@ -29,6 +30,10 @@ inline bool IsLetter(char c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <
 inline char Upper(char c) { return (c >= 'a' && c <= 'z') ? char(c - 'a' + 'A') : c; }
 inline bool IsNumberChar(char c) { return (c >= '0' && c <= '9') || c == '.' || c == '-' || c == '+'; }
 inline bool IsBlank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+// The KEY=value words of an extended command (Klipper's), keys in upper case; words
+// without '=' are left out.
+std::vector<std::pair<std::string, std::string_view>> KeyValues(std::string_view params);
+
 // The warning for extra axes (U, V, W, C) ignored, naming them ("UC").
 std::string ExtraAxesWarning(const std::string& axes);
 
@@ -101,6 +106,10 @@ class GcodeReader {
   // Klipper's SET_RETRACTION RETRACT_LENGTH= RETRACT_SPEED= UNRETRACT_EXTRA_LENGTH=
   // UNRETRACT_SPEED= (mm, mm/s; Kalico's Z_HOP_HEIGHT= too); `params` after the name.
   void KlipperRetractSettings(std::string_view params);
+  // Klipper's SET_GCODE_OFFSET X= Y= Z= (or X_ADJUST= ...; mm): later absolute moves
+  // land that much further; MOVE=1 moves there now (at MOVE_SPEED mm/s, else the feed).
+  void KlipperGcodeOffset(std::string_view params);
+  double klipper_offset_mm_[3] = {0, 0, 0};
   // Marlin's M208 (S extra length, F feed on recovery); RepRapFirmware's M208 sets axis
   // limits (X, Y, Z... words) and is skipped.
   void RecoverSettings();

@@ -71,23 +71,13 @@ void GcodeReader::KlipperRetractSettings(std::string_view params) {
                       {"UNRETRACT_EXTRA_LENGTH", &fw_recover_extra_mm_, false},
                       {"UNRETRACT_SPEED", &fw_recover_feed_mm_s_, true},
                       {"Z_HOP_HEIGHT", &fw_hop_mm_, false}};
-  size_t pos = 0;
-  while (pos < params.size()) {
-    while (pos < params.size() && IsBlank(params[pos])) ++pos;
-    size_t end = pos;
-    while (end < params.size() && !IsBlank(params[end])) ++end;
-    const std::string_view word = params.substr(pos, end - pos);
-    pos = end;
-    const size_t eq = word.find('=');
-    if (word.empty() || eq == std::string_view::npos) continue;
-    std::string key(word.substr(0, eq));
-    for (char& c : key) c = Upper(c);
+  for (const auto& [key, text] : KeyValues(params)) {
     for (const Key& k : keys) {
       if (key != k.name) continue;
-      auto v = ParseFiniteNumber(word.substr(eq + 1));
+      auto v = ParseFiniteNumber(text);
       if (!v || (k.speed ? !(*v > 0) : *v < 0)) {
         Fail("SET_RETRACTION " + key + " must be a number " + (k.speed ? "> 0" : ">= 0") + ", got \"" +
-             std::string(word.substr(eq + 1)) + "\"");
+             std::string(text) + "\"");
       }
       *k.value = *v;
     }

@@ -211,6 +211,31 @@ TEST(GcodeApproximations, ArcsInTheZxAndYzPlanesAreChords) {
   EXPECT_NEAR(p.Duration() - t1, 5 * M_PI / 10, 2e-4);
 }
 
+// Klipper's SET_GCODE_OFFSET shifts where later absolute moves land (and homing
+// keeps it); MOVE=1 moves there at once. It was skipped: the nozzle ran 0.05 mm low.
+TEST(GcodeApproximations, KlipperGcodeOffsetShiftsLaterAbsoluteMoves) {
+  Toolpath p = ParseGcode(
+      "G28\nG1 X10 Y10 Z0.2 F600\n"
+      "SET_GCODE_OFFSET Z=0.05\n"
+      "G1 X20 E1\n"  // Z not named: stays at 0.2
+      "G1 Z0.4\n"    // 0.45
+      "SET_GCODE_OFFSET Z_ADJUST=-0.02 MOVE=1 MOVE_SPEED=5\n"
+      "G91\nG1 X1\nG90\n"
+      "G28 Z\nG1 Z1\n",
+      "offset.gcode");
+  ASSERT_EQ(p.segments.size(), 7u);
+  EXPECT_NEAR(p.segments[1].end_m.z(), 0.2 * kMm, 1e-15);
+  EXPECT_NEAR(p.segments[2].end_m.z(), 0.45 * kMm, 1e-15);
+  EXPECT_NEAR(p.segments[3].end_m.z(), 0.43 * kMm, 1e-15);
+  EXPECT_NEAR(p.segments[3].Duration(), 0.02 / 5, 1e-12);
+  EXPECT_TRUE(p.segments[4].end_m.isApprox(Eigen::Vector3d(21, 10, 0.43) * kMm));
+  EXPECT_EQ(p.segments[5].gcode, 28);
+  EXPECT_NEAR(p.segments[6].end_m.z(), 1.03 * kMm, 1e-15);
+  EXPECT_EQ(p.skipped_commands.count("SET_GCODE_OFFSET"), 0u);
+  EXPECT_THAT(ErrorOf([] { ParseGcode("SET_GCODE_OFFSET Z=abc\n", "k.gcode"); }),
+              HasSubstr("k.gcode:1: SET_GCODE_OFFSET Z must be a number"));
+}
+
 // The warnings reach the motion's notes, which `info` and `render` print: file:line,
 // the text and the count.
 TEST(GcodeApproximations, MotionNotesCarryTheWarnings) {
