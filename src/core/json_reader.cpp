@@ -1,5 +1,6 @@
 #include "core/json_reader.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -31,6 +32,45 @@ const char* TypeName(const nlohmann::json& j) {
     case nlohmann::json::value_t::object: return "an object";
     default: return "an unsupported value";
   }
+}
+
+// Edits (insert, delete, replace, swap two neighbours) from a to b, letter case ignored.
+size_t TypoDistance(std::string_view a, std::string_view b) {
+  auto lower = [](char c) { return c >= 'A' && c <= 'Z' ? char(c - 'A' + 'a') : c; };
+  std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
+  for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t cost = lower(a[i - 1]) == lower(b[j - 1]) ? 0 : 1;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+      if (i > 1 && j > 1 && lower(a[i - 1]) == lower(b[j - 2]) && lower(a[i - 2]) == lower(b[j - 1])) {
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+      }
+    }
+  }
+  return d[a.size()][b.size()];
+}
+
+// The key of `object` that a missing required `key` was most likely written as: a
+// key no getter asked for that is a typo of it ("exposre_us", "power_mW": one edit,
+// two from 8 letters on) or it without its unit suffix ("power" for "power_mw").
+// Empty if none; short keys ("fx") get no guess.
+std::string MisspeltKey(const nlohmann::json& object, std::string_view key,
+                        const std::set<std::string, std::less<>>& known) {
+  if (key.size() < 4) return "";
+  const size_t max_edits = key.size() >= 8 ? 2 : 1;
+  std::string best;
+  size_t best_score = SIZE_MAX;
+  for (auto it = object.begin(); it != object.end(); ++it) {
+    const std::string& k = it.key();
+    if (known.count(k) || k.empty()) continue;
+    const bool without_unit = k.size() >= 3 && key.size() > k.size() && key.substr(0, k.size()) == k && key[k.size()] == '_';
+    const size_t edits = TypoDistance(k, key);
+    const size_t score = edits <= max_edits ? edits : without_unit ? max_edits + 1 : SIZE_MAX;
+    if (score < best_score) best = k, best_score = score;
+  }
+  return best;
 }
 
 // Line and column (1-based) of a byte offset in text.
@@ -212,6 +252,13 @@ bool Object::Has(std::string_view key) const {
 
 Value Object::Get(std::string_view key) const {
   known_.emplace(key);
+  if (!v_.raw().contains(std::string(key))) {
+    const std::string found = MisspeltKey(v_.raw(), key, known_);
+    if (!found.empty()) {
+      v_.Fail("missing required key \"" + std::string(key) + "\" (the object has \"" + found +
+              "\": misspelt, or in another unit?)");
+    }
+  }
   return v_.Child(key);
 }
 

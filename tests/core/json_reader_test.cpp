@@ -34,6 +34,29 @@ TEST(JsonReader, MissingRequiredKey) {
   EXPECT_EQ(ErrorOf([&] { cam.Number("fx"); }), "scene.json: /camera: missing required key \"fx\"");
 }
 
+// A required key written with a typo or without its unit was reported only as
+// missing (and the typo as unknown only once the key was there): the message
+// names the key the object has instead.
+TEST(JsonReader, MissingRequiredKeyNamesItsLikelyMisspelling) {
+  auto doc = Doc(R"({"exposre_us": 100, "power_mW": 5, "wavelenght_nm": 650, "power": 1, "fy": 3, "fx": 2, "focus": 1})");
+  Object o = doc.Root().AsObject();
+  auto missing = [&](const char* key) { return ErrorOf([&] { o.Number(key); }); };
+  EXPECT_EQ(missing("exposure_us"),
+            "scene.json: /: missing required key \"exposure_us\" (the object has \"exposre_us\": misspelt, or in another unit?)");
+  EXPECT_EQ(missing("power_mw"),
+            "scene.json: /: missing required key \"power_mw\" (the object has \"power_mW\": misspelt, or in another unit?)");
+  EXPECT_EQ(missing("wavelength_nm"),
+            "scene.json: /: missing required key \"wavelength_nm\" (the object has \"wavelenght_nm\": misspelt, or in another unit?)");
+  EXPECT_EQ(missing("focus_m"), "scene.json: /: missing required key \"focus_m\" (the object has \"focus\": misspelt, or in another unit?)");
+  EXPECT_EQ(missing("fz"), "scene.json: /: missing required key \"fz\"");  // short keys: no guess
+  EXPECT_EQ(missing("other"), "scene.json: /: missing required key \"other\"");
+  // A key some getter asked for is no misspelling.
+  auto doc2 = Doc(R"({"gain_db": 1})");
+  Object o2 = doc2.Root().AsObject();
+  EXPECT_TRUE(o2.Has("gain_db"));
+  EXPECT_EQ(ErrorOf([&] { o2.Number("gain_dn"); }), "scene.json: /: missing required key \"gain_dn\"");
+}
+
 TEST(JsonReader, WrongTypes) {
   auto doc = Doc(R"({"n": "3", "i": 1.5, "b": 1, "v": [1, 2], "e": "x"})");
   Object o = doc.Root().AsObject();
