@@ -148,6 +148,18 @@ std::vector<int> PlanesByStripeOrder(const std::vector<StripeSegment>& segments,
     for (int pass = 0; pass < n_planes; ++pass) {
       Votes between(segments.size(), std::vector<int>(size_t(n_planes), 0));
       for (const auto& [line, v] : lines) {
+        // A line that meets more than N segments, or one numbered sheet twice,
+        // shows a piece that is no further sheet: a depth step's second
+        // surface (a piece between the other surface's numbered stripes may be
+        // any sheet's) or a blob, which may stand in for a hidden sheet in the
+        // count between numbered stripes.
+        if (int(v.size()) > n_planes) continue;
+        std::vector<int> numbered;
+        for (const auto& [x, seg] : v) {
+          if (label[size_t(seg)] >= 0) numbered.push_back(label[size_t(seg)]);
+        }
+        std::sort(numbered.begin(), numbered.end());
+        if (std::adjacent_find(numbered.begin(), numbered.end()) != numbered.end()) continue;
         int prev_label = -1, prev_index = -1;
         for (int k = 0; k <= int(v.size()); ++k) {
           const int lab = k < int(v.size()) ? label[size_t(v[size_t(k)].second)] : n_planes;

@@ -11,7 +11,8 @@
 // segment another rank: a blob where a sheet is hidden). A segment that is never
 // on such a line takes the rank its position calls for on lines where it lies
 // between numbered segments (or the line's ends) with exactly the missing ranks
-// between them. Segments neither step decides keep no plane (not guessed); on
+// between them (not on lines meeting more than N segments or a numbered sheet
+// twice: a depth step's two surfaces, or a blob). Segments neither step decides keep no plane (not guessed); on
 // every line the numbered stripes must then be in increasing order (one sheet
 // may meet a line twice where its stripe jumps at a depth step and one piece
 // hands over to the next; pieces numbered by votes may stand reversed beside a

@@ -370,5 +370,36 @@ TEST(PlaneIdentification, StripesPassingANeighbourAtAStepKeepTheirSheets) {
   }
 }
 
+// A depth step along row 50 moves the four stripes 12 px right (sheets 30 px
+// apart); the row shows both surfaces' pieces. The lower surface's second
+// stripe is hidden from row 40 and starts again only at row 52, so on rows
+// 40..50 a piece of the third sheet (at 80) lies alone between the first and
+// the fourth. On row 50 it stood between the upper surface's first (32) and
+// third (92) stripes with one rank missing, and took sheet 1: 11 points on the
+// wrong sheet (the same on a rendered 7-sheet frame at the part's edge, 160 x
+// 128). A line that meets more than N segments (here 6), or a numbered sheet
+// twice, crosses a step or shows a blob and numbers no piece by position: the
+// piece keeps no plane.
+TEST(PlaneIdentification, APieceOnAStepsLineIsNotNumberedByPosition) {
+  std::vector<StripePoint> pts;
+  AddLine(&pts, 20, 0, 51);
+  AddLine(&pts, 50, 0, 40);
+  AddLine(&pts, 80, 0, 36);
+  AddLine(&pts, 80, 40, 51);  // the piece
+  AddLine(&pts, 110, 0, 51);
+  AddLine(&pts, 32, 50, 120);
+  AddLine(&pts, 62, 52, 120);
+  AddLine(&pts, 92, 50, 120);
+  AddLine(&pts, 122, 50, 120);
+  PlaneIdentification id = IdentifyPlanes(pts, {0, 0, 160, 120}, 4, PlaneIdOptions{});
+  ASSERT_TRUE(id.ok) << id.error;
+  EXPECT_EQ(id.method, PlaneIdMethod::kStripeOrder) << id.order_error;
+  EXPECT_EQ(id.unidentified_segments, 1);
+  for (const auto& p : id.points) {
+    const int sheet = p.v < 50 || (p.v == 50 && int(p.u) % 30 == 20) ? int(p.u - 20) / 30 : int(p.u - 32) / 30;
+    EXPECT_EQ(p.plane, p.u == 80 && p.v >= 40 ? -1 : sheet) << p.u << "," << p.v;
+  }
+}
+
 }  // namespace
 }  // namespace lt::test
