@@ -141,24 +141,48 @@ SceneSurface::SceneSurface(const SceneFile& scene)
 
 SceneSurface::~SceneSurface() = default;
 
+void SceneSurface::AddChunk(size_t chunk, double gcode_time_s, TriangleSet* set) {
+  const SceneGeometry& g = *geometry_;
+  const Mesh mesh = part_->ChunkMeshAt(chunk, gcode_time_s);  // as PrintedPart::UpdateTo builds it
+  ++chunk_meshes_made_;
+  for (const SceneInstance& inst : g.instances)
+    if (inst.mesh == g.print_meshes[chunk]) set->Add(mesh, inst.world_from_mesh);
+}
+
 void SceneSurface::UpdateTo(double sequence_time_s) {
   if (!part_) return;
   const double t = part_->GcodeTime(sequence_time_s);
   if (print_time_ && *print_time_ == t) return;
-  print_.Clear();
-  const SceneGeometry& g = *geometry_;
-  for (size_t c = 0; c < part_->chunk_count(); ++c) {
-    const Mesh mesh = part_->ChunkMeshAt(c, t);  // as PrintedPart::UpdateTo builds it
-    for (const SceneInstance& inst : g.instances)
-      if (inst.mesh == g.print_meshes[c]) print_.Add(mesh, inst.world_from_mesh);
+  const std::vector<PrintChunk>& chunks = part_->chunks();
+  auto complete_at_t = [&](const PrintChunk& c) { return t > c.t_first_s && t >= c.t_last_s; };
+  in_complete_.resize(chunks.size(), false);
+  for (size_t c = 0; c < chunks.size(); ++c) {
+    if (in_complete_[c] && !complete_at_t(chunks[c])) {  // time went back past a chunk's end
+      complete_.Clear();
+      in_complete_.assign(chunks.size(), false);
+      break;
+    }
   }
-  print_.Build();
+  bool complete_changed = false;
+  growing_.Clear();
+  for (size_t c = 0; c < chunks.size(); ++c) {
+    if (complete_at_t(chunks[c])) {
+      if (in_complete_[c]) continue;
+      AddChunk(c, t, &complete_);
+      in_complete_[c] = true;
+      complete_changed = true;
+    } else if (t > chunks[c].t_first_s) {
+      AddChunk(c, t, &growing_);
+    }
+  }
+  if (complete_changed) complete_.Build();
+  growing_.Build();
   print_time_ = t;
 }
 
 std::optional<double> SceneSurface::Distance(const Eigen::Vector3d& p_in_world) const {
   std::optional<double> d;
-  for (const TriangleSet* set : {&fixed_, &print_}) {
+  for (const TriangleSet* set : {&fixed_, &complete_, &growing_}) {
     if (auto q = set->ClosestPoint(p_in_world)) {
       const double e = (*q - p_in_world).norm();
       if (!d || e < *d) d = e;

@@ -55,17 +55,26 @@ class SceneSurface {
   explicit SceneSurface(const SceneFile& scene);  // loads the glTF files (lt::InputError naming them)
   ~SceneSurface();
   // Grows the printed part to sequence time t (the frame's mid-exposure, as the
-  // renderer does); nothing to do for a scene without "print".
+  // renderer does); nothing to do for a scene without "print". As the renderer
+  // (PrintedPart::UpdateTo), it meshes only what changed: the chunks complete at t
+  // are one triangle set, to which a chunk is added when printing passes it (the
+  // set is made again only when time goes back), and the growing chunks another,
+  // made at every new time.
   void UpdateTo(double sequence_time_s);
   // Distance from p to the nearest surface; nullopt when the scene has no triangle.
   std::optional<double> Distance(const Eigen::Vector3d& p_in_world) const;
-  size_t triangle_count() const { return fixed_.size() + print_.size(); }
+  size_t triangle_count() const { return fixed_.size() + complete_.size() + growing_.size(); }
+  // Chunk meshes made by the updates so far (complete chunks are made once).
+  size_t chunk_meshes_made() const { return chunk_meshes_made_; }
 
  private:
+  void AddChunk(size_t chunk, double gcode_time_s, TriangleSet* set);
   std::unique_ptr<SceneGeometry> geometry_;
   std::unique_ptr<PrintedPart> part_;
-  TriangleSet fixed_, print_;
+  TriangleSet fixed_, complete_, growing_;
+  std::vector<bool> in_complete_;  // per chunk: its final mesh is in complete_
   std::optional<double> print_time_;
+  size_t chunk_meshes_made_ = 0;
 };
 
 }  // namespace lt

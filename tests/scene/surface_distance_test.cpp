@@ -82,5 +82,46 @@ TEST(SceneSurface, APrintedPartGrowsWithTime) {
   EXPECT_DOUBLE_EQ(*surface.Distance(above_end), before);
 }
 
+// Four lines, each its own chunk (travels between them). Stepping through the
+// print meshes each chunk once when it completes, plus the growing one at each
+// time, and gives the distances of a surface made afresh at that time; going
+// back in time does too.
+TEST(SceneSurface, StepsThroughThePrintMeshingOnlyWhatChanged) {
+  test::TempDir dir;
+  test::WriteText(dir / "part.gcode",
+                  ";Layer height: 0.2\nG0 F1200 Z0.2\nG1 X20 E0.8\nG0 Y5\nG1 X0 E1.6\nG0 Y10\nG1 X20 E2.4\n"
+                  "G0 Y15\nG1 X0 E3.2\n");
+  const std::string text = std::string(R"({"objects": [{"name": "bed", "gltf": ")") + LT_SOURCE_DIR +
+                           R"(/scenes/demo/print_bed.glb"}],
+  "materials": {"pla": {"base_color": [0.8, 0.8, 0.8], "roughness": 0.5}},
+  "sensor": {"camera": {"resolution": [32, 24], "pixel_pitch_um": 10, "focal_length_mm": 8, "f_number": 4}},
+  "motion": {"type": "gcode", "file": "part.gcode"}, "print": {"material": "pla", "chunk_moves": 1}})";
+  const SceneFile scene = ParseSceneText(text, "scene.json", dir.path());
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> x(-2e-3, 22e-3), y(-2e-3, 17e-3), z(0, 2e-3);
+  std::vector<Vector3d> points;
+  for (int i = 0; i < 50; ++i) points.emplace_back(x(rng), y(rng), z(rng));
+  auto expect_as_fresh = [&](const SceneSurface& surface, double t) {
+    SceneSurface fresh(scene);
+    fresh.UpdateTo(t);
+    EXPECT_EQ(surface.triangle_count(), fresh.triangle_count()) << t;
+    for (const Vector3d& p : points) EXPECT_DOUBLE_EQ(*surface.Distance(p), *fresh.Distance(p)) << t;
+  };
+  SceneSurface surface(scene);
+  int steps = 0;
+  for (double t = 0.3; t < 6; t += 0.35, ++steps) {
+    surface.UpdateTo(t);
+    expect_as_fresh(surface, t);
+  }
+  // Remade every time, the chunks printed so far would be 40 meshes; each chunk
+  // is made once when complete, and one growing chunk at most per step.
+  EXPECT_LE(surface.chunk_meshes_made(), size_t(4 + steps));
+  EXPECT_GE(surface.chunk_meshes_made(), 4u);
+  surface.UpdateTo(1.5);
+  expect_as_fresh(surface, 1.5);
+  surface.UpdateTo(4.0);
+  expect_as_fresh(surface, 4.0);
+}
+
 }  // namespace
 }  // namespace lt
