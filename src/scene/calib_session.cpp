@@ -246,10 +246,6 @@ Pose CalibSessionOptions::DefaultToolFromCam() {
 
 void CalibSessionOptions::Check() const {
   if (rows < 2 || cols < 2) throw InputError("option rows/cols", "the board needs at least 2 x 2 inner corners");
-  if ((rows + cols) % 2 == 0) {
-    throw InputError("option rows/cols", "rows + cols must be odd (one even, one odd) so the board's orientation "
-                                         "can be told; got " + std::to_string(rows) + " x " + std::to_string(cols));
-  }
   if (!(square_m > 0) || !std::isfinite(square_m)) throw InputError("option square", "must be > 0");
   if (margin_squares < 1) throw InputError("option margin", "the detector needs a white margin of >= 1 square");
   if (views < 1 || views > 1000) throw InputError("option views", "must be in [1, 1000]");

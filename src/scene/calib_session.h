@@ -34,7 +34,7 @@ namespace lt {
 
 struct CalibSessionOptions {
   int rows = 6;               // inner corners down a column
-  int cols = 9;               // inner corners along a row; rows + cols odd
+  int cols = 9;               // inner corners along a row (rows + cols even: a symmetric board, docs/calibration.md)
   double square_m = 3e-3;
   int margin_squares = 1;     // white border around the squares
   int views = 12;

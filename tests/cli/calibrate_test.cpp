@@ -290,7 +290,7 @@ TEST(CalibrateCli, RefusalsAreClearAndWriteNothing) {
       "calibrate laser " + Quoted(run) + " --calib " + Quoted(two / "missing.yaml") + " --out " + Quoted(out),
       "calibrate camera " + Quoted(run) + " --rows 5 --out " + Quoted(out),
       "calibrate focus " + Quoted(run) + " --out " + Quoted(out),
-      "calib-session --out " + Quoted(two.parent_path() / "s") + " --rows 6 --cols 8",
+      "calib-session --out " + Quoted(two.parent_path() / "s") + " --rows 1 --cols 8",
       "calib-session --out " + Quoted(two.parent_path() / "s") + " --square-mm 12 --rig " +
           Quoted(kSource / "scenes/demo/scene.json"),
       // Before any work: an output folder that does not exist, a coefficient the model has not.
@@ -308,7 +308,7 @@ TEST(CalibrateCli, RefusalsAreClearAndWriteNothing) {
   EXPECT_THAT(r[2].err, HasSubstr("hand-eye calibration refused"));
   EXPECT_THAT(r[3].err, HasSubstr("missing.yaml"));
   EXPECT_THAT(r[4].err, HasSubstr("give all three"));
-  EXPECT_THAT(r[6].err, HasSubstr("rows + cols must be odd"));
+  EXPECT_THAT(r[6].err, HasSubstr("the board needs at least 2 x 2 inner corners"));
   EXPECT_THAT(r[7].err, HasSubstr("use a smaller board"));
   EXPECT_THAT(r[8].err, HasSubstr("--out: the folder of"));
   EXPECT_THAT(r[8].err, HasSubstr("does not exist"));

@@ -49,7 +49,7 @@ void Add(CLI::App& app) {
   auto& o = args->options;
   cmd->add_option("--out", args->out, "Folder to write the session scene into")->required();
   cmd->add_option("--rig", args->rig, "Scene file whose sensor section is the scanner")->capture_default_str();
-  cmd->add_option("--rows", o.rows, "Inner corners down a column (rows + cols odd)")->capture_default_str();
+  cmd->add_option("--rows", o.rows, "Inner corners down a column")->capture_default_str();
   cmd->add_option("--cols", o.cols, "Inner corners along a row")->capture_default_str();
   cmd->add_option("--square-mm", args->square_mm, "Square size (mm)")->capture_default_str();
   cmd->add_option("--margin-squares", o.margin_squares, "White border (squares)")->capture_default_str();
