@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/file_lookup.h"
 
 namespace lt::json {
 
@@ -218,10 +219,13 @@ std::filesystem::path Value::Path() const {
 }
 
 std::filesystem::path Value::ExistingFile(std::string_view what) const {
-  std::filesystem::path p = Path();
+  const std::filesystem::path p = Path();
+  const std::filesystem::path found = FindExportedFile(p);  // Windows separators, letter case
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(p, ec)) Fail(std::string(what) + " not found (looked for " + p.string() + ")");
-  return p;
+  if (!std::filesystem::is_regular_file(found, ec)) {
+    Fail(std::string(what) + " not found (looked for " + p.string() + ")");
+  }
+  return found;
 }
 
 Object Value::AsObject() const { return Object(*this); }

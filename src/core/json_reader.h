@@ -74,7 +74,9 @@ class Value {
   Eigen::Vector3d Vec3(Range range = Range::Any()) const;
   // A path, resolved against the folder of the file this value came from.
   std::filesystem::path Path() const;
-  // Path() of a file that must exist: fails "<what> not found (looked for ...)".
+  // Path() of a file that must exist, as FindExportedFile finds it (a path
+  // written on Windows: backslashes, another letter case); fails "<what> not
+  // found (looked for ...)".
   std::filesystem::path ExistingFile(std::string_view what) const;
   Object AsObject() const;
 

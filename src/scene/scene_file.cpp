@@ -17,11 +17,7 @@ SceneObject ParseObject(const json::Value& value, const std::vector<SceneMateria
   obj.name = name.String();
   if (obj.name.empty()) name.Fail("must not be empty");
   json::Value gltf = o.Get("gltf");
-  obj.gltf = gltf.Path();
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(obj.gltf, ec)) {
-    gltf.Fail("glTF file not found (looked for " + obj.gltf.string() + ")");
-  }
+  obj.gltf = gltf.ExistingFile("glTF file");
   if (auto pose = o.Find("world_from_object")) obj.world_from_object = ReadPose(*pose);
   obj.scale = o.Number("scale", obj.scale, Range::Positive());
   if (auto mat = o.Find("material")) {

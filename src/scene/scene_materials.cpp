@@ -82,7 +82,7 @@ std::vector<SceneMaterial> ParseSceneMaterials(const json::Value& value) {
     m.name = name;
     m.base_color = o.Vec3("base_color", Eigen::Vector3d::Constant(0.8), Range::Closed(0, 1)).cast<float>();
     if (auto tex = o.Find("base_color_texture")) {
-      sm.base_color_texture_path = tex->Path();
+      sm.base_color_texture_path = tex->ExistingFile("texture");
       m.base_color_texture = LoadTextureFile(sm.base_color_texture_path, *tex);
     }
     m.metallic = float(o.Number("metallic", 0.0, Range::Closed(0, 1)));

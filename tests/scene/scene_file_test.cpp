@@ -152,6 +152,27 @@ TEST(SceneFile, ResolvedMotionFilesAreAbsolute) {
   }
 }
 
+// A scene file written on Windows: backslashes as folder separators, names in
+// another letter case. Its files are found as the glTF loader finds a uri's
+// (core/file_lookup.h), and the resolved JSON names the files found.
+TEST(SceneFile, PathsWrittenOnWindowsFindTheirFiles) {
+  const std::string text = R"({"objects": [{"name": "a", "gltf": "..\\GLTF\\Square.gltf"}],
+    "sensor": {"camera": {"resolution": [64, 48], "pixel_pitch_um": 5, "focal_length_mm": 4, "f_number": 4}},
+    "motion": {"type": "pose_list", "file": "..\\poses\\SWEEP.csv"}})";
+  const SceneFile s = ParseSceneText(text, "scene.json", kScenes);
+  ASSERT_EQ(s.objects.size(), 1u);
+  EXPECT_EQ(s.objects[0].gltf, (kScenes / "../gltf/square.gltf").lexically_normal());
+  EXPECT_EQ(fs::path(s.resolved["motion"]["file"].get<std::string>()),
+            fs::absolute(kScenes / "../poses/sweep.csv").lexically_normal());
+  EXPECT_THAT(ErrorOf([&] {
+                ParseSceneText(R"({"objects": [{"name": "a", "gltf": "..\\gltf\\Circle.gltf"}], )" +
+                                   std::string(R"("sensor": {"camera": {"resolution": [64, 48], "pixel_pitch_um": 5, )"
+                                               R"("focal_length_mm": 4, "f_number": 4}}})"),
+                               "scene.json", kScenes);
+              }),
+              HasSubstr("scene.json: /objects/0/gltf: glTF file not found (looked for "));
+}
+
 SceneFile Parse(const std::string& text) { return ParseSceneText(text, "scene.json", kScenes); }
 
 const char* kSensor = R"("sensor": {"camera": {"resolution": [64, 48], "pixel_pitch_um": 5, "focal_length_mm": 4, "f_number": 4}})";
