@@ -62,15 +62,21 @@ TEST(TriangleSet, MatchesTheNearestOfEveryTriangle) {
 
 // Line A of the G-code, 20 mm at y = 0, is printed during [0.01, 1.01] s; its
 // bead's top is at z = 0.2 mm (tests/scene/printed_part_test.cpp).
-TEST(SceneSurface, APrintedPartGrowsWithTime) {
-  test::TempDir dir;
-  test::WriteText(dir / "part.gcode", ";Layer height: 0.2\nG0 F1200 Z0.2\nG1 X20 E0.8\n");
+// A scene of the demo's bed and the part `gcode` prints (in `dir`), one chunk
+// per run of extrusions.
+SceneFile PrintScene(const test::TempDir& dir, const std::string& gcode) {
+  test::WriteText(dir / "part.gcode", gcode);
   const std::string text = std::string(R"({"objects": [{"name": "bed", "gltf": ")") + LT_SOURCE_DIR +
                            R"(/scenes/demo/print_bed.glb"}],
   "materials": {"pla": {"base_color": [0.8, 0.8, 0.8], "roughness": 0.5}},
   "sensor": {"camera": {"resolution": [32, 24], "pixel_pitch_um": 10, "focal_length_mm": 8, "f_number": 4}},
   "motion": {"type": "gcode", "file": "part.gcode"}, "print": {"material": "pla", "chunk_moves": 1}})";
-  const SceneFile scene = ParseSceneText(text, "scene.json", dir.path());
+  return ParseSceneText(text, "scene.json", dir.path());
+}
+
+TEST(SceneSurface, APrintedPartGrowsWithTime) {
+  test::TempDir dir;
+  const SceneFile scene = PrintScene(dir, ";Layer height: 0.2\nG0 F1200 Z0.2\nG1 X20 E0.8\n");
   SceneSurface surface(scene);
   const Vector3d above_end(15e-3, 0, 1.2e-3);  // 1 mm above the bead's top near its end
   surface.UpdateTo(0.51);                      // the nozzle at x = 10 mm: not printed yet
@@ -88,15 +94,8 @@ TEST(SceneSurface, APrintedPartGrowsWithTime) {
 // back in time does too.
 TEST(SceneSurface, StepsThroughThePrintMeshingOnlyWhatChanged) {
   test::TempDir dir;
-  test::WriteText(dir / "part.gcode",
-                  ";Layer height: 0.2\nG0 F1200 Z0.2\nG1 X20 E0.8\nG0 Y5\nG1 X0 E1.6\nG0 Y10\nG1 X20 E2.4\n"
-                  "G0 Y15\nG1 X0 E3.2\n");
-  const std::string text = std::string(R"({"objects": [{"name": "bed", "gltf": ")") + LT_SOURCE_DIR +
-                           R"(/scenes/demo/print_bed.glb"}],
-  "materials": {"pla": {"base_color": [0.8, 0.8, 0.8], "roughness": 0.5}},
-  "sensor": {"camera": {"resolution": [32, 24], "pixel_pitch_um": 10, "focal_length_mm": 8, "f_number": 4}},
-  "motion": {"type": "gcode", "file": "part.gcode"}, "print": {"material": "pla", "chunk_moves": 1}})";
-  const SceneFile scene = ParseSceneText(text, "scene.json", dir.path());
+  const SceneFile scene = PrintScene(dir, ";Layer height: 0.2\nG0 F1200 Z0.2\nG1 X20 E0.8\nG0 Y5\nG1 X0 E1.6\n"
+                                          "G0 Y10\nG1 X20 E2.4\nG0 Y15\nG1 X0 E3.2\n");
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> x(-2e-3, 22e-3), y(-2e-3, 17e-3), z(0, 2e-3);
   std::vector<Vector3d> points;
