@@ -242,13 +242,21 @@ RunRig ReadRunRig(const fs::path& run_dir) {
   RequireRunFolder(run_dir);
   if (fs::exists(run_dir / "rig.json")) return ReadRigJson(run_dir / "rig.json");
   if (fs::exists(run_dir / "scene.json")) return ReadSceneSensor(run_dir / "scene.json");
-  throw InputError(run_dir.string(), "holds neither rig.json nor scene.json: the camera and laser planes are unknown");
+  throw InputError(run_dir.string(), "holds neither rig.json nor scene.json: the camera and laser planes are unknown "
+                                     "(a calibration file with both, from lasertwin calibrate, gives them: scan --calib)");
+}
+
+bool HasRunRig(const fs::path& run_dir) {
+  return fs::exists(run_dir / "rig.json") || fs::exists(run_dir / "scene.json");
 }
 
 ExtractionLevels FrameExtractionLevels(double threshold, double background, const RunFrame& frame, int rig_bit_depth,
                                        double rig_black_level_dn, double type_full_scale) {
   ExtractionLevels l;
-  l.threshold = std::isnan(threshold) ? 0.1 * frame.FullScale(type_full_scale) : threshold;
+  // A manifest line without bit_depth (a capture tool's) has the image sensor's.
+  RunFrame f = frame;
+  if (f.bit_depth <= 0) f.bit_depth = rig_bit_depth;
+  l.threshold = std::isnan(threshold) ? 0.1 * f.FullScale(type_full_scale) : threshold;
   l.background = background;
   if (std::isnan(background)) {
     // The black level in DN; an 8-bit image holds the top 8 bits.

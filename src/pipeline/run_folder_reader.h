@@ -150,5 +150,7 @@ double ImageTypeFullScale(const AnyImage& image);
 // "sensor" section of scene.json. Throws lt::InputError naming the file and
 // JSON pointer.
 RunRig ReadRunRig(const std::filesystem::path& run_dir);
+// Whether the run folder holds rig.json or scene.json (what ReadRunRig reads).
+bool HasRunRig(const std::filesystem::path& run_dir);
 
 }  // namespace lt

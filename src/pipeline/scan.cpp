@@ -108,14 +108,31 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     if (warn_fn) warn_fn(message);
   };
   std::vector<RunFrame> frames = ReadRunManifest(run_dir);
-  RunRig rig = ReadRunRig(run_dir);
+  std::optional<CalibrationFile> cal_file;
+  if (options.calibration) cal_file = ReadCalibrationFile(*options.calibration);
+  // A real capture may have no rig.json: the calibration file's camera is the camera.
+  const bool rig_from_calibration = cal_file && cal_file->camera && !HasRunRig(run_dir);
+  RunRig rig;
+  if (!rig_from_calibration) {
+    rig = ReadRunRig(run_dir);
+  } else {
+    rig.camera = cal_file->MakeCamera(CameraParams{}, options.calibration->string());
+    rig.source = *options.calibration;
+    warn(run_dir.string() + " holds no rig.json: the camera is " + rig.source.string() +
+         "'s, the image sensor's black level 0 (--background sets it), its bit depth the manifest's bit_depth or "
+         "the image's");
+  }
+  // A manifest line without bit_depth: the image sensor's (threshold, saturation, colour).
+  for (RunFrame& f : frames) {
+    if (f.bit_depth <= 0) f.bit_depth = rig.bit_depth;
+  }
   ScanSummary summary;
   Camera camera = rig.camera;
   std::vector<Plane> planes = rig.planes_in_cam;
   summary.plane_source = rig.source;
-  if (options.calibration) {
+  if (cal_file) {
     const fs::path& path = *options.calibration;
-    CalibrationFile cal = ReadCalibrationFile(path);
+    const CalibrationFile& cal = *cal_file;
     if (!cal.ignored_keys.empty()) {
       std::string keys;
       for (const auto& k : cal.ignored_keys) keys += (keys.empty() ? "" : ", ") + k;
@@ -128,7 +145,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
                                           Size(camera.width(), camera.height()));
     }
     camera = cal.MakeCamera(camera.params(), path.string());
-    if (int(cal.laser_planes.size()) != int(planes.size())) {
+    if (!rig_from_calibration && int(cal.laser_planes.size()) != int(planes.size())) {
       warn(path.string() + ": holds " + std::to_string(cal.laser_planes.size()) + " laser plane(s), the run's rig " +
            std::to_string(planes.size()));
     }
@@ -239,6 +256,11 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     fs::create_directories(run_dir / "centers", ec);
     if (!fs::is_directory(run_dir / "centers")) {
       throw InputError((run_dir / "centers").string(), "cannot create the folder" + (ec ? ": " + ec.message() : ""));
+    }
+    if (summary.laser_frames == 0) {
+      // The centres change from here on: a cloud.ply of an earlier scan would no
+      // longer be theirs, and this scan may stop on a bad frame before writing one.
+      fs::remove(run_dir / "cloud.ply", ec);
     }
     WriteScanCsv(run_dir / ScanCentersName(frame.index), scan);
 

@@ -284,6 +284,11 @@ TEST(Scan, ThresholdFollowsTheFramesBitDepth) {
   fs::copy(with.dir, without.dir, fs::copy_options::recursive);
   std::ofstream(without.dir / "manifest.jsonl")
       << R"({"index":0,"shutter":{"laser_on":true},"files":{"image":"frames/000000.png"},"png_bit_depth":16})" << "\n";
+  // Neither the manifest nor the rig gives the bit depth (with the rig's, see
+  // ManifestWithoutBitDepthTakesTheRigsBitDepth).
+  nlohmann::json rig = nlohmann::json::parse(std::ifstream(without.dir / "rig.json"));
+  rig["image_sensor"].erase("bit_depth");
+  std::ofstream(without.dir / "rig.json") << rig.dump(2);
   ScanOptions o;
   EXPECT_GT(ScanRun(with.dir, o).points, 150);
   EXPECT_EQ(ScanRun(without.dir, o).points, 0);
@@ -498,6 +503,80 @@ TEST(Scan, BadRunsGiveInputErrors) {
   o.frames_end = 0;
   EXPECT_THROW(ScanRun(run.dir, o), InputError);
   EXPECT_THROW(ScanRun(run.dir / "nowhere", ScanOptions{}), InputError);
+}
+
+// A capture tool's manifest gives no bit_depth: the image sensor's (rig.json)
+// sets the default threshold, 10% of 1023 for 10-bit DN in 16-bit PNGs, not
+// 10% of 65535 (above the stripe's 1000 DN: no point was found).
+TEST(Scan, ManifestWithoutBitDepthTakesTheRigsBitDepth) {
+  SyntheticRun run = MakeRun("rig_bits", 1);
+  nlohmann::json rig = nlohmann::json::parse(std::ifstream(run.dir / "rig.json"));
+  rig["image_sensor"]["bit_depth"] = 10;
+  std::ofstream(run.dir / "rig.json") << rig.dump(2);
+  std::ofstream(run.dir / "manifest.jsonl") << R"({"index":0,"files":{"image":"frames/000000.png"}})" << "\n";
+  ScanSummary s = ScanRun(run.dir, ScanOptions{});
+  EXPECT_GE(s.triangulated, 150);
+  for (const ScanPoint& p : ReadScanCsv(run.dir / "centers/000000.csv")) {
+    ASSERT_TRUE(p.p_in_cam);
+    EXPECT_LT(ErrorInPixels(run, 0, p), 0.01);
+  }
+}
+
+// A real capture has no rig.json: the calibration file's camera (lasertwin
+// calibrate's) is the camera, its laser planes the planes.
+TEST(Scan, CaptureWithoutRigTakesTheCalibrationFilesCamera) {
+  SyntheticRun run = MakeRun("calib_only", 1);
+  fs::remove(run.dir / "rig.json");
+  ScanOptions o;
+  try {
+    ScanRun(run.dir, o);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("holds neither rig.json nor scene.json"));
+    EXPECT_THAT(e.what(), HasSubstr("scan --calib"));
+  }
+  CalibrationFile cal;
+  cal.camera = CalibratedCamera::From(run.camera);
+  cal.laser_planes = run.sheets;
+  const fs::path file = run.dir / "calib.yml";
+  WriteCalibrationFile(file, cal);
+  o.calibration = file;
+  std::vector<std::string> warnings;
+  ScanSummary s = ScanRun(run.dir, o, [&](const std::string& w) { warnings.push_back(w); });
+  EXPECT_EQ(s.plane_source, file);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_THAT(warnings[0], HasSubstr("holds no rig.json: the camera is " + file.string() + "'s"));
+  EXPECT_TRUE(s.world_frame);
+  std::vector<ScanPoint> points = ReadScanCsv(run.dir / "centers/000000.csv");
+  ASSERT_GE(points.size(), 150u);
+  for (const ScanPoint& p : points) {
+    ASSERT_TRUE(p.p_in_cam);
+    EXPECT_LT(ErrorInPixels(run, 0, p), 0.01);
+  }
+  // A calibration file without a camera part cannot stand in for the rig.
+  cal.camera.reset();
+  WriteCalibrationFile(file, cal);
+  EXPECT_THROW(ScanRun(run.dir, o), InputError);
+}
+
+// A scan that stops on a bad frame leaves no cloud.ply of an earlier scan
+// beside its new centres (it would be taken for this scan's result).
+TEST(Scan, AScanStoppedByABadFrameLeavesNoEarlierCloud) {
+  SyntheticRun run = MakeRun("stale_cloud", 1);
+  ScanRun(run.dir, ScanOptions{});
+  ASSERT_TRUE(fs::exists(run.dir / "cloud.ply"));
+  std::ofstream(run.dir / "frames/000002.png") << "not a PNG";
+  std::ofstream(run.dir / "manifest.jsonl", std::ios::app)
+      << R"({"index":2,"shutter":{"laser_on":true},"files":{"image":"frames/000002.png"}})" << "\n";
+  try {
+    ScanRun(run.dir, ScanOptions{});
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where(), (run.dir / "frames/000002.png").string());
+    EXPECT_THAT(e.message(), HasSubstr("(frame 2, " + (run.dir / "manifest.jsonl").string() + ":3)"));
+  }
+  EXPECT_TRUE(fs::exists(run.dir / "centers/000000.csv"));
+  EXPECT_FALSE(fs::exists(run.dir / "cloud.ply"));
 }
 
 TEST(Scan, CameraFrameCloudWithoutPoses) {
