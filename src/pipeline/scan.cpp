@@ -178,6 +178,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
   ExtractorCache extractors;
   const LaserChannelWeights matched = MatchedChannelWeights(rig);
   bool warned_colour_default = false;
+  bool warned_unknown_depth = false;
   std::vector<PendingPoint> pending;
   bool all_posed = true, any_posed = false, all_labelled = true;
   std::error_code ec;
@@ -226,6 +227,14 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
       for (const StripePoint& p : points) summary.saturated_points += OnSaturatedPixels(image, p, saturated);
     } catch (const InputError& e) {
       throw InputError(e.where().empty() ? frame.image.string() : e.where(), e.message() + context);
+    }
+    if (points.empty() && !warned_unknown_depth && type_full_scale == 65535.0 && frame.bit_depth <= 0 &&
+        std::isnan(options.extraction.threshold)) {
+      // A 10- or 12-bit camera's raw DN in 16-bit files lie far below 10% of 65535.
+      warn(frame.image.string() + ": no stripe point in a 16-bit image of unknown bit depth (no bit_depth in the "
+           "manifest, no image_sensor.bit_depth in a rig.json): the threshold is 10% of 65535; a 10- or 12-bit "
+           "camera's frames need bit_depth in the manifest, or --threshold in DN");
+      warned_unknown_depth = true;
     }
 
     if (planes.size() == 1) {

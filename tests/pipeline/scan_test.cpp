@@ -291,7 +291,12 @@ TEST(Scan, ThresholdFollowsTheFramesBitDepth) {
   std::ofstream(without.dir / "rig.json") << rig.dump(2);
   ScanOptions o;
   EXPECT_GT(ScanRun(with.dir, o).points, 150);
-  EXPECT_EQ(ScanRun(without.dir, o).points, 0);
+  std::vector<std::string> warnings;
+  EXPECT_EQ(ScanRun(without.dir, o, [&](const std::string& w) { warnings.push_back(w); }).points, 0);
+  // The user is told why and what to give.
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_THAT(warnings[0], HasSubstr("000000.png: no stripe point in a 16-bit image of unknown bit depth"));
+  EXPECT_THAT(warnings[0], HasSubstr("need bit_depth in the manifest, or --threshold"));
   o.extraction.threshold = 100;  // explicit DN threshold
   EXPECT_GT(ScanRun(without.dir, o).points, 150);
 }
