@@ -108,6 +108,9 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     if (warn_fn) warn_fn(message);
   };
   std::vector<RunFrame> frames = ReadRunManifest(run_dir);
+  if (frames.empty()) {
+    throw InputError((run_dir / "manifest.jsonl").string(), "holds no frame (expected one JSON object per line)");
+  }
   std::optional<CalibrationFile> cal_file;
   if (options.calibration) cal_file = ReadCalibrationFile(*options.calibration);
   // A real capture may have no rig.json: the calibration file's camera is the camera.

@@ -507,6 +507,15 @@ TEST(Scan, BadRunsGiveInputErrors) {
   o.frames_begin = 0;
   o.frames_end = 0;
   EXPECT_THROW(ScanRun(run.dir, o), InputError);
+  // An empty manifest (blank lines only) is named as such, not as an empty range.
+  std::ofstream(run.dir / "manifest.jsonl") << "\n\r\n";
+  try {
+    ScanRun(run.dir, ScanOptions{});
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), (run.dir / "manifest.jsonl").string() +
+                                         ": holds no frame (expected one JSON object per line)");
+  }
   EXPECT_THROW(ScanRun(run.dir / "nowhere", ScanOptions{}), InputError);
 }
 
