@@ -302,6 +302,9 @@ TEST_F(ExtractCommand, SeveralImagesWithABadOne) {
   WriteImage(last, StripeImage());
   WriteBytes(bad, "nope");
   const fs::path out = dir_ / "csv";
+  // A CSV of an earlier run for the bad image must not stay as if it were this run's.
+  fs::create_directories(out);
+  WriteBytes(out / "b.csv", "u,v,width,strength\n1,2,3,4\n");
   CliResult r = RunCli("extract " + Quoted(first) + " " + Quoted(bad) + " " + Quoted(last) + " --out " + Quoted(out));
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_EQ(r.out, "");
@@ -315,6 +318,12 @@ TEST_F(ExtractCommand, SeveralImagesWithABadOne) {
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_THAT(r.err, HasSubstr("2 of 2 images failed"));
   EXPECT_THAT(r.err, Not(HasSubstr("note:")));
+  // One bad image with --out FILE: exit 2, and no earlier CSV left in FILE.
+  WriteBytes(out / "one.csv", "u,v,width,strength\n1,2,3,4\n");
+  r = RunCli("extract " + Quoted(bad) + " --out " + Quoted(out / "one.csv"));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_THAT(r.err, HasSubstr(bad.string() + ": cannot read image"));
+  EXPECT_FALSE(fs::exists(out / "one.csv"));
 }
 
 // --out FILE.csv in a folder that does not exist is an option error naming --out

@@ -112,6 +112,10 @@ void Run(ExtractArgs& a) {
   // another size (another camera's, a cropped or resized copy) is named.
   std::string first_image;
   int first_width = 0, first_height = 0;
+  // The CSV file of an image (with --out).
+  auto target_of = [&](const std::string& image) {
+    return to_folder ? fs::path(a.out) / (fs::path(image).stem().string() + ".csv") : fs::path(a.out);
+  };
   // One image's points, identified and written (or printed).
   auto extract_one = [&](const std::string& image) {
     AnyImage img = ReadImage(image, AlphaChannel::kDrop);
@@ -157,22 +161,20 @@ void Run(ExtractArgs& a) {
     if (a.out.empty()) {
       std::cout << FormatStripeCsv(points, a.planes > 0);
     } else {
-      fs::path target = to_folder ? fs::path(a.out) / (fs::path(image).stem().string() + ".csv") : fs::path(a.out);
-      WriteStripeCsv(target, points, a.planes > 0);
+      WriteStripeCsv(target_of(image), points, a.planes > 0);
     }
   };
   // A batch goes on past an image it cannot read or measure (each is named on
   // stderr, and gets no CSV), then fails as a whole, so one bad file among
-  // thousands costs only its own result.
+  // thousands costs only its own result. An image that fails leaves no CSV of
+  // an earlier run under its name (it would pass for this run's).
   std::vector<std::string> failed;
   for (const auto& image : a.images) {
-    if (!several) {
-      extract_one(image);
-      continue;
-    }
     try {
       extract_one(image);
     } catch (const InputError& e) {
+      if (!a.out.empty()) fs::remove(target_of(image), ec);
+      if (!several) throw;
       std::cerr << "lasertwin: error: " << e.what() << "\n";
       failed.push_back(image);
     }
