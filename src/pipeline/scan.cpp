@@ -122,9 +122,11 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     rig.camera = cal_file->MakeCamera(CameraParams{}, options.calibration->string());
     rig.source = *options.calibration;
     warn(run_dir.string() + " holds no rig.json: the camera is " + rig.source.string() +
-         "'s, the image sensor's black level 0 (--background sets it), its bit depth the manifest's bit_depth or "
-         "the image's");
+         "'s, the image sensor's black level 0 (--background sets it)" +
+         (options.color_filter ? std::string() : ", mono (--bayer sets a mosaic)") +
+         ", its bit depth the manifest's bit_depth or the image's");
   }
+  if (options.color_filter) rig.color_filter = *options.color_filter;
   // A manifest line without bit_depth: the image sensor's (threshold, saturation, colour).
   for (RunFrame& f : frames) {
     if (f.bit_depth <= 0) f.bit_depth = rig.bit_depth;

@@ -47,6 +47,9 @@ struct ScanOptions {
   // and its hand-eye pose (when present) with the run's tool poses the
   // manifest's camera poses.
   std::optional<std::filesystem::path> calibration;
+  // The raw frames' colour filter mosaic (`--bayer`); unset: rig.json's
+  // color_filter (mono for a rig taken from a calibration file).
+  std::optional<ColorFilter> color_filter;
   // Frames [frames_begin, frames_end) of the manifest (by index); -1: to the end.
   int frames_begin = 0;
   int frames_end = -1;

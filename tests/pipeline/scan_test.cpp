@@ -560,6 +560,7 @@ TEST(Scan, CaptureWithoutRigTakesTheCalibrationFilesCamera) {
   EXPECT_EQ(s.plane_source, file);
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_THAT(warnings[0], HasSubstr("holds no rig.json: the camera is " + file.string() + "'s"));
+  EXPECT_THAT(warnings[0], HasSubstr("mono (--bayer sets a mosaic)"));
   EXPECT_TRUE(s.world_frame);
   std::vector<ScanPoint> points = ReadScanCsv(run.dir / "centers/000000.csv");
   ASSERT_GE(points.size(), 150u);
@@ -571,6 +572,32 @@ TEST(Scan, CaptureWithoutRigTakesTheCalibrationFilesCamera) {
   cal.camera.reset();
   WriteCalibrationFile(file, cal);
   EXPECT_THROW(ScanRun(run.dir, o), InputError);
+}
+
+// A colour sensor's capture without rig.json (the calibration file's camera):
+// color_filter (--bayer) says the frames are raw mosaics; the points are those
+// of the same run whose rig.json gives the mosaic.
+TEST(Scan, ColorFilterOptionGivesTheMosaicOfARigFromACalibrationFile) {
+  SyntheticRun run = MakeRun("bayer_calib", 1, false, ColorFilter::kRGGB);
+  ScanOptions o;
+  o.extraction.channel_weights = {1.0 / 3, 1.0 / 3, 1.0 / 3};
+  ScanRun(run.dir, o);
+  const std::vector<ScanPoint> with_rig = ReadScanCsv(run.dir / "centers/000000.csv");
+  ASSERT_GE(with_rig.size(), 150u);
+  fs::remove(run.dir / "rig.json");
+  CalibrationFile cal;
+  cal.camera = CalibratedCamera::From(run.camera);
+  cal.laser_planes = run.sheets;
+  WriteCalibrationFile(run.dir / "calib.yml", cal);
+  o.calibration = run.dir / "calib.yml";
+  o.color_filter = ColorFilter::kRGGB;
+  ScanRun(run.dir, o);
+  const std::vector<ScanPoint> with_option = ReadScanCsv(run.dir / "centers/000000.csv");
+  ASSERT_EQ(with_option.size(), with_rig.size());
+  for (size_t i = 0; i < with_rig.size(); ++i) {
+    EXPECT_EQ(with_option[i].pixel.u, with_rig[i].pixel.u);
+    EXPECT_EQ(with_option[i].pixel.v, with_rig[i].pixel.v);
+  }
 }
 
 // A scan that stops on a bad frame leaves no cloud.ply of an earlier scan

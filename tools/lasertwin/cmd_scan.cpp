@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "core/frame_range.h"
+#include "pipeline/demosaic.h"
 #include "pipeline/scan.h"
 #include "pipeline/stripe_extractor.h"
 #include "tools/lasertwin/command.h"
@@ -28,6 +29,7 @@ struct ScanArgs {
   std::string calib;
   std::string frames;
   std::string background;  // empty: the black level
+  std::string bayer;       // empty: the rig's color_filter
   bool quiet = false;
   ScanOptions options;
 };
@@ -42,6 +44,7 @@ void Run(ScanArgs& a) {
   if (!a.roi.empty()) o.extraction.roi = ParseRoi(a.roi, "--roi");
   if (!a.weights.empty()) o.extraction.channel_weights = ParseNumberList(a.weights, "--weights");
   if (!a.calib.empty()) o.calibration = a.calib;
+  if (!a.bayer.empty()) o.color_filter = ParseBayerPattern(a.bayer, "--bayer");
   if (!a.frames.empty()) {
     const FrameRange r = FrameRange::Parse(a.frames);
     o.frames_begin = r.begin, o.frames_end = r.EndOrMinusOne();
@@ -149,6 +152,9 @@ void Add(CLI::App& app) {
                   "Colour images: channel holding the laser (0-based; default: the R, G, B weights matched to the "
                   "rig's laser wavelengths and quantum efficiency)");
   cmd->add_option("--weights", args->weights, "Colour images: channel weights, e.g. 1,0,0");
+  cmd->add_option("--bayer", args->bayer,
+                  "The raw frames' mosaic: rggb | bggr | grbg | gbrg | none (default: rig.json's color_filter; none "
+                  "without a rig)");
   cmd->add_option("--threads", e.threads, "Worker threads (0: all)")->capture_default_str();
   auto& id = args->options.plane_id;
   cmd->add_option("--link-distance", id.link_distance, "Plane identification: max step across between lines (px)")
