@@ -39,6 +39,19 @@ bool OnSaturatedPixels(const AnyImage& image, const StripePoint& p, double level
       image);
 }
 
+// Whether most samples of a one-channel image reach `level`: a flood-lit frame,
+// not a laser stripe on a dark scene.
+bool MostlyAbove(const AnyImage& image, double level) {
+  return std::visit(
+      [&](const auto& im) {
+        if (im.channels != 1 || im.pixels.empty()) return false;
+        size_t above = 0;
+        for (const auto v : im.pixels) above += double(v) >= level;
+        return 2 * above > im.pixels.size();
+      },
+      image);
+}
+
 // What a cloud point needs until the cloud's frame (world or camera) is known.
 struct PendingPoint {
   Eigen::Vector3d p_cam, p_world;
@@ -184,6 +197,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
   const LaserChannelWeights matched = MatchedChannelWeights(rig);
   bool warned_colour_default = false;
   bool warned_unknown_depth = false;
+  std::vector<int> flooded;  // frames without shutter keys, mostly above the threshold
   std::vector<PendingPoint> pending;
   bool all_posed = true, any_posed = false, all_labelled = true;
   std::error_code ec;
@@ -233,6 +247,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     } catch (const InputError& e) {
       throw InputError(e.where().empty() ? frame.image.string() : e.where(), e.message() + context);
     }
+    if (!frame.shutter_known && MostlyAbove(image, eo.threshold)) flooded.push_back(frame.index);
     if (points.empty() && !warned_unknown_depth && type_full_scale == 65535.0 && frame.bit_depth <= 0 &&
         std::isnan(options.extraction.threshold)) {
       // A 10- or 12-bit camera's raw DN in 16-bit files lie far below 10% of 65535.
@@ -315,6 +330,14 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     summary.stats.behind += st.behind;
     summary.frames.push_back(fs_summary);
     ++summary.laser_frames;
+  }
+  if (!flooded.empty()) {
+    std::string list;
+    for (size_t i = 0; i < flooded.size() && i < 5; ++i) list += (i ? ", " : "") + std::to_string(flooded[i]);
+    if (flooded.size() > 5) list += ", ...";
+    warn(std::to_string(flooded.size()) + " frame" + (flooded.size() == 1 ? "" : "s") + " (" + list +
+         ") with no shutter.laser_on in the manifest have most pixels above the stripe threshold: flood-lit (bright) "
+         "frames scanned as laser frames give false points; give shutter.laser_on on each manifest line");
   }
   if (summary.laser_frames == 0) {
     throw InputError((run_dir / "manifest.jsonl").string(),

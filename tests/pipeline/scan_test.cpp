@@ -600,6 +600,29 @@ TEST(Scan, ColorFilterOptionGivesTheMosaicOfARigFromACalibrationFile) {
   }
 }
 
+// Alternating bright and laser frames recorded without shutter keys are all
+// scanned as laser frames; the flood-lit ones are named in a warning.
+TEST(Scan, FloodLitFramesWithoutShutterKeysAreWarned) {
+  SyntheticRun run = MakeRun("no_shutter", 1);
+  WriteImage(run.dir / "frames/000001.png", Image<uint16_t>(160, 120, 1, 500));  // LED-lit scene, 500 of 1023 DN
+  std::ofstream(run.dir / "manifest.jsonl")
+      << R"({"index":0,"files":{"image":"frames/000000.png"},"bit_depth":10})" << "\n"
+      << R"({"index":1,"files":{"image":"frames/000001.png"},"bit_depth":10})" << "\n";
+  std::vector<std::string> warnings;
+  ScanSummary s = ScanRun(run.dir, ScanOptions{}, [&](const std::string& w) { warnings.push_back(w); });
+  EXPECT_EQ(s.laser_frames, 2);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_THAT(warnings[0], HasSubstr("1 frame (1) with no shutter.laser_on in the manifest have most pixels above"));
+  // With the shutter state the bright frame is skipped, and nothing is said.
+  std::ofstream(run.dir / "manifest.jsonl")
+      << R"({"index":0,"shutter":{"laser_on":true},"files":{"image":"frames/000000.png"},"bit_depth":10})" << "\n"
+      << R"({"index":1,"shutter":{"laser_on":false},"files":{"image":"frames/000001.png"},"bit_depth":10})" << "\n";
+  warnings.clear();
+  s = ScanRun(run.dir, ScanOptions{}, [&](const std::string& w) { warnings.push_back(w); });
+  EXPECT_EQ(s.laser_frames, 1);
+  EXPECT_TRUE(warnings.empty());
+}
+
 // A scan that stops on a bad frame leaves no cloud.ply of an earlier scan
 // beside its new centres (it would be taken for this scan's result).
 TEST(Scan, AScanStoppedByABadFrameLeavesNoEarlierCloud) {
