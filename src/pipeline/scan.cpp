@@ -208,6 +208,10 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
       continue;
     }
     const std::string context = " (frame " + std::to_string(frame.index) + ", " + frame.where + ")";
+    // The outputs change from here on: a cloud.ply, or this frame's centres, of an
+    // earlier scan would pass for this scan's, which may stop on a bad frame.
+    if (summary.laser_frames == 0) fs::remove(run_dir / "cloud.ply", ec);
+    fs::remove(run_dir / ScanCentersName(frame.index), ec);
     AnyImage image;
     try {
       image = ReadImage(frame.image);
@@ -285,11 +289,6 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     fs::create_directories(run_dir / "centers", ec);
     if (!fs::is_directory(run_dir / "centers")) {
       throw InputError((run_dir / "centers").string(), "cannot create the folder" + (ec ? ": " + ec.message() : ""));
-    }
-    if (summary.laser_frames == 0) {
-      // The centres change from here on: a cloud.ply of an earlier scan would no
-      // longer be theirs, and this scan may stop on a bad frame before writing one.
-      fs::remove(run_dir / "cloud.ply", ec);
     }
     WriteScanCsv(run_dir / ScanCentersName(frame.index), scan);
 

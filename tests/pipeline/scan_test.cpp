@@ -623,13 +623,15 @@ TEST(Scan, FloodLitFramesWithoutShutterKeysAreWarned) {
   EXPECT_TRUE(warnings.empty());
 }
 
-// A scan that stops on a bad frame leaves no cloud.ply of an earlier scan
-// beside its new centres (it would be taken for this scan's result).
+// A scan that stops on a bad frame leaves no cloud.ply, and no centres of the
+// bad frame, of an earlier scan beside its new centres (they would be taken for
+// this scan's result).
 TEST(Scan, AScanStoppedByABadFrameLeavesNoEarlierCloud) {
   SyntheticRun run = MakeRun("stale_cloud", 1);
   ScanRun(run.dir, ScanOptions{});
   ASSERT_TRUE(fs::exists(run.dir / "cloud.ply"));
   std::ofstream(run.dir / "frames/000002.png") << "not a PNG";
+  std::ofstream(run.dir / "centers/000002.csv") << "u,v,width,strength,plane,x_cam,y_cam,z_cam,x_world,y_world,z_world\n";
   std::ofstream(run.dir / "manifest.jsonl", std::ios::app)
       << R"({"index":2,"shutter":{"laser_on":true},"files":{"image":"frames/000002.png"}})" << "\n";
   try {
@@ -640,6 +642,7 @@ TEST(Scan, AScanStoppedByABadFrameLeavesNoEarlierCloud) {
     EXPECT_THAT(e.message(), HasSubstr("(frame 2, " + (run.dir / "manifest.jsonl").string() + ":3)"));
   }
   EXPECT_TRUE(fs::exists(run.dir / "centers/000000.csv"));
+  EXPECT_FALSE(fs::exists(run.dir / "centers/000002.csv"));  // an earlier scan's (written above)
   EXPECT_FALSE(fs::exists(run.dir / "cloud.ply"));
 }
 
