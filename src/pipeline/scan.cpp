@@ -52,6 +52,17 @@ bool MostlyAbove(const AnyImage& image, double level) {
       image);
 }
 
+// The largest sample of an image.
+double Brightest(const AnyImage& image) {
+  return std::visit(
+      [](const auto& im) {
+        double m = -std::numeric_limits<double>::infinity();
+        for (const auto v : im.pixels) m = std::max(m, double(v));
+        return m;
+      },
+      image);
+}
+
 // What a cloud point needs until the cloud's frame (world or camera) is known.
 struct PendingPoint {
   Eigen::Vector3d p_cam, p_world;
@@ -197,6 +208,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
   const LaserChannelWeights matched = MatchedChannelWeights(rig);
   bool warned_colour_default = false;
   bool warned_unknown_depth = false;
+  bool warned_above_depth = false;
   std::vector<int> flooded;  // frames without shutter keys, mostly above the threshold
   std::vector<PendingPoint> pending;
   bool all_posed = true, any_posed = false, all_labelled = true;
@@ -252,6 +264,18 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
       throw InputError(e.where().empty() ? frame.image.string() : e.where(), e.message() + context);
     }
     if (!frame.shutter_known && MostlyAbove(image, eo.threshold)) flooded.push_back(frame.index);
+    if (!warned_above_depth && frame.FullScale(type_full_scale) < type_full_scale) {
+      const double brightest = Brightest(image);
+      if (brightest > frame.FullScale(type_full_scale)) {
+        // Raw DN of a deeper ADC stored shifted to the top bits (MSB-aligned), or a wrong bit_depth.
+        warn(frame.image.string() + ": a sample reads " + FormatNumber(brightest) + ", above " +
+             FormatNumber(frame.FullScale(type_full_scale)) + ", the largest " + std::to_string(frame.bit_depth) +
+             "-bit value: the frames are not raw " + std::to_string(frame.bit_depth) +
+             "-bit DN (LSB-aligned, docs/run-folder.md); the default threshold and the saturation level assume "
+             "they are (check bit_depth, or give --threshold)");
+        warned_above_depth = true;
+      }
+    }
     if (points.empty() && !warned_unknown_depth && type_full_scale == 65535.0 && frame.bit_depth <= 0 &&
         std::isnan(options.extraction.threshold)) {
       // A 10- or 12-bit camera's raw DN in 16-bit files lie far below 10% of 65535.

@@ -623,6 +623,23 @@ TEST(Scan, FloodLitFramesWithoutShutterKeysAreWarned) {
   EXPECT_TRUE(warnings.empty());
 }
 
+// 10-bit DN stored in the top bits of a 16-bit PNG (MSB-aligned) while the
+// manifest says bit_depth 10: the samples above 1023 are named in a warning.
+TEST(Scan, SamplesAboveTheBitDepthAreWarned) {
+  SyntheticRun run = MakeRun("msb_aligned", 1);
+  std::vector<std::string> warnings;
+  ScanRun(run.dir, ScanOptions{}, [&](const std::string& w) { warnings.push_back(w); });
+  EXPECT_TRUE(warnings.empty());
+  AnyImage any = ReadImage(run.dir / "frames/000000.png");
+  Image<uint16_t>& im = std::get<Image<uint16_t>>(any);
+  for (uint16_t& v : im.pixels) v = uint16_t(v << 6);
+  WriteImage(run.dir / "frames/000000.png", im);
+  ScanRun(run.dir, ScanOptions{}, [&](const std::string& w) { warnings.push_back(w); });
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_THAT(warnings[0], HasSubstr("000000.png: a sample reads "));
+  EXPECT_THAT(warnings[0], HasSubstr(", above 1023, the largest 10-bit value: the frames are not raw 10-bit DN"));
+}
+
 // A scan that stops on a bad frame leaves no cloud.ply, and no centres of the
 // bad frame, of an earlier scan beside its new centres (they would be taken for
 // this scan's result).
