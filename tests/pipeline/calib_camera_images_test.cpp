@@ -98,7 +98,10 @@ TEST(CalibCameraImages, ASymmetricBoardCalibratesTheCamera) {
   for (size_t v = 0; v < Poses().size(); ++v) {
     Pose pose = Poses()[v];  // Board()'s centre moved to this board's
     pose.translation() -= pose.linear() * Eigen::Vector3d(-0.5 * board.square_m, -0.5 * board.square_m, 0);
-    WriteImage(dir / ("v" + std::to_string(v) + ".png"), Photo(cam, pose, v + 1, board));
+    // (The name built piece by piece: GCC 12 gives a false -Wrestrict on "v" + std::string&&, bug 105329.)
+    std::string name = "v";
+    name += std::to_string(v) + ".png";
+    WriteImage(dir / name, Photo(cam, pose, v + 1, board));
   }
   CameraCalibrationOptions o;
   o.fix_k3 = true;
