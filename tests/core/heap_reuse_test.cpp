@@ -9,15 +9,15 @@
 namespace lt {
 namespace {
 
+// AddressSanitizer replaces malloc (its own allocator quarantines freed
+// blocks), so the test exists only in builds on the C library's allocator.
+#if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__)
 long MinorFaults() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
   return u.ru_minflt;
 }
 
-// AddressSanitizer replaces malloc (its own allocator quarantines freed
-// blocks), so the test exists only in builds on the C library's allocator.
-#if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__)
 // A frame-sized block freed and allocated again is served from the heap,
 // without mapping (and faulting in) its pages anew: 64 MiB is 16 384 pages.
 TEST(HeapReuse, AFreedFrameBufferComesBackWithoutPageFaults) {
