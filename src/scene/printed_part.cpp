@@ -118,7 +118,7 @@ PrintedPart::PrintedPart(const GcodeMotion& motion, const PrintSettings& setting
     throw std::invalid_argument("PrintedPart: " + std::to_string(chunk_meshes_.size()) + " meshes for " +
                                 std::to_string(chunks_.size()) + " chunks");
   }
-  state_.assign(chunks_.size(), State::kUnknown);
+  state_.assign(chunks_.size(), std::nullopt);
   built_time_.assign(chunks_.size(), 0.0);
   triangles_.assign(chunks_.size(), 0);
 }
@@ -140,7 +140,7 @@ Mesh PrintedPart::ChunkMesh(size_t chunk, double gcode_time_s) const {
 
 Mesh PrintedPart::ChunkMeshAt(size_t chunk, double gcode_time_s) const {
   const PrintChunk& c = chunks_.at(chunk);
-  if (gcode_time_s > c.t_first_s) return ChunkMesh(chunk, std::min(gcode_time_s, c.t_last_s));
+  if (c.StateAt(gcode_time_s) != PrintChunk::State::kEmpty) return ChunkMesh(chunk, std::min(gcode_time_s, c.t_last_s));
   Mesh empty;
   empty.name = "print/chunk_" + std::to_string(chunk);
   return empty;
@@ -151,8 +151,8 @@ PrintUpdate PrintedPart::UpdateTo(EmbreeScene& scene, double sequence_time_s) {
   PrintUpdate u;
   for (size_t c = 0; c < chunks_.size(); ++c) {
     const PrintChunk& chunk = chunks_[c];
-    const State want = !(t > chunk.t_first_s) ? State::kEmpty : t >= chunk.t_last_s ? State::kComplete : State::kGrowing;
-    const bool rebuild = want != state_[c] || (want == State::kGrowing && built_time_[c] != t);
+    const PrintChunk::State want = chunk.StateAt(t);
+    const bool rebuild = state_[c] != want || (want == PrintChunk::State::kGrowing && built_time_[c] != t);
     if (rebuild) {
       Mesh mesh = ChunkMeshAt(c, t);
       triangles_[c] = mesh.TriangleCount();

@@ -18,6 +18,7 @@
 #include <cstddef>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,14 @@ struct PrintChunk {
   size_t first_segment = 0, end_segment = 0;  // segments [first, end)
   double t_first_s = 0;  // G-code time the chunk's first extrusion starts (+inf: it extrudes nothing)
   double t_last_s = 0;   // G-code time its last extrusion ends
+
+  enum class State { kEmpty, kGrowing, kComplete };
+  // At G-code time t: empty until its first extrusion starts, complete once its
+  // last has ended, else growing.
+  State StateAt(double gcode_time_s) const {
+    if (!(gcode_time_s > t_first_s)) return State::kEmpty;
+    return gcode_time_s >= t_last_s ? State::kComplete : State::kGrowing;
+  }
 };
 
 // The chunks of a toolpath (see above); at least one for a non-empty path.
@@ -94,7 +103,6 @@ class PrintedPart {
   PrintUpdate UpdateTo(EmbreeScene& scene, double sequence_time_s);
 
  private:
-  enum class State { kUnknown, kEmpty, kGrowing, kComplete };
   std::shared_ptr<const ToolpathOrientation> toolpath_;  // holds the path
   const Toolpath* path_ = nullptr;
   double start_time_s_ = 0;
@@ -102,7 +110,7 @@ class PrintedPart {
   std::vector<PrintChunk> chunks_;
   std::vector<double> layer_heights_;  // BeadLayerHeights of the path: a chunk's beads need no pass over the path before it
   std::vector<size_t> chunk_meshes_;
-  std::vector<State> state_;
+  std::vector<std::optional<PrintChunk::State>> state_;  // as built; nullopt: not yet
   std::vector<double> built_time_;  // G-code time a growing chunk was built at
   std::vector<size_t> triangles_;
 };

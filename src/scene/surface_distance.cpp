@@ -154,10 +154,10 @@ void SceneSurface::UpdateTo(double sequence_time_s) {
   const double t = part_->GcodeTime(sequence_time_s);
   if (print_time_ && *print_time_ == t) return;
   const std::vector<PrintChunk>& chunks = part_->chunks();
-  auto complete_at_t = [&](const PrintChunk& c) { return t > c.t_first_s && t >= c.t_last_s; };
+  using State = PrintChunk::State;
   in_complete_.resize(chunks.size(), false);
   for (size_t c = 0; c < chunks.size(); ++c) {
-    if (in_complete_[c] && !complete_at_t(chunks[c])) {  // time went back past a chunk's end
+    if (in_complete_[c] && chunks[c].StateAt(t) != State::kComplete) {  // time went back past a chunk's end
       complete_.Clear();
       in_complete_.assign(chunks.size(), false);
       break;
@@ -166,12 +166,13 @@ void SceneSurface::UpdateTo(double sequence_time_s) {
   bool complete_changed = false;
   growing_.Clear();
   for (size_t c = 0; c < chunks.size(); ++c) {
-    if (complete_at_t(chunks[c])) {
+    const State state = chunks[c].StateAt(t);
+    if (state == State::kComplete) {
       if (in_complete_[c]) continue;
       AddChunk(c, t, &complete_);
       in_complete_[c] = true;
       complete_changed = true;
-    } else if (t > chunks[c].t_first_s) {
+    } else if (state == State::kGrowing) {
       AddChunk(c, t, &growing_);
     }
   }
