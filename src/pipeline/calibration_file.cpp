@@ -104,18 +104,12 @@ CalibratedCamera ReadCamera(const OpenCvYaml& y) {
     c.fisheye = {d[0], d[1], d[2], d[3]};  // all zero is still the fisheye projection (θ_d = θ)
     return c;
   }
-  if (d.size() < 4 || d.size() > 14) {
-    throw InputError(y.Where(*dc), "distortion_coefficients must have 4 to 14 values (k1 k2 p1 p2 [k3 ...]), got " +
-                                       std::to_string(d.size()));
+  const OpenCvDistCoeffsProblem problem = BrownConradyFromOpenCv(d, &c.brown_conrady);
+  if (!problem.ok()) {
+    throw InputError(y.Where(*dc), "distortion_coefficients" +
+                                       (problem.element < 0 ? std::string(" ") : " element " + std::to_string(problem.element + 1) + ": ") +
+                                       problem.problem);
   }
-  for (size_t i = 5; i < d.size(); ++i) {
-    if (d[i] != 0) {
-      throw InputError(y.Where(*dc), "distortion coefficient " + std::to_string(i + 1) +
-                                         " (beyond k1 k2 p1 p2 k3) must be 0: rational, thin-prism and tilt terms "
-                                         "are not supported, got " + FormatNumber(d[i]));
-    }
-  }
-  c.brown_conrady = {d[0], d[1], d[2], d[3], d.size() > 4 ? d[4] : 0.0};
   c.distortion = c.brown_conrady.IsZero() ? DistortionModel::kNone : DistortionModel::kBrownConrady;
   return c;
 }

@@ -14,7 +14,7 @@
 //                                         flag (1 fisheye, 0 brown_conrady)
 //   distortion_coefficients: !!opencv-matrix
 //                                         brown_conrady: k1 k2 p1 p2 [k3 [k4 k5 k6 ...]]
-//                                         (4 to 14 values, those after k3 must be 0);
+//                                         (4, 5, 8, 12 or 14 values, those after k3 0);
 //                                         fisheye: k1 k2 k3 k4; 1xN or Nx1
 //   laser_planes: !!opencv-matrix         N x 4, row k = (nx, ny, nz, d) of plane k:
 //                                         camera frame, n·p + d = 0, metres

@@ -60,6 +60,23 @@ const char* DistortionModelName(DistortionModel m) {
   return "?";
 }
 
+OpenCvDistCoeffsProblem BrownConradyFromOpenCv(const std::vector<double>& d, BrownConradyCoeffs* c) {
+  static const char* const kExtra[] = {"k4", "k5", "k6", "s1", "s2", "s3", "s4", "tauX", "tauY"};
+  const size_t n = d.size();
+  if (n != 4 && n != 5 && n != 8 && n != 12 && n != 14) {
+    return {-1, "must have 4, 5, 8, 12 or 14 elements (OpenCV's k1 k2 p1 p2 [k3 [k4 k5 k6 [s1 s2 s3 s4 [tauX tauY]]]]), got " +
+                    std::to_string(n)};
+  }
+  for (size_t i = 5; i < n; ++i) {
+    if (d[i] != 0) {
+      return {static_cast<int>(i),
+              std::string(kExtra[i - 5]) + " is not modelled (only k1 k2 p1 p2 k3): must be 0, got " + FormatNumber(d[i])};
+    }
+  }
+  *c = {d[0], d[1], d[2], d[3], n > 4 ? d[4] : 0.0};
+  return {};
+}
+
 Eigen::Vector2d BrownConradyCoeffs::Distort(const Eigen::Vector2d& p, Eigen::Matrix2d* jacobian) const {
   const double x = p.x(), y = p.y();
   const double r2 = x * x + y * y;

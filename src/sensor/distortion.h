@@ -24,6 +24,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace lt {
@@ -50,6 +51,18 @@ struct BrownConradyCoeffs {
   // t = D(x); optional analytic Jacobian ∂t/∂x.
   Eigen::Vector2d Distort(const Eigen::Vector2d& x, Eigen::Matrix2d* jacobian = nullptr) const;
 };
+
+// OpenCV's distCoeffs for the pinhole model as calibrateCamera, ROS camera_info and
+// other tools write them: 4 (k1 k2 p1 p2, k3 = 0), 5, 8, 12 or 14 elements. The terms
+// past k3 (the rational model's k4 k5 k6, thin prism s1..s4, tilt tauX tauY) are not
+// modelled and must be 0. On success fills *c and returns an empty problem; otherwise
+// `problem` says why and `element` names the offending element (0-based; -1: the length).
+struct OpenCvDistCoeffsProblem {
+  int element = -1;
+  std::string problem;
+  bool ok() const { return problem.empty(); }
+};
+OpenCvDistCoeffsProblem BrownConradyFromOpenCv(const std::vector<double>& d, BrownConradyCoeffs* c);
 
 // Kannala–Brandt coefficients, OpenCV fisheye order k1 k2 k3 k4.
 struct KannalaBrandtCoeffs {

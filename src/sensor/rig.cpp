@@ -31,27 +31,14 @@ std::vector<double> NumberList(const Value& v, size_t min_size, Range range) {
   return out;
 }
 
-// OpenCV's distCoeffs for the pinhole model: 4 (k1 k2 p1 p2, k3 = 0), 5, or 8, 12 or
-// 14 elements whose terms past k3 (the rational model's k4 k5 k6, thin prism s1..s4,
-// tilt tx ty) are zero, as calibrateCamera writes them without those flags.
-std::vector<double> ReadOpenCvDistortion(const Value& v) {
-  static const char* const kExtra[] = {"k4", "k5", "k6", "s1", "s2", "s3", "s4", "tauX", "tauY"};
+// OpenCV's distCoeffs (BrownConradyFromOpenCv names the lengths and terms it takes).
+BrownConradyCoeffs ReadOpenCvDistortion(const Value& v) {
   const std::vector<Value> items = v.Array();
-  const size_t n = items.size();
-  if (n != 4 && n != 5 && n != 8 && n != 12 && n != 14) {
-    v.Fail("must have 4, 5, 8, 12 or 14 elements (OpenCV's k1 k2 p1 p2 [k3 [k4 k5 k6 [s1 s2 s3 s4 [tauX tauY]]]]), got " +
-           std::to_string(n));
-  }
-  std::vector<double> c(5, 0.0);
-  for (size_t i = 0; i < n; ++i) {
-    const double x = items[i].Number();
-    if (i < 5) {
-      c[i] = x;
-    } else if (x != 0) {
-      items[i].Fail(std::string(kExtra[i - 5]) + " is not modelled (only k1 k2 p1 p2 k3): must be 0, got " +
-                    FormatNumber(x));
-    }
-  }
+  std::vector<double> d;
+  for (const Value& e : items) d.push_back(e.Number());
+  BrownConradyCoeffs c;
+  const OpenCvDistCoeffsProblem p = BrownConradyFromOpenCv(d, &c);
+  if (!p.ok()) (p.element < 0 ? v : items[p.element]).Fail(p.problem);
   return c;
 }
 
@@ -70,7 +57,8 @@ DistortionModel ReadDistortion(const Object& o, CameraParams* p) {
       if (o.Has(n)) o.Get(n).Fail("give either \"coefficients\" or named coefficients, not both");
     }
     if (bc) {
-      c = ReadOpenCvDistortion(*coeffs);
+      const BrownConradyCoeffs b = ReadOpenCvDistortion(*coeffs);
+      c = {b.k1, b.k2, b.p1, b.p2, b.k3};
     } else {
       c = coeffs->Numbers(names.size());
     }

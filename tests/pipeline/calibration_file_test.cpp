@@ -398,7 +398,11 @@ TEST(CalibrationFile, BadFilesNameTheFileAndLine) {
        ":11", "fisheye distortion_coefficients must have 4 values"},
       {head + cam + k + "distortion_coefficients: !!opencv-matrix\n   rows: 1\n   cols: 8\n   dt: d\n"
                         "   data: [ 0., 0., 0., 0., 0., 0.1, 0., 0. ]\n",
-       ":10", "distortion coefficient 6 (beyond k1 k2 p1 p2 k3) must be 0"},
+       ":10", "distortion_coefficients element 6: k4 is not modelled (only k1 k2 p1 p2 k3): must be 0, got 0.1"},
+      // OpenCV writes 4, 5, 8, 12 or 14 (as a scene file's coefficients); 6 was read.
+      {head + cam + k + "distortion_coefficients: !!opencv-matrix\n   rows: 1\n   cols: 6\n   dt: d\n"
+                        "   data: [ 0., 0., 0., 0., 0., 0. ]\n",
+       ":10", "distortion_coefficients must have 4, 5, 8, 12 or 14 elements"},
       {head + cam + k + "distortion_model: rational\n", ":10", "distortion_model must be brown_conrady or fisheye"},
       {head + cam + k + "distortion_coefficients: !!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n"
                         "   data: [ -3., 0., 0., 0., 0. ]\n",
