@@ -33,9 +33,27 @@ void GcodeReader::Warn(WarningKind kind, const std::string& text) {
   ++path_.warnings[size_t(index)].count;
 }
 
-void GcodeReader::PositionUnknown(const std::string& command) {
+void GcodeReader::PositionUnknown(const std::string& command, bool probing) {
   for (bool& known : axis_known_) known = false;
   unknown_since_ = command + " (line " + std::to_string(line_no_) + ")";
+  // How long probing takes depends on the printer's configuration (points, speeds,
+  // samples), not on the file: no duration is sound, so it takes none, with a warning.
+  if (probing) {
+    Warn(kProbingTime, command +
+                           " (probing, levelling) takes no time in the toolpath: a printer spends seconds to minutes "
+                           "there, so every time after it (the printed part's, a scan's) is early by as much");
+  }
+}
+
+void GcodeReader::UnknownExtendedCommand(const std::string& name) {
+  auto [it, first] = unknown_command_warning_.emplace(name, path_.warnings.size());
+  if (first) {
+    path_.warnings.push_back(ToolpathWarning{
+        line_no_, 0,
+        name + " skipped: a command the reader does not know (a macro of the printer's configuration?); whatever it "
+               "does (homing, probing, heating, purge moves) is not in the toolpath or its times"});
+  }
+  ++path_.warnings[it->second].count;
 }
 
 void GcodeReader::TrackKnownAxes(const std::string& command, int arc_axes) {

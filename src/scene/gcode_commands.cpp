@@ -23,6 +23,25 @@ bool IsProbingMacro(const std::string& name) {
   return false;
 }
 
+// Klipper's own commands that neither move the toolhead nor change how the file's
+// moves are read (limits, pressure advance, temperatures, fans, lights, object labels,
+// displays, settings): skipped without a warning. Any other extended command (a user's
+// macro: PRINT_START, ...) is skipped with a warning naming it.
+bool IsKnownMotionlessCommand(const std::string& name) {
+  for (const char* known :
+       {"SET_VELOCITY_LIMIT", "SET_PRESSURE_ADVANCE", "SET_FAN_SPEED", "SET_HEATER_TEMPERATURE", "TEMPERATURE_WAIT",
+        "SET_TEMPERATURE_FAN_TARGET", "TURN_OFF_HEATERS", "SET_PIN", "SET_LED", "SET_LED_TEMPLATE", "SET_IDLE_TIMEOUT",
+        "SET_INPUT_SHAPER", "SET_TMC_CURRENT", "SET_TMC_FIELD", "SET_EXTRUDER_ROTATION_DISTANCE",
+        "SYNC_EXTRUDER_MOTION", "BED_MESH_PROFILE", "BED_MESH_CLEAR", "BED_MESH_OUTPUT", "EXCLUDE_OBJECT",
+        "EXCLUDE_OBJECT_DEFINE", "EXCLUDE_OBJECT_START", "EXCLUDE_OBJECT_END", "SET_PRINT_STATS_INFO",
+        "SET_DISPLAY_TEXT", "SET_DISPLAY_GROUP", "RESPOND", "SAVE_VARIABLE", "SAVE_GCODE_STATE",
+        "SET_FILAMENT_SENSOR", "SET_Z_THERMAL_ADJUST", "UPDATE_DELAYED_GCODE", "GET_POSITION", "STATUS",
+        "QUERY_ENDSTOPS", "QUERY_PROBE", "CLEAR_PAUSE", "SET_SKEW", "SKEW_PROFILE", "ECHO"}) {
+    if (name == known) return true;
+  }
+  return false;
+}
+
 // Whether `text` holds `word` as a blank-separated word (letters in any case).
 bool HasWord(std::string_view text, std::string_view word) {
   size_t pos = 0;
@@ -46,7 +65,12 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
   // An extended command (Klipper's PRINT_START, EXCLUDE_OBJECT_START NAME=...,
   // SET_PRESSURE_ADVANCE ADVANCE=...): a name of letters, digits and
   // underscores that does not start with a letter and a number. Skipped, counted by name.
-  if (pos + 1 < code.size() && IsLetter(code[pos]) && (IsLetter(code[pos + 1]) || code[pos + 1] == '_')) {
+  // Klipper's macro names may start with '_' (its "hidden" macros: _PRINT_START). A
+  // line starting with '@' is a command to the host (OctoPrint's and Repetier's
+  // "@pause", which Cura's Pause at Height script writes), not sent to the printer.
+  const bool host_command = code[pos] == '@';
+  if (host_command || (pos + 1 < code.size() && (IsLetter(code[pos]) || code[pos] == '_') &&
+                       (IsLetter(code[pos + 1]) || code[pos + 1] == '_'))) {
     size_t end = pos;
     while (end < code.size() && !IsBlank(code[end])) ++end;
     std::string name(code.substr(pos, end - pos));
@@ -64,6 +88,7 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
       return;
     }
     ++path_.skipped_commands[name];
+    if (!host_command && !IsKnownMotionlessCommand(name)) UnknownExtendedCommand(name);
     return;
   }
   char letter = Upper(code[pos]);
@@ -203,7 +228,7 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
   if (letter == 'T' && n >= 0) active_tool_ = n;  // the tool whose flow (M221) applies
   // The nozzle moves to the dock and, for a park or a tool change with D0 (Prusa's
   // XL: "T1 S1 L0 D0", do not return), stays there: where is the firmware's.
-  if (park || (letter == 'T' && HasWord(code.substr(pos), "D0"))) PositionUnknown(name);
+  if (park || (letter == 'T' && HasWord(code.substr(pos), "D0"))) PositionUnknown(name, false);
 }
 
 }  // namespace gcode_detail

@@ -63,9 +63,13 @@ class GcodeReader {
 
   // An approximation of the file (Toolpath::warnings): the first of each kind keeps
   // its line and text, later ones are counted.
-  enum WarningKind { kUnclosedParen, kRelativeFromUnknown, kExtraAxes, kWarningKinds };
+  enum WarningKind { kUnclosedParen, kRelativeFromUnknown, kExtraAxes, kProbingTime, kWarningKinds };
   void Warn(WarningKind kind, const std::string& text);
-  int warning_index_[kWarningKinds] = {-1, -1, -1};
+  int warning_index_[kWarningKinds] = {-1, -1, -1, -1};
+  // An extended command the reader does not know (a macro of the printer's
+  // configuration: PRINT_START, ...): skipped, one warning per distinct name.
+  void UnknownExtendedCommand(const std::string& name);
+  std::map<std::string, size_t> unknown_command_warning_;  // name -> index in path_.warnings
 
   void Comment(std::string_view comment);
   std::optional<double> CommentNumber(std::string_view text, const char* what) const;
@@ -87,7 +91,9 @@ class GcodeReader {
   void SetFeed();
   // Probing and levelling (G29, G30, G32-G34, G38.2-5, Prusa's G80, M48, Klipper's
   // BED_MESH_CALIBRATE, ...) end where the firmware stops: X, Y and Z unknown.
-  void PositionUnknown(const std::string& command);
+  // `probing`: the command probes (warned: it takes no time here); false for a tool
+  // parked in its dock.
+  void PositionUnknown(const std::string& command, bool probing = true);
   // Before a move: its absolute X/Y/Z words make those axes known again; a relative
   // one on an unknown axis (or an arc, whose centre is relative, from a start unknown
   // in its plane) is built from the last known position, with a warning.

@@ -58,26 +58,37 @@ TEST(GcodeApproximations, ProbingLeavesThePositionUnknownUntilAnAbsoluteMove) {
       "G1 X1\n"   // X known: fine
       "G90\n",
       "probe.gcode");
-  ASSERT_EQ(p.warnings.size(), 1u);
-  EXPECT_EQ(p.warnings[0].line, 5);
-  EXPECT_EQ(p.warnings[0].count, 2);
-  EXPECT_THAT(p.warnings[0].text, HasSubstr("G1 moves relative to a position G29 (line 3) left unknown in Z"));
-  EXPECT_THAT(p.warnings[0].text, HasSubstr("last known position X50 Y50 Z10"));
+  // The probing's own warning first (line 3: it takes no time), then the relative move's.
+  ASSERT_EQ(p.warnings.size(), 2u);
+  EXPECT_EQ(p.warnings[0].line, 3);
+  EXPECT_THAT(p.warnings[0].text, HasSubstr("G29 (probing, levelling) takes no time"));
+  EXPECT_EQ(p.warnings[1].line, 5);
+  EXPECT_EQ(p.warnings[1].count, 2);
+  EXPECT_THAT(p.warnings[1].text, HasSubstr("G1 moves relative to a position G29 (line 3) left unknown in Z"));
+  EXPECT_THAT(p.warnings[1].text, HasSubstr("last known position X50 Y50 Z10"));
   EXPECT_EQ(p.skipped_commands.count("G29"), 0u);
 
-  auto warnings = [](const std::string& g) { return ParseGcode(g, "p.gcode").warnings; };
+  // The warning about a relative move from an unknown position ("" when none).
+  auto relative = [](const std::string& g) {
+    for (const ToolpathWarning& w : ParseGcode(g, "p.gcode").warnings) {
+      if (w.text.find("moves relative") != std::string::npos) return w.text;
+    }
+    return std::string();
+  };
   // Homing and absolute moves make the axes known; G80 in a CNC header cancels a cycle.
-  EXPECT_TRUE(warnings("G29\nG28\nG91\nG1 X1 Y1 Z5 F600\n").empty());
-  EXPECT_TRUE(warnings("G29\nG1 X0 Y0 Z1 F600\nG91\nG1 X1 Y1 Z5\n").empty());
-  EXPECT_TRUE(warnings("G17 G80 G90\nG91\nG1 X1 F600\n").empty());
+  EXPECT_EQ(relative("G29\nG28\nG91\nG1 X1 Y1 Z5 F600\n"), "");
+  EXPECT_EQ(relative("G29\nG1 X0 Y0 Z1 F600\nG91\nG1 X1 Y1 Z5\n"), "");
+  EXPECT_TRUE(ParseGcode("G17 G80 G90\nG91\nG1 X1 F600\n", "p.gcode").warnings.empty());
   // Prusa's mesh levelling, Klipper's macros, a straight probe, an arc's centre.
-  EXPECT_THAT(warnings("G80\nG91\nG1 X1 F600\n").at(0).text, HasSubstr("G80 (line 1) left unknown in X"));
-  EXPECT_THAT(warnings("BED_MESH_CALIBRATE\nG91\nG1 Z1 F600\n").at(0).text,
-              HasSubstr("BED_MESH_CALIBRATE (line 1) left unknown in Z"));
-  EXPECT_THAT(warnings("G38.2 Z-10 F100\nG91\nG1 Z1\n").at(0).text, HasSubstr("G38.2 (line 1) left unknown in Z"));
-  EXPECT_THAT(warnings("G380 S2 Z-5 F300\nG91\nG1 Z5\n").at(0).text, HasSubstr("G380 (line 1) left unknown in Z"));
-  EXPECT_THAT(warnings("G29\nG2 X10 Y0 I5 J0 F600\n").at(0).text, HasSubstr("G2 moves relative to a position G29"));
-  // Prusa XL: a tool parked (P0) or changed without return (D0) leaves the head at the dock.
+  EXPECT_THAT(relative("G80\nG91\nG1 X1 F600\n"), HasSubstr("G80 (line 1) left unknown in X"));
+  EXPECT_THAT(relative("BED_MESH_CALIBRATE\nG91\nG1 Z1 F600\n"), HasSubstr("BED_MESH_CALIBRATE (line 1) left unknown in Z"));
+  EXPECT_THAT(relative("G38.2 Z-10 F100\nG91\nG1 Z1\n"), HasSubstr("G38.2 (line 1) left unknown in Z"));
+  EXPECT_THAT(relative("G380 S2 Z-5 F300\nG91\nG1 Z5\n"), HasSubstr("G380 (line 1) left unknown in Z"));
+  EXPECT_THAT(relative("G29\nG2 X10 Y0 I5 J0 F600\n"), HasSubstr("G2 moves relative to a position G29"));
+  // Prusa XL: a tool parked (P0) or changed without return (D0) leaves the head at the
+  // dock; no probing there (no warning about time).
+  auto warnings = [](const std::string& g) { return ParseGcode(g, "p.gcode").warnings; };
+  ASSERT_EQ(warnings("P0 S1 L2 D0\nG91\nG1 X1 F600\n").size(), 1u);
   EXPECT_THAT(warnings("P0 S1 L2 D0\nG91\nG1 X1 F600\n").at(0).text, HasSubstr("P0 (line 1) left unknown in X"));
   EXPECT_THAT(warnings("T1 S1 L0 D0\nG91\nG1 X1 F600\n").at(0).text, HasSubstr("T1 (line 1) left unknown in X"));
   EXPECT_TRUE(warnings("T1\nG91\nG1 X1 F600\n").empty());
