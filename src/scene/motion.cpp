@@ -15,13 +15,47 @@ StaticMotion ParseStatic(const json::Object& o) {
   return m;
 }
 
+// Inline poses: [{"t_s": 0, "world_from_cam": POSE}, ...] (world_from_tool with a
+// hand-eye pose), at least two, times strictly increasing.
+std::vector<PoseSample> ReadInlinePoses(const json::Value& poses, bool tool_poses) {
+  const char* key = tool_poses ? "world_from_tool" : "world_from_cam";
+  const char* other = tool_poses ? "world_from_cam" : "world_from_tool";
+  std::vector<PoseSample> samples;
+  for (const json::Value& item : poses.Array(2)) {
+    json::Object e(item);
+    if (auto wrong = e.Find(other)) {
+      wrong->Fail(tool_poses ? "with \"tool_from_cam\" the poses are the tool's, \"world_from_tool\""
+                             : "\"world_from_tool\" poses need the hand-eye pose \"tool_from_cam\" beside \"poses\"");
+    }
+    json::Value t = e.Get("t_s");
+    PoseSample s;
+    s.t_s = t.Number();
+    if (!samples.empty() && !(s.t_s > samples.back().t_s)) {
+      t.Fail("times must strictly increase, got " + FormatNumber(s.t_s) + " after " + FormatNumber(samples.back().t_s));
+    }
+    const Pose pose = ReadPose(e.Get(key));
+    e.Finish();
+    s.position = pose.translation();
+    s.rotation = Eigen::Quaterniond(pose.linear()).normalized();
+    samples.push_back(s);
+  }
+  return samples;
+}
+
 PoseListMotion ParsePoseListMotion(const json::Object& o) {
   PoseListMotion m;
-  json::Value file = o.Get("file");
-  m.file = file.ExistingFile("pose list");
-  m.format = o.Enum("format", "csv", {"csv", "tum"}) == "csv" ? PoseFileFormat::kCsv : PoseFileFormat::kTum;
-  m.time_from_first_pose = o.Enum("time_origin", "first_pose", {"first_pose", "file"}) == "first_pose";
   if (auto pose = o.Find("tool_from_cam")) m.tool_from_cam = ReadPose(*pose);
+  m.time_from_first_pose = o.Enum("time_origin", "first_pose", {"first_pose", "file"}) == "first_pose";
+  std::optional<json::Value> file = o.Find("file"), poses = o.Find("poses");
+  if (file && poses) poses->Fail("give either \"file\" or \"poses\", not both");
+  if (poses) {
+    if (auto format = o.Find("format")) format->Fail("applies to a pose list \"file\", not to inline \"poses\"");
+    m.trajectory = std::make_shared<const PoseTrajectory>(ReadInlinePoses(*poses, m.tool_from_cam.has_value()));
+    return m;
+  }
+  if (!file) o.Fail("missing required key \"file\" (a pose list file) or \"poses\" (the poses inline)");
+  m.file = file->ExistingFile("pose list");
+  m.format = o.Enum("format", "csv", {"csv", "tum"}) == "csv" ? PoseFileFormat::kCsv : PoseFileFormat::kTum;
   m.trajectory = std::make_shared<const PoseTrajectory>(ReadPoseList(m.file, m.format, m.file.string()));
   return m;
 }
@@ -113,9 +147,21 @@ nlohmann::json MotionToJson(const Motion& motion) {
                  },
                  [](const PoseListMotion& m) {
                    nlohmann::json j{{"type", "pose_list"},
-                                    {"file", AbsolutePath(m.file)},
-                                    {"format", PoseFileFormatName(m.format)},
                                     {"time_origin", m.time_from_first_pose ? "first_pose" : "file"}};
+                   if (m.file.empty()) {
+                     const char* key = m.tool_from_cam ? "world_from_tool" : "world_from_cam";
+                     nlohmann::json poses = nlohmann::json::array();
+                     for (const PoseSample& s : m.trajectory->samples()) {
+                       Pose pose = Pose::Identity();
+                       pose.linear() = s.rotation.toRotationMatrix();
+                       pose.translation() = s.position;
+                       poses.push_back({{"t_s", s.t_s}, {key, PoseToJson(pose)}});
+                     }
+                     j["poses"] = poses;
+                   } else {
+                     j["file"] = AbsolutePath(m.file);
+                     j["format"] = PoseFileFormatName(m.format);
+                   }
                    if (m.tool_from_cam) j["tool_from_cam"] = PoseToJson(*m.tool_from_cam);
                    return j;
                  },

@@ -23,11 +23,12 @@ struct StaticMotion {
   Pose world_from_cam = Pose::Identity();
 };
 
-// The scanner follows poses read from a file (scene key "pose_list"; formats and
-// interpolation in scene/pose_list.h). The file's poses are world_from_cam, or
-// world_from_tool when tool_from_cam (the hand-eye pose) is given.
+// The scanner follows time-stamped poses (scene key "pose_list"; interpolation in
+// scene/pose_list.h), read from a file or written inline in the scene ("poses").
+// The poses are world_from_cam, or world_from_tool when tool_from_cam (the
+// hand-eye pose) is given.
 struct PoseListMotion {
-  std::filesystem::path file;  // resolved against the scene file's folder
+  std::filesystem::path file;  // resolved against the scene file's folder; empty for inline poses
   PoseFileFormat format = PoseFileFormat::kCsv;
   // true ("time_origin": "first_pose"): sequence time 0 is the first pose's time
   // stamp; false ("file"): the file's times are sequence times.

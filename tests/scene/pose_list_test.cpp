@@ -188,5 +188,57 @@ TEST(PoseListMotion, SceneErrorsNameTheKeyOrTheFile) {
               HasSubstr("sweep.tum:2: expected the header"));
 }
 
+// Poses written in the scene itself (a linear stage's sweep needs two): the same
+// trajectory as sweep.csv's, in any pose form, with the file's time origins and
+// hand-eye pose; the resolved scene.json writes them back.
+TEST(PoseListMotion, InlinePosesAreTheFilesTrajectory) {
+  const std::string inline_poses = R"([
+      {"t_s": 0, "world_from_cam": {"translation_m": [0, 0, 0.3]}},
+      {"t_s": 1, "world_from_cam": {"translation_m": [0.1, 0, 0.3], "rotation_rpy_deg": [0, 0, 45]}},
+      {"t_s": 2, "world_from_cam": {"translation_m": [0.2, 0, 0.3], "rotation_quat_wxyz": [0.7071067811865476, 0, 0, 0.7071067811865476]}}])";
+  Motion from_file = ParseMotionText(R"({"type": "pose_list", "file": "sweep.csv"})", kPoses);
+  Motion inline_motion = ParseMotionText(R"({"type": "pose_list", "poses": )" + inline_poses + "}", kPoses);
+  Motion written_back = ParseMotion(
+      json::Document::Parse(MotionToJson(inline_motion).dump(), "resolved.json", kPoses).Root());
+  for (double t : {-1.0, 0.0, 0.4, 1.0, 1.7, 2.0, 3.0}) {
+    const Pose want = WorldFromCamAt(from_file, t);
+    for (const Motion* m : {&inline_motion, &written_back}) {
+      const Pose got = WorldFromCamAt(*m, t);
+      EXPECT_LT((got.translation() - want.translation()).norm(), 1e-15) << t;
+      EXPECT_LT(RotationDistance(got, want), 1e-12) << t;
+    }
+  }
+  EXPECT_FALSE(MotionToJson(inline_motion).contains("file"));
+  EXPECT_FALSE(WorldFromToolAt(inline_motion, 0.5).has_value());
+
+  // World_from_tool poses with the hand-eye pose, times as written.
+  Motion tool = ParseMotionText(R"({"type": "pose_list", "time_origin": "file", "tool_from_cam": {"translation_m": [0, 0, 0.05]},
+      "poses": [{"t_s": 1, "world_from_tool": {"translation_m": [0, 0, 0]}},
+                {"t_s": 3, "world_from_tool": {"translation_m": [0.2, 0, 0]}}]})",
+                                kPoses);
+  EXPECT_TRUE(WorldFromCamAt(tool, 2.0).translation().isApprox(Eigen::Vector3d(0.1, 0, 0.05), 1e-15));
+  EXPECT_TRUE(WorldFromToolAt(tool, 0.0)->translation().isApprox(Eigen::Vector3d(0, 0, 0), 1e-15));
+  EXPECT_TRUE(MotionToJson(tool)["poses"][1].contains("world_from_tool"));
+}
+
+TEST(PoseListMotion, InlinePoseErrorsNameTheKey) {
+  const std::string two = R"([{"t_s": 0, "world_from_cam": {}}, {"t_s": 1, "world_from_cam": {}}])";
+  auto error = [&](const std::string& motion) { return ErrorOf([&] { ParseMotionText(motion, kPoses); }); };
+  EXPECT_THAT(error(R"({"type": "pose_list", "file": "sweep.csv", "poses": )" + two + "}"),
+              HasSubstr("scene.json: /poses: give either \"file\" or \"poses\", not both"));
+  EXPECT_THAT(error(R"({"type": "pose_list", "format": "tum", "poses": )" + two + "}"),
+              HasSubstr("scene.json: /format: applies to a pose list \"file\""));
+  EXPECT_THAT(error(R"({"type": "pose_list", "poses": [{"t_s": 0, "world_from_cam": {}}]})"), HasSubstr("scene.json: /poses"));
+  EXPECT_THAT(error(R"({"type": "pose_list", "poses": [{"t_s": 1, "world_from_cam": {}}, {"t_s": 1, "world_from_cam": {}}]})"),
+              HasSubstr("scene.json: /poses/1/t_s: times must strictly increase, got 1 after 1"));
+  EXPECT_THAT(error(R"({"type": "pose_list", "tool_from_cam": {}, "poses": )" + two + "}"),
+              HasSubstr("scene.json: /poses/0/world_from_cam: with \"tool_from_cam\" the poses are the tool's"));
+  EXPECT_THAT(error(R"({"type": "pose_list", "poses": [{"t_s": 0, "world_from_tool": {}}, {"t_s": 1, "world_from_cam": {}}]})"),
+              HasSubstr("scene.json: /poses/0/world_from_tool: \"world_from_tool\" poses need the hand-eye pose"));
+  EXPECT_THAT(error(R"({"type": "pose_list", "poses": [{"t_s": 0, "world_from_cam": {}}, {"t_s": 1, "world_from_cam": {}, "speed": 2}]})"),
+              HasSubstr("scene.json: /poses/1/speed: unknown key \"speed\""));
+  EXPECT_THAT(error(R"({"type": "pose_list"})"), HasSubstr("\"poses\" (the poses inline)"));
+}
+
 }  // namespace
 }  // namespace lt
