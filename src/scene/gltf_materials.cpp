@@ -4,9 +4,12 @@
 
 #include <cmath>
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
+#include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 
 #include "core/error.h"
 
@@ -128,6 +131,65 @@ int ReadTextureTransform(const tinygltf::TextureInfo& info, const std::string& w
   return tc.GetNumberAsInt();
 }
 
+// The mean texel of texture `index` (glTF 3.9: metallic-roughness data are linear,
+// emissive colour sRGB-encoded and decoded here when `srgb`), for a texture the
+// renderer does not sample: a texture scales its factor, and its mean is the
+// constant closest to it. nullopt, with the reason in `why`, when the texture has
+// no image that was decoded (an undecodable image is no error here: the texture
+// was never needed to render).
+std::optional<Eigen::Vector4d> MeanTexel(const GltfSource& src, const tinygltf::TextureInfo& info,
+                                         const std::string& where, bool srgb, std::string* why) {
+  const auto& m = src.model;
+  if (info.index < 0 || size_t(info.index) >= m.textures.size()) {
+    throw InputError(where + "/index", "texture " + std::to_string(info.index) + " does not exist (" +
+                                           std::to_string(m.textures.size()) + " textures)");
+  }
+  const int source = m.textures[size_t(info.index)].source;
+  if (source < 0 || size_t(source) >= m.images.size()) {
+    *why = "texture " + std::to_string(info.index) + " has no image that can be read";
+    return std::nullopt;
+  }
+  if (src.image_errors != nullptr && size_t(source) < src.image_errors->size() &&
+      !(*src.image_errors)[size_t(source)].empty()) {
+    *why = "image " + std::to_string(source) + ": " + (*src.image_errors)[size_t(source)];
+    return std::nullopt;
+  }
+  const tinygltf::Image& img = m.images[size_t(source)];
+  const size_t texels = size_t(std::max(img.width, 0)) * size_t(std::max(img.height, 0));
+  const int bytes = img.bits / 8;
+  if (texels == 0 || img.component < 1 || img.component > 4 || (bytes != 1 && bytes != 2) ||
+      img.image.size() != texels * size_t(img.component) * size_t(bytes)) {
+    *why = "image " + std::to_string(source) + " could not be decoded";
+    return std::nullopt;
+  }
+  Eigen::Vector4d sum = Eigen::Vector4d::Zero();
+  for (size_t i = 0; i < texels; ++i) {
+    Eigen::Vector4d texel(0, 0, 0, 1);
+    for (int c = 0; c < img.component; ++c) {
+      const unsigned char* p = &img.image[(i * size_t(img.component) + size_t(c)) * size_t(bytes)];
+      uint32_t v = p[0];
+      if (bytes == 2) {
+        uint16_t v16;
+        std::memcpy(&v16, p, 2);
+        v = (uint32_t(v16) + 128) / 257;  // to 8 bits, as base-colour textures are kept
+      }
+      // Grey (and alpha) images: channel 0 is every colour channel, channel 1 the alpha.
+      const int to = img.component >= 3 ? c : (c == 0 ? 0 : 3);
+      texel[to] = srgb && to < 3 ? double(SrgbToLinear(uint8_t(v))) : v / 255.0;
+    }
+    if (img.component < 3) texel[1] = texel[2] = texel[0];
+    sum += texel;
+  }
+  return sum / double(texels);
+}
+
+// A number for a warning: 3 significant digits.
+std::string Short(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
 // Material extensions whose effect is not rendered: one warning each, naming the materials.
 constexpr const char* kIgnoredMaterialExtensions[] = {
     "KHR_materials_volume",       "KHR_materials_ior",    "KHR_materials_specular",
@@ -241,11 +303,57 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
       }
       warnings->push_back(src.file + ": material \"" + mat.name +
                           "\": KHR_materials_pbrSpecularGlossiness converted to metallic-roughness (diffuse as base "
-                          "colour, roughness = 1 - glossiness, metallic 0); the specular colour" +
-                          std::string(sg.Has("specularGlossinessTexture") ? " and the specular-glossiness texture are"
-                                                                          : " is") +
-                          " approximated by a dielectric's");
+                          "colour, roughness = 1 - glossiness, metallic 0); the specular colour is approximated by "
+                          "a dielectric's");
     }
+    // The metallic-roughness and emissive textures are not sampled, but they scale
+    // their factors (glTF 3.9.2, 3.9.5): metallic = factor * B, roughness = factor * G,
+    // emission = factor * texture. Exporters write factor 1 beside such a texture
+    // (Blender, Sketchfab, the Khronos samples), so the factor alone made a painted
+    // part a rough metal (no diffuse laser return) and a part with a few glowing
+    // texels glow all over; the texture's mean is the constant closest to it.
+    std::string approximated;
+    auto scale_by_mean = [&](const tinygltf::TextureInfo& info, const std::string& info_where, const char* what,
+                             bool srgb, const std::function<std::string(const Eigen::Vector4d&)>& apply) {
+      if (info.index < 0) return;
+      std::string why;
+      const std::optional<Eigen::Vector4d> mean = MeanTexel(src, info, info_where, srgb, &why);
+      approximated += std::string(approximated.empty() ? "" : "; ") + what +
+                      (mean ? " texture not sampled, its mean used: " + apply(*mean)
+                            : " texture ignored (" + why + "), the factor used alone");
+    };
+    if (const auto sg = gm.extensions.find("KHR_materials_pbrSpecularGlossiness"); sg != gm.extensions.end()) {
+      // It replaced the metallic-roughness values; its texture's alpha scales the glossiness.
+      if (sg->second.Has("specularGlossinessTexture")) {
+        const std::string sgt_where = where + "/extensions/KHR_materials_pbrSpecularGlossiness/specularGlossinessTexture";
+        const tinygltf::Value& sgt = sg->second.Get("specularGlossinessTexture");
+        const tinygltf::Value& index = sgt.IsObject() ? sgt.Get("index") : sgt;
+        if (!index.IsInt() || index.GetNumberAsInt() < 0) throw InputError(sgt_where + "/index", "must be an integer >= 0");
+        tinygltf::TextureInfo info;
+        info.index = index.GetNumberAsInt();
+        scale_by_mean(info, sgt_where, "specular-glossiness", true, [&](const Eigen::Vector4d& mean) {
+          const double glossiness = 1.0 - double(mat.roughness);
+          mat.roughness = float(1.0 - glossiness * mean[3]);
+          return "glossiness " + Short(glossiness) + " x " + Short(mean[3]);
+        });
+      }
+    } else {
+      scale_by_mean(pbr.metallicRoughnessTexture, where + "/pbrMetallicRoughness/metallicRoughnessTexture",
+                    "metallic-roughness", false, [&](const Eigen::Vector4d& mean) {
+                      const std::string text = "metallic " + Short(mat.metallic) + " x " +
+                                               Short(mean[2]) + ", roughness " + Short(mat.roughness) +
+                                               " x " + Short(mean[1]);
+                      mat.metallic = float(mat.metallic * mean[2]);
+                      mat.roughness = float(mat.roughness * mean[1]);
+                      return text;
+                    });
+    }
+    scale_by_mean(gm.emissiveTexture, where + "/emissiveTexture", "emissive", true,
+                  [&](const Eigen::Vector4d& mean) {
+                    for (int c = 0; c < 3; ++c) mat.emissive[c] = float(mat.emissive[c] * mean[c]);
+                    return "emissive factor times (" + Short(mean[0]) + ", " + Short(mean[1]) + ", " +
+                           Short(mean[2]) + ")";
+                  });
     // KHR_materials_transmission: glTF's dielectric is mix(diffuse, transmission,
     // transmissionFactor) under the specular layer. Transmitted light is not traced,
     // but the diffuse share it takes is removed, so a clear part does not show a
@@ -270,13 +378,13 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
     auto note = [&](bool present, const char* what) {
       if (present) ignored += (ignored.empty() ? "" : ", ") + std::string(what);
     };
-    note(pbr.metallicRoughnessTexture.index >= 0, "metallic-roughness texture");
     note(gm.normalTexture.index >= 0, "normal texture");
     note(gm.occlusionTexture.index >= 0, "occlusion texture");
-    note(gm.emissiveTexture.index >= 0, "emissive texture");
     note(gm.alphaMode != "OPAQUE", "alpha mode");
-    if (!ignored.empty()) {
-      warnings->push_back(src.file + ": material \"" + mat.name + "\": ignored " + ignored);
+    if (!ignored.empty() || !approximated.empty()) {
+      warnings->push_back(src.file + ": material \"" + mat.name + "\": " +
+                          (ignored.empty() ? "" : "ignored " + ignored) +
+                          (ignored.empty() || approximated.empty() ? "" : "; ") + approximated);
     }
     out.push_back(std::move(mat));
   }
