@@ -16,8 +16,9 @@
 //                   full circle; P n: n turns (the arc as given and n - 1 full turns
 //                   more; Bambu Studio's and OrcaSlicer's spiral lift "G2 Z I J P1")
 //   G4              dwell (P milliseconds or S seconds)
-//   G10, G11        firmware retraction and recovery (G10 without parameters; with
-//                   parameters it sets tool offsets/temperatures and is skipped), by
+//   G10, G11        firmware retraction and recovery (G10 without parameters; G10 L2
+//                   and L20 set work offsets; other parameters (tool offsets,
+//                   temperatures) are skipped), by
 //                   M207's S length, F feed, Z hop, R extra and T recovery feed, else
 //                   Marlin's defaults (3 mm at 45 mm/s, recovered at 8 mm/s)
 //   G17, G18, G19   the arcs' plane: XY (I, J), ZX (K, I), YZ (J, K); an arc outside XY
@@ -26,7 +27,13 @@
 //   G28             home: the named axes (all when none named) to 0, one after another
 //                   (X, Y, Z) at Marlin's homing speeds (50, 50, 4 mm/s), not the modal F
 //   G90, G91        absolute / relative X Y Z, and E relative under G91 (below)
-//   G92             set the current position (no motion); no axes: all axes to 0
+//   G92             set the current position (no motion); no axes: all axes to 0;
+//                   G92.1 clears its offset, G92.2 clears and keeps it, G92.3 restores it
+//   G53             machine coordinates (no G92 or work offset) for the rest of its line
+//   G54-G59.3       work coordinate systems, their origins set by G10 L2 (machine
+//                   coordinates) or G10 L20 (the current position's value); P0: active
+//   M290            babystepping (X, Y, Z or S; R0 absolute): moves now and shifts
+//                   later moves until the axis is homed
 //   M82, M83        absolute / relative E; E is relative under G91 or after M83
 //                   (Klipper's rule; Marlin's too, except that its G90 also ends M83)
 //   M2, M30         program end: later lines are not read, only counted ("M30 name",
@@ -76,7 +83,10 @@
 // Extended commands (a first word of letters, digits and underscores, not a letter
 // and a number: Klipper's PRINT_START, EXCLUDE_OBJECT_START NAME=..., which
 // OrcaSlicer and PrusaSlicer write for Klipper printers) are skipped and counted
-// by name, as the firmware-only M and G commands are.
+// by name, as the firmware-only M and G commands are; one that is not Klipper's own
+// motionless command (a user's macro) is warned about once per name. Lines starting
+// with '@' are host commands (OctoPrint's @pause): skipped. Probing is warned about
+// (it takes no time here).
 //
 // A binary G-code file (PrusaSlicer's .bgcode, magic "GCDE") or a zip archive (a
 // .gcode.3mf) is refused as such, naming the file. Errors are lt::InputError naming "file:line": a NUL byte (not a text file), a letter without a number, a number

@@ -121,6 +121,19 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
     PositionUnknown(name);
     return;
   }
+  // G92.1-G92.3 (G92's offset cleared, cleared and saved, restored); G59.1-G59.3 (the
+  // seventh to ninth work coordinate systems).
+  if (letter == 'G' && number.size() == 4 && (StartsWith(number, "92.") || StartsWith(number, "59.")) &&
+      number[3] >= '1' && number[3] <= '3') {
+    ReadWords(code, pos, true);
+    if (number[0] == '9') {
+      ResetPosition(number[3] - '0');
+    } else {
+      Expect("", "G" + std::string(number));
+      SelectWorkSystem(6 + number[3] - '1');
+    }
+    return;
+  }
   if (letter == 'G' && integral) {
     switch (n) {
       case 0:
@@ -138,8 +151,12 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
           FirmwareRetract(true);
           return;
         }
-        // With parameters: tool offsets and temperatures (RepRapFirmware's G10 P),
-        // coordinate systems (G10 L), Marlin's swap retraction (G10 S1): skipped.
+        if (const Word* l = Find('L'); l && (*l->value == 2 || *l->value == 20)) {
+          SetWorkOffset(int(*l->value));  // a work coordinate system's offset
+          return;
+        }
+        // With other parameters: tool offsets and temperatures (RepRapFirmware's G10 P,
+        // G10 L1), Marlin's swap retraction (G10 S1): skipped.
         ++path_.skipped_commands["G10"];
         return;
       case 11: ReadWords(code, pos, true); Expect("", "G11"); FirmwareRetract(false); return;
@@ -168,6 +185,17 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
           ++path_.skipped_commands["G80"];
         }
         return;
+      case 53:  // machine coordinates for the rest of the line ("G53 G1 X0 Y200")
+        ReadWords(code, pos, true);
+        Expect("", "G53");
+        machine_coordinates_ = true;
+        return;
+      case 54:
+      case 55:
+      case 56:
+      case 57:
+      case 58:
+      case 59: ReadWords(code, pos, true); Expect("", CommandName('G', n)); SelectWorkSystem(n - 54); return;
       case 90:
       case 91: ReadWords(code, pos, true); Expect("", CommandName('G', n)); xyz_relative_ = n == 91; return;
       case 92: ReadWords(code, pos, true); SetPosition(); return;
@@ -188,6 +216,11 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
   if (letter == 'M' && n == 48) {  // Marlin's probe repeatability test: probes around a point
     ReadWords(code, pos, false);
     PositionUnknown("M48");
+    return;
+  }
+  if (letter == 'M' && n == 290) {
+    ReadWords(code, pos, true);
+    Babystep();
     return;
   }
   if (letter == 'M' && n == 200) {

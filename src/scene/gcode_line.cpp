@@ -213,6 +213,7 @@ void GcodeReader::ReadLine(std::string_view line, int line_no) {
     if (pos == code.size()) return;
   }
   commands_on_line_ = 0;
+  machine_coordinates_ = false;
   ReadCommand(code, pos);
   while (!next_command_.empty()) {
     const std::string_view next = next_command_;

@@ -1,5 +1,5 @@
-// The G-code reader's motion: G0/G1 moves, G2/G3 arcs, G4 dwell, G28 home, G92 set
-// position, the feed rate, and the timed segments they append to the toolpath.
+// The G-code reader's motion: G0/G1 moves, G2/G3 arcs, G4 dwell, G28 home, the feed
+// rate, and the timed segments they append to the toolpath.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -58,7 +58,8 @@ Eigen::Vector3d GcodeReader::Target() const {
   for (int i = 0; i < 3; ++i) {
     if (const Word* w = Find(axes[i])) {
       double v = *w->value * unit_mm_;
-      target[i] = xyz_relative_ ? pos_mm_[i] + v : v + offset_mm_[i];
+      // G53: machine coordinates for this line's move (no G92 or work offset).
+      target[i] = xyz_relative_ ? pos_mm_[i] + v : v + (machine_coordinates_ ? PhysicalOffset()[i] : offset_mm_[i]);
     }
   }
   return target;
@@ -196,8 +197,7 @@ void GcodeReader::Move(int gcode) {
     for (int k = 0; k < 3; ++k) {
       if (Find(axes[k])) {
         end[k] = 0;
-        offset_mm_[k] = klipper_offset_mm_[k];  // Klipper: homing keeps SET_GCODE_OFFSET
-        axis_known_[k] = true;
+        HomeAxis(k);
       }
     }
     ExtraAxes(CommandName('G', gcode), 0);
@@ -351,29 +351,9 @@ void GcodeReader::Home() {
     if ((any || extra) && !Find(axes[k])) continue;
     Eigen::Vector3d end = pos_mm_;
     end[k] = 0;
-    offset_mm_[k] = klipper_offset_mm_[k];  // Klipper: homing keeps SET_GCODE_OFFSET
-    axis_known_[k] = true;
+    HomeAxis(k);
     const double length = std::abs(pos_mm_[k]);
     AddSegment(28, end, 0, length, k < 2 ? length : 0.0, nullptr, kHomingFeedMmS[k]);
-  }
-}
-
-void GcodeReader::SetPosition() {
-  Expect("XYZEABUVWC", "G92");
-  if (words_.empty()) {
-    offset_mm_ = pos_mm_;
-    for (double& e : e_logical_mm_) e = 0;
-    for (double& a : extra_axes_) a = 0;
-    return;
-  }
-  ExtraAxes("G92", 0, ExtraAxesUse::kSet);
-  const char axes[3] = {'X', 'Y', 'Z'};
-  for (int k = 0; k < 3; ++k) {
-    if (const Word* w = Find(axes[k])) offset_mm_[k] = pos_mm_[k] - *w->value * unit_mm_;
-  }
-  const char letters[3] = {'E', 'A', 'B'};
-  for (int k = 0; k < 3; ++k) {
-    if (const Word* e = Find(letters[k])) e_logical_mm_[k] = *e->value * unit_mm_;
   }
 }
 

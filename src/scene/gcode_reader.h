@@ -47,7 +47,9 @@ struct Word {
 
 class GcodeReader {
  public:
-  explicit GcodeReader(const std::string& name) : name_(name) {}
+  explicit GcodeReader(const std::string& name) : name_(name) {
+    for (Eigen::Vector3d& offset : work_offset_mm_) offset.setZero();
+  }
 
   // Room for n segments (a hint: more are appended as needed).
   void ReserveSegments(size_t n) { path_.segments.reserve(n); }
@@ -87,7 +89,25 @@ class GcodeReader {
   void Arc(int gcode);
   void Dwell();
   void Home();
+  // G92 (set the position: an offset of later absolute moves), G92.1 and G92.2 (G92's
+  // offset cleared; .2 keeps it for G92.3, which restores it): scene/gcode_offsets.cpp.
   void SetPosition();
+  void ResetPosition(int variant);
+  // G54-G59, G59.1-G59.3: the work coordinate system (0-8) whose offset later absolute
+  // moves take; G10 L2 (an offset) and L20 (the current position's coordinate) set one.
+  void SelectWorkSystem(int index);
+  void SetWorkOffset(int l);
+  // M290: babystepping (Marlin, RepRapFirmware): the nozzle moves now and later moves
+  // land that much further, until the axis is homed.
+  void Babystep();
+  // Homing axis k (0-2) clears G92's offset and babystepping on it; work offsets and
+  // Klipper's SET_GCODE_OFFSET stay.
+  void HomeAxis(int k);
+  // The offsets that are physical shifts (Klipper's SET_GCODE_OFFSET, babystepping, a
+  // firmware retraction's Z hop), which G53's machine coordinates keep; and with the
+  // active work system's offset: all but G92's.
+  Eigen::Vector3d PhysicalOffset() const;
+  Eigen::Vector3d OffsetWithoutG92() const { return PhysicalOffset() + work_offset_mm_[work_system_]; }
   void SetFeed();
   // Probing and levelling (G29, G30, G32-G34, G38.2-5, Prusa's G80, M48, Klipper's
   // BED_MESH_CALIBRATE, ...) end where the firmware stops: X, Y and Z unknown.
@@ -116,6 +136,11 @@ class GcodeReader {
   // land that much further; MOVE=1 moves there now (at MOVE_SPEED mm/s, else the feed).
   void KlipperGcodeOffset(std::string_view params);
   double klipper_offset_mm_[3] = {0, 0, 0};
+  Eigen::Vector3d babystep_mm_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d work_offset_mm_[9];  // G54, ..., G59, G59.1-G59.3 (machine mm)
+  int work_system_ = 0;
+  Eigen::Vector3d saved_g92_mm_ = Eigen::Vector3d::Zero();  // G92.2's, for G92.3
+  bool machine_coordinates_ = false;                        // G53 on this line
   // Marlin's M208 (S extra length, F feed on recovery); RepRapFirmware's M208 sets axis
   // limits (X, Y, Z... words) and is skipped.
   void RecoverSettings();

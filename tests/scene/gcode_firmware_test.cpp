@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 #include "scene/gcode.h"
 #include "test_util.h"
@@ -58,6 +59,94 @@ TEST(GcodeFirmware, ProbingIsWarnedToTakeNoTime) {
   EXPECT_THAT(p.warnings[0].text, HasSubstr("G29 (probing, levelling) takes no time in the toolpath"));
   // A tool parked in its dock (Prusa XL) is no probing.
   EXPECT_TRUE(ParseGcode("P0 S1 L2 D0\nG1 X1 Y1 Z1 F600\n", "xl.gcode").warnings.empty());
+}
+
+// The end points of a toolpath's segments, in mm.
+std::vector<Eigen::Vector3d> Ends(const Toolpath& p) {
+  std::vector<Eigen::Vector3d> ends;
+  for (const ToolpathSegment& s : p.segments) ends.push_back(s.end_m / kMm);
+  return ends;
+}
+
+// M290 (babystepping: Marlin, RepRapFirmware) moves the nozzle now and shifts every later
+// move by as much, until the axis is homed; RepRapFirmware's R0 makes S absolute. It was
+// skipped: the print ran 0.05 mm below the printer's.
+TEST(GcodeFirmware, BabysteppingShiftsLaterMovesUntilHoming) {
+  Toolpath p = ParseGcode(
+      "G1 X10 Y10 Z0.2 F600\n"
+      "M290 Z0.05\n"       // up 0.05 now
+      "G1 X20 E1\n"        // at 0.25
+      "M290 S-0.02\n"      // S is Z: 0.23
+      "G1 Z1\n"            // 1.03
+      "M290 R0 S0.1\n"     // absolute: 0.1 in all, 1.1
+      "G28 Z\n"            // homing clears it
+      "G1 Z1\n",
+      "babystep.gcode");
+  const std::vector<Eigen::Vector3d> ends = Ends(p);
+  ASSERT_EQ(ends.size(), 8u);
+  const double z[] = {0.2, 0.25, 0.25, 0.23, 1.03, 1.1, 0, 1};
+  for (size_t i = 0; i < ends.size(); ++i) EXPECT_NEAR(ends[i].z(), z[i], 1e-12) << i;
+  EXPECT_EQ(p.segments[1].line, 2);
+  EXPECT_EQ(p.segments[1].extruded_m, 0);
+  EXPECT_THAT(ErrorOf([] { ParseGcode("M290 S0.1 Z0.1\n", "b.gcode"); }), HasSubstr("b.gcode:1: M290 takes S or Z"));
+  EXPECT_THAT(ErrorOf([] { ParseGcode("M290 Q1\n", "b.gcode"); }), HasSubstr("b.gcode:1: M290 takes no parameter Q"));
+}
+
+// G92.1 clears G92's offset, G92.2 clears and keeps it, G92.3 restores it (RS-274,
+// RepRapFirmware, Marlin's G92.1); G53 puts one line's move in machine coordinates.
+// All were skipped: after "G92 X0" at X10, "G92.1 / G1 X5" went to 15.
+TEST(GcodeFirmware, G92ResetsAndMachineCoordinates) {
+  Toolpath p = ParseGcode(
+      "G1 X10 F600\n"
+      "G92 X0\n"         // logical 0 at machine 10
+      "G53 G1 X5\n"      // machine 5
+      "G1 X5\n"          // machine 15
+      "G92.2\n"          // cleared, kept
+      "G1 X1\n"          // machine 1
+      "G92.3\n"          // restored
+      "G1 X1\n"          // machine 11
+      "G92.1\n"          // cleared
+      "G53\n"            // alone on its line: nothing
+      "G1 X2\n",         // machine 2
+      "offsets.gcode");
+  const std::vector<Eigen::Vector3d> ends = Ends(p);
+  ASSERT_EQ(ends.size(), 6u);
+  const double x[] = {10, 5, 15, 1, 11, 2};
+  for (size_t i = 0; i < ends.size(); ++i) EXPECT_NEAR(ends[i].x(), x[i], 1e-12) << i;
+  EXPECT_THAT(ErrorOf([] { ParseGcode("G92.1 X0\n", "o.gcode"); }), HasSubstr("o.gcode:1: G92.1 takes no parameter X"));
+}
+
+// Work coordinate systems (G54-G59, G59.1-G59.3; RRF and CNC-style files): G10 L2 sets a
+// system's origin in machine coordinates, G10 L20 the origin that makes the current
+// position the given value; homing keeps them. G10 alone is still a firmware retraction
+// and G10 P.. S.. (RepRapFirmware's tool temperatures) is skipped. All were skipped:
+// "G10 L2 P2 X10 / G55 / G1 X10" went to 10, not 20.
+TEST(GcodeFirmware, WorkOffsetsAreSetByG10L2AndL20) {
+  Toolpath p = ParseGcode(
+      "G10 L2 P2 X10 Y5\n"
+      "G10 P0 S210 R170\n"
+      "G55\n"
+      "G1 X10 Y0 F600\n"     // machine (20, 5)
+      "G54\n"
+      "G1 X10\n"             // machine (10, 5): Y not named
+      "G10 L20 P7 X0\n"      // G59.1: here is X0
+      "G59.1\n"
+      "G1 X2\n"              // machine 12
+      "G28 X\n"              // machine 0
+      "G1 X0\n"              // machine 10
+      "G10\n",               // firmware retraction
+      "wcs.gcode");
+  const std::vector<Eigen::Vector3d> ends = Ends(p);
+  ASSERT_EQ(ends.size(), 6u);
+  EXPECT_TRUE(ends[0].isApprox(Eigen::Vector3d(20, 5, 0)));
+  EXPECT_TRUE(ends[1].isApprox(Eigen::Vector3d(10, 5, 0)));
+  EXPECT_NEAR(ends[2].x(), 12, 1e-12);
+  EXPECT_NEAR(ends[3].x(), 0, 1e-12);
+  EXPECT_NEAR(ends[4].x(), 10, 1e-12);
+  EXPECT_EQ(p.segments[5].gcode, 10);
+  EXPECT_EQ(p.skipped_commands.at("G10"), 1u);
+  EXPECT_THAT(ErrorOf([] { ParseGcode("G10 L2 P10 X1\n", "w.gcode"); }),
+              HasSubstr("w.gcode:1: G10 L2 P must be a coordinate system 1-9"));
 }
 
 }  // namespace
