@@ -378,6 +378,13 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
     auto note = [&](bool present, const char* what) {
       if (present) ignored += (ignored.empty() ? "" : ", ") + std::string(what);
     };
+    for (const auto& [index, key] : {std::pair{gm.normalTexture.index, "normalTexture"},
+                                     std::pair{gm.occlusionTexture.index, "occlusionTexture"}}) {
+      if (index >= 0 && size_t(index) >= m.textures.size()) {
+        throw InputError(where + "/" + key + "/index", "texture " + std::to_string(index) + " does not exist (" +
+                                                           std::to_string(m.textures.size()) + " textures)");
+      }
+    }
     note(gm.normalTexture.index >= 0, "normal texture");
     note(gm.occlusionTexture.index >= 0, "occlusion texture");
     note(gm.alphaMode != "OPAQUE", "alpha mode");

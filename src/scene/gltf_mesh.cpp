@@ -301,7 +301,19 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Materia
     // in a mesh with it gets white.
     std::vector<float> rgb;
     if (int acc = FindAttribute(src, prim, "COLOR_0", where); acc >= 0) {
-      const int components = src.model.accessors[size_t(acc)].type == TINYGLTF_TYPE_VEC4 ? 4 : 3;
+      const tinygltf::Accessor& ca = src.model.accessors[size_t(acc)];
+      // glTF 3.7.2.1: floats, or unsigned bytes / shorts that are normalized. Other
+      // integers read as their raw values were clamped to white (a colour of
+      // 0..255 bytes without "normalized": true, as some exporters write them).
+      if (ca.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT &&
+          !(ca.normalized && (ca.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                              ca.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT))) {
+        throw InputError(GltfWhere(src, "accessors", acc),
+                         "COLOR_0 must be floats or normalized unsigned bytes or shorts (glTF 3.7.2.1), got "
+                         "componentType " + std::to_string(ca.componentType) +
+                             (ca.normalized ? "" : " without \"normalized\": true"));
+      }
+      const int components = ca.type == TINYGLTF_TYPE_VEC4 ? 4 : 3;
       const std::vector<float> c = ReadFloatAccessor(src, acc, components);
       if (c.size() / size_t(components) != nverts) {
         throw InputError(GltfWhere(src, "accessors", acc), "COLOR_0 has " + std::to_string(c.size() / size_t(components)) +

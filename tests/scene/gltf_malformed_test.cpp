@@ -335,6 +335,30 @@ TEST(GltfMalformed, DanglingReferences) {
     b.json()["accessors"][0]["bufferView"] = 12;
     EXPECT_THAT(GlbError(b), HasSubstr("bufferView 12 does not exist"));
   }
+  {
+    // Textures that are not rendered are still references (loaded silently before).
+    GltfBuilder b = test::SquareBuilder();
+    b.json()["materials"] = {{{"normalTexture", {{"index", 5}}}}};
+    EXPECT_EQ(GlbError(b), "bad.glb: /materials/0/normalTexture/index: texture 5 does not exist (0 textures)");
+    b.json()["materials"] = {{{"occlusionTexture", {{"index", 0}}}}};
+    EXPECT_EQ(GlbError(b), "bad.glb: /materials/0/occlusionTexture/index: texture 0 does not exist (0 textures)");
+  }
+}
+
+// COLOR_0 of bytes without "normalized": true (glTF allows floats or normalized
+// unsigned bytes / shorts) was read as 0..255 and clamped: (0, 128, 0) became
+// green 1, (10, 20, 30) white.
+TEST(GltfMalformed, VertexColoursOfIntegersThatAreNotNormalized) {
+  GltfBuilder b = test::SquareBuilder();
+  const std::vector<uint8_t> rgb = {255, 0, 0, 0, 128, 0, 0, 0, 255, 10, 20, 30};
+  const int view = b.AddBufferView(rgb.data(), rgb.size());
+  b.json()["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = b.AddAccessor(view, 5121, 4, "VEC3", false);
+  EXPECT_EQ(GlbError(b), "bad.glb: /accessors/3: COLOR_0 must be floats or normalized unsigned bytes or shorts "
+                         "(glTF 3.7.2.1), got componentType 5121 without \"normalized\": true");
+  b.json()["accessors"][3]["componentType"] = 5120;  // signed bytes, normalized: not a colour format either
+  b.json()["accessors"][3]["normalized"] = true;
+  EXPECT_EQ(GlbError(b), "bad.glb: /accessors/3: COLOR_0 must be floats or normalized unsigned bytes or shorts "
+                         "(glTF 3.7.2.1), got componentType 5120");
 }
 
 TEST(GltfMalformed, NodeCycle) {
