@@ -147,6 +147,12 @@ Image<float> ReadImageChannels(const std::filesystem::path& path, const std::vec
   return out;
 }
 
+ImageFileSize ReadImageFileSize(const std::filesystem::path& path) {
+  OIIO::ImageSpec spec;
+  OpenInput(path, &spec);
+  return {spec.width, spec.height, spec.nchannels};
+}
+
 AnyImage ReadImage(const std::filesystem::path& path) { return ReadImage(path, AlphaChannel::kKeep); }
 
 AnyImage ReadImage(const std::filesystem::path& path, AlphaChannel alpha) {

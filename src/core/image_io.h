@@ -28,6 +28,13 @@ enum class AlphaChannel {
 };
 AnyImage ReadImage(const std::filesystem::path& path, AlphaChannel alpha);
 
+// An image file's size from its header, without reading the pixels (errors as
+// ReadImage's for a missing or unreadable file).
+struct ImageFileSize {
+  int width = 0, height = 0, channels = 0;
+};
+ImageFileSize ReadImageFileSize(const std::filesystem::path& path);
+
 // Reads an image as float in its own units (no scaling: an 8-bit 255 is 255.0f).
 Image<float> ReadImageFloat(const std::filesystem::path& path);
 // The same, and the names of the image's channels in the order of the pixels'

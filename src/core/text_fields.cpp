@@ -1,4 +1,4 @@
-#include "scene/motion_text.h"
+#include "core/text_fields.h"
 
 #include <charconv>
 #include <cmath>

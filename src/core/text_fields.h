@@ -1,5 +1,5 @@
-// Reading numbers and lines from the text files that describe motion (pose lists,
-// G-code). Strict: a number is the whole field, finite, in the C locale.
+// Reading numbers and fields from text files (pose lists, G-code, robot pose
+// files). Strict: a number is the whole field, finite, in the C locale.
 #pragma once
 
 #include <filesystem>
