@@ -141,6 +141,34 @@ void CheckJsonDepth(const std::string& text, const std::string& file) {
   }
 }
 
+void AppendU32(std::vector<unsigned char>* out, uint32_t v) {
+  unsigned char b[4];
+  std::memcpy(b, &v, 4);
+  out->insert(out->end(), b, b + 4);
+}
+
+// A GLB of the JSON text padded with spaces and the BIN payload padded with zeros.
+std::vector<unsigned char> AlignedGlb(const std::string& json, const unsigned char* bin, size_t bin_length,
+                                      bool has_bin) {
+  const size_t json_padded = (json.size() + 3) / 4 * 4, bin_padded = (bin_length + 3) / 4 * 4;
+  std::vector<unsigned char> out;
+  out.reserve(20 + json_padded + (has_bin ? 8 + bin_padded : 0));
+  AppendU32(&out, kGlbMagic);
+  AppendU32(&out, 2);
+  AppendU32(&out, uint32_t(20 + json_padded + (has_bin ? 8 + bin_padded : 0)));
+  AppendU32(&out, uint32_t(json_padded));
+  AppendU32(&out, kChunkJson);
+  out.insert(out.end(), json.begin(), json.end());
+  out.resize(20 + json_padded, ' ');
+  if (has_bin) {
+    AppendU32(&out, uint32_t(bin_padded));
+    AppendU32(&out, kChunkBin);
+    out.insert(out.end(), bin, bin + bin_length);
+    out.resize(out.size() + bin_padded - bin_length, 0);
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string ShortenDataUris(const std::string& text, size_t keep) {
@@ -221,11 +249,13 @@ GltfContainer ParseGltfContainer(const std::vector<unsigned char>& bytes, const 
   if (json_length == 0 || 20 + json_length > length) {
     fail("JSON chunk of " + std::to_string(json_length) + " bytes does not fit in " + std::to_string(length) + " bytes");
   }
-  if (json_length % 4 != 0) fail("JSON chunk length must be a multiple of 4");
   uint64_t end = 20 + json_length;
+  uint64_t bin_length = 0;
+  bool has_bin = false;
   if (end < length) {
     if (end + 8 > length) fail("truncated BIN chunk header");
-    uint64_t bin_length = ReadU32(bytes, size_t(end));
+    bin_length = ReadU32(bytes, size_t(end));
+    has_bin = true;
     if (const uint32_t type = ReadU32(bytes, size_t(end) + 4); type != kChunkBin) {
       // Chunks of unknown types may only follow the first two (JSON, BIN).
       std::string name;
@@ -242,10 +272,19 @@ GltfContainer ParseGltfContainer(const std::vector<unsigned char>& bytes, const 
       fail("BIN chunk of " + std::to_string(bin_length) + " bytes does not fit in the file (" +
            std::to_string(length - end - 8) + " bytes left)");
     }
-    if (bin_length % 4 != 0) fail("BIN chunk length must be a multiple of 4");
   }
   c.json_text.assign(bytes.begin() + 20, bytes.begin() + static_cast<ptrdiff_t>(20 + json_length));
   c.total_length = length;
+  if (json_length % 4 != 0 || bin_length % 4 != 0) {
+    // Each chunk is where its length says; only the padding glTF asks for is missing.
+    const size_t bin_start = size_t(end) + 8;
+    c.aligned = AlignedGlb(c.json_text, has_bin ? bytes.data() + bin_start : nullptr, size_t(bin_length), has_bin);
+    c.total_length = c.aligned.size();
+    c.warning = "the GLB's chunks are not padded to 4 bytes as glTF asks (JSON chunk of " +
+                std::to_string(json_length) + " bytes" +
+                (has_bin ? ", BIN chunk of " + std::to_string(bin_length) + " bytes" : std::string()) +
+                "); they are read as their lengths say";
+  }
   return c;
 }
 

@@ -16,14 +16,21 @@ namespace lt {
 struct GltfContainer {
   bool binary = false;     // .glb
   std::string json_text;   // whole file (.gltf) or the JSON chunk (.glb)
-  size_t total_length = 0; // bytes that belong to the file (GLB header length)
+  size_t total_length = 0; // bytes that belong to the file (GLB header length), or of `aligned`
+  // A GLB whose chunk lengths are not multiples of 4 (glTF asks for padding; Blender
+  // 2.80, older three.js and other writers left it out): a copy with the JSON chunk
+  // padded with spaces and the BIN chunk with zeros, for tinygltf, which refuses
+  // them; `warning` then says so. Empty for a well-formed file.
+  std::vector<unsigned char> aligned;
+  std::string warning;
 };
 
 // Reads a whole file; an lt::InputError naming `file` and the path looked for on failure.
 std::vector<unsigned char> ReadFileBytes(const std::filesystem::path& path, const std::string& file);
 
 // Splits a .glb into its chunks, or takes a .gltf as JSON text (told apart by the
-// "glTF" magic). Throws lt::InputError for a truncated or inconsistent container.
+// "glTF" magic). Throws lt::InputError for a truncated or inconsistent container;
+// chunks not padded to 4 bytes are read as their lengths say (`aligned`).
 GltfContainer ParseGltfContainer(const std::vector<unsigned char>& bytes, const std::string& file);
 
 // The external files of a glTF as CheckGltfJson found them, for tinygltf's file

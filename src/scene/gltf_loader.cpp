@@ -156,15 +156,18 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
   std::string err, warn;
   bool ok;
   if (container.binary) {
-    ok = loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(container.total_length),
+    const std::vector<unsigned char>& glb = container.aligned.empty() ? bytes : container.aligned;
+    ok = loader.LoadBinaryFromMemory(&model, &err, &warn, glb.data(), unsigned(container.total_length),
                                      base.string());
   } else {
     ok = loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
                                     unsigned(bytes.size()), base.string());
   }
   if (!ok) throw InputError(file, "invalid glTF: " + Trim(ShortenDataUris(err.empty() ? "parse failed" : err)));
+  if (!container.warning.empty()) asset.warnings.push_back(file + ": " + container.warning);
   if (!warn.empty()) asset.warnings.push_back(file + ": " + Trim(ShortenDataUris(warn)));
   bytes = {};
+  container = {};
 
   image_ctx.errors.resize(model.images.size());
   const GltfSource src{model, file, &image_ctx.errors};
