@@ -54,7 +54,7 @@ void ExtractCom(const ImageView<T>& image, const MethodParams& params, BandedPoi
       // The window stops at the valleys to neighbouring peaks (a second stripe
       // or a reflection resolved at half height).
       double lo = 0, hi = 0;
-      ValleyBounds(row, n, peak.first, peak.last, peak.value, base, int(std::ceil(h)) + 1, &lo, &hi);
+      ValleyBounds(row, n, peak.first, peak.last, peak.value, base, int(std::ceil(h)) + 1, &lo, &hi, params.threshold);
       double c = 0;
       // No point when the window leaves the image or holds no light.
       if (!SelfCentredCentroid(row, n, 0.5 * (peak.first + peak.last), h, base, &c, lo, hi)) continue;
