@@ -12,9 +12,11 @@
 #include "core/error.h"
 #include "core/image_io.h"
 #include "pipeline/calibration_file.h"
+#include "pipeline/capture_folder.h"
 #include "pipeline/channel_weights.h"
 #include "pipeline/colorize.h"
 #include "pipeline/frame_extraction.h"
+#include "pipeline/scan_poses.h"
 #include "pipeline/run_folder_reader.h"
 #include "pipeline/scan_output.h"
 #include "pipeline/stripe_extractor.h"
@@ -88,24 +90,6 @@ class ExtractorCache {
 
 std::string Size(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
 
-// The calibration's hand-eye pose turns the run's tool poses into the camera
-// poses the cloud is stitched with, world_from_cam = world_from_tool ·
-// tool_from_cam, as a real scanner on a robot or printer knows its pose. A frame
-// without a tool pose then has no camera pose. A run without tool poses keeps
-// its world_from_cam (and is warned about). Returns the poses' source.
-std::string UseHandEye(const Pose& tool_from_cam, const fs::path& calibration, std::vector<RunFrame>* frames,
-                       const std::function<void(const std::string&)>& warn) {
-  const bool any_tool = std::any_of(frames->begin(), frames->end(), [](const RunFrame& f) { return f.world_from_tool.has_value(); });
-  if (!any_tool) {
-    warn(calibration.string() + ": tool_from_cam is not used: the run's frames have no world_from_tool");
-    return "world_from_cam";
-  }
-  for (RunFrame& f : *frames) {
-    f.world_from_cam = f.world_from_tool ? std::optional<Pose>(*f.world_from_tool * tool_from_cam) : std::nullopt;
-  }
-  return "world_from_tool · tool_from_cam of " + calibration.string();
-}
-
 }  // namespace
 
 std::string ScanCentersName(int index) {
@@ -123,6 +107,7 @@ void ScanOptions::Check() const {
   colour.Check();
   if (frames_begin < 0) throw InputError("option frames", "the first frame must be >= 0");
   if (frames_end >= 0 && frames_end <= frames_begin) throw InputError("option frames", "the frame range is empty");
+  if (bit_depth < 0 || bit_depth > 16) throw InputError("--bit-depth", "must be 1..16, got " + std::to_string(bit_depth));
 }
 
 ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
@@ -131,12 +116,17 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
   auto warn = [&](const std::string& message) {
     if (warn_fn) warn_fn(message);
   };
-  std::vector<RunFrame> frames = ReadRunManifest(run_dir);
-  if (frames.empty()) {
-    throw InputError((run_dir / "manifest.jsonl").string(), "holds no frame (expected one JSON object per line)");
-  }
+  ScanFrames listed = ReadScanFrames(run_dir);
+  std::vector<RunFrame>& frames = listed.frames;
+  if (frames.empty()) throw InputError(listed.source.string(), "holds no frame (expected one JSON object per line)");
   std::optional<CalibrationFile> cal_file;
   if (options.calibration) cal_file = ReadCalibrationFile(*options.calibration);
+  ScanSummary summary;
+  summary.frames_source = listed.source;
+  summary.frames_from_listing = listed.from_listing;
+  summary.pose_source = ResolveScanPoses(options.poses, options.pose_file,
+                                         cal_file ? cal_file->tool_from_cam : std::nullopt, options.calibration,
+                                         listed.source.string(), &frames, warn);
   // A real capture may have no rig.json: the calibration file's camera is the camera.
   const bool rig_from_calibration = cal_file && cal_file->camera && !HasRunRig(run_dir);
   RunRig rig;
@@ -148,14 +138,14 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     warn(run_dir.string() + " holds no rig.json: the camera is " + rig.source.string() +
          "'s, the image sensor's black level 0 (--background sets it)" +
          (options.color_filter ? std::string() : ", mono (--bayer sets a mosaic)") +
-         ", its bit depth the manifest's bit_depth or the image's");
+         ", its bit depth " + (options.bit_depth > 0 ? "--bit-depth's" : listed.from_listing ? "the image's (--bit-depth sets it)" : "the manifest's bit_depth or the image's"));
   }
   if (options.color_filter) rig.color_filter = *options.color_filter;
+  if (options.bit_depth > 0) rig.bit_depth = options.bit_depth;
   // A manifest line without bit_depth: the image sensor's (threshold, saturation, colour).
   for (RunFrame& f : frames) {
     if (f.bit_depth <= 0) f.bit_depth = rig.bit_depth;
   }
-  ScanSummary summary;
   Camera camera = rig.camera;
   std::vector<Plane> planes = rig.planes_in_cam;
   summary.plane_source = rig.source;
@@ -180,8 +170,8 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     }
     planes = cal.laser_planes;
     summary.plane_source = path;
-    if (cal.tool_from_cam) summary.pose_source = UseHandEye(*cal.tool_from_cam, path, &frames, warn);
   }
+  listed.CheckSize(camera.width(), camera.height(), summary.plane_source.string());
   if (planes.empty()) throw InputError(rig.source.string(), "the rig has no laser plane: nothing to triangulate");
   summary.planes = int(planes.size());
   const Triangulator triangulator(camera, planes, options.triangulation);
@@ -363,7 +353,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
          "frames scanned as laser frames give false points; give shutter.laser_on on each manifest line");
   }
   if (summary.laser_frames == 0) {
-    throw InputError((run_dir / "manifest.jsonl").string(),
+    throw InputError(listed.source.string(),
                      "no laser frame to scan" + std::string(summary.other_frames > 0 ? " (only frames without laser light)"
                                                                                       : " in the selected range"));
   }

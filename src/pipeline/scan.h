@@ -18,6 +18,7 @@
 #include "pipeline/colorize.h"
 #include "pipeline/extraction_options.h"
 #include "pipeline/plane_identification.h"
+#include "pipeline/pose_file.h"
 #include "pipeline/triangulation.h"
 
 namespace lt {
@@ -50,6 +51,15 @@ struct ScanOptions {
   // The raw frames' colour filter mosaic (`--bayer`); unset: rig.json's
   // color_filter (mono for a rig taken from a calibration file).
   std::optional<ColorFilter> color_filter;
+  // The image sensor's ADC bits (1..16; 0: rig.json's, else unknown): sets
+  // rig.json's and gives frames without a manifest bit_depth (a capture
+  // without a manifest: all frames) theirs.
+  int bit_depth = 0;
+  // A pose file (pipeline/pose_file.h): one pose per frame of the run, in frame
+  // order; the tool's (world_from_tool) when the calibration file has
+  // tool_from_cam, else the camera's (world_from_cam). It replaces the manifest's.
+  std::optional<std::filesystem::path> poses;
+  PoseFileOptions pose_file;
   // Frames [frames_begin, frames_end) of the manifest (by index); -1: to the end.
   int frames_begin = 0;
   int frames_end = -1;
@@ -94,6 +104,10 @@ struct ScanSummary {
   // calibration file has tool_from_cam and the run has tool poses,
   // world_from_tool · tool_from_cam (docs/pipeline.md).
   std::string pose_source = "world_from_cam";
+  // Where the frames came from: RUN/manifest.jsonl, or (a capture without a
+  // manifest) the folder of the images, listed in natural order.
+  std::filesystem::path frames_source;
+  bool frames_from_listing = false;
   std::vector<ScanFrameSummary> frames;
   // Colour (cloud in the world frame and the run has bright frames with poses):
   // points coloured and contaminated by laser light (pipeline/colorize.h).

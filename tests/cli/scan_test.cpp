@@ -253,13 +253,16 @@ TEST_F(ScanCommand, BadInputExitsWithTwo) {
   const fs::path no_image = make_run("no_image", line0 + "\n");
   const fs::path good = CopyRun("bad_calib");
   std::ofstream(good / "garbage.yml") << "camera_matrix: [1, 2, 3]\n";
+  std::ofstream(good / "three.csv") << "x,y,z,qx,qy,qz,qw\n0,0,0,0,0,0,1\n0,0,0,0,0,0,1\n0,0,0,0,0,0,1\n";
+  std::ofstream(good / "bad.csv") << "x,y,z,qx,qy,qz,qw\n0,0,0,0,0,0,1\n0,0,0,0,0,1\n";
+  std::ofstream(good / "ambiguous.csv") << "0,0,0,0,0,0,1\n0,0,0,0,0,0,1\n";
 
   struct Case {
     std::string args, message;
   };
   const std::vector<Case> cases = {
       {Quoted(base / "nowhere"), (base / "nowhere").string() + ": run folder not found"},
-      {Quoted(no_manifest), (no_manifest / "manifest.jsonl").string() + ": run manifest not found"},
+      {Quoted(no_manifest), no_manifest.string() + ": no manifest.jsonl and no image file"},
       {Quoted(corrupt), (corrupt / "manifest.jsonl").string() + ":2:"},
       {Quoted(no_image), (no_image / "frames/000000.png").string() + ": no such file (frame 0, " +
                              (no_image / "manifest.jsonl").string() + ":1)"},
@@ -269,6 +272,12 @@ TEST_F(ScanCommand, BadInputExitsWithTwo) {
        (good / "garbage.yml").string() + ":1: not an OpenCV FileStorage YAML file"},
       {Quoted(good) + " --frames 1", (good / "manifest.jsonl").string() + ": no laser frame to scan"},
       {Quoted(good) + " --min-ray-angle-deg 95", "option min_ray_angle_deg: must be in [0, 90) degrees, got 95"},
+      {Quoted(good) + " --poses " + Quoted(good / "three.csv"),
+       (good / "three.csv").string() + ": holds 3 poses but " + (good / "manifest.jsonl").string() + " has 2 frames"},
+      {Quoted(good) + " --poses " + Quoted(good / "bad.csv"), (good / "bad.csv").string() + ":3: 6 fields"},
+      {Quoted(good) + " --poses " + Quoted(good / "ambiguous.csv"),
+       (good / "ambiguous.csv").string() + ":1: 7 numbers per row (x y z and a quaternion), no header"},
+      {Quoted(good) + " --poses " + Quoted(good / "three.csv") + " --pose-units inch", "--pose-units: unknown units 'inch'"},
       {Quoted(good) + " --background ambient", "--background: expected a level (a number) or 'local', got 'ambient'"},
   };
   std::vector<std::string> args;
@@ -282,6 +291,36 @@ TEST_F(ScanCommand, BadInputExitsWithTwo) {
   // Nothing was written for the failed scans.
   EXPECT_FALSE(fs::exists(good / "cloud.ply"));
   EXPECT_FALSE(fs::exists(no_image / "cloud.ply"));
+}
+
+// A capture without a manifest: the images of frames/ in name order, the
+// camera's pose from a pose file (the manifest's world_from_cam, written as a
+// robot would, in millimetres with w first); the world points are the truth's.
+TEST_F(ScanCommand, CaptureWithoutManifestTakesTheFolderAndAPoseFile) {
+  const fs::path run = CopyRun("capture");
+  const nlohmann::json line = nlohmann::json::parse(ReadFile(run / "manifest.jsonl").substr(0, ReadFile(run / "manifest.jsonl").find('\n')));
+  const auto& t = line["world_from_cam"]["translation_m"];
+  const auto& q = line["world_from_cam"]["rotation_quat_wxyz"];
+  ASSERT_EQ(q.size(), 4u);
+  char row[400];
+  std::snprintf(row, sizeof row, "%.17g;%.17g;%.17g;%.17g;%.17g;%.17g;%.17g\n", 1000 * t[0].get<double>(),
+                1000 * t[1].get<double>(), 1000 * t[2].get<double>(), q[0].get<double>(), q[1].get<double>(),
+                q[2].get<double>(), q[3].get<double>());
+  std::ofstream(run / "poses.csv") << "X_mm;Y_mm;Z_mm;q1;q2;q3;q4\n" << row;
+  fs::rename(run / "manifest.jsonl", run / "manifest.jsonl.bak");
+  fs::rename(run / "gt", run / "gt.bak");            // ground truth is not the folder's frames
+  fs::remove(run / "frames/000001.png");            // the bright frame (no shutter state without a manifest)
+  fs::rename(run / "frames/000000.png", run / "frames/Frame_1.PNG");
+  CliResult r = RunCli("scan " + Quoted(run) + " --poses " + Quoted(run / "poses.csv"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("frames: the 1 image files of " + (run / "frames").string() +
+                               " in file name order (no manifest.jsonl)"));
+  EXPECT_THAT(r.err, HasSubstr("(world frame, poses world_from_cam from " + (run / "poses.csv").string() + " (CSV columns x,y,z,q1,q2,q3,q4, mm))"));
+  fs::rename(run / "gt.bak", run / "gt");
+  const Truth truth = ReadTruth(run);
+  int compared = 0;
+  EXPECT_LT(WorstError(run, truth, &compared), 0.1e-3);
+  EXPECT_GE(compared, 100);
 }
 
 // As for extract: a typed nan is not the default threshold (NaN inside), but an

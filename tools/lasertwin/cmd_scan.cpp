@@ -30,6 +30,9 @@ struct ScanArgs {
   std::string frames;
   std::string background;  // empty: the black level
   std::string bayer;       // empty: the rig's color_filter
+  std::string poses;
+  std::string pose_units;  // empty: the header's, else m
+  std::string pose_order;  // empty: the header's (headerless 7/8-number rows need it)
   bool quiet = false;
   ScanOptions options;
 };
@@ -45,6 +48,9 @@ void Run(ScanArgs& a) {
   if (!a.weights.empty()) o.extraction.channel_weights = ParseNumberList(a.weights, "--weights");
   if (!a.calib.empty()) o.calibration = a.calib;
   if (!a.bayer.empty()) o.color_filter = ParseBayerPattern(a.bayer, "--bayer");
+  if (!a.poses.empty()) o.poses = a.poses;
+  if (!a.pose_units.empty()) o.pose_file.units = ParsePoseUnits(a.pose_units, "--pose-units");
+  if (!a.pose_order.empty()) o.pose_file.order = ParseQuaternionOrder(a.pose_order, "--pose-order");
   if (!a.frames.empty()) {
     const FrameRange r = FrameRange::Parse(a.frames);
     o.frames_begin = r.begin, o.frames_end = r.EndOrMinusOne();
@@ -62,6 +68,10 @@ void Run(ScanArgs& a) {
   }
   if (a.quiet) return;
   const TriangulationStats& st = s.stats;
+  if (s.frames_from_listing) {
+    std::cerr << "frames: the " << s.laser_frames + s.other_frames << " image files of " << s.frames_source.string()
+              << " in file name order (no manifest.jsonl)\n";
+  }
   std::cerr << "scanned " << s.laser_frames << " laser frame" << (s.laser_frames == 1 ? "" : "s");
   if (s.other_frames > 0) std::cerr << " (" << s.other_frames << " without laser light skipped)";
   std::cerr << ": " << st.points << " stripe points, " << s.triangulated << " triangulated";
@@ -119,7 +129,9 @@ void Add(CLI::App& app) {
   auto args = std::make_shared<ScanArgs>();
   auto* cmd = app.add_subcommand(
       "scan", "Extract, identify and triangulate the laser frames of a run folder (centers/*.csv, cloud.ply)");
-  cmd->add_option("RUN_DIR", args->run_dir, "Run folder (from lasertwin render, or a capture with the same layout)")
+  cmd->add_option("RUN_DIR", args->run_dir,
+                  "Run folder (from lasertwin render, or a capture with the same layout), or a folder of images "
+                  "without manifest.jsonl (frames in file name order, directly in it or in its frames/)")
       ->required();
   cmd->add_option("--method", args->method, "max | com | multicom | steger")->capture_default_str();
   cmd->add_option("--calib", args->calib,
@@ -127,6 +139,15 @@ void Add(CLI::App& app) {
                   "run's world_from_tool) replace the run's ground truth");
   cmd->add_option("--axis", args->axis, "rows | cols (default: the manifest's gt_axis, else from the laser planes)");
   cmd->add_option("--frames", args->frames, "Frames to scan: A:B (A inclusive, B exclusive), A:, :B or N");
+  cmd->add_option("--poses", args->poses,
+                  "Pose file, one pose per frame in frame order (CSV with a header, TUM, 7-number, 3x4 or 4x4 rows; "
+                  "docs/pipeline.md): the tool's poses with --calib's tool_from_cam, else the camera's (world_from_cam)");
+  cmd->add_option("--pose-units", args->pose_units, "m | mm: the pose file's translations (default: its header's, else m)");
+  cmd->add_option("--pose-order", args->pose_order,
+                  "xyzw | wxyz: the quaternion order of a pose file without a header (TUM's is xyzw)");
+  cmd->add_option("--bit-depth", args->options.bit_depth,
+                  "The image sensor's ADC bits (1..16): a 16-bit image of a 12-bit camera reads up to 4095 (default: "
+                  "the manifest's bit_depth, rig.json's)");
   cmd->add_option("--roi", args->roi, "Search only in X,Y,W,H (pixels)");
   auto& e = args->options.extraction;
   cmd->add_option("--threshold", e.threshold,

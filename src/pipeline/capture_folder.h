@@ -1,0 +1,45 @@
+// The frames of a capture without a manifest (`lasertwin scan DIR` on a folder
+// of images from a camera's software, docs/pipeline.md, "A capture without a
+// manifest"): the image files directly in DIR, or in DIR/frames, in natural
+// order (img2 before img10), any extension the image reader takes in any case
+// (ListImageFiles); hidden files (".name", macOS's "._name" copies) and
+// sub-folders are left out. Every image must have the size of the first.
+#pragma once
+
+#include <filesystem>
+#include <string_view>
+#include <vector>
+
+#include "pipeline/run_folder_reader.h"
+
+namespace lt {
+
+struct CaptureFolder {
+  std::filesystem::path images_dir;  // DIR or DIR/frames
+  std::vector<RunFrame> frames;      // index 0, 1, ... in natural order; laser frames unless told otherwise
+  int width = 0, height = 0;         // of every image
+};
+
+// Throws lt::InputError naming the folder when it holds no image (neither
+// directly nor in frames/) or holds images in both places, and naming the file
+// for an unreadable image or one whose size is not the first image's.
+CaptureFolder ReadCaptureFolder(const std::filesystem::path& dir);
+
+// The frames a scan reads: DIR/manifest.jsonl's (ReadRunManifest), or, when
+// DIR is a folder without one, the folder listing's (ReadCaptureFolder).
+struct ScanFrames {
+  std::vector<RunFrame> frames;
+  std::filesystem::path source;  // DIR/manifest.jsonl, or the folder of the images
+  bool from_listing = false;
+  int width = 0, height = 0;     // from_listing: the images' size
+  // Throws lt::InputError naming the first image when the listed images' size
+  // is not the camera's (before any frame is scanned).
+  void CheckSize(int camera_width, int camera_height, const std::string& camera_source) const;
+};
+ScanFrames ReadScanFrames(const std::filesystem::path& dir);
+
+// Natural order of file names: runs of digits compare as numbers ("img2" <
+// "img10"), other characters case-insensitively; ties ("img01", "img1") by bytes.
+bool NaturalLess(std::string_view a, std::string_view b);
+
+}  // namespace lt

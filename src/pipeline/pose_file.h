@@ -1,0 +1,62 @@
+// Per-frame poses from the file a robot controller, a printer or a tracking
+// tool writes (`lasertwin scan --poses FILE`, docs/pipeline.md, "Poses from a
+// file"): one pose per frame, in frame order. Forms, one per file:
+//   CSV with a header naming the columns (',' ';' or tab separated, any order):
+//     translation x y z (also tx.., pos_x.., x_m, x_mm, "x [mm]": a unit in the
+//     name sets the units), and one rotation:
+//       qx qy qz qw          unit quaternion (also q_x.., quat_x..)
+//       q1 q2 q3 q4          ABB's quaternion, w first
+//       rx ry rz             rotation vector in radians (Universal Robots)
+//       a b c                KUKA's angles in degrees, R = Rz(a) Ry(b) Rx(c)
+//     columns named t, time, timestamp, t_s, frame, index, image or file are
+//     skipped; any other name is an error.
+//   rows of numbers without a header:
+//     7  x y z + quaternion: its order (w first or last) must be given (order)
+//     8  blank separated: TUM (timestamp tx ty tz qx qy qz qw); comma separated:
+//        a time or index, then 7 as above (order needed)
+//     12 a 3x4 matrix [R | t], row-major (KITTI's poses)
+//     16 a 4x4 matrix, row-major, last row 0 0 0 1
+// Blank lines and lines starting with '#' are skipped (a UTF-8 BOM too).
+// Units: metres, unless the options or a header say millimetres; translations
+// above 5 m are warned about as probably millimetres. Rotations must be
+// rotations (quaternion norm 1 to 1e-3, matrix orthonormal to 1e-4), then are
+// re-normalised. Errors are lt::InputError naming "FILE:LINE".
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/pose.h"
+
+namespace lt {
+
+enum class QuaternionOrder { kXyzw, kWxyz };
+enum class PoseUnits { kMetres, kMillimetres };
+
+struct PoseFileOptions {
+  std::optional<PoseUnits> units;         // unset: the header's, else metres
+  std::optional<QuaternionOrder> order;   // headerless 7/8-column rows need it (not TUM)
+};
+
+struct PoseFile {
+  std::vector<Pose> poses;          // in metres, in file order
+  std::vector<int> lines;           // the line of each pose
+  std::string form;                 // e.g. "CSV columns x,y,z,qx,qy,qz,qw", "TUM", "3x4 matrices"
+  PoseUnits units = PoseUnits::kMetres;
+};
+
+// Reads a pose file. Warnings (millimetre-sized translations read as metres) go to `warn`.
+PoseFile ReadPoseFile(const std::filesystem::path& path, const PoseFileOptions& options = {},
+                      const std::function<void(const std::string&)>& warn = {});
+// The same on text; errors name display_name.
+PoseFile ParsePoseFile(const std::string& text, const std::string& display_name, const PoseFileOptions& options = {},
+                       const std::function<void(const std::string&)>& warn = {});
+
+// "xyzw" | "wxyz"; "m" | "mm". Throw lt::InputError naming `option`.
+QuaternionOrder ParseQuaternionOrder(const std::string& text, const std::string& option);
+PoseUnits ParsePoseUnits(const std::string& text, const std::string& option);
+
+}  // namespace lt

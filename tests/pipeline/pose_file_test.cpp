@@ -1,0 +1,172 @@
+// Pose files as robots, printers and tracking tools write them
+// (pipeline/pose_file.h): every form gives the same poses; each bad input is an
+// InputError naming the file and line.
+#include "pipeline/pose_file.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "core/error.h"
+
+namespace lt {
+namespace {
+
+using ::testing::HasSubstr;
+
+Pose TestPose(int k) {
+  Pose p = Pose::Identity();
+  p.linear() = Eigen::AngleAxisd(0.4 + 0.7 * k, Eigen::Vector3d(0.2, -1, 0.4 + k).normalized()).toRotationMatrix();
+  p.translation() = Eigen::Vector3d(0.31 + 0.05 * k, -0.12, 0.5 - 0.02 * k);
+  return p;
+}
+
+std::string Num(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+// Two poses, one row each: `row` writes the numbers of a pose (translation scaled by `scale`).
+template <typename Row>
+std::string Rows(const std::string& header, const std::string& sep, double scale, Row row) {
+  std::string text = header.empty() ? "" : header + "\n";
+  for (int k = 0; k < 2; ++k) {
+    const Pose p = TestPose(k);
+    std::vector<double> v = row(p, Eigen::Vector3d(p.translation() * scale), k);
+    for (size_t i = 0; i < v.size(); ++i) text += (i ? sep : "") + Num(v[i]);
+    text += "\n";
+  }
+  return text;
+}
+
+std::vector<double> Xyzw(const Pose& p, const Eigen::Vector3d& t) {
+  const Eigen::Quaterniond q(p.linear());
+  return {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()};
+}
+std::vector<double> Wxyz(const Pose& p, const Eigen::Vector3d& t) {
+  const Eigen::Quaterniond q(p.linear());
+  return {t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z()};
+}
+
+void ExpectPoses(const PoseFile& f) {
+  ASSERT_EQ(f.poses.size(), 2u);
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_LT((f.poses[size_t(k)].matrix() - TestPose(k).matrix()).cwiseAbs().maxCoeff(), 1e-12) << f.form << " " << k;
+  }
+}
+
+std::string ErrorOf(const std::string& text, const PoseFileOptions& o = {}) {
+  try {
+    ParsePoseFile(text, "poses.csv", o);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(PoseFile, EveryFormGivesThePoses) {
+  auto xyzw = [](const Pose& p, const Eigen::Vector3d& t, int) { return Xyzw(p, t); };
+  auto wxyz = [](const Pose& p, const Eigen::Vector3d& t, int) { return Wxyz(p, t); };
+  ExpectPoses(ParsePoseFile(Rows("x,y,z,qx,qy,qz,qw", ",", 1, xyzw), "p"));
+  ExpectPoses(ParsePoseFile(Rows("x; y; z; qw; qx; qy; qz", ";", 1, wxyz), "p"));
+  ExpectPoses(ParsePoseFile(Rows("# tx ty tz qw qx qy qz", " ", 1, wxyz), "p"));  // a commented header
+  ExpectPoses(ParsePoseFile(Rows("x,y,z,q1,q2,q3,q4", ",", 1, wxyz), "p"));        // ABB: w first
+  PoseFileOptions o;
+  o.order = QuaternionOrder::kWxyz;
+  ExpectPoses(ParsePoseFile(Rows("", ",", 1, wxyz), "p", o));
+  o.order = QuaternionOrder::kXyzw;
+  ExpectPoses(ParsePoseFile(Rows("", ",", 1, xyzw), "p", o));
+  // Columns in any order, with time and image columns skipped; units in the names.
+  const PoseFile named = ParsePoseFile(Rows("image,t_s,qw,qx,qy,qz,x [mm],y [mm],z [mm]", ",", 1000,
+                                            [](const Pose& p, const Eigen::Vector3d& t, int k) {
+                                              const Eigen::Quaterniond q(p.linear());
+                                              return std::vector<double>{double(k), 0.1 * k, q.w(), q.x(), q.y(),
+                                                                         q.z(), t.x(), t.y(), t.z()};
+                                            }),
+                                       "p");
+  ExpectPoses(named);
+  EXPECT_EQ(named.units, PoseUnits::kMillimetres);
+  // TUM: timestamp tx ty tz qx qy qz qw, blank separated, comments.
+  const PoseFile tum = ParsePoseFile("# ground truth\n" + Rows("", " ", 1, [](const Pose& p, const Eigen::Vector3d& t, int k) {
+    std::vector<double> v = Xyzw(p, t);
+    v.insert(v.begin(), 1700000000.5 + k);
+    return v;
+  }), "p");
+  ExpectPoses(tum);
+  EXPECT_THAT(tum.form, HasSubstr("TUM"));
+  // 3x4 and 4x4 row-major matrices.
+  auto matrix = [](int rows) {
+    return [rows](const Pose& p, const Eigen::Vector3d&, int) {
+      std::vector<double> v;
+      for (int i = 0; i < rows; ++i)
+        for (int j = 0; j < 4; ++j) v.push_back(p.matrix()(i, j));
+      return v;
+    };
+  };
+  ExpectPoses(ParsePoseFile(Rows("", " ", 1, matrix(3)), "p"));
+  ExpectPoses(ParsePoseFile(Rows("", ",", 1, matrix(4)), "p"));
+  // Universal Robots: metres and a rotation vector (its RTDE log's names too).
+  auto rotvec = [](const Pose& p, const Eigen::Vector3d& t, int) {
+    const Eigen::AngleAxisd aa(p.linear());
+    const Eigen::Vector3d r = aa.axis() * aa.angle();
+    return std::vector<double>{t.x(), t.y(), t.z(), r.x(), r.y(), r.z()};
+  };
+  ExpectPoses(ParsePoseFile(Rows("x,y,z,rx,ry,rz", ",", 1, rotvec), "p"));
+  ExpectPoses(ParsePoseFile(
+      Rows("actual_TCP_pose_0 actual_TCP_pose_1 actual_TCP_pose_2 actual_TCP_pose_3 actual_TCP_pose_4 actual_TCP_pose_5",
+           " ", 1, rotvec),
+      "p"));
+  // KUKA: millimetres and A, B, C in degrees, R = Rz(A) Ry(B) Rx(C).
+  o = {};
+  o.units = PoseUnits::kMillimetres;
+  ExpectPoses(ParsePoseFile(Rows("X,Y,Z,A,B,C", ",", 1000, [](const Pose& p, const Eigen::Vector3d& t, int) {
+    const Eigen::Vector3d zyx = p.linear().eulerAngles(2, 1, 0) * (180 / M_PI);
+    return std::vector<double>{t.x(), t.y(), t.z(), zyx[0], zyx[1], zyx[2]};
+  }), "p", o));
+}
+
+TEST(PoseFile, MillimetresReadAsMetresAreWarned) {
+  auto xyzw = [](const Pose& p, const Eigen::Vector3d& t, int) { return Xyzw(p, t); };
+  std::vector<std::string> warnings;
+  auto warn = [&](const std::string& w) { warnings.push_back(w); };
+  const std::string mm = Rows("x,y,z,qx,qy,qz,qw", ",", 1000, xyzw);
+  ParsePoseFile(mm, "poses.csv", {}, warn);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_THAT(warnings[0], HasSubstr("poses.csv:3: a translation of"));
+  EXPECT_THAT(warnings[0], HasSubstr("--pose-units mm"));
+  warnings.clear();
+  PoseFileOptions o;
+  o.units = PoseUnits::kMillimetres;
+  ExpectPoses(ParsePoseFile(mm, "poses.csv", o, warn));
+  ExpectPoses(ParsePoseFile(Rows("x_mm,y_mm,z_mm,qx,qy,qz,qw", ",", 1000, xyzw), "poses.csv", {}, warn));
+  EXPECT_TRUE(warnings.empty());
+  o.units = PoseUnits::kMetres;
+  EXPECT_THAT(ErrorOf(Rows("x_mm,y_mm,z_mm,qx,qy,qz,qw", ",", 1000, xyzw), o),
+              HasSubstr("poses.csv: the header gives translations in mm, the option in m"));
+}
+
+TEST(PoseFile, BadInputNamesTheLine) {
+  auto xyzw = [](const Pose& p, const Eigen::Vector3d& t, int) { return Xyzw(p, t); };
+  // A headerless quaternion row is ambiguous: w first or last?
+  EXPECT_THAT(ErrorOf(Rows("", ",", 1, xyzw)), HasSubstr("poses.csv:1: 7 numbers per row"));
+  EXPECT_THAT(ErrorOf(Rows("", ",", 1, xyzw)), HasSubstr("--pose-order xyzw or wxyz"));
+  EXPECT_THAT(ErrorOf("0,0,0,0,0,0\n"), HasSubstr("poses.csv:1: 6 numbers per row, no header"));
+  EXPECT_THAT(ErrorOf("1 2 3 4 5\n"), HasSubstr("poses.csv:1: 5 numbers per row"));
+  EXPECT_THAT(ErrorOf("x,y,z,qx,qy,qz,qw\n0,0,0,0,0,0,1\n0,0,0,0,0,1\n"), HasSubstr("poses.csv:3: 6 fields, but the first row has 7"));
+  EXPECT_THAT(ErrorOf("x,y,z,qx,qy,qz,qw\n0,0,0,0,0,0,1\n0,0,abc,0,0,0,1\n"),
+              HasSubstr("poses.csv:3: field 3 is not a finite number: \"abc\""));
+  EXPECT_THAT(ErrorOf("x,y,z,qx,qy,qz,qw\n0,0,0,0,0,0,2\n"), HasSubstr("poses.csv:2: the quaternion must have unit norm"));
+  EXPECT_THAT(ErrorOf("x,y,z,qx,qy,qz,qw,speed\n"), HasSubstr("poses.csv:1: column 8 'speed': unknown column name"));
+  EXPECT_THAT(ErrorOf("x,y,z\n"), HasSubstr("poses.csv:1: header 'x,y,z': no rotation columns"));
+  EXPECT_THAT(ErrorOf("x,y,z,qx,qy,qz,qw,a,b,c\n"), HasSubstr("more than one kind of rotation"));
+  EXPECT_THAT(ErrorOf("x [in],y,z,qx,qy,qz,qw\n"), HasSubstr("unknown unit 'in'"));
+  EXPECT_THAT(ErrorOf("1 0 0 0 0 1 0 0 0 0 2 0\n"), HasSubstr("poses.csv:1: not a rotation matrix"));
+  EXPECT_THAT(ErrorOf("1 0 0 0 0 1 0 0 0 0 1 0 0 0 1 1\n"), HasSubstr("poses.csv:1: the last row of a 4x4 pose must be 0 0 0 1"));
+  EXPECT_THAT(ErrorOf("# nothing\n\n"), HasSubstr("poses.csv: holds no pose"));
+  EXPECT_THAT(ErrorOf("x,y,z,qx,qy,qz,qw\n"), HasSubstr("poses.csv: holds no pose"));
+}
+
+}  // namespace
+}  // namespace lt

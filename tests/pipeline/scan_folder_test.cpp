@@ -1,0 +1,202 @@
+// ScanRun on a capture without a manifest: a folder of images in file name
+// order (pipeline/capture_folder.h), stitched with a pose file
+// (pipeline/pose_file.h); the world points against the closed form
+// world_from_cam · p_in_cam of the synthetic runs of scan_test_util.h.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "pipeline/capture_folder.h"
+#include "scan_test_util.h"
+
+namespace lt {
+namespace {
+
+using namespace scan_test;
+using ::testing::HasSubstr;
+
+std::string ErrorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+Pose FramePose(int k) {
+  Pose p = Pose::Identity();
+  p.linear() = Eigen::AngleAxisd(0.3 + 0.5 * k, Eigen::Vector3d(0.1, 1, -0.3 * k).normalized()).toRotationMatrix();
+  p.translation() = Eigen::Vector3d(0.2 + 0.1 * k, -0.05 * k, 0.4);
+  return p;
+}
+
+// A pose file "x,y,z,qx,qy,qz,qw" in millimetres (a header unit) for frames 0..n-1.
+fs::path WritePoses(const fs::path& path, int n, double scale = 1000) {
+  std::ofstream out(path);
+  out << "t,x [mm],y [mm],z [mm],qx,qy,qz,qw\n";
+  out.precision(17);
+  for (int k = 0; k < n; ++k) {
+    const Pose p = FramePose(k);
+    const Eigen::Quaterniond q(p.linear());
+    const Eigen::Vector3d t = p.translation() * scale;
+    out << 0.1 * k << "," << t.x() << "," << t.y() << "," << t.z() << "," << q.x() << "," << q.y() << "," << q.z()
+        << "," << q.w() << "\n";
+  }
+  return path;
+}
+
+// The synthetic run turned into a capture without a manifest: its laser frame
+// (10-bit DN in 16-bit PNGs) saved as frames/img1.png, img2.png, img10.png.
+SyntheticRun MakeCapture(const std::string& name) {
+  SyntheticRun run = MakeRun(name, 1);
+  fs::remove(run.dir / "manifest.jsonl");
+  for (const char* n : {"img1.png", "img2.png", "img10.png"}) fs::copy_file(run.dir / "frames/000000.png", run.dir / "frames" / n);
+  fs::remove(run.dir / "frames/000000.png");
+  return run;
+}
+
+void ExpectWorldPoints(const SyntheticRun& run, int frames, const Pose& cam_from_pose_frame) {
+  for (int k = 0; k < frames; ++k) {
+    const std::vector<ScanPoint> points = ReadScanCsv(run.dir / ScanCentersName(k));
+    ASSERT_GE(points.size(), 150u) << k;
+    for (const ScanPoint& p : points) {
+      ASSERT_TRUE(p.p_in_cam && p.p_in_world);
+      EXPECT_LT(ErrorInPixels(run, 0, p), 0.01);
+      const Eigen::Vector3d exact = FramePose(k) * cam_from_pose_frame * *p.p_in_cam;
+      EXPECT_LT((*p.p_in_world - exact).norm(), 1e-9) << k;
+    }
+  }
+}
+
+TEST(CaptureFolder, FramesAreTheImagesInNaturalOrder) {
+  EXPECT_TRUE(NaturalLess("img2.png", "img10.png"));
+  EXPECT_FALSE(NaturalLess("img10.png", "img2.png"));
+  EXPECT_TRUE(NaturalLess("frame_0009.png", "frame_0010.png"));
+  EXPECT_TRUE(NaturalLess("IMG3.PNG", "img4.png"));
+  EXPECT_TRUE(NaturalLess("a.png", "a1.png"));
+  EXPECT_NE(NaturalLess("img01.png", "img1.png"), NaturalLess("img1.png", "img01.png"));  // a total order
+  const fs::path dir = fs::temp_directory_path() / ("lt_capture_folder_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "sub");
+  const Image<uint8_t> img(4, 3, 1, 7);
+  for (const char* n : {"img10.png", "img2.PNG", "img1.tif", ".hidden.png", "._img3.png", "sub/img0.png"}) WriteImage(dir / n, img);
+  for (const char* n : {"Thumbs.db", ".DS_Store", "notes.txt"}) std::ofstream(dir / n) << "x";
+  const ScanFrames listed = ReadScanFrames(dir);
+  EXPECT_TRUE(listed.from_listing);
+  EXPECT_EQ(listed.source, dir);
+  ASSERT_EQ(listed.frames.size(), 3u);
+  EXPECT_EQ(listed.frames[0].image, dir / "img1.tif");
+  EXPECT_EQ(listed.frames[1].image, dir / "img2.PNG");
+  EXPECT_EQ(listed.frames[2].image, dir / "img10.png");
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(listed.frames[size_t(k)].index, k);
+    EXPECT_TRUE(listed.frames[size_t(k)].IsLaserFrame());
+  }
+  EXPECT_EQ(listed.width, 4);
+  // Images both directly and in frames/: which are the frames?
+  fs::create_directories(dir / "frames");
+  WriteImage(dir / "frames/0.png", img);
+  EXPECT_THAT(ErrorOf([&] { ReadScanFrames(dir); }), HasSubstr(dir.string() + ": holds images both directly"));
+  for (const char* n : {"img10.png", "img2.PNG", "img1.tif"}) fs::remove(dir / n);
+  EXPECT_EQ(ReadScanFrames(dir).source, dir / "frames");
+  // Mixed sizes name the odd image and the first.
+  WriteImage(dir / "frames/1.png", Image<uint8_t>(5, 3, 1, 7));
+  EXPECT_THAT(ErrorOf([&] { ReadScanFrames(dir); }),
+              HasSubstr((dir / "frames/1.png").string() + ": the image is 5x3 but 0.png, the first frame, is 4x3"));
+  // No image at all.
+  fs::remove_all(dir / "frames");
+  EXPECT_THAT(ErrorOf([&] { ReadScanFrames(dir); }), HasSubstr(dir.string() + ": no manifest.jsonl and no image file"));
+  fs::remove_all(dir);
+}
+
+// Three frames and a pose file in millimetres: the poses are the camera's, the
+// world points world_from_cam · p_in_cam; the 10-bit DN need the bit depth.
+TEST(ScanFolder, FramesWithAPoseFileAreStitchedInTheWorld) {
+  SyntheticRun run = MakeCapture("folder_poses");
+  nlohmann::json rig = nlohmann::json::parse(std::ifstream(run.dir / "rig.json"));
+  rig["image_sensor"].erase("bit_depth");  // the camera's software wrote 10-bit DN in 16-bit PNGs, unsaid
+  std::ofstream(run.dir / "rig.json") << rig.dump(2);
+  ScanOptions o;
+  o.poses = WritePoses(run.dir / "poses.csv", 3);
+  ScanSummary none = ScanRun(run.dir, o);  // 10% of 65535: no stripe point
+  EXPECT_EQ(none.triangulated, 0);
+  o.bit_depth = 10;
+  ScanSummary s = ScanRun(run.dir, o);
+  EXPECT_TRUE(s.frames_from_listing);
+  EXPECT_EQ(s.frames_source, run.dir / "frames");
+  EXPECT_EQ(s.laser_frames, 3);
+  EXPECT_TRUE(s.world_frame);
+  EXPECT_THAT(s.pose_source, HasSubstr("world_from_cam from " + o.poses->string()));
+  EXPECT_THAT(s.pose_source, HasSubstr("mm"));
+  ExpectWorldPoints(run, 3, Pose::Identity());
+  EXPECT_EQ(ReadPly(run.dir / "cloud.ply").points.size(), size_t(s.triangulated));
+}
+
+// With a calibration file's hand-eye pose the file gives the tool's poses:
+// world = world_from_tool · tool_from_cam · p_in_cam.
+TEST(ScanFolder, PoseFileGivesToolPosesWithAHandEyeCalibration) {
+  SyntheticRun run = MakeCapture("folder_hand_eye");
+  fs::remove(run.dir / "rig.json");
+  CalibrationFile cal;
+  cal.camera = CalibratedCamera::From(run.camera);
+  cal.laser_planes = run.sheets;
+  Pose tool_from_cam = Pose::Identity();
+  tool_from_cam.linear() = Eigen::AngleAxisd(0.2, Eigen::Vector3d(1, 0, 0.3).normalized()).toRotationMatrix();
+  tool_from_cam.translation() = Eigen::Vector3d(0.01, -0.02, 0.05);
+  cal.tool_from_cam = tool_from_cam;
+  ScanOptions o;
+  o.calibration = run.dir / "calib.yml";
+  WriteCalibrationFile(*o.calibration, cal);
+  o.poses = WritePoses(run.dir / "robot.csv", 3);
+  o.bit_depth = 10;
+  std::vector<std::string> warnings;
+  ScanSummary s = ScanRun(run.dir, o, [&](const std::string& w) { warnings.push_back(w); });
+  EXPECT_THAT(s.pose_source, HasSubstr("world_from_tool from " + o.poses->string()));
+  EXPECT_THAT(s.pose_source, HasSubstr("tool_from_cam of " + o.calibration->string()));
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_THAT(warnings[0], HasSubstr("its bit depth --bit-depth's"));
+  ExpectWorldPoints(run, 3, tool_from_cam);
+}
+
+// A run with a manifest: the pose file replaces its world_from_cam.
+TEST(ScanFolder, PoseFileReplacesTheManifestsPoses) {
+  SyntheticRun run = MakeRun("manifest_poses", 1);  // frames 0 (laser) and 1 (bright)
+  WriteImage(run.dir / "frames/000001.png", Image<uint16_t>(160, 120, 1, 500));  // posed now: it gives colour
+  ScanOptions o;
+  o.poses = WritePoses(run.dir / "poses.csv", 2);
+  ScanSummary s = ScanRun(run.dir, o);
+  EXPECT_FALSE(s.frames_from_listing);
+  ExpectWorldPoints(run, 1, Pose::Identity());
+}
+
+// Bad input: a clear error naming the file (and line, counts), nothing written.
+TEST(ScanFolder, BadInputWritesNothing) {
+  SyntheticRun run = MakeCapture("folder_bad");
+  ScanOptions o;
+  o.bit_depth = 10;
+  o.poses = WritePoses(run.dir / "poses.csv", 2);
+  auto nothing_written = [&] {
+    EXPECT_FALSE(fs::exists(run.dir / "centers"));
+    EXPECT_FALSE(fs::exists(run.dir / "cloud.ply"));
+  };
+  EXPECT_THAT(ErrorOf([&] { ScanRun(run.dir, o); }),
+              HasSubstr(o.poses->string() + ": holds 2 poses but " + (run.dir / "frames").string() + " has 3 frames"));
+  nothing_written();
+  std::ofstream(*o.poses, std::ios::app) << "0.3,1,2,3,0,0,0,0.5\n";
+  EXPECT_THAT(ErrorOf([&] { ScanRun(run.dir, o); }),
+              HasSubstr(o.poses->string() + ":4: the quaternion must have unit norm"));
+  nothing_written();
+  o.poses.reset();
+  WriteImage(run.dir / "frames/img11.png", Image<uint16_t>(80, 60, 1, 0));
+  EXPECT_THAT(ErrorOf([&] { ScanRun(run.dir, o); }),
+              HasSubstr((run.dir / "frames/img11.png").string() + ": the image is 80x60 but img1.png"));
+  nothing_written();
+  // Every image of another size than the camera's.
+  for (const char* n : {"img1.png", "img2.png", "img10.png"}) fs::remove(run.dir / "frames" / n);
+  EXPECT_THAT(ErrorOf([&] { ScanRun(run.dir, o); }),
+              HasSubstr((run.dir / "frames/img11.png").string() + ": the image is 80x60 but the camera"));
+  nothing_written();
+}
+
+}  // namespace
+}  // namespace lt
