@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <numeric>
 
 #include "core/error.h"
+#include "pipeline/plane_id_order.h"
 
 namespace lt {
 
@@ -37,184 +37,6 @@ namespace {
 int Find(std::vector<int>& parent, int i) {
   while (parent[i] != i) i = parent[i] = parent[parent[i]];
   return i;
-}
-
-// Neighbouring stripes on a search line that meets all N are taken for N
-// sheets only when they stand within this factor of the frame's median spacing.
-constexpr double kSpacingFactor = 3.0;
-
-struct Ends {
-  double first_along = 0, first_across = 0;  // mean position on the first search line
-  double last_along = 0, last_across = 0;    // and on the last
-};
-
-// The plane of each segment (-1: none) by the stripes' order across the image
-// (see the header), for the candidate segments (`ends`: each segment's first and
-// last search line); empty with *error set when the order cannot decide.
-template <typename Along, typename Across>
-std::vector<int> PlanesByStripeOrder(const std::vector<StripeSegment>& segments, const std::vector<int>& candidates,
-                                     const std::vector<Ends>& ends, int n_planes, Along along, Across across,
-                                     std::string* error) {
-  // The candidates' points on each search line, in order across.
-  std::map<long, std::vector<std::pair<double, int>>> lines;
-  for (int s : candidates) {
-    for (int i : segments[size_t(s)].points) lines[std::lround(along(i))].push_back({across(i), s});
-  }
-  for (auto& [line, v] : lines) std::sort(v.begin(), v.end());
-
-  std::vector<int> label(segments.size(), -1);
-  using Votes = std::vector<std::vector<int>>;
-  // Labels the undecided segments whose votes agree by at least 3/4; true when any was labelled.
-  auto decide = [&](const Votes& votes) {
-    bool changed = false;
-    for (int s : candidates) {
-      if (label[size_t(s)] >= 0) continue;
-      const std::vector<int>& v = votes[size_t(s)];
-      const int total = std::accumulate(v.begin(), v.end(), 0);
-      const int best = int(std::max_element(v.begin(), v.end()) - v.begin());
-      if (total > 0 && 4 * v[size_t(best)] >= 3 * total) label[size_t(s)] = best, changed = true;
-    }
-    return changed;
-  };
-
-  // Lines meeting exactly N distinct segments: each segment's rank is its plane.
-  std::vector<const std::vector<std::pair<double, int>>*> full;
-  for (const auto& [line, v] : lines) {
-    if (int(v.size()) != n_planes) continue;
-    std::vector<int> segs;
-    for (const auto& [x, seg] : v) segs.push_back(seg);
-    std::sort(segs.begin(), segs.end());
-    if (std::adjacent_find(segs.begin(), segs.end()) == segs.end()) full.push_back(&v);
-  }
-  if (full.empty()) {
-    *error = "no search line meets all " + std::to_string(n_planes) + " stripes";
-    return {};
-  }
-  // Neighbouring sheets stand about the same distance apart everywhere in the
-  // image (the focal length times the difference of their angles' tangents,
-  // whatever the depth, plus a parallax term that only steps change), so a
-  // line whose stripes stand far closer or farther apart than the frame's
-  // median spacing does not show N sheets: it meets one sheet twice (a depth
-  // step) where another is missing. Such lines do not vote, and a piece is not
-  // numbered beside a numbered stripe at a distance its rank rules out.
-  std::vector<double> gaps;
-  for (const auto* v : full)
-    for (size_t r = 1; r < v->size(); ++r) gaps.push_back((*v)[r].first - (*v)[r - 1].first);
-  double spacing = 0;
-  if (!gaps.empty()) {
-    std::nth_element(gaps.begin(), gaps.begin() + long(gaps.size() / 2), gaps.end());
-    spacing = gaps[gaps.size() / 2];
-  }
-  // Whether the stripes j0..j1 of line v stand about one spacing apart, each from the next.
-  auto spaced = [&](const std::vector<std::pair<double, int>>& v, int j0, int j1) {
-    if (!(spacing > 0)) return true;
-    for (int j = j0 + 1; j <= j1; ++j) {
-      const double gap = v[size_t(j)].first - v[size_t(j - 1)].first;
-      if (gap < spacing / kSpacingFactor || gap > spacing * kSpacingFactor) return false;
-    }
-    return true;
-  };
-  // A line that meets N segments but gives one of them another rank than its
-  // other lines' majority shows something that is no sheet (a speckle blob, a
-  // reflection) where a sheet is hidden: it does not vote either. The votes are
-  // counted again without such lines until none is left.
-  std::vector<char> voting(full.size());
-  for (size_t f = 0; f < full.size(); ++f) voting[f] = spaced(*full[f], 0, n_planes - 1);
-  for (bool dropped = true; dropped;) {
-    Votes votes(segments.size(), std::vector<int>(size_t(n_planes), 0));
-    for (size_t f = 0; f < full.size(); ++f) {
-      if (!voting[f]) continue;
-      for (int r = 0; r < n_planes; ++r) ++votes[size_t((*full[f])[size_t(r)].second)][size_t(r)];
-    }
-    std::fill(label.begin(), label.end(), -1);
-    decide(votes);
-    dropped = false;
-    for (size_t f = 0; f < full.size(); ++f) {
-      for (int r = 0; voting[f] && r < n_planes; ++r) {
-        const int lab = label[size_t((*full[f])[size_t(r)].second)];
-        if (lab >= 0 && lab != r) voting[f] = 0, dropped = true;
-      }
-    }
-  }
-
-  // Segments never on such a line: the ranks between identified neighbours (or
-  // the ends of the line), when exactly the missing ranks lie between them.
-  // A segment numbered so that some line's numbered stripes stand out of
-  // order is excluded and the positions are read again without it.
-  const std::vector<int> by_votes = label;
-  std::vector<char> excluded(segments.size(), 0);
-  for (bool again = true; again;) {
-    label = by_votes;
-    for (int pass = 0; pass < n_planes; ++pass) {
-      Votes between(segments.size(), std::vector<int>(size_t(n_planes), 0));
-      for (const auto& [line, v] : lines) {
-        // A line that meets more than N segments, or one numbered sheet twice,
-        // shows a piece that is no further sheet: a depth step's second
-        // surface (a piece between the other surface's numbered stripes may be
-        // any sheet's) or a blob, which may stand in for a hidden sheet in the
-        // count between numbered stripes.
-        if (int(v.size()) > n_planes) continue;
-        std::vector<int> numbered;
-        for (const auto& [x, seg] : v) {
-          if (label[size_t(seg)] >= 0) numbered.push_back(label[size_t(seg)]);
-        }
-        std::sort(numbered.begin(), numbered.end());
-        if (std::adjacent_find(numbered.begin(), numbered.end()) != numbered.end()) continue;
-        int prev_label = -1, prev_index = -1;
-        for (int k = 0; k <= int(v.size()); ++k) {
-          const int lab = k < int(v.size()) ? label[size_t(v[size_t(k)].second)] : n_planes;
-          if (lab < 0) continue;
-          const int gap = k - prev_index - 1;
-          // Neighbours in the run (the numbered stripes at its ends included)
-          // must stand about one spacing apart.
-          if (gap > 0 && lab - prev_label - 1 == gap &&
-              spaced(v, std::max(prev_index, 0), std::min(k, int(v.size()) - 1))) {
-            for (int j = 1; j <= gap; ++j) ++between[size_t(v[size_t(prev_index + j)].second)][size_t(prev_label + j)];
-          }
-          prev_label = lab, prev_index = k;
-        }
-      }
-      for (size_t s = 0; s < segments.size(); ++s) {
-        if (excluded[s]) std::fill(between[s].begin(), between[s].end(), 0);
-      }
-      if (!decide(between)) break;
-    }
-
-    // Every line's identified stripes in increasing order. One sheet may meet
-    // a line twice where its stripe jumps at a depth step: the piece before the
-    // step ends where the piece after it begins, so on the lines they share
-    // each of the two runs on past the other's end. A piece whose lines all lie
-    // within another's of the same number (a stripe beside a stripe)
-    // contradicts. Two pieces numbered by lines that show all N sheets in
-    // order may stand reversed on other lines: a thin wall or rib seen by the
-    // camera beside sheets that pass it on the surface behind (the order of
-    // one projector's sheets holds on a height field, not past thin features).
-    auto hand_over = [&](int a, int b) {
-      const Ends &ea = ends[size_t(a)], &eb = ends[size_t(b)];
-      return (ea.first_along < eb.first_along && ea.last_along < eb.last_along) ||
-             (eb.first_along < ea.first_along && eb.last_along < ea.last_along);
-    };
-    again = false;
-    for (const auto& [line, v] : lines) {
-      int last = -1, last_segment = -1;
-      for (const auto& [x, seg] : v) {
-        const int lab = label[size_t(seg)];
-        if (lab < 0) continue;
-        const bool twice = lab == last && seg != last_segment && !hand_over(seg, last_segment);
-        if (lab < last || twice) {
-          const bool voted = by_votes[size_t(seg)] >= 0, last_voted = by_votes[size_t(last_segment)] >= 0;
-          if (voted && last_voted && twice) {
-            *error = "the stripes' order contradicts itself on search line " + std::to_string(line);
-            return {};
-          }
-          if (!voted) excluded[size_t(seg)] = 1, again = true;
-          if (!last_voted) excluded[size_t(last_segment)] = 1, again = true;
-        }
-        last = lab, last_segment = seg;
-      }
-    }
-  }
-  return label;
 }
 
 }  // namespace
@@ -275,9 +97,8 @@ PlaneIdentification IdentifyPlanes(const std::vector<StripePoint>& points, const
   // 2. Classification (thesis Algorithm 1) and segment ends.
   const double start = rows ? region.y : region.x;
   const double end = start + (rows ? region.height : region.width) - 1;
-  std::vector<Ends> ends(result.segments.size());
-  std::vector<int> candidates;  // segment indices taking part in grouping
-  for (size_t s = 0; s < result.segments.size(); ++s) {
+  std::vector<SegmentEnds> ends(result.segments.size());
+  auto classify = [&](size_t s) {
     StripeSegment& seg = result.segments[s];
     bool at_start = false, at_end = false;
     for (int i : seg.points) {
@@ -288,8 +109,8 @@ PlaneIdentification IdentifyPlanes(const std::vector<StripePoint>& points, const
                : at_start         ? SegmentType::kStartEdge
                : at_end           ? SegmentType::kEndEdge
                                   : SegmentType::kFloating;
-    seg.ignored = int(seg.points.size()) < options.min_segment_points;
-    Ends& e = ends[s];
+    SegmentEnds& e = ends[s];
+    e = SegmentEnds{};
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (int i : seg.points) lo = std::min(lo, std::round(along(i))), hi = std::max(hi, std::round(along(i)));
     int nlo = 0, nhi = 0;
@@ -299,7 +120,12 @@ PlaneIdentification IdentifyPlanes(const std::vector<StripePoint>& points, const
     }
     e.first_along = lo, e.last_along = hi;
     e.first_across /= nlo, e.last_across /= nhi;
-    if (!seg.ignored) candidates.push_back(int(s));
+  };
+  std::vector<int> candidates;  // segment indices taking part in grouping
+  for (size_t s = 0; s < result.segments.size(); ++s) {
+    classify(s);
+    result.segments[s].ignored = int(result.segments[s].points.size()) < options.min_segment_points;
+    if (!result.segments[s].ignored) candidates.push_back(int(s));
   }
 
   // 3. Grouping: a chain starts at each start-edge segment and grows by the
@@ -324,7 +150,7 @@ PlaneIdentification IdentifyPlanes(const std::vector<StripePoint>& points, const
     int best_chain = -1, best_seg = -1;
     for (size_t c = 0; c < chains.size(); ++c) {
       if (chains[c].closed) continue;
-      const Ends& tail = ends[chains[c].segments.back()];
+      const SegmentEnds& tail = ends[chains[c].segments.back()];
       for (int s : candidates) {
         if (used[s]) continue;
         const SegmentType t = result.segments[s].type;
@@ -362,9 +188,42 @@ PlaneIdentification IdentifyPlanes(const std::vector<StripePoint>& points, const
     }
   }
 
-  // The stripes' order decides; the chains when it cannot.
-  std::string order_error;
-  std::vector<int> planes = PlanesByStripeOrder(result.segments, candidates, ends, n_planes, along, across, &order_error);
+  // The stripes' order decides; the chains when it cannot. A segment the order
+  // finds joined of two sheets' pieces is cut, the piece beyond the cut kept
+  // without a plane, and the order read again.
+  PointAxes axes;
+  axes.along.resize(size_t(n)), axes.across.resize(size_t(n));
+  for (int i = 0; i < n; ++i) axes.along[size_t(i)] = along(i), axes.across[size_t(i)] = across(i);
+  std::vector<char> cut_off(result.segments.size(), 0);
+  StripeOrderPlanes by_order;
+  for (bool cut = true; cut;) {
+    by_order = PlanesByStripeOrder(result.segments, candidates, cut_off, ends, axes, n_planes);
+    cut = false;
+    for (size_t s = 0, count = result.segments.size(); s < count; ++s) {
+      const double before = by_order.cut_before[s], after = by_order.cut_after[s];
+      if (std::isnan(before) && std::isnan(after)) continue;
+      std::vector<int> kept, lower, upper;
+      for (int i : result.segments[s].points) {
+        const double line = std::round(along(i));
+        (line < before ? lower : line > after ? upper : kept).push_back(i);
+      }
+      result.segments[s].points = std::move(kept);
+      classify(s);
+      for (std::vector<int>* piece : {&lower, &upper}) {
+        if (piece->empty()) continue;
+        StripeSegment cut_piece;
+        cut_piece.points = std::move(*piece);
+        result.segments.push_back(std::move(cut_piece));
+        ends.emplace_back();
+        classify(result.segments.size() - 1);
+        cut_off.push_back(1);
+        candidates.push_back(int(result.segments.size()) - 1);
+      }
+      cut = true;
+    }
+  }
+  std::vector<int> planes = std::move(by_order.planes);
+  const std::string order_error = by_order.error;
   result.method = PlaneIdMethod::kStripeOrder;
   if (planes.empty()) {
     if (by_chains.empty()) {
@@ -373,6 +232,7 @@ PlaneIdentification IdentifyPlanes(const std::vector<StripePoint>& points, const
       return result;
     }
     planes = std::move(by_chains);
+    planes.resize(result.segments.size(), -1);
     result.method = PlaneIdMethod::kEdgeChains;
     result.order_error = order_error;
   }

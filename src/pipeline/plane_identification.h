@@ -8,7 +8,11 @@
 // rank that holds at least 3/4 of its votes (not on lines whose neighbouring
 // stripes stand far closer or farther apart than the median spacing of such
 // lines: one sheet seen twice at a depth step; nor on lines that give a numbered
-// segment another rank: a blob where a sheet is hidden). A segment that is never
+// segment another rank: a blob where a sheet is hidden). A segment that those
+// lines give another rank only at one end is two sheets' pieces joined at a
+// depth step: the piece there is cut off without a plane. Where no line meets
+// all N, lines whose stripes stand whole spacings apart spanning all N sheets
+// (the missing ones between them) take their place. A segment that is never
 // on such a line takes the rank its position calls for on lines where it lies
 // between numbered segments (or the line's ends) with exactly the missing ranks
 // between them (not on lines meeting more than N segments or a numbered sheet
@@ -87,7 +91,7 @@ struct PlaneIdentification {
   int unidentified_segments = 0;    // segments (not noise) left without a plane
   int groups_found = 0;             // chains the edge method started
   std::vector<StripePoint> points;  // the input, with `plane` set when ok
-  std::vector<StripeSegment> segments;
+  std::vector<StripeSegment> segments;  // pieces cut off a joined segment come last
 };
 
 // `region` is the rectangle that was searched (the image or its ROI), in the

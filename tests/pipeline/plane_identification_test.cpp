@@ -401,5 +401,79 @@ TEST(PlaneIdentification, APieceOnAStepsLineIsNotNumberedByPosition) {
   }
 }
 
+// A depth step along row 95 moves every stripe about one spacing right (34.3
+// px, sheets 33.3 apart), so the upper surface's piece of each sheet begins
+// within the link distance of the lower surface's piece of the next: the
+// connected components join them, and the lines below the step give each
+// joined segment the rank of the sheet on their side. Before, the joined
+// segment took the number of its longer piece (3/4 of its lines): 50 points
+// of the 360 on the wrong sheet. Now the piece whose lines give it another
+// rank at the segment's end is cut off and keeps no plane; so does the piece
+// of the sheet beyond the last (its lines are those of the cut pieces).
+// With the step at row 60 (halves) the joined segments were left whole
+// without a plane; now their first pieces are numbered.
+TEST(PlaneIdentification, PiecesOfTwoSheetsJoinedAtAStepAreCut) {
+  for (int step : {95, 60, 15}) {
+    for (double shift : {-1.0, 1.0}) {
+      SCOPED_TRACE("step at row " + std::to_string(step) + ", shift " + std::to_string(shift));
+      const double spacing = 100.0 / 3;
+      std::vector<StripePoint> pts;
+      std::vector<int> truth;
+      for (int k = 0; k < 3; ++k) {
+        AddLine(&pts, 20 + spacing * k, 0, step, 0.02);
+        AddLine(&pts, 20 + spacing * (k + 1) + shift, step, 120, 0.02);
+        truth.resize(pts.size(), k);
+      }
+      PlaneIdentification id = IdentifyPlanes(pts, {0, 0, 160, 120}, 3, PlaneIdOptions{});
+      ASSERT_TRUE(id.ok) << id.error;
+      EXPECT_EQ(id.method, PlaneIdMethod::kStripeOrder) << id.order_error;
+      int numbered = 0;
+      for (size_t i = 0; i < pts.size(); ++i) {
+        if (id.points[i].plane < 0) continue;
+        ++numbered;
+        EXPECT_EQ(id.points[i].plane, truth[i]) << pts[i].u << "," << pts[i].v;
+      }
+      // Every line's stripes on one side of the step stay numbered.
+      EXPECT_GE(numbered, 3 * std::max(step, 120 - step)) << numbered;
+    }
+  }
+}
+
+// No line meets all N sheets: an inner sheet is missing on the upper rows,
+// another on the lower ones. Each line still spans the N sheets, its stripes
+// a whole number of spacings apart (one or two, adding up to N - 1), so the
+// spacings fix each stripe's sheet. Before, the frame was refused (and the
+// edge chains, which need every sheet at the top edge, could not number it).
+// Where the lines could be either end's N - 1 sheets (one end's stripe never
+// seen, or the first end's on some rows and the last end's on the others),
+// nothing is numbered.
+TEST(PlaneIdentification, LinesSpanningTheSheetsWithOneMissingNumberThem) {
+  for (int n = 4; n <= 6; ++n) {
+    SCOPED_TRACE(std::to_string(n) + " sheets");
+    const double spacing = 120.0 / n;
+    std::vector<StripePoint> pts;
+    for (int k = 0; k < n; ++k) AddLine(&pts, 20 + spacing * k, k == 1 ? 60 : 0, k == n - 2 ? 60 : 120, 0.05);
+    PlaneIdentification id = IdentifyPlanes(pts, {0, 0, 160, 120}, n, PlaneIdOptions{});
+    ASSERT_TRUE(id.ok) << id.error;
+    EXPECT_EQ(id.method, PlaneIdMethod::kStripeOrder) << id.order_error;
+    EXPECT_EQ(id.unidentified_segments, 0);
+    for (const auto& p : id.points) {
+      EXPECT_EQ(p.plane, int(std::lround((p.u - 0.05 * p.v - 20) / spacing))) << p.u << "," << p.v;
+    }
+    for (bool alternate : {false, true}) {
+      pts.clear();
+      for (int k = 0; k < n; ++k) {
+        if (alternate) {
+          AddLine(&pts, 20 + spacing * k, k == 0 ? 60 : 0, k == n - 1 ? 60 : 120);
+        } else if (k < n - 1) {
+          AddLine(&pts, 20 + spacing * k, k == 0 ? 20 : 0, 120);
+        }
+      }
+      PlaneIdentification ambiguous = IdentifyPlanes(pts, {0, 0, 160, 120}, n, PlaneIdOptions{});
+      for (const auto& p : ambiguous.points) EXPECT_EQ(p.plane, -1) << alternate << ": " << p.u << "," << p.v;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace lt::test

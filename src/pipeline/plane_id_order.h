@@ -1,0 +1,40 @@
+// Plane identification by the stripes' order across the image: the first of
+// IdentifyPlanes's two methods (pipeline/plane_identification.h), internal to it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "pipeline/plane_identification.h"
+
+namespace lt {
+
+// A segment's first and last search line, and its mean position across on each.
+struct SegmentEnds {
+  double first_along = 0, first_across = 0;
+  double last_along = 0, last_across = 0;
+};
+
+// Each point's position along the search direction (its search line, rounded)
+// and across it, by point index.
+struct PointAxes {
+  std::vector<double> along, across;
+};
+
+// What the stripes' order gives: a plane per segment (-1: none), and per
+// segment the search line from which on (cut_after) or up to which (cut_before)
+// its points belong to another sheet (NaN: none).
+struct StripeOrderPlanes {
+  std::vector<int> planes;  // empty when the order cannot decide (see error)
+  std::vector<double> cut_before, cut_after;
+  std::string error;
+};
+
+// The plane of each of the candidate segments by the stripes' order (the
+// header's steps 1-3); `unnumbered` segments stand on the lines but take no
+// plane (pieces cut off an earlier reading).
+StripeOrderPlanes PlanesByStripeOrder(const std::vector<StripeSegment>& segments, const std::vector<int>& candidates,
+                                      const std::vector<char>& unnumbered, const std::vector<SegmentEnds>& ends,
+                                      const PointAxes& axes, int n_planes);
+
+}  // namespace lt
