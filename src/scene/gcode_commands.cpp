@@ -23,6 +23,28 @@ bool IsProbingMacro(const std::string& name) {
   return false;
 }
 
+}  // namespace
+
+// G29 forms that load, fill, activate or save a mesh without probing: RepRapFirmware's
+// S1 (load the height map), S2 (clear), S3 (save); Marlin's unified bed levelling and
+// Prusa's Buddy firmware's A (activate), D (disable), L (load), F (fade), T and W
+// (reports), P3 (fill: "G29 P3.2"), P5 and P6, with C and V modifiers. Bare G29, S0,
+// P1, J, and any point or area (X, Y, I, J, W with P1; Bambu's "G29 A X.. Y.. I.. J..")
+// probe.
+bool GcodeReader::MeshCommandOnly() const {
+  if (words_.empty()) return false;
+  for (const Word& w : words_) {
+    const double v = w.value.value_or(0);
+    const bool ok = (w.letter == 'S' && w.value && v >= 1 && v <= 3 && v == std::floor(v)) ||
+                    (w.letter == 'P' && w.value && (std::floor(v) == 3 || v == 5 || v == 6)) ||
+                    std::string_view("ADLFTWCV").find(w.letter) != std::string_view::npos;
+    if (!ok) return false;
+  }
+  return true;
+}
+
+namespace {
+
 // Klipper's own commands that neither move the toolhead nor change how the file's
 // moves are read (limits, pressure advance, temperatures, fans, lights, object labels,
 // displays, settings): skipped without a warning. Any other extended command (a user's
@@ -173,6 +195,10 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
       case 34:  // Z steppers' auto-alignment (probes)
       case 380:  // Bambu's move until contact ("G380 S2 Z-5 F300")
         ReadWords(code, pos, false);
+        if (n == 29 && MeshCommandOnly()) {
+          ++path_.skipped_commands["G29"];
+          return;
+        }
         PositionUnknown(CommandName('G', n));
         return;
       case 80:

@@ -70,6 +70,11 @@ void GcodeReader::ReadWords(std::string_view code, size_t pos, bool numbers_requ
       std::string rest(code.substr(start, 3));
       for (char& ch : rest) ch = Upper(ch);
       if (rest == "NAN" || rest == "INF") Fail(std::string(1, letter) + " is not a finite number");
+      if (start < code.size() && code[start] == '{') {
+        Fail(std::string(1, letter) + " is an expression (\"" + std::string(code.substr(start)) +
+             "\": RepRapFirmware's meta commands, or a slicer placeholder left unfilled), not a number: the reader "
+             "takes numbers only");
+      }
       if (numbers_required) Fail(std::string(1, letter) + " without a number");
     } else {
       w.value = ParseFiniteNumber(number);

@@ -114,6 +114,8 @@ class GcodeReader {
   // `probing`: the command probes (warned: it takes no time here); false for a tool
   // parked in its dock.
   void PositionUnknown(const std::string& command, bool probing = true);
+  // Whether a G29's words only load, fill, activate or save a mesh (no probing).
+  bool MeshCommandOnly() const;
   // Before a move: its absolute X/Y/Z words make those axes known again; a relative
   // one on an unknown axis (or an arc, whose centre is relative, from a start unknown
   // in its plane) is built from the last known position, with a warning.

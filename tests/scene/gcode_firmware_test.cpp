@@ -46,6 +46,9 @@ TEST(GcodeFirmware, UnknownMacrosAreWarnedOncePerName) {
   EXPECT_EQ(p.warnings[2].line, 9);
   EXPECT_THAT(p.warnings[2].text, HasSubstr("PRINT_END skipped"));
   EXPECT_EQ(p.skipped_commands.at("@PAUSE"), 1u);
+  // An expression (RepRapFirmware's meta commands, a placeholder the slicer left) is named.
+  EXPECT_THAT(ErrorOf([] { ParseGcode("G1 X1 F600\nG1 X{var.x} Y2\n", "rrf.gcode"); }),
+              HasSubstr("rrf.gcode:2: X is an expression (\"{var.x} Y2\""));
   EXPECT_EQ(p.skipped_commands.at("EXCLUDE_OBJECT_DEFINE"), 1u);
 }
 
@@ -59,6 +62,17 @@ TEST(GcodeFirmware, ProbingIsWarnedToTakeNoTime) {
   EXPECT_THAT(p.warnings[0].text, HasSubstr("G29 (probing, levelling) takes no time in the toolpath"));
   // A tool parked in its dock (Prusa XL) is no probing.
   EXPECT_TRUE(ParseGcode("P0 S1 L2 D0\nG1 X1 Y1 Z1 F600\n", "xl.gcode").warnings.empty());
+  // G29 that loads, fills, activates or saves a mesh moves nothing: the position stays
+  // known and nothing is warned (RepRapFirmware's "G29 S1", UBL's L and A, Prusa's P3.2).
+  Toolpath mesh = ParseGcode("G28\nG29 L0\nG29 A\nG29 S1\nG29 P3.2\nG29 P3.13\nG91\nG1 Z5 F600\n", "mesh.gcode");
+  EXPECT_TRUE(mesh.warnings.empty());
+  EXPECT_EQ(mesh.skipped_commands.at("G29"), 5u);
+  // These probe: Prusa's area, RepRapFirmware's S0, Bambu's adaptive area, UBL's tilt.
+  for (const char* probe : {"G29 P1 X23 Y5 W80 H20 C", "G29 S0", "G29 A X10 Y10 I5 J5", "G29 J", "G29 L1 J"}) {
+    Toolpath q = ParseGcode(std::string("G28\n") + probe + "\nG1 X1 Y1 Z1 F600\n", "p.gcode");
+    ASSERT_EQ(q.warnings.size(), 1u) << probe;
+    EXPECT_EQ(q.skipped_commands.count("G29"), 0u) << probe;
+  }
 }
 
 // The end points of a toolpath's segments, in mm.
