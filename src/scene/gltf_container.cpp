@@ -15,6 +15,7 @@
 
 #include "core/error.h"
 #include "core/json_reader.h"
+#include "scene/gltf_schema.h"
 #include "scene/gltf_uri.h"
 
 namespace lt {
@@ -337,6 +338,7 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
     throw InputError(file + ": /asset/version",
                      "glTF version must be 2.x, got " + (version == asset->end() ? std::string("none") : version->dump()));
   }
+  CheckGltfSchema(root, file);
   static const std::set<std::string> kSupported = {"KHR_materials_emissive_strength", "KHR_mesh_quantization",
                                                      "KHR_texture_transform", "EXT_mesh_gpu_instancing",
                                                      "KHR_materials_pbrSpecularGlossiness"};

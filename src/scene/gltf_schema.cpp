@@ -1,0 +1,135 @@
+#include "scene/gltf_schema.h"
+
+#include <cstdint>
+#include <set>
+
+#include "core/error.h"
+
+namespace lt {
+
+namespace {
+
+using nlohmann::json;
+
+// A JSON integer (4, not 4.0: tinygltf refuses a float where glTF has an integer).
+bool IsInteger(const json& v) { return v.is_number_integer(); }
+
+int64_t AsInteger(const json& v) { return v.get<int64_t>(); }
+
+struct Checker {
+  const std::string& file;
+
+  [[noreturn]] void Fail(const std::string& pointer, const std::string& message) const {
+    throw InputError(file + ": " + pointer, message);
+  }
+  // The elements of the top-level array `name` (none when absent); an error when not an array of objects.
+  const json* Array(const json& root, const char* name) const {
+    auto it = root.find(name);
+    if (it == root.end()) return nullptr;
+    if (!it->is_array()) Fail(std::string("/") + name, "must be an array");
+    for (size_t i = 0; i < it->size(); ++i) {
+      if (!(*it)[i].is_object()) Fail(std::string("/") + name + "/" + std::to_string(i), "must be an object");
+    }
+    return &*it;
+  }
+  // Integer property `key` of `o`, `required` or absent, in [min, max] when given
+  // (ranges the loader checks later with their meaning are left to it).
+  void Integer(const json& o, const std::string& pointer, const char* key, bool required,
+               int64_t min = INT64_MIN, int64_t max = INT64_MAX) const {
+    auto it = o.find(key);
+    if (it == o.end()) {
+      if (required) Fail(pointer, std::string("missing required property \"") + key + "\"");
+      return;
+    }
+    if (!IsInteger(*it) || AsInteger(*it) < min || AsInteger(*it) > max) {
+      const std::string range = min == INT64_MIN ? ""
+                                : max == INT64_MAX ? " >= " + std::to_string(min)
+                                                   : " in [" + std::to_string(min) + ", " + std::to_string(max) + "]";
+      Fail(pointer + "/" + key, "must be an integer" + range + ", got " + it->dump());
+    }
+  }
+};
+
+}  // namespace
+
+void CheckGltfSchema(const json& root, const std::string& file) {
+  const Checker c{file};
+  if (const json* accessors = c.Array(root, "accessors")) {
+    static const std::set<int64_t> kComponentTypes = {5120, 5121, 5122, 5123, 5125, 5126};
+    static const std::set<std::string> kTypes = {"SCALAR", "VEC2", "VEC3", "VEC4", "MAT2", "MAT3", "MAT4"};
+    for (size_t i = 0; i < accessors->size(); ++i) {
+      const json& a = (*accessors)[i];
+      const std::string at = "/accessors/" + std::to_string(i);
+      c.Integer(a, at, "bufferView", false);
+      c.Integer(a, at, "byteOffset", false, 0);
+      c.Integer(a, at, "count", true);
+      c.Integer(a, at, "componentType", true);
+      if (kComponentTypes.count(AsInteger(a["componentType"])) == 0) {
+        c.Fail(at + "/componentType", "must be 5120 (byte), 5121 (unsigned byte), 5122 (short), 5123 (unsigned "
+                                      "short), 5125 (unsigned int) or 5126 (float), got " + a["componentType"].dump());
+      }
+      auto type = a.find("type");
+      if (type == a.end()) c.Fail(at, "missing required property \"type\"");
+      if (!type->is_string() || kTypes.count(type->get<std::string>()) == 0) {
+        c.Fail(at + "/type", "must be \"SCALAR\", \"VEC2\", \"VEC3\", \"VEC4\", \"MAT2\", \"MAT3\" or \"MAT4\", got " +
+                                 type->dump());
+      }
+      if (auto n = a.find("normalized"); n != a.end() && !n->is_boolean()) {
+        c.Fail(at + "/normalized", "must be true or false, got " + n->dump());
+      }
+    }
+  }
+  if (const json* views = c.Array(root, "bufferViews")) {
+    for (size_t i = 0; i < views->size(); ++i) {
+      const json& v = (*views)[i];
+      const std::string at = "/bufferViews/" + std::to_string(i);
+      c.Integer(v, at, "buffer", true);
+      c.Integer(v, at, "byteLength", true, 0);
+      c.Integer(v, at, "byteOffset", false, 0);
+      c.Integer(v, at, "byteStride", false, 4, 252);
+      if (v.contains("byteStride") && AsInteger(v["byteStride"]) % 4 != 0) {
+        c.Fail(at + "/byteStride", "must be a multiple of 4, got " + v["byteStride"].dump());
+      }
+    }
+  }
+  if (const json* nodes = c.Array(root, "nodes")) {
+    for (size_t i = 0; i < nodes->size(); ++i) {
+      const json& n = (*nodes)[i];
+      const std::string at = "/nodes/" + std::to_string(i);
+      for (const char* key : {"mesh", "skin", "camera"}) c.Integer(n, at, key, false);
+      if (auto children = n.find("children"); children != n.end()) {
+        if (!children->is_array()) c.Fail(at + "/children", "must be an array of node indices, got " + children->dump());
+        for (size_t k = 0; k < children->size(); ++k) {
+          if (!IsInteger((*children)[k])) {
+            c.Fail(at + "/children/" + std::to_string(k), "must be a node index (an integer), got " +
+                                                              (*children)[k].dump());
+          }
+        }
+      }
+    }
+  }
+  if (const json* meshes = c.Array(root, "meshes")) {
+    for (size_t i = 0; i < meshes->size(); ++i) {
+      const std::string at = "/meshes/" + std::to_string(i);
+      auto prims = (*meshes)[i].find("primitives");
+      if (prims == (*meshes)[i].end()) c.Fail(at, "missing required property \"primitives\"");
+      if (!prims->is_array()) c.Fail(at + "/primitives", "must be an array");
+      for (size_t k = 0; k < prims->size(); ++k) {
+        const json& p = (*prims)[k];
+        const std::string pat = at + "/primitives/" + std::to_string(k);
+        if (!p.is_object()) c.Fail(pat, "must be an object");
+        auto attributes = p.find("attributes");
+        if (attributes == p.end()) c.Fail(pat, "missing required property \"attributes\"");
+        if (!attributes->is_object()) c.Fail(pat + "/attributes", "must be an object");
+        for (const auto& [name, index] : attributes->items()) {
+          if (!IsInteger(index)) {
+            c.Fail(pat + "/attributes/" + name, "must be an accessor index (an integer), got " + index.dump());
+          }
+        }
+        for (const char* key : {"indices", "material", "mode"}) c.Integer(p, pat, key, false);
+      }
+    }
+  }
+}
+
+}  // namespace lt
