@@ -118,4 +118,40 @@ void ScanFrames::CheckSize(int camera_width, int camera_height, const std::strin
                                                       camera_source + ") is " + Size(camera_width, camera_height));
 }
 
+ShutterPattern ParseShutterPattern(const std::string& text, const std::string& option) {
+  if (text == "recorded") return ShutterPattern::kRecorded;
+  if (text == "alternate") return ShutterPattern::kAlternateLaserFirst;
+  if (text == "alternate-bright-first") return ShutterPattern::kAlternateBrightFirst;
+  throw InputError(option, "unknown shutter pattern '" + text + "' (expected recorded, alternate or alternate-bright-first)");
+}
+
+void ApplyShutterPattern(ShutterPattern pattern, std::vector<RunFrame>* frames) {
+  if (pattern == ShutterPattern::kRecorded) return;
+  for (size_t k = 0; k < frames->size(); ++k) {
+    RunFrame& f = (*frames)[k];
+    f.laser_on = (k % 2 == 0) == (pattern == ShutterPattern::kAlternateLaserFirst);
+    f.laser_on_known = f.shutter_known = true;
+    f.laser_fraction = f.laser_on ? 1.0 : 0.0;  // no bleeding known: a bright frame's colour is not contaminated
+  }
+}
+
+std::string FloodLitWarning(const std::vector<int>& frames, ShutterPattern pattern, bool from_listing) {
+  std::string list;
+  for (size_t i = 0; i < frames.size() && i < 5; ++i) list += (i ? ", " : "") + std::to_string(frames[i]);
+  if (frames.size() > 5) list += ", ...";
+  const std::string head = std::to_string(frames.size()) + " frame" + (frames.size() == 1 ? "" : "s") + " (" + list + ")";
+  if (pattern != ShutterPattern::kRecorded) {
+    return head + " scanned as laser frames by --shutter " +
+           (pattern == ShutterPattern::kAlternateLaserFirst ? "alternate" : "alternate-bright-first") +
+           " have most pixels above the stripe threshold: flood-lit (bright) frames give false points; is the "
+           "first frame a " + (pattern == ShutterPattern::kAlternateLaserFirst ? "bright one (--shutter alternate-bright-first)?"
+                                                                                 : "laser one (--shutter alternate)?");
+  }
+  return head + (from_listing ? " of a capture without a manifest" : " with no shutter.laser_on in the manifest") +
+         " have most pixels above the stripe threshold: flood-lit (bright) frames scanned as laser frames give false "
+         "points; " +
+         (from_listing ? "--shutter alternate (or alternate-bright-first) says which frames are bright"
+                       : "give shutter.laser_on on each manifest line (or --shutter alternate)");
+}
+
 }  // namespace lt

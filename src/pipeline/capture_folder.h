@@ -7,6 +7,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -37,6 +38,21 @@ struct ScanFrames {
   void CheckSize(int camera_width, int camera_height, const std::string& camera_source) const;
 };
 ScanFrames ReadScanFrames(const std::filesystem::path& dir);
+
+// How a scan tells laser (dim) frames from bright ones.
+enum class ShutterPattern {
+  kRecorded,              // the manifest's shutter keys; without them (or a manifest) every frame is a laser frame
+  kAlternateLaserFirst,   // frames alternate, the first (in index order) a laser frame: laser, bright, laser, ...
+  kAlternateBrightFirst,  // bright, laser, bright, ...
+};
+// "recorded" | "alternate" (laser first) | "alternate-bright-first"; throws lt::InputError naming `option`.
+ShutterPattern ParseShutterPattern(const std::string& text, const std::string& option);
+// Sets the frames' commanded laser state (shutter.laser_on) by their position
+// in `frames` for the alternating patterns, replacing a manifest's; nothing for kRecorded.
+void ApplyShutterPattern(ShutterPattern pattern, std::vector<RunFrame>* frames);
+// The warning about frames scanned as laser frames though most of their pixels
+// are above the stripe threshold (flood-lit), with what would tell them apart.
+std::string FloodLitWarning(const std::vector<int>& frames, ShutterPattern pattern, bool from_listing);
 
 // Natural order of file names: runs of digits compare as numbers ("img2" <
 // "img10"), other characters case-insensitively; ties ("img01", "img1") by bytes.

@@ -94,7 +94,7 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
                                    std::optional<PoseUnits>* header_units) {
   Layout l;
   l.fields = fields.size();
-  bool quat = false, abb = false, rotvec = false, kuka = false;
+  bool quat = false, abb = false, rotvec = false, kuka = false, fanuc = false;
   std::optional<std::string> t_unit;
   std::string names;
   for (size_t i = 0; i < fields.size(); ++i) {
@@ -114,7 +114,7 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
     };
     bool ok = true;
     if (Skipped(name)) continue;
-    const int kinds_before = int(quat) + int(abb) + int(rotvec) + int(kuka);
+    const int kinds_before = int(quat) + int(abb) + int(rotvec) + int(kuka) + int(fanuc);
     if (name.rfind("actual_tcp_pose_", 0) == 0 && name.size() == 17 && name[16] >= '0' && name[16] <= '5') {
       // Universal Robots' RTDE log: x y z in metres, then the rotation vector.
       const int k = name[16] - '0';
@@ -140,27 +140,31 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
     } else if ((a = AxisAfter(name, {""}, "abc")) >= 0) {
       ok = set(&l.r[a]);
       kuka = true;
+    } else if ((a = AxisAfter(name, {""}, "rpw")) >= 0) {  // Fanuc: W about x, P about y, R about z
+      ok = set(&l.r[a]);
+      fanuc = true;
     } else {
-      return fail("unknown column name (expected x,y,z with qx,qy,qz,qw, q1..q4, rx,ry,rz or a,b,c; time and "
+      return fail("unknown column name (expected x,y,z with qx,qy,qz,qw, q1..q4, rx,ry,rz, a,b,c or w,p,r; time and "
                   "frame columns are skipped; docs/pipeline.md)");
     }
-    if (int(quat) + int(abb) + int(rotvec) + int(kuka) > std::max(kinds_before, 1)) {
-      return fail("more than one kind of rotation columns (a quaternion, q1..q4, rx,ry,rz or a,b,c)");
+    if (int(quat) + int(abb) + int(rotvec) + int(kuka) + int(fanuc) > std::max(kinds_before, 1)) {
+      return fail("more than one kind of rotation columns (a quaternion, q1..q4, rx,ry,rz, a,b,c or w,p,r)");
     }
     if (!ok) return fail("a second column for the same value");
   }
-  const int kinds = int(quat) + int(abb) + int(rotvec) + int(kuka);
+  const int kinds = int(quat) + int(abb) + int(rotvec) + int(kuka) + int(fanuc);
   auto fail_all = [&](const std::string& why) -> std::optional<Layout> {
     if (!strict) return std::nullopt;
     throw InputError(where, "header '" + names + "': " + why);
   };
-  if (kinds != 1) return fail_all(kinds == 0 ? "no rotation columns (qx,qy,qz,qw, q1..q4, rx,ry,rz or a,b,c)"
+  if (kinds != 1) return fail_all(kinds == 0 ? "no rotation columns (qx,qy,qz,qw, q1..q4, rx,ry,rz, a,b,c or w,p,r)"
                                              : "more than one kind of rotation columns");
   if (l.t[0] < 0 || l.t[1] < 0 || l.t[2] < 0) return fail_all("needs the translation columns x, y and z");
   const int needed = quat || abb ? 4 : 3;
   for (int k = 0; k < needed; ++k) {
     if (l.r[k] < 0) return fail_all("a rotation column is missing");
   }
+  // Fanuc's W P R are KUKA's C B A: R = Rz(r) Ry(p) Rx(w).
   l.rotation = quat || abb ? Rotation::kQuaternion : rotvec ? Rotation::kRotationVector : Rotation::kKukaAbc;
   l.form = "CSV columns " + names;
   if (t_unit) *header_units = *t_unit == "mm" ? PoseUnits::kMillimetres : PoseUnits::kMetres;

@@ -8,6 +8,7 @@
 //       q1 q2 q3 q4          ABB's quaternion, w first
 //       rx ry rz             rotation vector in radians (Universal Robots)
 //       a b c                KUKA's angles in degrees, R = Rz(a) Ry(b) Rx(c)
+//       w p r                Fanuc's angles in degrees, R = Rz(r) Ry(p) Rx(w)
 //     columns named t, time, timestamp, t_s, frame, index, image or file are
 //     skipped; any other name is an error.
 //   rows of numbers without a header:

@@ -16,6 +16,7 @@
 #include "pipeline/channel_weights.h"
 #include "pipeline/colorize.h"
 #include "pipeline/frame_extraction.h"
+#include "pipeline/plane_id_sheets.h"
 #include "pipeline/scan_poses.h"
 #include "pipeline/run_folder_reader.h"
 #include "pipeline/scan_output.h"
@@ -121,6 +122,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
   if (frames.empty()) throw InputError(listed.source.string(), "holds no frame (expected one JSON object per line)");
   std::optional<CalibrationFile> cal_file;
   if (options.calibration) cal_file = ReadCalibrationFile(*options.calibration);
+  ApplyShutterPattern(options.shutter, &frames);
   ScanSummary summary;
   summary.frames_source = listed.source;
   summary.frames_from_listing = listed.from_listing;
@@ -181,7 +183,8 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     warn(std::string(MethodName(method)) + " finds one stripe per search line, but there are " +
          std::to_string(planes.size()) + " laser planes: use --method multicom or steger to see every stripe");
   }
-  std::map<int, std::vector<int>> image_order;  // by axis
+  std::map<int, SheetsOfRanks> sheets_of_ranks;  // the planes of identification's ranks, by axis
+  bool warned_uncertain_sheet = false;
 
   // Missing images are reported before anything is written.
   auto selected = [&](const RunFrame& f) {
@@ -253,7 +256,8 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     } catch (const InputError& e) {
       throw InputError(e.where().empty() ? frame.image.string() : e.where(), e.message() + context);
     }
-    if (!frame.shutter_known && MostlyAbove(image, eo.threshold)) flooded.push_back(frame.index);
+    const bool guessed = !frame.shutter_known || options.shutter != ShutterPattern::kRecorded;
+    if (guessed && MostlyAbove(image, eo.threshold)) flooded.push_back(frame.index);
     if (!warned_above_depth && frame.FullScale(type_full_scale) < type_full_scale) {
       const double brightest = Brightest(image);
       if (brightest > frame.FullScale(type_full_scale)) {
@@ -283,11 +287,14 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
       id_options.edge_margin = std::max(id_options.edge_margin, edge_lines_without_points + 2);
       const PixelRect region = eo.roi ? *eo.roi : PixelRect{0, 0, width, height};
       PlaneIdentification id = IdentifyPlanes(points, region, int(planes.size()), id_options);
-      if (!image_order.count(int(axis))) image_order[int(axis)] = PlanesInImageOrder(planes, axis);
-      const std::vector<int>& order = image_order[int(axis)];
+      const SheetsOfRanks& sheets = sheets_of_ranks.try_emplace(int(axis), triangulator, axis).first->second;
       points = std::move(id.points);
-      for (auto& p : points) {
-        if (p.plane >= 0) p.plane = order[size_t(p.plane)];
+      const int uncertain = sheets.Apply(&points);
+      if (uncertain > 0 && !warned_uncertain_sheet) {
+        warn(frame.image.string() + ": " + std::to_string(uncertain) + " stripe point(s) left without a plane: the " +
+             "sheets of the rig's projectors change places across the image with depth, and these points' ranks " +
+             "fit several sheets (or none) at the depths their rays meet them (docs/extraction.md)");
+        warned_uncertain_sheet = true;
       }
       fs_summary.by_edge_chains = id.ok && id.method == PlaneIdMethod::kEdgeChains;
       fs_summary.unidentified_segments = id.unidentified_segments;
@@ -344,14 +351,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     summary.frames.push_back(fs_summary);
     ++summary.laser_frames;
   }
-  if (!flooded.empty()) {
-    std::string list;
-    for (size_t i = 0; i < flooded.size() && i < 5; ++i) list += (i ? ", " : "") + std::to_string(flooded[i]);
-    if (flooded.size() > 5) list += ", ...";
-    warn(std::to_string(flooded.size()) + " frame" + (flooded.size() == 1 ? "" : "s") + " (" + list +
-         ") with no shutter.laser_on in the manifest have most pixels above the stripe threshold: flood-lit (bright) "
-         "frames scanned as laser frames give false points; give shutter.laser_on on each manifest line");
-  }
+  if (!flooded.empty()) warn(FloodLitWarning(flooded, options.shutter, listed.from_listing));
   if (summary.laser_frames == 0) {
     throw InputError(listed.source.string(),
                      "no laser frame to scan" + std::string(summary.other_frames > 0 ? " (only frames without laser light)"

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/capture_folder.h"
 #include "pipeline/colorize.h"
 #include "pipeline/extraction_options.h"
 #include "pipeline/plane_identification.h"
@@ -60,6 +61,9 @@ struct ScanOptions {
   // tool_from_cam, else the camera's (world_from_cam). It replaces the manifest's.
   std::optional<std::filesystem::path> poses;
   PoseFileOptions pose_file;
+  // Which frames are laser frames: the manifest's shutter keys (none: all), or
+  // alternating by position (a capture without a manifest); see capture_folder.h.
+  ShutterPattern shutter = ShutterPattern::kRecorded;
   // Frames [frames_begin, frames_end) of the manifest (by index); -1: to the end.
   int frames_begin = 0;
   int frames_end = -1;

@@ -125,6 +125,11 @@ TEST(PoseFile, EveryFormGivesThePoses) {
     const Eigen::Vector3d zyx = p.linear().eulerAngles(2, 1, 0) * (180 / M_PI);
     return std::vector<double>{t.x(), t.y(), t.z(), zyx[0], zyx[1], zyx[2]};
   }), "p", o));
+  // Fanuc: millimetres and W, P, R in degrees, R = Rz(R) Ry(P) Rx(W).
+  ExpectPoses(ParsePoseFile(Rows("X,Y,Z,W,P,R", ",", 1000, [](const Pose& p, const Eigen::Vector3d& t, int) {
+    const Eigen::Vector3d zyx = p.linear().eulerAngles(2, 1, 0) * (180 / M_PI);
+    return std::vector<double>{t.x(), t.y(), t.z(), zyx[2], zyx[1], zyx[0]};
+  }), "p", o));
 }
 
 TEST(PoseFile, MillimetresReadAsMetresAreWarned) {

@@ -158,6 +158,48 @@ TEST(ScanFolder, PoseFileGivesToolPosesWithAHandEyeCalibration) {
   ExpectWorldPoints(run, 3, tool_from_cam);
 }
 
+// Alternating laser and LED-lit frames without a manifest: --shutter
+// alternate says which are which, and the bright ones colour the cloud.
+TEST(ScanFolder, AlternatingShutterGivesColourFromTheBrightFrames) {
+  SyntheticRun run = MakeRun("folder_alternate", 1);  // rig.json: a 12-bit sensor
+  fs::remove(run.dir / "manifest.jsonl");
+  const Image<uint16_t> bright(160, 120, 1, 500);  // the LED-lit scene, 500 DN
+  for (const char* n : {"f1.png", "f3.png"}) fs::copy_file(run.dir / "frames/000000.png", run.dir / "frames" / n);
+  for (const char* n : {"f2.png", "f4.png"}) WriteImage(run.dir / "frames" / n, bright);
+  fs::remove(run.dir / "frames/000000.png");
+  ScanOptions o;
+  o.poses = run.dir / "poses.csv";
+  std::ofstream(*o.poses) << "x,y,z,qx,qy,qz,qw\n" << std::string(4, ' ') << "\n0.1,0.2,0.3,0,0,0,1\n0.1,0.2,0.3,0,0,0,1\n"
+                          << "0.1,0.2,0.3,0,0,0,1\n0.1,0.2,0.3,0,0,0,1\n";
+  std::vector<std::string> warnings;
+  auto warn = [&](const std::string& w) { warnings.push_back(w); };
+  ScanSummary all = ScanRun(run.dir, o, warn);  // every frame a laser frame
+  EXPECT_EQ(all.laser_frames, 4);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_THAT(warnings[0], HasSubstr("2 frames (1, 3) of a capture without a manifest have most pixels above"));
+  EXPECT_THAT(warnings[0], HasSubstr("--shutter alternate"));
+  warnings.clear();
+  o.shutter = ShutterPattern::kAlternateBrightFirst;  // the wrong phase
+  ScanRun(run.dir, o, warn);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_THAT(warnings[0], HasSubstr("2 frames (1, 3) scanned as laser frames by --shutter alternate-bright-first"));
+  warnings.clear();
+  o.shutter = ShutterPattern::kAlternateLaserFirst;
+  ScanSummary s = ScanRun(run.dir, o, warn);
+  EXPECT_TRUE(warnings.empty()) << warnings[0];
+  EXPECT_EQ(s.laser_frames, 2);
+  EXPECT_EQ(s.other_frames, 2);
+  ASSERT_TRUE(s.coloured);
+  EXPECT_EQ(s.colour.bright_frames, 2);
+  EXPECT_EQ(s.colour.coloured, s.colour.points);
+  EXPECT_EQ(s.colour.contaminated, 0);
+  const PointCloud cloud = ReadPly(run.dir / "cloud.ply");
+  ASSERT_TRUE(cloud.has_colour);
+  ASSERT_EQ(cloud.points.size(), size_t(s.triangulated));
+  const uint8_t grey = uint8_t(std::lround(500.0 / 4095 * 255));
+  for (const CloudPoint& p : cloud.points) EXPECT_EQ(p.rgb, (std::array<uint8_t, 3>{grey, grey, grey}));
+}
+
 // A run with a manifest: the pose file replaces its world_from_cam.
 TEST(ScanFolder, PoseFileReplacesTheManifestsPoses) {
   SyntheticRun run = MakeRun("manifest_poses", 1);  // frames 0 (laser) and 1 (bright)

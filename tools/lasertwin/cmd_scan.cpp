@@ -32,7 +32,8 @@ struct ScanArgs {
   std::string bayer;       // empty: the rig's color_filter
   std::string poses;
   std::string pose_units;  // empty: the header's, else m
-  std::string pose_order;  // empty: the header's (headerless 7/8-number rows need it)
+  std::string pose_order;
+  std::string shutter = "recorded";  // empty: the header's (headerless 7/8-number rows need it)
   bool quiet = false;
   ScanOptions options;
 };
@@ -49,6 +50,7 @@ void Run(ScanArgs& a) {
   if (!a.calib.empty()) o.calibration = a.calib;
   if (!a.bayer.empty()) o.color_filter = ParseBayerPattern(a.bayer, "--bayer");
   if (!a.poses.empty()) o.poses = a.poses;
+  o.shutter = ParseShutterPattern(a.shutter, "--shutter");
   if (!a.pose_units.empty()) o.pose_file.units = ParsePoseUnits(a.pose_units, "--pose-units");
   if (!a.pose_order.empty()) o.pose_file.order = ParseQuaternionOrder(a.pose_order, "--pose-order");
   if (!a.frames.empty()) {
@@ -145,6 +147,11 @@ void Add(CLI::App& app) {
   cmd->add_option("--pose-units", args->pose_units, "m | mm: the pose file's translations (default: its header's, else m)");
   cmd->add_option("--pose-order", args->pose_order,
                   "xyzw | wxyz: the quaternion order of a pose file without a header (TUM's is xyzw)");
+  cmd->add_option("--shutter", args->shutter,
+                  "recorded | alternate | alternate-bright-first: which frames the laser lit: the manifest's shutter "
+                  "keys (none, or no manifest: every frame), or alternate frames, the first a laser (dim) frame or a "
+                  "bright one (colour from the bright ones)")
+      ->capture_default_str();
   cmd->add_option("--bit-depth", args->options.bit_depth,
                   "The image sensor's ADC bits (1..16): a 16-bit image of a 12-bit camera reads up to 4095 (default: "
                   "the manifest's bit_depth, rig.json's)");
