@@ -210,6 +210,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     if (!selected(frame)) continue;
     if (!frame.IsLaserFrame()) {
       ++summary.other_frames;
+      fs::remove(run_dir / ScanCentersName(frame.index), ec);  // scanned as a laser frame before (another --shutter)
       continue;
     }
     const std::string context = " (frame " + std::to_string(frame.index) + ", " + frame.where + ")";

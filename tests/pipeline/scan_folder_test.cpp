@@ -193,6 +193,9 @@ TEST(ScanFolder, AlternatingShutterGivesColourFromTheBrightFrames) {
   EXPECT_EQ(s.colour.bright_frames, 2);
   EXPECT_EQ(s.colour.coloured, s.colour.points);
   EXPECT_EQ(s.colour.contaminated, 0);
+  // The bright frames' centres of the first scan (every frame a laser frame) are gone.
+  for (int k : {1, 3}) EXPECT_FALSE(fs::exists(run.dir / ScanCentersName(k))) << k;
+  EXPECT_TRUE(fs::exists(run.dir / ScanCentersName(2)));
   const PointCloud cloud = ReadPly(run.dir / "cloud.ply");
   ASSERT_TRUE(cloud.has_colour);
   ASSERT_EQ(cloud.points.size(), size_t(s.triangulated));
