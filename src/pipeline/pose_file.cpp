@@ -37,15 +37,22 @@ std::string Lower(std::string_view s) {
   return out;
 }
 
+// Fields separated by ';' (spreadsheets with a decimal comma), tab, ',' or
+// blanks, without the double quotes spreadsheets put around them.
 std::vector<std::string_view> SplitRow(std::string_view line, char* separator) {
-  for (char c : {',', ';', '\t'}) {
+  std::vector<std::string_view> fields;
+  *separator = ' ';
+  for (char c : {';', '\t', ','}) {
     if (line.find(c) != std::string_view::npos) {
       *separator = c;
-      return SplitFields(line, c);
+      break;
     }
   }
-  *separator = ' ';
-  return SplitBlanks(line);
+  fields = *separator == ' ' ? SplitBlanks(line) : SplitFields(line, *separator);
+  for (std::string_view& f : fields) {
+    if (f.size() >= 2 && f.front() == '"' && f.back() == '"') f = TrimBlanks(f.substr(1, f.size() - 2));
+  }
+  return fields;
 }
 
 // A column name without its unit ("x [mm]", "x (m)", "x_mm", "x_m"), lower case, and that unit.
@@ -335,8 +342,10 @@ PoseFile ParsePoseFile(const std::string& text, const std::string& name, const P
         for (int k : layout->t) used |= k == int(i);
         for (int k : layout->r) used |= k == int(i);
         if (!used) continue;
+        const bool decimal_comma = fields[i].find(',') != std::string_view::npos;
         throw InputError(where, "field " + std::to_string(i + 1) + " is not a finite number: \"" +
-                                    std::string(fields[i]) + "\"");
+                                    std::string(fields[i]) + "\"" +
+                                    (decimal_comma ? " (a decimal comma? numbers need a decimal point)" : ""));
       }
       v[i] = *number;
     }

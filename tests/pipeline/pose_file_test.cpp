@@ -73,6 +73,7 @@ TEST(PoseFile, EveryFormGivesThePoses) {
   ExpectPoses(ParsePoseFile(Rows("x; y; z; qw; qx; qy; qz", ";", 1, wxyz), "p"));
   ExpectPoses(ParsePoseFile(Rows("# tx ty tz qw qx qy qz", " ", 1, wxyz), "p"));  // a commented header
   ExpectPoses(ParsePoseFile(Rows("x,y,z,q1,q2,q3,q4", ",", 1, wxyz), "p"));        // ABB: w first
+  ExpectPoses(ParsePoseFile(Rows("\"x\",\"y\",\"z\",\"qx\",\"qy\",\"qz\",\"qw\"", ",", 1, xyzw), "p"));  // quoted
   PoseFileOptions o;
   o.order = QuaternionOrder::kWxyz;
   ExpectPoses(ParsePoseFile(Rows("", ",", 1, wxyz), "p", o));
@@ -162,6 +163,8 @@ TEST(PoseFile, BadInputNamesTheLine) {
   EXPECT_THAT(ErrorOf("x,y,z,qx,qy,qz,qw\n0,0,0,0,0,0,1\n0,0,0,0,0,1\n"), HasSubstr("poses.csv:3: 6 fields, but the first row has 7"));
   EXPECT_THAT(ErrorOf("x,y,z,qx,qy,qz,qw\n0,0,0,0,0,0,1\n0,0,abc,0,0,0,1\n"),
               HasSubstr("poses.csv:3: field 3 is not a finite number: \"abc\""));
+  EXPECT_THAT(ErrorOf("x;y;z;qx;qy;qz;qw\n0;0;0,5;0;0;0;1\n"),
+              HasSubstr("poses.csv:2: field 3 is not a finite number: \"0,5\" (a decimal comma?"));
   EXPECT_THAT(ErrorOf("x,y,z,qx,qy,qz,qw\n0,0,0,0,0,0,2\n"), HasSubstr("poses.csv:2: the quaternion must have unit norm"));
   EXPECT_THAT(ErrorOf("x,y,z,qx,qy,qz,qw,speed\n"), HasSubstr("poses.csv:1: column 8 'speed': unknown column name"));
   EXPECT_THAT(ErrorOf("x,y,z\n"), HasSubstr("poses.csv:1: header 'x,y,z': no rotation columns"));
