@@ -143,6 +143,18 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
     PositionUnknown(name);
     return;
   }
+  // Bambu's z-trim "G29.1 Z-0.02" (its start scripts lower the nozzle so on a textured
+  // plate, and clear it with Z0): an offset of later moves, as Klipper's Z offset.
+  // Another G29.1 (other words: no firmware of those read here) is skipped.
+  if (letter == 'G' && number == "29.1") {
+    ReadWords(code, pos, false);
+    if (words_.size() == 1 && words_[0].letter == 'Z' && words_[0].value) {
+      ZTrim(*words_[0].value * unit_mm_);
+    } else {
+      ++path_.skipped_commands["G29.1"];
+    }
+    return;
+  }
   // G92.1-G92.3 (G92's offset cleared, cleared and saved, restored); G59.1-G59.3 (the
   // seventh to ninth work coordinate systems).
   if (letter == 'G' && number.size() == 4 && (StartsWith(number, "92.") || StartsWith(number, "59.")) &&
@@ -151,7 +163,9 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
     if (number[0] == '9') {
       ResetPosition(number[3] - '0');
     } else {
-      Expect("", "G" + std::string(number));
+      std::string name(1, 'G');  // appended: GCC 12 warns falsely on "G" + std::string
+      name.append(number);
+      Expect("", name);
       SelectWorkSystem(6 + number[3] - '1');
     }
     return;
@@ -267,6 +281,11 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
   }
   if (letter == 'M' && (n == 220 || n == 221)) {
     ReadWords(code, pos, false, true);
+    // Bambu's start scripts switch soft endstops with "M221 X0 Y0 Z0": skipped.
+    if (n == 221 && (Find('X') || Find('Y') || Find('Z'))) {
+      ++path_.skipped_commands["M221"];
+      return;
+    }
     n == 220 ? SpeedFactor() : FlowFactor();
     return;
   }

@@ -1,11 +1,11 @@
 // The G-code reader's offsets between the file's coordinates and the machine's: G92
 // and its resets (G92.1-G92.3), work coordinate systems (G54-G59.3, set by G10 L2 and
 // L20), machine coordinates for one line (G53, in scene/gcode_moves.cpp's Target),
-// babystepping (M290), and what homing clears.
+// babystepping (M290), Bambu's z-trim (G29.1 Z), and what homing clears.
 //
 // The machine position is the logical one plus offset_mm_, the sum of G92's offset,
-// the active work system's, Klipper's SET_GCODE_OFFSET, babystepping and a firmware
-// retraction's Z hop. G92's is kept apart from the work offsets, as LinuxCNC does
+// the active work system's, Klipper's SET_GCODE_OFFSET, Bambu's z-trim, babystepping
+// and a firmware retraction's Z hop. G92's is kept apart from the work offsets, as LinuxCNC does
 // (RepRapFirmware and Marlin fold G92 into the active work system's offset: the two
 // differ only when a file changes work systems after a G92 on X, Y or Z).
 #include <string>
@@ -17,8 +17,14 @@ namespace lt {
 namespace gcode_detail {
 
 Eigen::Vector3d GcodeReader::PhysicalOffset() const {
-  return Eigen::Vector3d(klipper_offset_mm_[0], klipper_offset_mm_[1], klipper_offset_mm_[2] + fw_hop_applied_mm_) +
+  return Eigen::Vector3d(klipper_offset_mm_[0], klipper_offset_mm_[1],
+                         klipper_offset_mm_[2] + z_trim_mm_ + fw_hop_applied_mm_) +
          babystep_mm_;
+}
+
+void GcodeReader::ZTrim(double z_mm) {
+  offset_mm_.z() += z_mm - z_trim_mm_;  // later absolute moves; the nozzle moves with the next one
+  z_trim_mm_ = z_mm;
 }
 
 void GcodeReader::HomeAxis(int k) {

@@ -100,11 +100,14 @@ class GcodeReader {
   // M290: babystepping (Marlin, RepRapFirmware): the nozzle moves now and later moves
   // land that much further, until the axis is homed.
   void Babystep();
+  // Bambu's G29.1 Z: the z-trim (mm, not cumulative), an offset of later moves.
+  void ZTrim(double z_mm);
+  double z_trim_mm_ = 0;
   // Homing axis k (0-2) clears G92's offset and babystepping on it; work offsets and
   // Klipper's SET_GCODE_OFFSET stay.
   void HomeAxis(int k);
-  // The offsets that are physical shifts (Klipper's SET_GCODE_OFFSET, babystepping, a
-  // firmware retraction's Z hop), which G53's machine coordinates keep; and with the
+  // The offsets that are physical shifts (Klipper's SET_GCODE_OFFSET, Bambu's z-trim,
+  // babystepping, a firmware retraction's Z hop), which G53's machine coordinates keep; and with the
   // active work system's offset: all but G92's.
   Eigen::Vector3d PhysicalOffset() const;
   Eigen::Vector3d OffsetWithoutG92() const { return PhysicalOffset() + work_offset_mm_[work_system_]; }

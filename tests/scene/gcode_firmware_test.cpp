@@ -163,5 +163,31 @@ TEST(GcodeFirmware, WorkOffsetsAreSetByG10L2AndL20) {
               HasSubstr("w.gcode:1: G10 L2 P must be a coordinate system 1-9"));
 }
 
+// Bambu Studio's start scripts (X1, P1): "M221 X0 Y0 Z0" switches soft endstops off (it
+// was "M221 takes no parameter X", which stopped the read), and "G29.1 Z-0.02" sets the
+// z-trim for a textured plate, an offset of later moves (not cumulative; Z0 clears it;
+// it was skipped, the first layer 0.02 mm high).
+TEST(GcodeFirmware, BambuZTrimAndSoftEndstops) {
+  Toolpath p = ParseGcode(
+      "M221 S100\n"
+      "M221 X0 Y0 Z0 ; turn off soft endstop\n"
+      "G29.1 Z+0.0 ; clear z-trim value first\n"
+      "G1 X1 Z0.2 F600\n"
+      "G29.1 Z-0.02\n"
+      "G29.1 Z-0.02\n"
+      "G1 X2 Z0.2\n"
+      "G1 Z0.4\n"
+      "G29.1 Z0\n"
+      "G1 Z0.6\n",
+      "bambu.gcode");
+  const std::vector<Eigen::Vector3d> ends = Ends(p);
+  ASSERT_EQ(ends.size(), 4u);
+  const double z[] = {0.2, 0.18, 0.38, 0.6};
+  for (size_t i = 0; i < ends.size(); ++i) EXPECT_NEAR(ends[i].z(), z[i], 1e-12) << i;
+  EXPECT_EQ(p.skipped_commands.at("M221"), 1u);
+  // A G29.1 with other words is no z-trim: skipped.
+  EXPECT_EQ(ParseGcode("G29.1 Q\n", "b.gcode").skipped_commands.at("G29.1"), 1u);
+}
+
 }  // namespace
 }  // namespace lt
