@@ -204,7 +204,9 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
   std::vector<Material> out;
   out.reserve(m.materials.size());
   std::map<std::string, std::string> ignored_extensions;  // name -> the materials using it
-  std::string transmissive[2];  // the materials with KHR_materials_transmission, [with a transmissionTexture]
+  std::string transmissive[2];
+  // Mean texel of (texture, sRGB-encoded), or why there is none (MeanTexel).
+  std::map<std::pair<int, bool>, std::pair<std::optional<Eigen::Vector4d>, std::string>> texture_means;  // the materials with KHR_materials_transmission, [with a transmissionTexture]
   // Makes texture info.index (in range) mat's base colour texture, each texture
   // decoded once, with info's KHR_texture_transform and the TEXCOORD set it reads
   // (the meshes load that set for the primitives using the material).
@@ -316,8 +318,14 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
     auto scale_by_mean = [&](const tinygltf::TextureInfo& info, const std::string& info_where, const char* what,
                              bool srgb, const std::function<std::string(const Eigen::Vector4d&)>& apply) {
       if (info.index < 0) return;
-      std::string why;
-      const std::optional<Eigen::Vector4d> mean = MeanTexel(src, info, info_where, srgb, &why);
+      // Each (texture, encoding) once: files share one large texture among many materials.
+      auto cached = texture_means.find({info.index, srgb});
+      if (cached == texture_means.end()) {
+        std::string why;
+        std::optional<Eigen::Vector4d> mean = MeanTexel(src, info, info_where, srgb, &why);
+        cached = texture_means.emplace(std::pair{info.index, srgb}, std::pair{mean, why}).first;
+      }
+      const auto& [mean, why] = cached->second;
       approximated += std::string(approximated.empty() ? "" : "; ") + what +
                       (mean ? " texture not sampled, its mean used: " + apply(*mean)
                             : " texture ignored (" + why + "), the factor used alone");
