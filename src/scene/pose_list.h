@@ -10,10 +10,7 @@
 // increase; quaternions must have unit norm to 1e-3 (they are then re-normalised;
 // q and -q are the same rotation). At least two poses.
 //
-// Interpolation between the two poses around t: position linear in time, rotation
-// by spherical linear interpolation (slerp) along the shorter arc. Before the first
-// pose the first pose holds, after the last the last one holds (clamped, no
-// extrapolation).
+// Interpolation: core/pose_trajectory.h (linear, slerp, clamped at the ends).
 #pragma once
 
 #include <Eigen/Geometry>
@@ -22,33 +19,11 @@
 #include <vector>
 
 #include "core/pose.h"
+#include "core/pose_trajectory.h"
 
 namespace lt {
 
-struct PoseSample {
-  double t_s = 0;
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();
-  Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();  // unit
-};
-
 enum class PoseFileFormat { kCsv, kTum };
-
-class PoseTrajectory {
- public:
-  // Throws std::invalid_argument unless there are >= 2 samples with strictly
-  // increasing finite times and unit quaternions (the readers check this first
-  // and report file:line).
-  explicit PoseTrajectory(std::vector<PoseSample> samples);
-
-  // The interpolated pose at time t (clamped to [StartTime(), EndTime()]).
-  Pose At(double t_s) const;
-  double StartTime() const { return samples_.front().t_s; }
-  double EndTime() const { return samples_.back().t_s; }
-  const std::vector<PoseSample>& samples() const { return samples_; }
-
- private:
-  std::vector<PoseSample> samples_;
-};
 
 // Parses pose-list text. Errors are lt::InputError naming "display_name:line"
 // (bad number, wrong field count, wrong header, non-increasing time, non-unit
