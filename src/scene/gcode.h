@@ -45,10 +45,14 @@
 //   M220, M221      feed rate and flow percentages (S; M220 B/R save and restore),
 //                   scaling the feed and the E of later G0-G3 moves
 //   F               feed rate in mm/min (inch/min under G20), modal, shared by G0-G3
-//   G29, G30, G32-G34, G38.2-5, G380 (Bambu), M48, G80 alone on its line (Prusa), Klipper's
-//                   BED_MESH_CALIBRATE etc., Prusa XL's P0 park and T.. D0: probing or
-//                   docking; X, Y, Z unknown until an absolute move or homing sets each
-//                   (a relative move on an unknown axis is warned: Toolpath::warnings)
+//   G29, G30, G32-G35, G38.2-5, G380 (Bambu), M48, G80 alone on its line (Prusa), Klipper's
+//                   BED_MESH_CALIBRATE etc. (probing: warned, it takes no time here);
+//                   Marlin's G12 clean and G27 park, Prusa XL's P0 park and T.. D0: X, Y,
+//                   Z unknown until an absolute move or homing sets each (a relative
+//                   move on an unknown axis is warned: Toolpath::warnings). G29 that only
+//                   loads, fills, activates or saves a mesh (S1-S3, A, L, P3, ...) is skipped
+//   G29.1 Z         Bambu's z-trim: an offset of later moves (M221 X Y Z, Bambu's soft
+//                   endstops, is skipped)
 //   U, V, W, C      extra axes on G0-G3, G92, G28: ignored with a warning; one moving
 //                   on an extruding line is an error
 //   SET_RETRACTION  Klipper's firmware retraction settings (mm, mm/s)

@@ -207,6 +207,7 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
       case 32:  // RepRapFirmware's bed.g (probing); Marlin's sled undock
       case 33:  // delta auto-calibration
       case 34:  // Z steppers' auto-alignment (probes)
+      case 35:  // Marlin's tramming assistant (probes the screws' points)
       case 380:  // Bambu's move until contact ("G380 S2 Z-5 F300")
         ReadWords(code, pos, false);
         if (n == 29 && MeshCommandOnly()) {
@@ -214,6 +215,12 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
           return;
         }
         PositionUnknown(CommandName('G', n));
+        return;
+      case 12:  // Marlin's nozzle clean (a pattern at a configured place; going back is an option)
+      case 27:  // Marlin's nozzle park (at the configured park point)
+        ReadWords(code, pos, false);
+        ++path_.skipped_commands[CommandName('G', n)];
+        PositionUnknown(CommandName('G', n), false);
         return;
       case 80:
         // Prusa firmware's mesh bed levelling, alone on its line; RS-274's "cancel canned

@@ -60,8 +60,17 @@ TEST(GcodeFirmware, ProbingIsWarnedToTakeNoTime) {
   EXPECT_EQ(p.warnings[0].line, 2);
   EXPECT_EQ(p.warnings[0].count, 3);
   EXPECT_THAT(p.warnings[0].text, HasSubstr("G29 (probing, levelling) takes no time in the toolpath"));
-  // A tool parked in its dock (Prusa XL) is no probing.
+  // A tool parked in its dock (Prusa XL) is no probing, nor is Marlin's nozzle park
+  // (G27) or clean (G12), which end at a place of the printer's configuration: the
+  // position is unknown after them, as after probing.
   EXPECT_TRUE(ParseGcode("P0 S1 L2 D0\nG1 X1 Y1 Z1 F600\n", "xl.gcode").warnings.empty());
+  for (const char* park : {"G27 P2", "G12 P1 S2"}) {
+    Toolpath q = ParseGcode(std::string("G1 X5 Y5 Z5 F600\n") + park + "\nG91\nG1 Z1\n", "park.gcode");
+    ASSERT_EQ(q.warnings.size(), 1u) << park;
+    EXPECT_THAT(q.warnings[0].text, HasSubstr("left unknown in Z")) << park;
+    EXPECT_EQ(q.skipped_commands.size(), 1u) << park;
+  }
+  EXPECT_EQ(ParseGcode("G35\n", "tram.gcode").warnings.at(0).count, 1);
   // G29 that loads, fills, activates or saves a mesh moves nothing: the position stays
   // known and nothing is warned (RepRapFirmware's "G29 S1", UBL's L and A, Prusa's P3.2).
   Toolpath mesh = ParseGcode("G28\nG29 L0\nG29 A\nG29 S1\nG29 P3.2\nG29 P3.13\nG91\nG1 Z5 F600\n", "mesh.gcode");
