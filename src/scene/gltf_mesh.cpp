@@ -342,8 +342,13 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Materia
       // A triangle the skin mirrors is turned round, so that its winding and
       // normals agree again (glTF: a negative determinant reverses the winding).
       if (!mirrored.empty() && mirrored[a] + mirrored[b] + mirrored[c] >= 2) std::swap(b, c);
-      if (a == b || b == c || a == c || IsDegenerateTriangle(Vec3At(pos, a), Vec3At(pos, b), Vec3At(pos, c))) {
-        ++stats->degenerate_triangles;
+      const Eigen::Vector3f pa = Vec3At(pos, a), pb = Vec3At(pos, b), pc = Vec3At(pos, c);
+      if (a == b || b == c || a == c || IsDegenerateTriangle(pa, pb, pc)) {
+        // A strip joins its runs by triangles with a repeated corner (index or
+        // position): they are how strips are written, not a defect to report.
+        const bool join = prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP &&
+                          (a == b || b == c || a == c || pa == pb || pb == pc || pa == pc);
+        if (!join) ++stats->degenerate_triangles;
         continue;
       }
       tri[3 * kept] = a;
