@@ -178,7 +178,11 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
   summary.planes = int(planes.size());
   const Triangulator triangulator(camera, planes, options.triangulation);
   const SearchAxis planes_axis = StripeAxis(planes);
-  const ExtractionMethod method = options.extraction.method;
+  ExtractionMethod method = options.extraction.method;
+  if (options.method_from_planes && planes.size() > 1 && FindsOneStripePerLine(method)) {
+    method = ExtractionMethod::kMultiCom;
+  }
+  summary.method = method;
   if (planes.size() > 1 && FindsOneStripePerLine(method)) {
     warn(std::string(MethodName(method)) + " finds one stripe per search line, but there are " +
          std::to_string(planes.size()) + " laser planes: use --method multicom or steger to see every stripe");
@@ -229,6 +233,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     const double type_full_scale = ImageTypeFullScale(image);
     const SearchAxis axis = options.axis ? *options.axis : frame.gt_axis ? *frame.gt_axis : planes_axis;
     ExtractionOptions given = options.extraction;
+    given.method = method;
     given.axis = axis;
     const FrameExtraction fx = RunFrameExtraction(given, frame, image, rig, matched);
     const ExtractionOptions& eo = fx.options;

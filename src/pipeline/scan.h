@@ -37,6 +37,10 @@ struct ScanOptions {
   //     efficiency in the rig, warned) a mosaic's mean of R, G, B.
   // `axis` is ignored: see `axis` below.
   ExtractionOptions extraction = DefaultExtraction();
+  // The method was not chosen (`--method` absent): with several laser planes
+  // the scan takes multicom, which finds every stripe on a search line (com
+  // and max find one, so N-1 stripes would be lost), else extraction.method.
+  bool method_from_planes = false;
   // Search axis; unset: the manifest's gt_axis of each frame, else the axis
   // the laser planes' stripes call for (StripeAxis).
   std::optional<SearchAxis> axis;
@@ -101,6 +105,7 @@ struct ScanSummary {
   TriangulationStats stats;  // summed over frames
   bool world_frame = true;   // cloud.ply is in the world frame (every frame had a pose)
   int planes = 0;
+  ExtractionMethod method = ExtractionMethod::kCom;  // the method used
   int frames_by_edge_chains = 0;   // frames the edge chains numbered (pipeline/plane_identification.h)
   int unidentified_segments = 0;   // stripe segments left without a plane, all frames
   std::filesystem::path plane_source;  // rig.json, scene.json or the calibration file

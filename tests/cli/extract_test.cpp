@@ -103,6 +103,10 @@ TEST_F(ExtractCommand, OneStripeMethodsWithSeveralPlanesWarn) {
                                "--method multicom or steger"));
   r = RunCli("extract " + Quoted(p) + " --planes 2 --method multicom");
   EXPECT_THAT(r.err, Not(HasSubstr("finds one stripe per search line")));
+  // Without --method, several planes take multicom.
+  r = RunCli("extract " + Quoted(p) + " --planes 2");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, Not(HasSubstr("finds one stripe per search line")));
 }
 
 // --background takes a level or `local` (a per-peak background line, for

@@ -204,6 +204,16 @@ TEST(Scan, ThreeSheetsAreIdentifiedAndTriangulated) {
   ASSERT_FALSE(warnings.empty());
   EXPECT_THAT(warnings[0], HasSubstr("com finds one stripe per search line, but there are 3 laser planes: use "
                                      "--method multicom or steger"));
+  // Without a chosen method (`scan` without --method) the scan takes multicom
+  // for the three planes: every stripe, numbered, and no warning.
+  ScanOptions unchosen;
+  unchosen.method_from_planes = true;
+  warnings.clear();
+  const ScanSummary s = ScanRun(run.dir, unchosen, [&](const std::string& w) { warnings.push_back(w); });
+  EXPECT_EQ(s.method, ExtractionMethod::kMultiCom);
+  EXPECT_TRUE(warnings.empty()) << warnings[0];
+  EXPECT_TRUE(s.frames[0].identified) << s.frames[0].identification_error;
+  EXPECT_GT(s.triangulated, 3 * 130);
 }
 
 TEST(Scan, CalibrationFileReplacesThePlanes) {

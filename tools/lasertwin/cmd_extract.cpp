@@ -22,7 +22,7 @@ namespace {
 
 struct ExtractArgs {
   std::vector<std::string> images;
-  std::string method = "com";
+  std::string method;  // empty: com, or multicom with --planes above 1
   std::string axis = "rows";
   std::string roi;
   std::string weights;
@@ -67,7 +67,7 @@ std::string DimImageNote(const Image<T>& im, const StripeExtractor& extractor, c
 
 void Run(ExtractArgs& a) {
   ExtractionOptions& o = a.options;
-  o.method = ParseMethod(a.method, "--method");
+  o.method = ParseMethod(a.method.empty() ? (a.planes > 1 ? "multicom" : "com") : a.method, "--method");
   o.axis = ParseAxis(a.axis, "--axis");
   if (!a.roi.empty()) o.roi = ParseRoi(a.roi, "--roi");
   if (!a.weights.empty()) o.channel_weights = ParseNumberList(a.weights, "--weights");
@@ -192,7 +192,8 @@ void AddExtract(CLI::App& app) {
   auto args = std::make_shared<ExtractArgs>();
   auto* cmd = app.add_subcommand("extract", "Find laser stripe centres in images (CSV: u,v,width,strength[,plane])");
   cmd->add_option("images", args->images, "Image files (PNG, TIFF, EXR, JPEG, PGM; 8/16-bit or float; an alpha channel is left out)")->required();
-  cmd->add_option("--method", args->method, "max | com | multicom | steger")->capture_default_str();
+  cmd->add_option("--method", args->method,
+                  "max | com | multicom | steger (default: com, multicom with --planes above 1)");
   cmd->add_option("--axis", args->axis, "rows (stripes run top to bottom) | cols (left to right)")
       ->capture_default_str();
   cmd->add_option("--roi", args->roi, "Search only in X,Y,W,H (pixels)");

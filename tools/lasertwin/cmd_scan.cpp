@@ -22,7 +22,7 @@ namespace {
 
 struct ScanArgs {
   std::string run_dir;
-  std::string method = "com";
+  std::string method;  // empty: com, or multicom for several laser planes
   std::string axis;
   std::string roi;
   std::string weights;
@@ -40,7 +40,8 @@ struct ScanArgs {
 
 void Run(ScanArgs& a) {
   ScanOptions& o = a.options;
-  o.extraction.method = ParseMethod(a.method, "--method");
+  o.method_from_planes = a.method.empty();
+  o.extraction.method = ParseMethod(a.method.empty() ? "com" : a.method, "--method");
   if (!a.axis.empty()) o.axis = ParseAxis(a.axis, "--axis");
   if (!a.background.empty()) {
     ParseBackground(a.background, "--background", &o.extraction.background, &o.extraction.background_mode);
@@ -87,6 +88,7 @@ void Run(ScanArgs& a) {
   add(st.behind, "behind the camera");
   if (!rejected.empty()) std::cerr << " (" << rejected << ")";
   std::cerr << "; " << s.planes << " laser plane" << (s.planes == 1 ? "" : "s") << " from " << s.plane_source.string()
+            << "; method " << MethodName(s.method) << (o.method_from_planes && s.planes > 1 ? " (several laser planes)" : "")
             << "\n";
   if (!s.channel_weights.empty()) std::cerr << "colour frames extracted on " << s.channel_weights_source << "\n";
   std::vector<double> widths;
@@ -135,7 +137,8 @@ void Add(CLI::App& app) {
                   "Run folder (from lasertwin render, or a capture with the same layout), or a folder of images "
                   "without manifest.jsonl (frames in file name order, directly in it or in its frames/)")
       ->required();
-  cmd->add_option("--method", args->method, "max | com | multicom | steger")->capture_default_str();
+  cmd->add_option("--method", args->method,
+                  "max | com | multicom | steger (default: com, multicom for several laser planes)");
   cmd->add_option("--calib", args->calib,
                   "Calibration file (OpenCV YAML): its laser planes (and camera, and hand-eye pose tool_from_cam with the "
                   "run's world_from_tool) replace the run's ground truth");
