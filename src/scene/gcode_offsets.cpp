@@ -98,7 +98,9 @@ void GcodeReader::Babystep() {
   Expect("XYZSPR", "M290");
   if (Find('S') && Find('Z')) Fail("M290 takes S or Z, not both");
   const Word* r = Find('R');
-  if (r && *r->value != 0 && *r->value != 1) Fail("M290 R must be 0 (absolute) or 1 (relative), got " + FormatNumber(*r->value));
+  if (r && *r->value != 0 && *r->value != 1) {
+    Fail("M290 R must be 0 (absolute) or 1 (relative), got " + FormatNumber(*r->value));
+  }
   const bool absolute = r && *r->value == 0;
   Eigen::Vector3d step = Eigen::Vector3d::Zero();
   const char axes[3] = {'X', 'Y', 'Z'};

@@ -81,7 +81,8 @@ TEST(GcodeApproximations, ProbingLeavesThePositionUnknownUntilAnAbsoluteMove) {
   EXPECT_TRUE(ParseGcode("G17 G80 G90\nG91\nG1 X1 F600\n", "p.gcode").warnings.empty());
   // Prusa's mesh levelling, Klipper's macros, a straight probe, an arc's centre.
   EXPECT_THAT(relative("G80\nG91\nG1 X1 F600\n"), HasSubstr("G80 (line 1) left unknown in X"));
-  EXPECT_THAT(relative("BED_MESH_CALIBRATE\nG91\nG1 Z1 F600\n"), HasSubstr("BED_MESH_CALIBRATE (line 1) left unknown in Z"));
+  EXPECT_THAT(relative("BED_MESH_CALIBRATE\nG91\nG1 Z1 F600\n"),
+              HasSubstr("BED_MESH_CALIBRATE (line 1) left unknown in Z"));
   EXPECT_THAT(relative("G38.2 Z-10 F100\nG91\nG1 Z1\n"), HasSubstr("G38.2 (line 1) left unknown in Z"));
   EXPECT_THAT(relative("G380 S2 Z-5 F300\nG91\nG1 Z5\n"), HasSubstr("G380 (line 1) left unknown in Z"));
   EXPECT_THAT(relative("G29\nG2 X10 Y0 I5 J0 F600\n"), HasSubstr("G2 moves relative to a position G29"));
