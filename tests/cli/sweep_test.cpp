@@ -4,6 +4,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <sstream>
 
 #include "run_many.h"
@@ -13,6 +14,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 const fs::path kScene = fs::path(LT_SOURCE_DIR) / "tests/data/scenes/tiny_scan.json";
 
@@ -44,6 +46,29 @@ TEST(SweepCommand, QuickLadder) {
   const std::string svg = ReadFile(dir / "pareto.svg");
   EXPECT_THAT(svg, HasSubstr("Pareto front"));
   EXPECT_THAT(svg, HasSubstr("half_resolution"));
+}
+
+// A scene with several laser sheets: com and max find one stripe per search
+// line, so the default methods are multicom and steger (com led the list, and
+// the one-factor configurations took it).
+TEST(SweepCommand, SeveralSheetsTakeMultiPeakMethods) {
+  const fs::path dir = NewTestFolder("sweep_sheets");
+  std::string scene = ReadFile(kScene);
+  const std::string laser = "\"fan_angle_deg\": 40,";
+  ASSERT_NE(scene.find(laser), std::string::npos);
+  scene.replace(scene.find(laser), laser.size(), laser + " \"sheet_count\": 3, \"sheet_spacing_deg\": 2,");
+  const std::string glb = "../../../scenes/demo/";
+  for (size_t at; (at = scene.find(glb)) != std::string::npos;) {
+    scene.replace(at, glb.size(), (fs::path(LT_SOURCE_DIR) / "scenes/demo/").string());
+  }
+  std::ofstream(dir / "three.json") << scene;
+  CliResult r = RunCli("sweep " + Quoted(dir / "three.json") + " --out " + Quoted(dir / "out") + " --quick --spp 1 --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string csv = ReadFile(dir / "out/sweep.csv");
+  EXPECT_THAT(csv, HasSubstr(",multicom,"));
+  EXPECT_THAT(csv, HasSubstr(",steger,"));
+  EXPECT_THAT(csv, Not(HasSubstr(",com,")));
+  EXPECT_TRUE(fs::exists(dir / "out/runs/bounces0/metrics_multicom.json"));
 }
 
 TEST(SweepCommand, BadOptions) {

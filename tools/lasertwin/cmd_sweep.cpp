@@ -367,7 +367,12 @@ void Run(const SweepArgs& a) {
   std::vector<int> spps = ParseInts(a.spp.empty() ? (a.quick ? "1,4" : "1,4,16,64") : a.spp, "--spp");
   std::vector<ExtractionMethod> methods;
   {
-    std::stringstream ss(a.methods.empty() ? (a.quick ? "com,steger" : "com,multicom,steger,max") : a.methods);
+    // Several laser sheets: com and max find one stripe per search line, so
+    // they are left out of the default list (as scan takes multicom).
+    int sheets = 0;
+    for (const LaserProjector& l : scene.sensor.lasers) sheets += l.sheet_count();
+    const char* defaults = sheets > 1 ? "multicom,steger" : a.quick ? "com,steger" : "com,multicom,steger,max";
+    std::stringstream ss(a.methods.empty() ? defaults : a.methods);
     for (std::string m; std::getline(ss, m, ',');) methods.push_back(ParseMethod(m, "--methods"));
     if (methods.empty()) throw InputError("--methods", "no method given");
   }
@@ -408,7 +413,8 @@ void Add(CLI::App& app) {
   cmd->add_option("--out", args->out, "Output folder (runs/<configuration>/, sweep.csv, pareto.svg)")->required();
   cmd->add_option("--spp", args->spp, "Samples per pixel ladder (default 1,4,16,64; --quick: 1,4)");
   cmd->add_option("--methods", args->methods,
-                  "Extraction methods for the spp ladder (default com,multicom,steger,max; --quick: com,steger)");
+                  "Extraction methods for the spp ladder (default com,multicom,steger,max; --quick: com,steger; "
+                  "several laser sheets: multicom,steger)");
   cmd->add_option("--threads", args->threads, "Threads for rendering and extraction (0: all)")->capture_default_str();
   cmd->add_option("--min-detection", args->min_detection,
                   "The Pareto front only takes configurations that detect at least this fraction of the true centres")
