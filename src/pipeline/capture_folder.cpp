@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/image_io.h"
+#include "core/text_fields.h"
 #include "pipeline/calib_camera_images.h"
 
 namespace lt {
@@ -74,7 +75,10 @@ CaptureFolder ReadCaptureFolder(const fs::path& dir) {
   CaptureFolder c;
   std::vector<fs::path> files = top.empty() ? sub : top;
   c.images_dir = top.empty() ? dir / "frames" : dir;
+  // Images named by their time ("1305031102.2.png", "1305031102.175304.png") in time order.
   std::sort(files.begin(), files.end(), [](const fs::path& x, const fs::path& y) {
+    const auto tx = ParseFiniteNumber(x.stem().string()), ty = ParseFiniteNumber(y.stem().string());
+    if (tx && ty && *tx != *ty) return *tx < *ty;
     return NaturalLess(x.filename().string(), y.filename().string());
   });
   const std::string listing = c.images_dir.string() + " (no manifest.jsonl: frames in file name order)";

@@ -1,7 +1,8 @@
 // The frames of a capture without a manifest (`lasertwin scan DIR` on a folder
 // of images from a camera's software, docs/pipeline.md, "A capture without a
 // manifest"): the image files directly in DIR, or in DIR/frames, in natural
-// order (img2 before img10), any extension the image reader takes in any case
+// order (img2 before img10; names that are numbers, such as times
+// "1305031102.2", by value), any extension the image reader takes in any case
 // (ListImageFiles); hidden files (".name", macOS's "._name" copies) and
 // sub-folders are left out. Every image must have the size of the first.
 #pragma once

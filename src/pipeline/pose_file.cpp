@@ -27,6 +27,8 @@ struct Layout {
   Rotation rotation = Rotation::kQuaternion;
   size_t fields = 0;
   int t[3] = {-1, -1, -1};
+  int time = -1;            // the column of the time, -1: none
+  double time_to_s = 1.0;   // its unit
   int r[4] = {-1, -1, -1, -1};
   std::string form;
 };
@@ -88,9 +90,25 @@ int AxisAfter(const std::string& name, std::initializer_list<const char*> prefix
   return -1;
 }
 
+// A time column's name: its unit in seconds (the name's, else `unit`'s), 0 for
+// another name, -1 for an unknown unit.
+double TimeColumn(const std::string& name, const std::string& unit) {
+  for (const char* s : {"t", "time", "timestamp", "stamp"}) {
+    if (name != s) continue;
+    if (unit.empty() || unit == "s") return 1.0;
+    return unit == "ms" ? 1e-3 : unit == "us" ? 1e-6 : unit == "ns" ? 1e-9 : -1.0;
+  }
+  for (const char* s : {"t_s", "time_s", "timestamp_s"}) {
+    if (name == s) return 1.0;
+  }
+  for (const char* s : {"t_ns", "time_ns", "timestamp_ns"}) {
+    if (name == s) return 1e-9;
+  }
+  return 0;
+}
+
 bool Skipped(const std::string& name) {
-  for (const char* s : {"t", "time", "timestamp", "stamp", "t_s", "time_s", "timestamp_s", "timestamp_ns", "frame",
-                        "index", "image", "file", "filename", "id"}) {
+  for (const char* s : {"frame", "index", "image", "file", "filename", "id"}) {
     if (name == s) return true;
   }
   return false;
@@ -121,6 +139,13 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
     };
     bool ok = true;
     if (Skipped(name)) continue;
+    if (const double to_s = TimeColumn(name, unit); to_s != 0) {
+      if (to_s < 0) return fail("unknown time unit '" + unit + "' (s, ms, us or ns)");
+      if (l.time >= 0) return fail("a second time column");
+      l.time = c;
+      l.time_to_s = to_s;
+      continue;
+    }
     const int kinds_before = int(quat) + int(abb) + int(rotvec) + int(kuka) + int(fanuc);
     if (name.rfind("actual_tcp_pose_", 0) == 0 && name.size() == 17 && name[16] >= '0' && name[16] <= '5') {
       // Universal Robots' RTDE log: x y z in metres, then the rotation vector.
@@ -203,6 +228,7 @@ Layout HeaderlessLayout(size_t n, char separator, const PoseFileOptions& o, cons
     l.form = "rows " + l.form;
   } else if (n == 8 && separator == ' ') {
     quaternion(1, o.order.value_or(QuaternionOrder::kXyzw));
+    l.time = 0;  // TUM's timestamp, seconds
     l.form = o.order.value_or(QuaternionOrder::kXyzw) == QuaternionOrder::kXyzw ? "TUM (timestamp tx ty tz qx qy qz qw)"
                                                                                 : "rows " + l.form;
   } else if (n == 8) {
@@ -352,6 +378,16 @@ PoseFile ParsePoseFile(const std::string& text, const std::string& name, const P
     const double scale = out.units == PoseUnits::kMillimetres ? 1e-3 : 1.0;
     out.poses.push_back(RowPose(*layout, v, scale, where));
     out.lines.push_back(int(line_no));
+    if (layout->time >= 0 && out.times_s.size() + 1 == out.poses.size()) {
+      // A time that is no number (a date) leaves the file without times: poses go by row.
+      const auto t = ParseFiniteNumber(fields[size_t(layout->time)]);
+      if (t) {
+        out.times_s.push_back(*t * layout->time_to_s);
+      } else {
+        out.times_s.clear();
+        layout->time = -1;
+      }
+    }
     const double t = out.poses.back().translation().norm();
     if (t > largest_m) largest_m = t, largest_line = int(line_no);
   }

@@ -9,8 +9,10 @@
 //       rx ry rz             rotation vector in radians (Universal Robots)
 //       a b c                KUKA's angles in degrees, R = Rz(a) Ry(b) Rx(c)
 //       w p r                Fanuc's angles in degrees, R = Rz(r) Ry(p) Rx(w)
-//     columns named t, time, timestamp, t_s, frame, index, image or file are
-//     skipped; any other name is an error.
+//     a time: t, time, timestamp, stamp (seconds, or the unit in brackets: s,
+//     ms, us, ns), t_s, time_s, timestamp_s, t_ns, time_ns, timestamp_ns;
+//     columns named frame, index, image, file, filename or id are skipped;
+//     any other name is an error.
 //   rows of numbers without a header:
 //     7  x y z + quaternion: its order (w first or last) must be given (order)
 //     8  blank separated: TUM (timestamp tx ty tz qx qy qz qw); comma separated:
@@ -45,6 +47,7 @@ struct PoseFileOptions {
 struct PoseFile {
   std::vector<Pose> poses;          // in metres, in file order
   std::vector<int> lines;           // the line of each pose
+  std::vector<double> times_s;      // the time of each pose (TUM, a time column), seconds; empty without
   std::string form;                 // e.g. "CSV columns x,y,z,qx,qy,qz,qw", "TUM", "3x4 matrices"
   PoseUnits units = PoseUnits::kMetres;
 };

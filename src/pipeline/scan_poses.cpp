@@ -3,23 +3,71 @@
 #include <algorithm>
 
 #include "core/error.h"
+#include "core/pose_trajectory.h"
+#include "core/text_fields.h"
 
 namespace lt {
 
+namespace {
+
+// The poses at the times the images' names give ("1305031102.175304.png"), in
+// seconds or, when those fall outside the pose file's times, ms, us or ns;
+// nullopt unless every name is a number within the file's times.
+std::optional<std::vector<Pose>> PosesAtImageTimes(const PoseFile& poses, const std::filesystem::path& file,
+                                                   const std::vector<RunFrame>& frames) {
+  if (poses.times_s.size() < 2 || poses.times_s.size() != poses.poses.size()) return std::nullopt;
+  std::vector<double> names;
+  for (const RunFrame& f : frames) {
+    const auto t = ParseFiniteNumber(f.image.stem().string());
+    if (!t) return std::nullopt;
+    names.push_back(*t);
+  }
+  const double first = poses.times_s.front(), last = poses.times_s.back();
+  for (const double to_s : {1.0, 1e-3, 1e-6, 1e-9}) {
+    if (!std::all_of(names.begin(), names.end(), [&](double t) { return t * to_s >= first && t * to_s <= last; })) continue;
+    std::vector<PoseSample> samples;
+    for (size_t k = 0; k < poses.poses.size(); ++k) {
+      if (k > 0 && !(poses.times_s[k] > poses.times_s[k - 1])) {
+        throw InputError(file.string() + ":" + std::to_string(poses.lines[k]),
+                         "time " + FormatNumber(poses.times_s[k]) + " s does not increase (previous pose at " +
+                             FormatNumber(poses.times_s[k - 1]) + " s): poses matched to the images' times need "
+                             "increasing times");
+      }
+      samples.push_back({poses.times_s[k], poses.poses[k].translation(), Eigen::Quaterniond(poses.poses[k].linear())});
+    }
+    const PoseTrajectory trajectory(std::move(samples));
+    std::vector<Pose> out;
+    for (const double t : names) out.push_back(trajectory.At(t * to_s));
+    return out;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 std::string GivePoses(const PoseFile& poses, const std::filesystem::path& file, bool as_tool,
                       std::vector<RunFrame>* frames, const std::string& frames_source) {
+  std::vector<Pose> chosen = poses.poses;
+  std::string how;
   if (poses.poses.size() != frames->size()) {
-    throw InputError(file.string(), "holds " + std::to_string(poses.poses.size()) + " pose" +
-                                        (poses.poses.size() == 1 ? "" : "s") + " but " + frames_source + " has " +
-                                        std::to_string(frames->size()) + " frame" + (frames->size() == 1 ? "" : "s") +
-                                        " (one pose per frame, in frame order)");
+    // More (or fewer) poses than frames: a tracker's log at its own rate, matched by the images' times.
+    std::optional<std::vector<Pose>> at_times = PosesAtImageTimes(poses, file, *frames);
+    if (!at_times) {
+      throw InputError(file.string(), "holds " + std::to_string(poses.poses.size()) + " pose" +
+                                          (poses.poses.size() == 1 ? "" : "s") + " but " + frames_source + " has " +
+                                          std::to_string(frames->size()) + " frame" + (frames->size() == 1 ? "" : "s") +
+                                          " (one pose per frame, in frame order; or poses with times and images "
+                                          "named by their time within them)");
+    }
+    chosen = std::move(*at_times);
+    how = ", interpolated at the images' times";
   }
   for (size_t k = 0; k < frames->size(); ++k) {
     RunFrame& f = (*frames)[k];
-    (as_tool ? f.world_from_tool : f.world_from_cam) = poses.poses[k];
+    (as_tool ? f.world_from_tool : f.world_from_cam) = chosen[k];
   }
   return std::string(as_tool ? "world_from_tool" : "world_from_cam") + " from " + file.string() + " (" + poses.form +
-         (poses.units == PoseUnits::kMillimetres ? ", mm" : ", m") + ")";
+         (poses.units == PoseUnits::kMillimetres ? ", mm" : ", m") + how + ")";
 }
 
 std::string ResolveScanPoses(const std::optional<std::filesystem::path>& pose_file, const PoseFileOptions& options,

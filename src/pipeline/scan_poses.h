@@ -19,8 +19,12 @@ namespace lt {
 
 // Gives frame k (in order) the pose file's pose k: as world_from_tool when
 // `as_tool` (a hand-eye calibration turns it into the camera's pose), else as
-// world_from_cam. Throws lt::InputError naming the file and both counts when
-// they differ. Returns what the poses are ("world_from_cam from FILE (TUM, m)").
+// world_from_cam. When the counts differ and the file has times (TUM, a time
+// column) and every image is named by its time ("1305031102.175304.png", in s,
+// or ms, us, ns) within the file's times, frame k takes the pose interpolated
+// at its image's time (core/pose_trajectory.h; the times must increase);
+// otherwise throws lt::InputError naming the file and both counts. Returns
+// what the poses are ("world_from_cam from FILE (TUM, m)").
 std::string GivePoses(const PoseFile& poses, const std::filesystem::path& file, bool as_tool,
                       std::vector<RunFrame>* frames, const std::string& frames_source);
 

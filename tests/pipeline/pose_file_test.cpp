@@ -133,6 +133,17 @@ TEST(PoseFile, EveryFormGivesThePoses) {
   }), "p", o));
 }
 
+TEST(PoseFile, TimesAreReadInSeconds) {
+  EXPECT_EQ(ParsePoseFile("1.5 0 0 0 0 0 0 1\n2.5 0 0 0 0 0 0 1\n", "p").times_s, (std::vector<double>{1.5, 2.5}));  // TUM
+  EXPECT_EQ(ParsePoseFile("time [ms],x,y,z,qx,qy,qz,qw\n1500,0,0,0,0,0,0,1\n", "p").times_s, (std::vector<double>{1.5}));
+  EXPECT_EQ(ParsePoseFile("timestamp_ns,x,y,z,qx,qy,qz,qw\n1500000000,0,0,0,0,0,0,1\n", "p").times_s,
+            (std::vector<double>{1.5}));
+  // A date is no time in seconds: the poses go by row.
+  EXPECT_TRUE(ParsePoseFile("time,x,y,z,qx,qy,qz,qw\n2026-11-27T05:40:00,0,0,0,0,0,0,1\n", "p").times_s.empty());
+  EXPECT_TRUE(ParsePoseFile("frame,x,y,z,qx,qy,qz,qw\n7,0,0,0,0,0,0,1\n", "p").times_s.empty());
+  EXPECT_THAT(ErrorOf("time [h],x,y,z,qx,qy,qz,qw\n"), HasSubstr("poses.csv:1: column 1 'time [h]': unknown time unit 'h'"));
+}
+
 TEST(PoseFile, MillimetresReadAsMetresAreWarned) {
   auto xyzw = [](const Pose& p, const Eigen::Vector3d& t, int) { return Xyzw(p, t); };
   std::vector<std::string> warnings;

@@ -5,6 +5,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "core/pose_trajectory.h"
 #include "pipeline/capture_folder.h"
 #include "scan_test_util.h"
 
@@ -201,6 +202,55 @@ TEST(ScanFolder, AlternatingShutterGivesColourFromTheBrightFrames) {
   ASSERT_EQ(cloud.points.size(), size_t(s.triangulated));
   const uint8_t grey = uint8_t(std::lround(500.0 / 4095 * 255));
   for (const CloudPoint& p : cloud.points) EXPECT_EQ(p.rgb, (std::array<uint8_t, 3>{grey, grey, grey}));
+}
+
+// A tracker's log at its own rate (TUM, more poses than frames) and images
+// named by their time: each frame takes the pose interpolated at its time.
+TEST(ScanFolder, PosesAreInterpolatedAtTheImagesTimes) {
+  SyntheticRun run = MakeRun("folder_times", 1);
+  fs::remove(run.dir / "manifest.jsonl");
+  // Natural order would put 100.3 before 100.25: names that are numbers go by value.
+  const std::vector<std::string> names = {"100.05", "100.25", "100.3"};
+  for (const std::string& n : names) fs::copy_file(run.dir / "frames/000000.png", run.dir / "frames" / (n + ".png"));
+  fs::remove(run.dir / "frames/000000.png");
+  std::vector<PoseSample> samples;
+  std::ofstream tum(run.dir / "groundtruth.txt");
+  tum << "# timestamp tx ty tz qx qy qz qw\n";
+  tum.precision(17);
+  for (int k = 0; k < 5; ++k) {
+    const Pose p = FramePose(k);
+    const Eigen::Quaterniond q(p.linear());
+    samples.push_back({100 + 0.1 * k, p.translation(), q});
+    tum << 100 + 0.1 * k << " " << p.translation().x() << " " << p.translation().y() << " " << p.translation().z()
+        << " " << q.x() << " " << q.y() << " " << q.z() << " " << q.w() << "\n";
+  }
+  tum.close();
+  const PoseTrajectory truth(samples);
+  ScanOptions o;
+  o.poses = run.dir / "groundtruth.txt";
+  ScanSummary s = ScanRun(run.dir, o);
+  EXPECT_THAT(s.pose_source, HasSubstr("(CSV columns timestamp,tx,ty,tz,qx,qy,qz,qw, m, interpolated at the images' times)"));
+  ASSERT_EQ(s.laser_frames, 3);
+  for (int k = 0; k < 3; ++k) {
+    const Pose expected = truth.At(std::stod(names[size_t(k)]));
+    const std::vector<ScanPoint> points = ReadScanCsv(run.dir / ScanCentersName(k));
+    ASSERT_GE(points.size(), 150u);
+    for (const ScanPoint& p : points) EXPECT_LT((*p.p_in_world - expected * *p.p_in_cam).norm(), 1e-9) << k;
+  }
+  // Names in nanoseconds match the seconds of the log too.
+  for (int k = 0; k < 3; ++k) {
+    const std::string ns = std::to_string(std::llround(std::stod(names[size_t(k)]) * 1e9));
+    fs::rename(run.dir / "frames" / (names[size_t(k)] + ".png"), run.dir / "frames" / (ns + ".png"));
+  }
+  ScanRun(run.dir, o);
+  const Pose expected = truth.At(100.25);
+  for (const ScanPoint& p : ReadScanCsv(run.dir / ScanCentersName(1))) {
+    EXPECT_LT((*p.p_in_world - expected * *p.p_in_cam).norm(), 1e-9);
+  }
+  // A name outside the log's times: the counts must match.
+  fs::copy_file(run.dir / "frames/100050000000.png", run.dir / "frames/100500000000.png");
+  EXPECT_THAT(ErrorOf([&] { ScanRun(run.dir, o); }),
+              HasSubstr(o.poses->string() + ": holds 5 poses but " + (run.dir / "frames").string() + " has 4 frames"));
 }
 
 // A run with a manifest: the pose file replaces its world_from_cam.
