@@ -142,8 +142,18 @@ void ProcessRun(const ImageView<T>& image, int a, int b, double t, int y, const 
   const int n = image.width;
   const double t_above_base = t - o.background;  // the threshold's height above the background
   // Valley v and peaks p, q (heights above t) resolved at half height above the background.
-  const auto resolved_above_base = [t_above_base](double v, double p, double q) {
-    return t_above_base > 0 && p > 2 * v + t_above_base && q > 2 * v + t_above_base;
+  // The peak rising from x must also be as wide as a stripe (min_width; a spike
+  // on a bright stripe's flank is not, and is not split off: rendered and real
+  // flanks carry noise spikes twice the valley beside them, which the narrow-
+  // peak check would keep for the stripe's own light on the adjacent lines).
+  const auto resolved_above_base = [&](double v, double p, double q, int x) {
+    if (!(t_above_base > 0 && p > 2 * v + t_above_base && q > 2 * v + t_above_base)) return false;
+    int last = x;
+    while (last + 1 <= b && row[last + 1] >= row[last]) ++last;
+    int first = last;
+    while (first - 1 >= x && row[first - 1] == row[last]) --first;
+    const double fwhm = PeakFwhm(row, n, first, last, double(row[last]), o.background);
+    return fwhm >= o.min_width;  // false for NaN
   };
   double run_peak = double(row[a]);
   for (int x = a + 1; x <= b; ++x) run_peak = std::max(run_peak, double(row[x]));
@@ -168,7 +178,7 @@ void ProcessRun(const ImageView<T>& image, int a, int b, double t, int y, const 
       if (val < vmin) {
         vmin = val;
         vmin_pos = x;
-      } else if (val > 2.0 * vmin && (val > 0.5 * cur_max || resolved_above_base(vmin, cur_max, val))) {
+      } else if (val > 2.0 * vmin && (val > 0.5 * cur_max || resolved_above_base(vmin, cur_max, val, x))) {
         // A second peak rises: split at the valley.
         const double valley_level = double(row[vmin_pos]);
         if (part_start > 0) {

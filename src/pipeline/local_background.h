@@ -157,7 +157,7 @@ bool MeasureLocalPeak(const T* line, int n, int first, int last, double threshol
     Climb(p, pf, pl);
     double vlo = 0, vhi = 0;
     ValleyBounds(p->r.data(), int(p->r.size()), p->first - p->s0, p->last - p->s0, p->height, 0.0,
-                 int(p->r.size()), &vlo, &vhi, threshold);
+                 int(p->r.size()), &vlo, &vhi);
     // A valley that the flank's three pixels would reach or pass takes the flank.
     bool at_valley_l = false, at_valley_r = false;
     if (std::isfinite(vlo) && int(vlo) + p->s0 >= xl - 1) xl = int(vlo) + p->s0, at_valley_l = true;

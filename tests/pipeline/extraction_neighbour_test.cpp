@@ -85,33 +85,6 @@ TEST(StripeNeighbours, ComWindowStopsAtADimNeighbour) {
   }
 }
 
-TEST(StripeNeighbours, LocalBackgroundStopsAtADimNeighbour) {
-  // --background local: the flanks of the bright stripe's background line and
-  // its run stop at the valley to a neighbour that passes the threshold (on the
-  // line minus the background), as com's window above. A stripe at 0.3 or 0.5
-  // of the peak 8 px away pulled com by 0.15-0.22 px and multicom by 0.12-0.16
-  // px (max |error|); measured now 0.03-0.06 px.
-  for (auto m : {ExtractionMethod::kCom, ExtractionMethod::kMultiCom}) {
-    for (double ratio : {0.3, 0.5}) {
-      SyntheticFrame f = Pair(8, 1000, 1000 * ratio);
-      ExtractionOptions o = Options(m);
-      o.background_mode = BackgroundMode::kLocal;
-      SCOPED_TRACE(testing::Message() << MethodName(m) << " ratio " << ratio);
-      auto pts = ExtractFrom<float>(f, o);
-      int bright = 0;
-      double max_abs = 0;
-      for (const auto& p : pts) {
-        const double d = p.u - f.stripes[0].CentreU(p.v);
-        if (std::abs(d) > 4) continue;  // the dim stripe (multicom)
-        ++bright;
-        max_abs = std::max(max_abs, std::abs(d));
-      }
-      EXPECT_EQ(bright, f.height);
-      EXPECT_LT(max_abs, 0.1);
-    }
-  }
-}
-
 TEST(StripeNeighbours, NoiseIslandsOnAFlankAreNoStripes) {
   // Sigma-4 and sigma-8 stripes (peak 1000) on a dark level of 20 with 30 DN
   // of noise, threshold 120, --background 20: where the flank crosses the
@@ -142,6 +115,25 @@ TEST(StripeNeighbours, NoiseIslandsOnAFlankAreNoStripes) {
     EXPECT_EQ(found, 5 * 48);
     EXPECT_LE(far, sigma == 4 ? 2 : 6);
   }
+}
+
+TEST(StripeNeighbours, MultiComKeepsANarrowSpikeOnAFlankInTheStripe) {
+  // A spike on a bright stripe's flank, twice the valley beside it but
+  // narrower than --min-width, is not split off as a stripe of its own (the
+  // narrow-peak check would keep it: the stripe's own light continues on the
+  // adjacent rows). Rendered frames of saturated stripes show such spikes
+  // (render noise, interreflections) 5-8 px beside the stripe. Every second
+  // row: ... 1000 500 250 200 450 60 ...; one point per row.
+  Image<float> img(40, 12, 1, 0.0f);
+  const float flank[] = {120, 500, 1000, 500, 250, 200, 200, 60};
+  for (int y = 0; y < img.height; ++y) {
+    for (int i = 0; i < 8; ++i) img.At(15 + i, y) = flank[i];
+    if (y % 2 == 0) img.At(21, y) = 450;
+  }
+  StripeExtractor extractor(Options(ExtractionMethod::kMultiCom));
+  const auto pts = extractor.Extract(img.View());
+  ASSERT_EQ(int(pts.size()), img.height);
+  for (const auto& p : pts) EXPECT_NEAR(p.u, 17.5, 1.5) << p.v;
 }
 
 }  // namespace
