@@ -127,7 +127,7 @@ TEST(ExtractionAccuracy, DocumentedTableHolds) {
   // RMS at 0, 7, 30, 60 degrees and max |error|, per method and noise.
   const double documented[4][2][5] = {
       {{0.3700, 0.2877, 0.2900, 0.2921, 0.4945}, {0.5513, 0.5300, 0.5771, 1.0100, 2.3287}},  // max
-      {{0.0004, 0.0004, 0.0006, 0.0006, 0.0011}, {0.0408, 0.0403, 0.0428, 0.0510, 0.1544}},  // com
+      {{0.0004, 0.0004, 0.0006, 0.0007, 0.0016}, {0.0408, 0.0403, 0.0428, 0.0513, 0.1544}},  // com
       {{0.0006, 0.0012, 0.0027, 0.0010, 0.0038}, {0.0273, 0.0265, 0.0304, 0.0447, 0.1036}},  // multicom
       {{0.0002, 0.0002, 0.0004, 0.0012, 0.0066}, {0.0082, 0.0072, 0.0067, 0.0177, 0.0509}},  // steger
   };
@@ -227,6 +227,24 @@ TEST(ExtractionAccuracy, CentreOfMassBesideASecondStripe) {
       EXPECT_LT(max_abs, 0.25);
     }
   }
+}
+
+TEST(ExtractionAccuracy, CentreOfMassOfAWideStripeNearTheBorder) {
+  // A sigma-12 stripe (FWHM 28 px) 35 px from the left border: above the
+  // threshold (10%) 26 px either side of its centre, so multicom measures it in
+  // every row. com's window of 1.25 FWHM (35 px either side) left the image and
+  // the row gave no point (a point in 11 of 48 rows, where noise moved the
+  // centroid further in); the window now shrinks symmetrically at the border,
+  // down to one FWHM.
+  SyntheticFrame f;
+  f.width = 160;
+  f.height = 48;
+  f.noise_sigma = 10;
+  f.seed = 3;
+  f.stripes.push_back(LineStripe(35, 24, 0, 12, 1000));
+  ErrorStats e = RowErrors(ExtractFrom<float>(f, OptionsFor(ExtractionMethod::kCom, 12)), f);
+  EXPECT_EQ(e.points, f.height);
+  EXPECT_LT(e.max_abs, 0.25);  // measured 0.21, rms 0.062 (multicom 0.12, 0.043)
 }
 
 TEST(ExtractionAccuracy, SaturatedStripe) {
