@@ -280,8 +280,8 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
         std::isnan(options.extraction.threshold)) {
       // A 10- or 12-bit camera's raw DN in 16-bit files lie far below 10% of 65535.
       warn(frame.image.string() + ": no stripe point in a 16-bit image of unknown bit depth (no bit_depth in the "
-           "manifest, no image_sensor.bit_depth in a rig.json): the threshold is 10% of 65535; a 10- or 12-bit "
-           "camera's frames need bit_depth in the manifest, or --threshold in DN");
+           "manifest, no image_sensor.bit_depth in a rig.json, no --bit-depth): the threshold is 10% of 65535; a 10- "
+           "or 12-bit camera's frames need bit_depth in the manifest, or --threshold in DN, or --bit-depth");
       warned_unknown_depth = true;
     }
 

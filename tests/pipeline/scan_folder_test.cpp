@@ -119,8 +119,12 @@ TEST(ScanFolder, FramesWithAPoseFileAreStitchedInTheWorld) {
   std::ofstream(run.dir / "rig.json") << rig.dump(2);
   ScanOptions o;
   o.poses = WritePoses(run.dir / "poses.csv", 3);
-  ScanSummary none = ScanRun(run.dir, o);  // 10% of 65535: no stripe point
+  std::vector<std::string> warnings;
+  ScanSummary none = ScanRun(run.dir, o, [&](const std::string& w) { warnings.push_back(w); });  // 10% of 65535
   EXPECT_EQ(none.triangulated, 0);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_THAT(warnings[0], HasSubstr("no stripe point in a 16-bit image of unknown bit depth"));
+  EXPECT_THAT(warnings[0], HasSubstr("or --bit-depth"));
   o.bit_depth = 10;
   ScanSummary s = ScanRun(run.dir, o);
   EXPECT_TRUE(s.frames_from_listing);
