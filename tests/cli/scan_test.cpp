@@ -278,6 +278,7 @@ TEST_F(ScanCommand, BadInputExitsWithTwo) {
       {Quoted(good) + " --poses " + Quoted(good / "ambiguous.csv"),
        (good / "ambiguous.csv").string() + ":1: 7 numbers per row (x y z and a quaternion), no header"},
       {Quoted(good) + " --poses " + Quoted(good / "three.csv") + " --pose-units inch", "--pose-units: unknown units 'inch'"},
+      {Quoted(good) + " --pose-units mm", "--pose-units: describes a pose file: give it with --poses"},
       {Quoted(good) + " --shutter sometimes", "--shutter: unknown shutter pattern 'sometimes'"},
       {Quoted(good) + " --background ambient", "--background: expected a level (a number) or 'local', got 'ambient'"},
   };

@@ -51,6 +51,9 @@ void Run(ScanArgs& a) {
   if (!a.calib.empty()) o.calibration = a.calib;
   if (!a.bayer.empty()) o.color_filter = ParseBayerPattern(a.bayer, "--bayer");
   if (!a.poses.empty()) o.poses = a.poses;
+  if (a.poses.empty() && (!a.pose_units.empty() || !a.pose_order.empty())) {
+    throw InputError(a.pose_units.empty() ? "--pose-order" : "--pose-units", "describes a pose file: give it with --poses");
+  }
   o.shutter = ParseShutterPattern(a.shutter, "--shutter");
   if (!a.pose_units.empty()) o.pose_file.units = ParsePoseUnits(a.pose_units, "--pose-units");
   if (!a.pose_order.empty()) o.pose_file.order = ParseQuaternionOrder(a.pose_order, "--pose-order");
@@ -145,8 +148,8 @@ void Add(CLI::App& app) {
   cmd->add_option("--axis", args->axis, "rows | cols (default: the manifest's gt_axis, else from the laser planes)");
   cmd->add_option("--frames", args->frames, "Frames to scan: A:B (A inclusive, B exclusive), A:, :B or N");
   cmd->add_option("--poses", args->poses,
-                  "Pose file, one pose per frame in frame order (CSV with a header, TUM, 7-number, 3x4 or 4x4 rows; "
-                  "docs/pipeline.md): the tool's poses with --calib's tool_from_cam, else the camera's (world_from_cam)");
+                  "Pose file, one pose per frame in frame order, or with times matched to images named by their time "
+                  "(CSV with a header, TUM, 7-number, 3x4 or 4x4 rows; docs/pipeline.md): the tool's poses with --calib's tool_from_cam, else the camera's (world_from_cam)");
   cmd->add_option("--pose-units", args->pose_units, "m | mm: the pose file's translations (default: its header's, else m)");
   cmd->add_option("--pose-order", args->pose_order,
                   "xyzw | wxyz: the quaternion order of a pose file without a header (TUM's is xyzw)");
