@@ -1,0 +1,138 @@
+// The planes of plane identification's ranks (pipeline/plane_id_sheets.h):
+// one projector's fan keeps one order; facing projectors' sheets swap places
+// with depth, and a rank is a plane only where one order fits the line.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <numeric>
+
+#include "pipeline/plane_id_sheets.h"
+
+namespace lt::test {
+namespace {
+
+// A 160 x 120 pinhole camera, f = 200 px.
+Camera SmallCamera() {
+  CameraParams c;
+  c.width = 160, c.height = 120;
+  c.fx = c.fy = 200;
+  c.cx = 79.5, c.cy = 59.5;
+  return Camera(c);
+}
+
+// A sheet from a projector at x = baseline (on the camera's x axis) holding
+// the y direction and the points x = baseline + slope z: its stripe stands at
+// x / z = baseline / z + slope in the image.
+struct Sheet {
+  double baseline, slope;
+  Plane ToPlane() const { return Plane::FromPointNormal({baseline, 0, 0}, {1, 0, -slope}); }
+};
+
+// The points a flat surface at depth z(row) shows on every row, each with its
+// rank across the row (as plane identification numbers a row meeting all N
+// stripes), and each point's true plane.
+std::vector<StripePoint> FlatRows(const std::vector<Sheet>& sheets, double (*depth)(int), std::vector<int>* truth) {
+  std::vector<StripePoint> points;
+  truth->clear();
+  for (int v = 0; v < 120; ++v) {
+    const double z = depth(v);
+    std::vector<std::pair<double, int>> row;
+    for (size_t k = 0; k < sheets.size(); ++k) row.push_back({200 * (sheets[k].baseline / z + sheets[k].slope) + 79.5, int(k)});
+    std::sort(row.begin(), row.end());
+    for (size_t r = 0; r < row.size(); ++r) {
+      points.push_back({row[r].first, double(v), 4, 100, int(r)});
+      truth->push_back(row[r].second);
+    }
+  }
+  return points;
+}
+
+struct Outcome {
+  int right = 0, wrong = 0, none = 0;
+};
+Outcome Score(const std::vector<StripePoint>& points, const std::vector<int>& truth) {
+  Outcome o;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (points[i].plane < 0) {
+      ++o.none;
+    } else {
+      ++(points[i].plane == truth[i] ? o.right : o.wrong);
+    }
+  }
+  return o;
+}
+
+// Two sheets from a projector 40 mm to the right (spacing 0.08) and two from
+// one 30 mm to the left (spacing 0.10): at 100 mm the stripes stand A0 B0 A1
+// B1 across the image, at 90 mm B0 A0 B1 A1 (A0 and B0 cross at 94.6 mm, A1
+// and B1 at 92.1 mm). A part whose top at 90 mm covers rows 60..119 over a
+// bed at 100 mm: each rank stood for the plane the reference depth's order
+// gives it (PlanesInImageOrder), so the part's rows had all four stripes on
+// the wrong sheet (240 points). Now a rank is a plane only where one of the
+// orders the sheets take over depth fits the row (each point on its plane at a
+// depth where that order holds): no point on a wrong sheet.
+TEST(SheetsOfRanks, FacingProjectorsSwappingAtAStepGetNoWrongSheet) {
+  const std::vector<Sheet> sheets = {{0.04, -0.38}, {0.04, -0.30}, {-0.03, 0.36}, {-0.03, 0.46}};
+  std::vector<Plane> planes;
+  for (const Sheet& s : sheets) planes.push_back(s.ToPlane());
+  const Triangulator triangulator(SmallCamera(), planes);
+  const SheetsOfRanks sheets_of_ranks(triangulator, SearchAxis::kRows);
+  EXPECT_TRUE(sheets_of_ranks.depth_dependent());
+
+  std::vector<int> truth;
+  std::vector<StripePoint> points = FlatRows(sheets, [](int v) { return v < 60 ? 0.1 : 0.09; }, &truth);
+  const std::vector<int> order = PlanesInImageOrder(planes, SearchAxis::kRows);
+  std::vector<StripePoint> by_reference = points;
+  for (StripePoint& p : by_reference) p.plane = order[size_t(p.plane)];
+  const Outcome before = Score(by_reference, truth);
+  EXPECT_EQ(before.wrong, 240);  // the defect: the part's rows, all on wrong sheets
+
+  const int dropped = sheets_of_ranks.Apply(&points);
+  const Outcome after = Score(points, truth);
+  EXPECT_EQ(after.wrong, 0);
+  EXPECT_EQ(after.none, dropped);
+  EXPECT_EQ(after.right, 480);  // the spacings differ: one order fits each row
+}
+
+// The same with both projectors' sheets 0.08 apart: A0 and B0, A1 and B1
+// cross at one depth (94.6 mm). The part's rows read with the bed's order put
+// every point at a depth where that order holds, and the bed's rows read with
+// the part's order likewise: both orders fit every row, and no point gets a
+// plane (none is guessed).
+TEST(SheetsOfRanks, FacingProjectorsCrossingAtOneDepthLeaveTheirMirrorUnnumbered) {
+  const std::vector<Sheet> sheets = {{0.04, -0.38}, {0.04, -0.30}, {-0.03, 0.36}, {-0.03, 0.44}};
+  std::vector<Plane> planes;
+  for (const Sheet& s : sheets) planes.push_back(s.ToPlane());
+  const Triangulator triangulator(SmallCamera(), planes);
+  const SheetsOfRanks sheets_of_ranks(triangulator, SearchAxis::kRows);
+  std::vector<int> truth;
+  std::vector<StripePoint> points = FlatRows(sheets, [](int v) { return v < 60 ? 0.1 : 0.09; }, &truth);
+  const std::vector<int> order = PlanesInImageOrder(planes, SearchAxis::kRows);
+  std::vector<StripePoint> by_reference = points;
+  for (StripePoint& p : by_reference) p.plane = order[size_t(p.plane)];
+  EXPECT_EQ(Score(by_reference, truth).wrong, 240);
+  sheets_of_ranks.Apply(&points);
+  const Outcome o = Score(points, truth);
+  EXPECT_EQ(o.wrong, 0);
+  EXPECT_EQ(o.none, 480) << o.right;
+}
+
+TEST(SheetsOfRanks, OneProjectorsFanKeepsTheImageOrder) {
+  std::vector<Sheet> sheets;
+  for (int k = 0; k < 5; ++k) sheets.push_back({0.04, -0.5 + 0.05 * k});
+  std::vector<Plane> planes;
+  for (const Sheet& s : sheets) planes.push_back(s.ToPlane());
+  std::swap(planes[0], planes[3]);  // plane numbers need not follow the image order
+  std::swap(sheets[0], sheets[3]);
+  const Triangulator triangulator(SmallCamera(), planes);
+  const SheetsOfRanks sheets_of_ranks(triangulator, SearchAxis::kRows);
+  EXPECT_FALSE(sheets_of_ranks.depth_dependent());
+  std::vector<int> truth;
+  std::vector<StripePoint> points = FlatRows(sheets, [](int v) { return 0.08 + 0.0005 * v; }, &truth);
+  EXPECT_EQ(sheets_of_ranks.Apply(&points), 0);
+  const Outcome o = Score(points, truth);
+  EXPECT_EQ(o.right, int(points.size()));
+}
+
+}  // namespace
+}  // namespace lt::test
