@@ -210,6 +210,7 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
     if (it->second >= 0) asset.instances.push_back({size_t(it->second), use.transform, use.node_name});
   }
   if (uses_default) asset.materials.push_back(DefaultMaterial());
+  asset.uses_default_material = uses_default;
   if (!model.cameras.empty() || !model.lights.empty()) {
     auto count = [](size_t n, const char* one, const char* many) {
       return std::to_string(n) + " " + (n == 1 ? one : many);

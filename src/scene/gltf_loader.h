@@ -48,6 +48,7 @@ struct GltfAsset {
   std::vector<Material> materials;   // the file's materials in order, then "default" if used
   std::vector<GltfInstance> instances;
   size_t degenerate_triangles = 0;   // dropped while loading
+  bool uses_default_material = false;  // some primitive has no material ("default" is last in materials)
   std::vector<std::string> warnings; // each prefixed with the file name
 };
 

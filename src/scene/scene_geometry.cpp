@@ -92,6 +92,7 @@ SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
   struct Loaded {
     size_t first_mesh;
     std::vector<GltfInstance> instances;
+    bool uses_default_material;
   };
   std::map<std::filesystem::path, Loaded> loaded;
   for (size_t oi = 0; oi < scene.objects.size(); ++oi) {
@@ -105,7 +106,7 @@ SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
       GltfAsset asset = LoadGltf(obj.gltf, obj.gltf.string());
       const uint32_t material_base = uint32_t(g.materials.size());
       for (auto& m : asset.materials) g.materials.push_back(std::move(m));
-      Loaded l{g.meshes.size(), std::move(asset.instances)};
+      Loaded l{g.meshes.size(), std::move(asset.instances), asset.uses_default_material};
       for (auto& mesh : asset.meshes) {
         for (auto& id : mesh.triangle_material) id += material_base;
         g.meshes.push_back(std::move(mesh));
@@ -115,6 +116,13 @@ SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
       it = loaded.emplace(key, std::move(l)).first;
     }
     const int32_t override_id = obj.material.empty() ? -1 : int32_t(scene.FindMaterial(obj.material));
+    if (override_id < 0 && it->second.uses_default_material) {
+      // Files converted from STL or OBJ often hold no material at all.
+      g.warnings.push_back("object \"" + obj.name + "\": " + obj.gltf.string() +
+                           " has primitives without a material, which take glTF's default: white metal of roughness 1 "
+                           "(a laser line on it is a conductor's reflection, not the diffuse line on plastic); give "
+                           "the object a \"material\"");
+    }
     for (const GltfInstance& gi : it->second.instances) {
       SceneInstance inst;
       inst.mesh = it->second.first_mesh + gi.mesh;

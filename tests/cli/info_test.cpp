@@ -80,7 +80,8 @@ TEST(InfoCommand, TextOutputNamesEverySection) {
                         "bounds (world, mm): min [0, 0, -10] max [100, 20, 0]", "materials: 3", "1 painted:",
                         "texture ", "checker.png (4x4)", "emissive [2, 2, 1.5] W/(m^2 sr)",
                         "laser 0: 450 nm, 5 mW", "motion: static, camera at [0, 0, 100] mm looking along [0, 0, -1]",
-                        "\"scale\":2.5", "\"spp\":4", "\"png_bit_depth\":16", "warnings: 0"}) {
+                        "\"scale\":2.5", "\"spp\":4", "\"png_bit_depth\":16",
+                        "warnings: 1\n  object \"tile_plain\": "}) {
     EXPECT_THAT(r.out, HasSubstr(s));
   }
 }
@@ -91,9 +92,10 @@ TEST(InfoCommand, ListsWarnings) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string gltf = (kData / "gltf/warnings.gltf").string();
   EXPECT_THAT(r.out, HasSubstr("geometry: 1 triangles (1 unique in 1 meshes), 1 instances, 1 degenerate triangles dropped"));
-  EXPECT_THAT(r.out, HasSubstr("warnings: 2\n  " + gltf +
+  EXPECT_THAT(r.out, HasSubstr("warnings: 3\n  " + gltf +
                                ": mesh \"bracket\" primitive 1: points skipped (only triangles are rendered)\n  " + gltf +
-                               ": 1 degenerate triangles dropped\n"));
+                               ": 1 degenerate triangles dropped\n  object \"bracket\": " + gltf +
+                               " has primitives without a material"));
 }
 
 TEST(InfoCommand, MissingSceneFile) {

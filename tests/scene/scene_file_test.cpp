@@ -315,7 +315,8 @@ TEST(SceneFile, EnvironmentMapIsReadAndChecked) {
 }
 
 TEST(SceneGeometry, EmittersFarFromTheCameraAreWarned) {
-  const std::string head = R"({"objects": [{"name": "a", "gltf": "../gltf/square.gltf"}],
+  const std::string head = R"({"objects": [{"name": "a", "gltf": "../gltf/square.gltf", "material": "m"}],
+    "materials": {"m": {"base_color": [0.5, 0.5, 0.5]}},
     "sensor": {"camera": {"resolution": [64, 48], "pixel_pitch_um": 5, "focal_length_mm": 4, "f_number": 4},)";
   auto warnings = [&](const std::string& laser_m, const std::string& led_m) {
     SceneFile s = Parse(head + R"("lasers": [{"power_mw": 5, "wavelength_nm": 650, "cam_from_projector": {"translation_m": )" +
@@ -346,6 +347,14 @@ TEST(SceneGeometry, ObjectsShareTheirGltfAndKeepTheirPoses) {
   EXPECT_EQ(g->instances[1].material_override, 0);
   EXPECT_EQ(g->instances[2].material_override, -1);
   EXPECT_EQ(g->MaterialOf(g->instances[2], 0), 2u);
+  // Only the object without a material of its own is told it renders as metal.
+  std::vector<std::string> default_warnings;
+  for (const std::string& w : g->warnings) {
+    if (w.find("without a material") != std::string::npos) default_warnings.push_back(w);
+  }
+  ASSERT_EQ(default_warnings.size(), 1u);
+  EXPECT_THAT(default_warnings[0], HasSubstr("object \"tile_plain\": "));
+  EXPECT_THAT(default_warnings[0], HasSubstr("take glTF's default: white metal of roughness 1"));
   EXPECT_EQ(g->UniqueTriangleCount(), 2u);
   EXPECT_EQ(g->InstancedTriangleCount(), 6u);
   // square.gltf is a unit square scaled to 10 mm by its node; "tile" is turned
