@@ -1,13 +1,10 @@
-// The outer layer of a glTF file: reading the bytes, the GLB container (header and
-// chunks, checked completely before tinygltf sees them) and a first pass over the
-// JSON that checks the nesting depth (at most 256 levels: tinygltf recurses), the
-// version, required extensions and that every external buffer and image file
-// exists, so a missing file is reported with the path looked for.
+// The outer layer of a glTF file: reading the bytes and the GLB container (header
+// and chunks, checked completely before tinygltf sees them). The first pass over
+// the JSON is scene/gltf_json_check.h.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
-#include <map>
 #include <string>
 #include <vector>
 
@@ -32,22 +29,6 @@ std::vector<unsigned char> ReadFileBytes(const std::filesystem::path& path, cons
 // "glTF" magic). Throws lt::InputError for a truncated or inconsistent container;
 // chunks not padded to 4 bytes are read as their lengths say (`aligned`).
 GltfContainer ParseGltfContainer(const std::vector<unsigned char>& bytes, const std::string& file);
-
-// The external files of a glTF as CheckGltfJson found them, for tinygltf's file
-// callbacks.
-struct GltfExternalFiles {
-  // The path tinygltf asks for (TinygltfLookupPath) -> the file the uri names
-  // (ResolveGltfUri), for every external buffer and image.
-  std::map<std::string, std::filesystem::path> by_lookup_path;
-  // The byteLength of each external buffer file, by its normalized path, where it
-  // is shorter than the file.
-  std::map<std::filesystem::path, uint64_t> buffer_lengths;
-};
-
-// Checks the JSON before the full parse (see above). base_dir is the folder of the
-// file; `external` (optional) receives what the external files are.
-void CheckGltfJson(const GltfContainer& container, const std::string& file, const std::filesystem::path& base_dir,
-                   GltfExternalFiles* external = nullptr);
 
 // Cuts every data: URI quoted in a message to its first `keep` characters plus
 // "..." (a message must not carry megabytes of base64).

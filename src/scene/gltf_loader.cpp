@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "core/json_reader.h"
 #include "scene/gltf_container.h"
+#include "scene/gltf_json_check.h"
 #include "scene/gltf_materials.h"
 #include "scene/gltf_accessors.h"
 #include "scene/gltf_mesh.h"

@@ -1,0 +1,314 @@
+#include "scene/gltf_json_check.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "core/error.h"
+#include "core/json_reader.h"
+#include "scene/gltf_schema.h"
+#include "scene/gltf_uri.h"
+
+
+namespace lt {
+
+namespace {
+
+constexpr size_t kMaxJsonDepth = 256;        // nested arrays and objects
+
+// Number of bytes a base64 payload decodes to; fails on a character outside the
+// base64 alphabet, padding before the end, or a length no encoder produces.
+size_t Base64DecodedSize(const std::string& uri, size_t start, const std::string& where) {
+  size_t chars = 0, padding = 0;
+  for (size_t i = start; i < uri.size(); ++i) {
+    const char c = uri[i];
+    if (c == '=') {
+      ++padding;
+      continue;
+    }
+    const bool alphabet = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '+' || c == '/';
+    if (!alphabet || padding > 0) {
+      const unsigned char u = static_cast<unsigned char>(c);
+      const std::string shown = u >= 0x20 && u < 0x7f ? std::string("'") + c + "'" : "byte " + std::to_string(u);
+      throw InputError(where, "invalid base64 data: " + (padding > 0 ? "data after the '=' padding" : shown) +
+                                  " at character " + std::to_string(i - start) + " of the data");
+    }
+    ++chars;
+  }
+  if (padding > 2 || chars % 4 == 1 || (padding > 0 && (chars + padding) % 4 != 0)) {
+    throw InputError(where, "invalid base64 data: " + std::to_string(chars) + " characters and " +
+                                std::to_string(padding) + " '=' is not a whole number of bytes");
+  }
+  return chars / 4 * 3 + (chars % 4 == 0 ? 0 : chars % 4 - 1);
+}
+
+// Checks a buffer's data: URI (tinygltf decodes only base64 with these media
+// types, and needs exactly byteLength bytes).
+void CheckBufferDataUri(const std::string& uri, const std::string& where, int64_t byte_length) {
+  static const char* kHeaders[] = {"data:application/octet-stream;base64,", "data:application/gltf-buffer;base64,"};
+  size_t start = 0;
+  for (const char* h : kHeaders) {
+    if (uri.rfind(h, 0) == 0) start = std::strlen(h);
+  }
+  if (start == 0) {
+    throw InputError(where, "a buffer's data URI must start with \"" + std::string(kHeaders[0]) + "\" or \"" +
+                                kHeaders[1] + "\", got \"" + ShortenDataUris(uri) + "\"");
+  }
+  const size_t size = Base64DecodedSize(uri, start, where);
+  if (byte_length >= 0 && size != uint64_t(byte_length)) {
+    throw InputError(where, "data URI holds " + std::to_string(size) + " bytes, byteLength says " +
+                                std::to_string(byte_length) + (size > uint64_t(byte_length) ? " (they must be equal)" : ""));
+  }
+}
+
+// Fails when an external file named by uri does not exist (or is shorter than
+// byte_length). Returns its normalized path and size, and enters it in `external`.
+std::pair<std::filesystem::path, uint64_t> CheckExternal(const nlohmann::json& uri, const std::string& where,
+                                                         const std::string& what,
+                                                         const std::filesystem::path& base_dir, int64_t byte_length,
+                                                         GltfExternalFiles* external) {
+  if (!uri.is_string()) throw InputError(where, "uri must be a string");
+  const std::string s = uri.get<std::string>();
+  if (s.rfind("data:", 0) == 0) return {};
+  if (s.empty()) throw InputError(where, "uri must not be empty");
+  std::filesystem::path p = ResolveGltfUri(s, base_dir, where);
+  if (external != nullptr) external->by_lookup_path[TinygltfLookupPath(s, base_dir.string())] = p;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(p, ec)) {
+    throw InputError(where, what + " file not found (looked for " + p.string() + ")");
+  }
+  const uint64_t size = std::filesystem::file_size(p, ec);
+  if (byte_length >= 0 && !ec && size < uint64_t(byte_length)) {
+    throw InputError(where, what + " file " + p.string() + " has " + std::to_string(size) +
+                                " bytes, byteLength says " + std::to_string(byte_length));
+  }
+  return {p, ec ? 0 : size};
+}
+
+// Fails when arrays and objects nest deeper than kMaxJsonDepth. tinygltf converts
+// extras and extensions recursively, so a file nested 100 000 levels deep would
+// overflow its stack; this scan (strings skipped) runs before any parser sees the text.
+void CheckJsonDepth(const std::string& text, const std::string& file) {
+  size_t depth = 0, line = 1, line_start = 0;
+  bool in_string = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\') {
+        ++i;
+      } else if (c == '"') {
+        in_string = false;
+      }
+      continue;
+    }
+    switch (c) {
+      case '"': in_string = true; break;
+      case '\n':
+        ++line;
+        line_start = i + 1;
+        break;
+      case '[':
+      case '{':
+        if (++depth > kMaxJsonDepth) {
+          throw InputError(file + ":" + std::to_string(line) + ":" + std::to_string(i - line_start + 1),
+                           "invalid glTF: JSON nesting depth exceeds the limit of " + std::to_string(kMaxJsonDepth) +
+                               " levels");
+        }
+        break;
+      case ']':
+      case '}':
+        if (depth > 0) --depth;
+        break;
+      default: break;
+    }
+  }
+}
+
+
+// Whether a node's matrix places it as its translation / rotation / scale do
+// (the identity for those not given), to about float precision. False when one
+// of them is not an array of numbers of the right length (tinygltf reports it).
+bool MatrixPlacesAsTrs(const nlohmann::json& node) {
+  auto numbers = [&](const char* key, size_t count, std::vector<double> fallback) -> std::optional<std::vector<double>> {
+    auto it = node.find(key);
+    if (it == node.end()) return fallback;
+    if (!it->is_array() || it->size() != count) return std::nullopt;
+    std::vector<double> v;
+    for (const auto& x : *it) {
+      if (!x.is_number()) return std::nullopt;
+      v.push_back(x.get<double>());
+    }
+    return v;
+  };
+  const auto m = numbers("matrix", 16, {});
+  const auto t = numbers("translation", 3, {0, 0, 0});
+  const auto r = numbers("rotation", 4, {0, 0, 0, 1});
+  const auto s = numbers("scale", 3, {1, 1, 1});
+  if (!m || !t || !r || !s) return false;
+  Eigen::Matrix4d matrix;
+  for (int c = 0; c < 4; ++c) {
+    for (int k = 0; k < 4; ++k) matrix(k, c) = (*m)[size_t(4 * c + k)];
+  }
+  const Eigen::Quaterniond q((*r)[3], (*r)[0], (*r)[1], (*r)[2]);
+  if (!(q.norm() > 1e-6)) return false;
+  Eigen::Affine3d trs = Eigen::Translation3d((*t)[0], (*t)[1], (*t)[2]) * q.normalized() *
+                        Eigen::Scaling((*s)[0], (*s)[1], (*s)[2]);
+  const double scale = std::max({1.0, matrix.cwiseAbs().maxCoeff(), trs.matrix().cwiseAbs().maxCoeff()});
+  return matrix.allFinite() && (matrix - trs.matrix()).cwiseAbs().maxCoeff() <= 1e-5 * scale;
+}
+
+}  // namespace
+
+void CheckGltfJson(const GltfContainer& container, const std::string& file, const std::filesystem::path& base_dir,
+                   GltfExternalFiles* external) {
+  CheckJsonDepth(container.json_text, file);
+  json::Document doc = json::Document::Parse(container.json_text, file, base_dir);
+  const nlohmann::json& root = doc.Root().raw();
+  if (!root.is_object()) throw InputError(file, "invalid glTF: the top level must be a JSON object");
+  auto asset = root.find("asset");
+  if (asset == root.end() || !asset->is_object()) throw InputError(file + ": /asset", "missing required object");
+  auto version = asset->find("version");
+  if (version == asset->end() || !version->is_string() || version->get<std::string>().rfind("2.", 0) != 0) {
+    throw InputError(file + ": /asset/version",
+                     "glTF version must be 2.x, got " + (version == asset->end() ? std::string("none") : version->dump()));
+  }
+  CheckGltfSchema(root, file);
+  static const std::set<std::string> kSupported = {"KHR_materials_emissive_strength", "KHR_mesh_quantization",
+                                                     "KHR_texture_transform", "EXT_mesh_gpu_instancing",
+                                                     "KHR_materials_pbrSpecularGlossiness"};
+  if (auto req = root.find("extensionsRequired"); req != root.end() && req->is_array()) {
+    for (size_t i = 0; i < req->size(); ++i) {
+      const auto& e = (*req)[i];
+      if (!e.is_string() || kSupported.count(e.get<std::string>()) == 0) {
+        // What to do about the extensions that optimising tools write.
+        static const std::map<std::string, std::string> kHints = {
+            {"KHR_draco_mesh_compression", "the meshes are Draco-compressed: write or convert the file without compression"},
+            {"EXT_meshopt_compression", "the buffers are meshopt-compressed: write the file without it, e.g. gltfpack without -c/-cc"},
+            {"KHR_texture_basisu", "the textures are KTX2: write or convert them as PNG or JPEG"},
+            {"EXT_texture_webp", "the textures are WebP: write or convert them as PNG or JPEG"},
+            {"EXT_texture_avif", "the textures are AVIF: write or convert them as PNG or JPEG"}};
+        auto hint = e.is_string() ? kHints.find(e.get<std::string>()) : kHints.end();
+        throw InputError(file + ": /extensionsRequired/" + std::to_string(i),
+                         "required extension " + e.dump() + " is not supported" +
+                             (hint != kHints.end() ? " (" + hint->second + ")" : std::string()));
+      }
+    }
+  }
+  // glTF gives a node a matrix or translation / rotation / scale, never both.
+  // tinygltf reads the matrix and drops the rest, which is right when the rest
+  // is the identity or places the node as the matrix does; otherwise the node
+  // would be placed without it.
+  if (auto nodes = root.find("nodes"); nodes != root.end() && nodes->is_array()) {
+    for (size_t i = 0; i < nodes->size(); ++i) {
+      const auto& n = (*nodes)[i];
+      if (!n.is_object() || !n.contains("matrix")) continue;
+      const char* key = nullptr;
+      for (const char* k : {"translation", "rotation", "scale"}) {
+        if (!key && n.contains(k)) key = k;
+      }
+      if (key && !MatrixPlacesAsTrs(n)) {
+        throw InputError(file + ": /nodes/" + std::to_string(i),
+                         std::string("has both a matrix and a ") + key +
+                             " that place it differently (glTF gives a node one or the other: a matrix, or "
+                             "translation / rotation / scale)");
+      }
+    }
+  }
+  if (auto buffers = root.find("buffers"); buffers != root.end() && buffers->is_array()) {
+    for (size_t i = 0; i < buffers->size(); ++i) {
+      const auto& b = (*buffers)[i];
+      if (!b.is_object()) continue;  // tinygltf reports it
+      auto uri = b.find("uri");
+      if (uri == b.end()) {
+        // Only a GLB's first buffer may omit uri: it is the BIN chunk. (tinygltf
+        // would hand the BIN chunk to every buffer without uri.)
+        if (container.binary && i == 0) continue;
+        const bool fallback = b.contains("extensions") && b["extensions"].is_object() &&
+                              b["extensions"].contains("EXT_meshopt_compression");
+        throw InputError(file + ": /buffers/" + std::to_string(i),
+                         fallback ? std::string("the buffer holds no data: it is the fallback buffer of "
+                                                "EXT_meshopt_compression, whose compressed data is not supported "
+                                                "(write the file without meshopt compression, e.g. gltfpack "
+                                                "without -c/-cc)")
+                                  : std::string("buffer has no uri") +
+                                        (container.binary ? " (in a GLB only the first buffer, the BIN chunk, may "
+                                                            "omit it)"
+                                                          : " (a .gltf buffer needs one)"));
+      }
+      auto len = b.find("byteLength");
+      int64_t byte_length = len != b.end() && len->is_number_unsigned() ? int64_t(len->get<uint64_t>()) : -1;
+      const std::string where = file + ": /buffers/" + std::to_string(i) + "/uri";
+      if (uri->is_string() && uri->get_ref<const std::string&>().rfind("data:", 0) == 0) {
+        CheckBufferDataUri(uri->get_ref<const std::string&>(), where, byte_length);
+      } else {
+        auto [path, size] = CheckExternal(*uri, where, "buffer", base_dir, byte_length, external);
+        if (external != nullptr && byte_length >= 0 && size > uint64_t(byte_length)) {
+          // Two buffers naming one file with different lengths: left to tinygltf to refuse.
+          auto [it, added] = external->buffer_lengths.emplace(path, uint64_t(byte_length));
+          if (!added && it->second != uint64_t(byte_length)) it->second = size;
+        }
+      }
+    }
+  }
+  // A Draco-compressed primitive that is not required may keep uncompressed
+  // attributes as a fallback; its accessors without a bufferView are placeholders
+  // (zeros to a reader without Draco), so such a primitive cannot be read.
+  auto accessors = root.find("accessors");
+  auto has_data = [&](const nlohmann::json& index) {
+    if (!index.is_number_unsigned() || accessors == root.end() || !accessors->is_array() ||
+        index.get<uint64_t>() >= accessors->size()) {
+      return true;  // a dangling reference is reported later, where it is read
+    }
+    const auto& a = (*accessors)[index.get<size_t>()];
+    return !a.is_object() || a.contains("bufferView") || a.contains("sparse");
+  };
+  if (auto meshes = root.find("meshes"); meshes != root.end() && meshes->is_array()) {
+    for (size_t mi = 0; mi < meshes->size(); ++mi) {
+      const auto& mesh = (*meshes)[mi];
+      if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+      const auto& prims = mesh["primitives"];
+      for (size_t pi = 0; pi < prims.size(); ++pi) {
+        const auto& p = prims[pi];
+        if (!p.is_object() || !p.contains("extensions") || !p["extensions"].is_object() ||
+            !p["extensions"].contains("KHR_draco_mesh_compression")) {
+          continue;
+        }
+        std::vector<std::pair<std::string, nlohmann::json>> refs;
+        if (p.contains("indices")) refs.emplace_back("indices", p["indices"]);
+        if (p.contains("attributes") && p["attributes"].is_object()) {
+          for (const auto& [name, index] : p["attributes"].items()) refs.emplace_back("attributes/" + name, index);
+        }
+        for (const auto& [name, index] : refs) {
+          if (!has_data(index)) {
+            throw InputError(file + ": /meshes/" + std::to_string(mi) + "/primitives/" + std::to_string(pi),
+                             "compressed with KHR_draco_mesh_compression, which is not supported, and accessor " +
+                                 index.dump() + " (its " + name +
+                                 ") has no uncompressed data to fall back on (no bufferView); write the file "
+                                 "without Draco");
+          }
+        }
+      }
+    }
+  }
+  if (auto images = root.find("images"); images != root.end() && images->is_array()) {
+    for (size_t i = 0; i < images->size(); ++i) {
+      const auto& im = (*images)[i];
+      if (!im.is_object()) continue;
+      auto uri = im.find("uri");
+      if (uri == im.end()) continue;
+      CheckExternal(*uri, file + ": /images/" + std::to_string(i) + "/uri", "texture image", base_dir, -1,
+                    external);
+    }
+  }
+}
+
+}  // namespace lt
