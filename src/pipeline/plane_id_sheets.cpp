@@ -10,46 +10,80 @@ namespace lt {
 
 namespace {
 
-// Where plane p stands across the search line through the normalised image
-// point (x, y) at depth z: x / z searching rows (the line y = const), y / z
-// searching columns.
-double PositionAcross(const Plane& p, bool rows, double x, double y, double z) {
-  const double a = rows ? p.n.x() : p.n.y();
-  const double rest = (rows ? p.n.y() * y : p.n.x() * x) * z + p.n.z() * z + p.d;
-  if (std::abs(a) < 1e-12) return std::copysign(std::numeric_limits<double>::infinity(), -rest);
-  return -rest / (a * z);
-}
-
-// The planes in order across the search line through (x, y) at depth z.
-std::vector<int> OrderAt(const std::vector<Plane>& planes, bool rows, double x, double y, double z) {
-  std::vector<int> order(planes.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-    return PositionAcross(planes[size_t(a)], rows, x, y, z) < PositionAcross(planes[size_t(b)], rows, x, y, z);
-  });
-  return order;
-}
-
 // The depths (metres) over which the sheets' order is read.
-constexpr double kNearest = 1e-3, kFarthest = 1e3, kDepthStep = 1.02;
+constexpr double kNearest = 1e-3, kFarthest = 1e3;
 // Two sheets closer than this (pixels) across the image make one stripe.
 constexpr double kMergedPx = 2.0;
+
+// Where a plane stands across the search line through the normalised image
+// point (x, y) (x / z searching rows, along the line y = const; y / z searching
+// columns) is alpha + beta w at inverse depth w = 1 / z: a straight line in w,
+// so two sheets cross at most once on a search line.
+struct Across {
+  double alpha = 0, beta = 0;
+  double at_infinity = 0;  // +-inf for a plane parallel to the search direction's normal, else 0
+
+  Across(const Plane& p, bool rows, double x, double y) {
+    const double a = rows ? p.n.x() : p.n.y();
+    const double c = (rows ? p.n.y() * y : p.n.x() * x) + p.n.z();
+    if (std::abs(a) < 1e-12) {
+      at_infinity = std::copysign(std::numeric_limits<double>::infinity(), -c);
+    } else {
+      alpha = -c / a, beta = -p.d / a;
+    }
+  }
+  double At(double w) const { return at_infinity != 0 ? at_infinity : alpha + beta * w; }
+};
+
+std::vector<Across> AcrossLine(const std::vector<Plane>& planes, bool rows, double x, double y) {
+  std::vector<Across> out;
+  for (const Plane& p : planes) out.emplace_back(p, rows, x, y);
+  return out;
+}
+
+// The orders the sheets take across a search line at depths from kNearest to
+// kFarthest, each over the inverse depths [w_lo, w_hi) where it holds.
+struct OrderRun {
+  std::vector<int> order;
+  double w_lo, w_hi;
+};
+std::vector<OrderRun> OrdersOverDepth(const std::vector<Across>& line) {
+  const double w_min = 1 / kFarthest, w_max = 1 / kNearest;
+  std::vector<double> ws = {w_min, w_max};
+  for (size_t p = 0; p < line.size(); ++p) {
+    for (size_t q = p + 1; q < line.size(); ++q) {
+      if (line[p].at_infinity != 0 || line[q].at_infinity != 0 || line[p].beta == line[q].beta) continue;
+      const double w = (line[q].alpha - line[p].alpha) / (line[p].beta - line[q].beta);
+      if (w > w_min && w < w_max) ws.push_back(w);
+    }
+  }
+  std::sort(ws.begin(), ws.end());
+  std::vector<OrderRun> runs;
+  for (size_t i = 0; i + 1 < ws.size(); ++i) {
+    if (!(ws[i + 1] > ws[i])) continue;
+    const double mid = 0.5 * (ws[i] + ws[i + 1]);
+    std::vector<int> order(line.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return line[size_t(a)].At(mid) < line[size_t(b)].At(mid); });
+    if (!runs.empty() && runs.back().order == order) {
+      runs.back().w_hi = ws[i + 1];
+    } else {
+      runs.push_back({std::move(order), ws[i], ws[i + 1]});
+    }
+  }
+  return runs;
+}
 
 }  // namespace
 
 SheetsOfRanks::SheetsOfRanks(const Triangulator& triangulator, SearchAxis axis)
     : triangulator_(triangulator), axis_(axis), order_(PlanesInImageOrder(triangulator.planes(), axis)) {
-  // The order on the central search line and on lines half way to the image's
-  // edges (normalised coordinate +-0.5), at depths from 1 mm to 1 km.
+  // The central search line and lines half way to the image's edges
+  // (normalised coordinate +-0.5).
   const bool rows = axis == SearchAxis::kRows;
-  const std::vector<Plane>& planes = triangulator.planes();
   for (double line : {-0.5, 0.0, 0.5}) {
-    std::vector<int> first;
-    for (double z = kNearest; z <= kFarthest && !depth_dependent_; z *= kDepthStep) {
-      const std::vector<int> order = OrderAt(planes, rows, rows ? 0 : line, rows ? line : 0, z);
-      if (first.empty()) first = order;
-      depth_dependent_ = order != first;
-    }
+    depth_dependent_ |= OrdersOverDepth(AcrossLine(triangulator.planes(), rows, rows ? 0 : line, rows ? line : 0)).size() > 1;
   }
 }
 
@@ -63,7 +97,7 @@ int SheetsOfRanks::Apply(std::vector<StripePoint>* points) const {
     }
     return 0;
   }
-  // The ranked points of each search line, with their normalised image position.
+  // The ranked points of each search line, with their rays.
   struct Ranked {
     size_t index;
     int rank;
@@ -84,55 +118,35 @@ int SheetsOfRanks::Apply(std::vector<StripePoint>* points) const {
     lines[std::lround(rows ? p.v : p.u)].push_back({i, rank, *ray});
   }
   for (const auto& [line, ranked] : lines) {
-    // The orders the sheets take on this line at depths from 1 mm to 1 km,
-    // each over the depths where it holds (its ends found by bisection).
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
     for (const Ranked& r : ranked) mean += r.ray / r.ray.z();
     mean /= double(ranked.size());
-    auto order_at = [&](double z) { return OrderAt(planes, rows, mean.x(), mean.y(), z); };
-    struct Run {
-      std::vector<int> order;
-      double z_lo, z_hi;
-    };
-    std::vector<Run> runs{{order_at(kNearest), 0, std::numeric_limits<double>::infinity()}};
-    for (double z = kNearest, next = z * kDepthStep; next <= kFarthest; z = next, next *= kDepthStep) {
-      std::vector<int> order = order_at(next);
-      if (order == runs.back().order) continue;
-      double lo = z, hi = next;
-      for (int i = 0; i < 40; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        (order_at(mid) == runs.back().order ? lo : hi) = mid;
-      }
-      runs.back().z_hi = hi;
-      runs.push_back({std::move(order), hi, std::numeric_limits<double>::infinity()});
-    }
+    const std::vector<OrderRun> runs = OrdersOverDepth(AcrossLine(planes, rows, mean.x(), mean.y()));
     // An order fits the line when each of its points, on the plane the order
     // gives its rank, lies in front of the camera at a depth where the order
     // holds (the surface across the line at about one depth, as the order
-    // across the image assumes). A point's plane is the one every fitting
-    // order gives its rank; none when no order fits.
+    // across the image assumes), and no other sheet stands within kMergedPx
+    // of it there (two sheets' light makes one stripe, which the ranks, read
+    // from distinct stripes, do not count twice). A point's plane is the one
+    // every fitting order gives its rank; none when no order fits.
     std::vector<int> plane(ranked.size(), -2);  // -2: no fitting order yet
-    for (const Run& run : runs) {
+    for (const OrderRun& run : runs) {
       bool fits = true;
       for (size_t j = 0; j < ranked.size() && fits; ++j) {
         const Ranked& r = ranked[j];
-        const Plane& sheet = planes[size_t(run.order[size_t(r.rank)])];
-        const double z = -sheet.d / sheet.n.dot(r.ray) * r.ray.z();
-        fits = std::isfinite(z) && z > 0 && z >= run.z_lo && z < run.z_hi;
+        const int k = run.order[size_t(r.rank)];
+        const Plane& sheet = planes[size_t(k)];
+        const double w = 1 / (-sheet.d / sheet.n.dot(r.ray) * r.ray.z());
+        fits = std::isfinite(w) && w >= run.w_lo && w < run.w_hi;
+        const std::vector<Across> here = AcrossLine(planes, rows, r.ray.x() / r.ray.z(), r.ray.y() / r.ray.z());
+        for (size_t q = 0; q < planes.size() && fits; ++q) {
+          fits = int(q) == k || std::abs(here[q].At(w) - here[size_t(k)].At(w)) * focal >= kMergedPx;
+        }
       }
       if (!fits) continue;
       for (size_t j = 0; j < ranked.size(); ++j) {
-        const Ranked& r = ranked[j];
-        const int k = run.order[size_t(r.rank)];
+        const int k = run.order[size_t(ranked[j].rank)];
         plane[j] = plane[j] == -2 || plane[j] == k ? k : -1;
-        // Another sheet within kMergedPx of the point at its depth: the
-        // stripe is both sheets' light, and which one it is is not known.
-        const Plane& sheet = planes[size_t(k)];
-        const double z = -sheet.d / sheet.n.dot(r.ray) * r.ray.z();
-        const double x = r.ray.x() / r.ray.z(), y = r.ray.y() / r.ray.z(), here = rows ? x : y;
-        for (size_t q = 0; q < planes.size(); ++q) {
-          if (int(q) != k && std::abs(PositionAcross(planes[q], rows, x, y, z) - here) * focal < kMergedPx) plane[j] = -1;
-        }
       }
     }
     for (size_t j = 0; j < ranked.size(); ++j) {

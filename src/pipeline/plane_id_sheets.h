@@ -12,11 +12,11 @@
 // the depths where it holds) is tried: it fits when each of the line's ranked
 // points, on the plane the order gives its rank, lies in front of the camera
 // at a depth where the order holds (the surface at about one depth across the
-// line, as reading ranks from the image order assumes). A point's plane is the
-// one every fitting order gives its rank; it keeps none when no order fits,
-// when fitting orders differ for it (an image of a surface on one side of a
-// crossing that reads as well as one on the other side), or when another sheet
-// stands within 2 px of it at its depth (one stripe of two sheets' light).
+// line, as reading ranks from the image order assumes) with no other sheet
+// within 2 px of it there (one stripe of two sheets' light). A point's plane
+// is the one every fitting order gives its rank; it keeps none when no order
+// fits, or when fitting orders differ for it (an image of a surface on one
+// side of a crossing that reads as well as one on the other side).
 #pragma once
 
 #include <vector>
