@@ -1,7 +1,5 @@
 #include "pipeline/calib_camera_images.h"
 
-#include <algorithm>
-#include <cctype>
 #include <string>
 #include <variant>
 
@@ -14,35 +12,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool IsImageFile(const fs::path& p) {
-  std::string ext = p.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  for (const char* e : {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".pgm", ".ppm", ".pnm", ".exr"}) {
-    if (ext == e) return true;
-  }
-  return false;
-}
-
 std::string Size(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
 
 }  // namespace
-
-std::vector<fs::path> ListImageFiles(const fs::path& folder) {
-  std::error_code ec;
-  if (!fs::exists(folder, ec)) throw InputError(folder.string(), "no such folder");
-  if (!fs::is_directory(folder, ec)) throw InputError(folder.string(), "not a folder");
-  std::vector<fs::path> files;
-  for (const fs::directory_entry& e : fs::directory_iterator(folder, ec)) {
-    if (e.is_regular_file(ec) && IsImageFile(e.path())) files.push_back(e.path());
-  }
-  if (ec) throw InputError(folder.string(), "cannot list the folder: " + ec.message());
-  if (files.empty()) {
-    throw InputError(folder.string(), "no image files in the folder (.png, .jpg, .jpeg, .tif, .tiff, .bmp, .pgm, "
-                                      ".ppm, .pnm, .exr), and no manifest.jsonl of a run");
-  }
-  std::sort(files.begin(), files.end());
-  return files;
-}
 
 PhotoCameraResult CalibrateCameraFromImages(const std::vector<fs::path>& images, const CheckerboardSpec& board,
                                             const CameraCalibrationOptions& options,

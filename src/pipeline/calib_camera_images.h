@@ -1,6 +1,6 @@
 // Camera calibration from a folder of photographs of the checkerboard, as a
 // camera or a phone delivers them (no run manifest): every image file of the
-// folder, in name order, is one view (docs/calibration.md, "Calibrating from
+// folder, in natural name order (pipeline/image_folder.h), is one view (docs/calibration.md, "Calibrating from
 // a folder of photographs").
 #pragma once
 
@@ -10,15 +10,9 @@
 #include "pipeline/calib_camera.h"
 #include "pipeline/calib_checkerboard.h"
 #include "pipeline/calib_corners.h"
+#include "pipeline/image_folder.h"
 
 namespace lt {
-
-// The image files of a folder, sorted by name: extensions .png .jpg .jpeg
-// .tif .tiff .bmp .pgm .ppm .pnm .exr (any case); other files and
-// sub-folders are left out. Throws lt::InputError naming the folder when it
-// does not exist, is not a folder, or holds no image file.
-std::vector<std::filesystem::path> ListImageFiles(const std::filesystem::path& folder);
-
 
 struct PhotoView {
   std::filesystem::path image;

@@ -1,13 +1,10 @@
 #include "pipeline/capture_folder.h"
 
-#include <algorithm>
-#include <cctype>
 #include <string>
 
 #include "core/error.h"
 #include "core/image_io.h"
-#include "core/text_fields.h"
-#include "pipeline/calib_camera_images.h"
+#include "pipeline/image_folder.h"
 
 namespace lt {
 
@@ -15,72 +12,24 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool IsDigit(char c) { return c >= '0' && c <= '9'; }
-
-// The visible image files of a folder; none when it is no folder or holds none.
-std::vector<fs::path> VisibleImages(const fs::path& folder) {
-  std::error_code ec;
-  if (!fs::is_directory(folder, ec)) return {};
-  std::vector<fs::path> files;
-  try {
-    files = ListImageFiles(folder);
-  } catch (const InputError&) {
-    return {};  // no image file
-  }
-  files.erase(std::remove_if(files.begin(), files.end(),
-                             [](const fs::path& p) { return p.filename().string().front() == '.'; }),
-              files.end());
-  return files;
-}
-
 std::string Size(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
 
 }  // namespace
 
-bool NaturalLess(std::string_view a, std::string_view b) {
-  size_t i = 0, j = 0;
-  while (i < a.size() && j < b.size()) {
-    if (IsDigit(a[i]) && IsDigit(b[j])) {
-      size_t ie = i, je = j;
-      while (ie < a.size() && IsDigit(a[ie])) ++ie;
-      while (je < b.size() && IsDigit(b[je])) ++je;
-      std::string_view na = a.substr(i, ie - i), nb = b.substr(j, je - j);
-      while (na.size() > 1 && na.front() == '0') na.remove_prefix(1);
-      while (nb.size() > 1 && nb.front() == '0') nb.remove_prefix(1);
-      if (na.size() != nb.size()) return na.size() < nb.size();
-      if (na != nb) return na < nb;
-      i = ie, j = je;
-      continue;
-    }
-    const char ca = char(std::tolower(static_cast<unsigned char>(a[i])));
-    const char cb = char(std::tolower(static_cast<unsigned char>(b[j])));
-    if (ca != cb) return ca < cb;
-    ++i, ++j;
-  }
-  if ((i == a.size()) != (j == b.size())) return i == a.size();
-  return a < b;
-}
-
 CaptureFolder ReadCaptureFolder(const fs::path& dir) {
-  const std::vector<fs::path> top = VisibleImages(dir), sub = VisibleImages(dir / "frames");
+  const std::vector<fs::path> top = ImageFilesIn(dir), sub = ImageFilesIn(dir / "frames");
   if (!top.empty() && !sub.empty()) {
     throw InputError(dir.string(), "holds images both directly (" + top.front().filename().string() + ", ...) and in " +
                                        "frames/ (" + sub.front().filename().string() +
                                        ", ...), and no manifest.jsonl: which are the frames? Move the others away");
   }
   if (top.empty() && sub.empty()) {
-    throw InputError(dir.string(), "no manifest.jsonl and no image file (.png, .jpg, .jpeg, .tif, .tiff, .bmp, .pgm, "
-                                   ".ppm, .pnm, .exr) in the folder or its frames/ folder");
+    throw InputError(dir.string(), std::string("no manifest.jsonl and no image file (") + kImageExtensionsText +
+                                       ") in the folder or its frames/ folder");
   }
   CaptureFolder c;
-  std::vector<fs::path> files = top.empty() ? sub : top;
+  const std::vector<fs::path>& files = top.empty() ? sub : top;
   c.images_dir = top.empty() ? dir / "frames" : dir;
-  // Images named by their time ("1305031102.2.png", "1305031102.175304.png") in time order.
-  std::sort(files.begin(), files.end(), [](const fs::path& x, const fs::path& y) {
-    const auto tx = ParseFiniteNumber(x.stem().string()), ty = ParseFiniteNumber(y.stem().string());
-    if (tx && ty && *tx != *ty) return *tx < *ty;
-    return NaturalLess(x.filename().string(), y.filename().string());
-  });
   const std::string listing = c.images_dir.string() + " (no manifest.jsonl: frames in file name order)";
   for (size_t i = 0; i < files.size(); ++i) {
     const ImageFileSize size = ReadImageFileSize(files[i]);

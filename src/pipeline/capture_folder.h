@@ -3,13 +3,12 @@
 // manifest"): the image files directly in DIR, or in DIR/frames, in natural
 // order (img2 before img10; names that are numbers, such as times
 // "1305031102.2", by value), any extension the image reader takes in any case
-// (ListImageFiles); hidden files (".name", macOS's "._name" copies) and
+// (pipeline/image_folder.h); hidden files (".name", macOS's "._name" copies) and
 // sub-folders are left out. Every image must have the size of the first.
 #pragma once
 
 #include <filesystem>
 #include <string>
-#include <string_view>
 #include <vector>
 
 #include "pipeline/run_folder_reader.h"
@@ -54,9 +53,5 @@ void ApplyShutterPattern(ShutterPattern pattern, std::vector<RunFrame>* frames);
 // The warning about frames scanned as laser frames though most of their pixels
 // are above the stripe threshold (flood-lit), with what would tell them apart.
 std::string FloodLitWarning(const std::vector<int>& frames, ShutterPattern pattern, bool from_listing);
-
-// Natural order of file names: runs of digits compare as numbers ("img2" <
-// "img10"), other characters case-insensitively; ties ("img01", "img1") by bytes.
-bool NaturalLess(std::string_view a, std::string_view b);
 
 }  // namespace lt

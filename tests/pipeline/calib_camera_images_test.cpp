@@ -63,6 +63,8 @@ TEST(CalibCameraImages, AFolderOfPhotographsCalibratesTheCamera) {
   WriteImage(dir / "IMG_99.PNG", Image<uint8_t>(640, 480, 1, 128));  // no board: skipped
   std::ofstream(dir / "notes.txt") << "not an image\n";
   fs::create_directories(dir / "sub.png");  // a folder, not an image
+  // macOS's AppleDouble copy on a FAT card: hidden, no image (it was listed and failed to read).
+  std::ofstream(dir / "._IMG_10.png") << "Mac OS X        ATTR";
 
   const std::vector<fs::path> files = ListImageFiles(dir);
   ASSERT_EQ(files.size(), 7u);

@@ -7,6 +7,7 @@
 
 #include "core/pose_trajectory.h"
 #include "pipeline/capture_folder.h"
+#include "pipeline/image_folder.h"
 #include "scan_test_util.h"
 
 namespace lt {
