@@ -161,5 +161,4 @@ Document Document::Load(const std::filesystem::path& path, std::string display_n
   return Parse(ss.str(), display_name, base);
 }
 
-
 }  // namespace lt::json

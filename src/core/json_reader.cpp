@@ -70,7 +70,6 @@ std::string MisspeltKey(const nlohmann::json& object, std::string_view key,
   return best;
 }
 
-
 }  // namespace
 
 bool Range::Contains(double v) const {

@@ -73,9 +73,7 @@ double KannalaBrandtCoeffs::ThetaD(double theta, double* derivative) const {
   return theta * (1.0 + t2 * (k1 + t2 * (k2 + t2 * (k3 + t2 * k4))));
 }
 
-
 // ---------------------------------------------------------------- Brown–Conrady
-
 
 bool LensDistortion::InBcDomain(const Eigen::Vector2d& x) const {
   double r = x.norm();
