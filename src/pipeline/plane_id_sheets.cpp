@@ -12,8 +12,12 @@ namespace {
 
 // The depths (metres) over which the sheets' order is read.
 constexpr double kNearest = 1e-3, kFarthest = 1e3;
-// Two sheets closer than this (pixels) across the image make one stripe.
-constexpr double kMergedPx = 2.0;
+// Two sheets closer than this (pixels) across the image make one stripe, or
+// two whose order a fraction of a pixel's error in their positions may swap.
+constexpr double kMergedPx = 3.0;
+// How far (pixels) a stripe's measured position may stand from its sheet's:
+// an order fits a point that far beyond the depths where it holds.
+constexpr double kToleratedPx = 0.5;
 
 // Where a plane stands across the search line through the normalised image
 // point (x, y) (x / z searching rows, along the line y = const; y / z searching
@@ -122,32 +126,53 @@ int SheetsOfRanks::Apply(std::vector<StripePoint>* points) const {
     for (const Ranked& r : ranked) mean += r.ray / r.ray.z();
     mean /= double(ranked.size());
     const std::vector<OrderRun> runs = OrdersOverDepth(AcrossLine(planes, rows, mean.x(), mean.y()));
+    // Stripes measured within kMergedPx of another on the line: their order,
+    // and so their ranks, are not certain.
+    std::vector<char> uncertain(ranked.size(), 0);
+    for (size_t j = 0; j < ranked.size(); ++j) {
+      const StripePoint& pj = (*points)[ranked[j].index];
+      for (size_t i = 0; i < ranked.size(); ++i) {
+        const StripePoint& pi = (*points)[ranked[i].index];
+        uncertain[j] |= i != j && std::abs(rows ? pi.u - pj.u : pi.v - pj.v) < kMergedPx;
+      }
+    }
     // An order fits the line when each of its points, on the plane the order
     // gives its rank, lies in front of the camera at a depth where the order
-    // holds (the surface across the line at about one depth, as the order
-    // across the image assumes), and no other sheet stands within kMergedPx
-    // of it there (two sheets' light makes one stripe, which the ranks, read
-    // from distinct stripes, do not count twice). A point's plane is the one
-    // every fitting order gives its rank; none when no order fits.
+    // holds, give or take kToleratedPx of its position (the surface across
+    // the line at about one depth, as the order across the image assumes),
+    // and when no point of the line, measured apart from the others, would
+    // be two sheets' light in one stripe (another sheet within half kMergedPx
+    // of it). A point's plane is the one every fitting order gives its rank;
+    // none when no order fits, or when in a fitting order another sheet stands
+    // within kMergedPx of it.
     std::vector<int> plane(ranked.size(), -2);  // -2: no fitting order yet
     for (const OrderRun& run : runs) {
       bool fits = true;
+      std::vector<char> close(ranked.size(), 0);
       for (size_t j = 0; j < ranked.size() && fits; ++j) {
         const Ranked& r = ranked[j];
         const int k = run.order[size_t(r.rank)];
         const Plane& sheet = planes[size_t(k)];
         const double w = 1 / (-sheet.d / sheet.n.dot(r.ray) * r.ray.z());
-        fits = std::isfinite(w) && w >= run.w_lo && w < run.w_hi;
         const std::vector<Across> here = AcrossLine(planes, rows, r.ray.x() / r.ray.z(), r.ray.y() / r.ray.z());
-        for (size_t q = 0; q < planes.size() && fits; ++q) {
-          fits = int(q) == k || std::abs(here[q].At(w) - here[size_t(k)].At(w)) * focal >= kMergedPx;
+        const double dw = kToleratedPx / (focal * std::abs(here[size_t(k)].beta));  // inverse depth per tolerated px
+        fits = std::isfinite(w) && w > 0 && w >= run.w_lo - dw && w < run.w_hi + dw;
+        double nearest = std::numeric_limits<double>::infinity();
+        for (size_t q = 0; q < planes.size(); ++q) {
+          if (int(q) != k) nearest = std::min(nearest, std::abs(here[q].At(w) - here[size_t(k)].At(w)) * focal);
         }
+        fits = fits && (nearest >= 0.5 * kMergedPx || uncertain[j]);
+        close[j] = nearest < kMergedPx;
       }
       if (!fits) continue;
       for (size_t j = 0; j < ranked.size(); ++j) {
         const int k = run.order[size_t(ranked[j].rank)];
         plane[j] = plane[j] == -2 || plane[j] == k ? k : -1;
+        uncertain[j] |= close[j];
       }
+    }
+    for (size_t j = 0; j < ranked.size(); ++j) {
+      if (uncertain[j]) plane[j] = -1;
     }
     for (size_t j = 0; j < ranked.size(); ++j) {
       if (plane[j] >= 0) {

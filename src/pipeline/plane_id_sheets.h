@@ -11,12 +11,16 @@
 // line, every order the sheets take over depths from 1 mm to 1 km (each over
 // the depths where it holds) is tried: it fits when each of the line's ranked
 // points, on the plane the order gives its rank, lies in front of the camera
-// at a depth where the order holds (the surface at about one depth across the
-// line, as reading ranks from the image order assumes) with no other sheet
-// within 2 px of it there (one stripe of two sheets' light). A point's plane
-// is the one every fitting order gives its rank; it keeps none when no order
-// fits, or when fitting orders differ for it (an image of a surface on one
-// side of a crossing that reads as well as one on the other side).
+// at a depth where the order holds, give or take 0.5 px of the stripe's
+// position (the surface at about one depth across the line, as reading ranks
+// from the image order assumes), and puts no stripe measured apart from the
+// others where two sheets meet (within 1.5 px). A point's plane is the one
+// every fitting order gives its rank; it keeps none when no order fits, when
+// fitting orders differ for it (an image of a surface on one side of a
+// crossing that reads as well as one on the other side), or when another
+// stripe is measured, or another sheet stands in a fitting order, within 3 px
+// of it (two sheets' light in one stripe, or stripes whose order a fraction
+// of a pixel's error may swap).
 #pragma once
 
 #include <vector>
