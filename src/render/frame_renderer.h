@@ -155,6 +155,8 @@ class FrameRenderer {
   // pixel's footprint: where the laser lights the surface the pixel sees, and
   // its reflections start). kInSheet is also in the beam.
   enum Reach : uint8_t { kFar = 0, kInGlow = 1, kInBeam = 2, kInSheet = 3 };
+  // Whether the scanner is at the same pose at t0 and t1 (no motion blur to sample).
+  static bool IsStaticWithin(const Motion& motion, double t0, double t1);
   // Pass 1: ground truth, chief hits, and each pixel's Reach.
   void GroundTruthPass(const Pose& world_from_cam, const FrameLights& lights, RenderedFrame* out,
                        std::vector<ChiefHit>* hits, Image<uint8_t>* reach) const;
