@@ -7,25 +7,13 @@
 
 #include "core/error.h"
 #include "core/image_io.h"
+#include "core/text_fields.h"
 
 namespace lt {
 
 namespace {
 
 constexpr const char* kTruthHeader = "u,v,plane,x_cam,y_cam,z_cam,x_world,y_world,z_world";
-
-// Fields of one CSV line (an empty line gives one empty field).
-std::vector<std::string> SplitFields(const std::string& line) {
-  std::vector<std::string> fields(1);
-  for (char c : line) {
-    if (c == ',') {
-      fields.emplace_back();
-    } else {
-      fields.back().push_back(c);
-    }
-  }
-  return fields;
-}
 
 }  // namespace
 
@@ -41,18 +29,16 @@ std::vector<TruthCenter> ReadTruthCentersCsv(const std::filesystem::path& path) 
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty()) continue;
     const std::string where = path.string() + ":" + std::to_string(line_no);
-    const std::vector<std::string> f = SplitFields(line);
+    const std::vector<std::string_view> f = SplitFields(line, ',');
     if (f.size() != 9) throw InputError(where, "expected 9 fields, got " + std::to_string(f.size()));
     double v[6];
     for (size_t k = 0; k < 6; ++k) {
-      char* end = nullptr;
-      v[k] = std::strtod(f[k].c_str(), &end);
-      if (f[k].empty() || *end != '\0' || !std::isfinite(v[k])) {
-        throw InputError(where, "field " + std::to_string(k + 1) + " is not a finite number: '" + f[k] + "'");
-      }
+      const std::optional<double> x = ParseFiniteNumber(f[k]);
+      if (!x) throw InputError(where, "field " + std::to_string(k + 1) + " is not a finite number: '" + std::string(f[k]) + "'");
+      v[k] = *x;
     }
     if (v[2] != std::floor(v[2]) || v[2] < 0 || v[2] > 1e6) {
-      throw InputError(where, "plane must be an integer >= 0, got '" + f[2] + "'");
+      throw InputError(where, "plane must be an integer >= 0, got '" + std::string(f[2]) + "'");
     }
     centers.push_back({v[0], v[1], int(v[2]), Eigen::Vector3d(v[3], v[4], v[5]), line_no});
   }

@@ -46,6 +46,21 @@ TEST(SweepCommand, QuickLadder) {
   const std::string svg = ReadFile(dir / "pareto.svg");
   EXPECT_THAT(svg, HasSubstr("Pareto front"));
   EXPECT_THAT(svg, HasSubstr("half_resolution"));
+  // --replot draws the plot again from sweep.csv alone.
+  fs::remove(dir / "pareto.svg");
+  r = RunCli("sweep " + Quoted(kScene) + " --out " + Quoted(dir) + " --replot");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // (sweep.csv rounds the times: the same points, labels and front.)
+  const std::string replotted = ReadFile(dir / "pareto.svg");
+  auto count = [](const std::string& text, const std::string& what) {
+    size_t n = 0;
+    for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count(replotted, "<circle"), count(svg, "<circle"));
+  for (const char* label : {"spp1/com", "spp2/max", "half_resolution", "bounces0", "Pareto front"}) {
+    EXPECT_EQ(count(replotted, label), count(svg, label)) << label;
+  }
 }
 
 // A scene with several laser sheets: com and max find one stripe per search

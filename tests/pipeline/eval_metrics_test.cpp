@@ -131,6 +131,34 @@ struct EvalRun {
   }
 };
 
+// gt/NNNNNN_centers.csv as the renderer writes it (CRLF and blanks around
+// fields tolerated); a field that is no finite number names file:line.
+TEST(TruthCentersCsv, ReadsTheRendererHeaderAndNamesBadLines) {
+  const fs::path dir = fs::temp_directory_path() / ("lt_truth_csv_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const std::string head = "u,v,plane,x_cam,y_cam,z_cam,x_world,y_world,z_world\r\n";
+  std::ofstream(dir / "good.csv") << head << "12.000000,3.25,1,0.001,-0.002,0.08,1,2,3\r\n\r\n 13, 4.5 ,0,0,0,0.1,0,0,0\n";
+  const std::vector<TruthCenter> c = ReadTruthCentersCsv(dir / "good.csv");
+  ASSERT_EQ(c.size(), 2u);
+  EXPECT_EQ(c[0].plane, 1);
+  EXPECT_EQ(c[1].v, 4.5);
+  EXPECT_EQ(c[1].line, 4);
+  auto error = [&](const std::string& row) {
+    std::ofstream(dir / "bad.csv") << head << row << "\n";
+    try {
+      ReadTruthCentersCsv(dir / "bad.csv");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_THAT(error("12,nan,0,0,0,0.1,0,0,0"), HasSubstr("bad.csv:2: field 2 is not a finite number: 'nan'"));
+  EXPECT_THAT(error("12,3,0,0,0,1e999,0,0,0"), HasSubstr("bad.csv:2: field 6 is not a finite number"));
+  EXPECT_THAT(error("12,3,0.5,0,0,0.1,0,0,0"), HasSubstr("bad.csv:2: plane must be an integer >= 0, got '0.5'"));
+  EXPECT_THAT(error("12,3,0,0,0,0.1"), HasSubstr("bad.csv:2: expected 9 fields, got 6"));
+  fs::remove_all(dir);
+}
+
 TEST(Summarize, KnownValues) {
   ErrorStats s = Summarize({3, -4, 1, 0, 2});
   EXPECT_EQ(s.n, 5);

@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "core/error.h"
+#include "core/text_fields.h"
 #include "pipeline/svg_plot.h"
 
 namespace lt::cli {
@@ -31,15 +32,8 @@ std::vector<ParetoPoint> ReadParetoPoints(const fs::path& csv) {
   std::ifstream in(csv);
   if (!in) throw InputError(csv.string(), "cannot open (run the sweep first)");
   auto split = [](const std::string& line) {
-    std::vector<std::string> f(1);
-    for (char c : line) {
-      if (c == ',') {
-        f.emplace_back();
-      } else {
-        f.back().push_back(c);
-      }
-    }
-    return f;
+    const std::vector<std::string_view> f = SplitFields(line, ',');
+    return std::vector<std::string>(f.begin(), f.end());
   };
   std::string line;
   std::getline(in, line);
@@ -63,12 +57,9 @@ std::vector<ParetoPoint> ReadParetoPoints(const fs::path& csv) {
   for (const auto& [f, n] : rows) {
     if (f[error].empty()) continue;
     auto number = [&, n = n](const std::string& text) {
-      char* end = nullptr;
-      const double v = std::strtod(text.c_str(), &end);
-      if (text.empty() || *end != '\0' || !std::isfinite(v)) {
-        throw InputError(csv.string() + ":" + std::to_string(n), "not a number: '" + text + "'");
-      }
-      return v;
+      const std::optional<double> v = ParseFiniteNumber(text);
+      if (!v) throw InputError(csv.string() + ":" + std::to_string(n), "not a number: '" + text + "'");
+      return *v;
     };
     out.push_back({f[name] + (methods_per_run[f[name]] > 1 ? "/" + f[method] : ""), number(f[render]) + number(f[scan]),
                    number(f[error]), f[detection].empty() ? 0.0 : number(f[detection]), ChangesPhysics(f[factor])});
