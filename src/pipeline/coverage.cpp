@@ -55,8 +55,14 @@ void CoverageOptions::Check() const {
 }
 
 CoverageStats SurfaceCoverage(const std::vector<Triangle3d>& triangles, const std::vector<Eigen::Vector3d>& points,
-                              const CoverageOptions& options) {
+                              const CoverageOptions& options,
+                              const std::function<double(const Eigen::Vector3d&)>& laid_at,
+                              const std::vector<double>& point_times) {
   options.Check();
+  if (laid_at && point_times.size() != points.size()) {
+    throw std::invalid_argument("SurfaceCoverage: " + std::to_string(point_times.size()) + " times for " +
+                                std::to_string(points.size()) + " points");
+  }
   CoverageStats s;
   const PointGrid grid(points, options.distance_m);
   const double d2 = options.distance_m * options.distance_m;
@@ -73,14 +79,41 @@ CoverageStats SurfaceCoverage(const std::vector<Triangle3d>& triangles, const st
       // Uniform on the triangle: sqrt-warped barycentrics.
       const double r1 = std::sqrt(rng.NextDouble()), r2 = rng.NextDouble();
       const Eigen::Vector3d p = (1 - r1) * tri[0] + r1 * (1 - r2) * tri[1] + r1 * r2 * tri[2];
+      const double t_laid = laid_at ? laid_at(p) : 0.0;
       bool covered = false;
-      grid.ForNear(p, [&](size_t i) { covered = covered || (points[i] - p).squaredNorm() <= d2; });
+      grid.ForNear(p, [&](size_t i) {
+        covered = covered || ((points[i] - p).squaredNorm() <= d2 && (!laid_at || point_times[i] >= t_laid));
+      });
       hit += covered;
     }
     s.covered_m2 += area * double(hit) / double(n);
     s.samples += n;
   }
   return s;
+}
+
+struct LayingTimes::Grid {
+  PointGrid points;
+};
+
+LayingTimes::LayingTimes(std::vector<Eigen::Vector3d> nozzle, std::vector<double> times, double radius_m)
+    : nozzle_(std::move(nozzle)), times_(std::move(times)), radius_m_(radius_m) {
+  if (nozzle_.size() != times_.size()) throw std::invalid_argument("LayingTimes: as many times as positions needed");
+  if (!(radius_m_ > 0)) throw std::invalid_argument("LayingTimes: the radius must be > 0");
+  grid_ = std::make_unique<Grid>(Grid{PointGrid(nozzle_, radius_m_)});
+}
+
+LayingTimes::~LayingTimes() = default;
+
+double LayingTimes::At(const Eigen::Vector3d& p) const {
+  // The nearest position; of equally near ones, the earliest.
+  double best = std::numeric_limits<double>::infinity(), t = -std::numeric_limits<double>::infinity();
+  grid_->points.ForNear(p, [&](size_t i) {
+    const double d2 = (nozzle_[i] - p).squaredNorm();
+    if (d2 > radius_m_ * radius_m_) return;
+    if (d2 < best || (d2 == best && times_[i] < t)) best = d2, t = times_[i];
+  });
+  return t;
 }
 
 double MedianSpacingBetweenFrames(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& frames,

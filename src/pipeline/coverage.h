@@ -7,6 +7,8 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <vector>
 
 namespace lt {
@@ -31,8 +33,35 @@ struct CoverageStats {
 // samples, at least one, each weighted by its share of the triangle's area) and
 // counts the samples within `distance_m` of a point (a uniform grid of cell
 // `distance_m` over the points).
+// With `laid_at` (the time a surface point came to be, such as a bead's laying time,
+// LayingTimes below) and `point_times` (one per point, the time it was measured), a
+// sample counts as covered only by a point measured at or after the sample's time:
+// a profile taken before the nozzle laid a bead measured what lay there before (the
+// bed, the layer below, 0.2 mm under the bead's top), not the bead.
 CoverageStats SurfaceCoverage(const std::vector<Triangle3d>& triangles, const std::vector<Eigen::Vector3d>& points,
-                              const CoverageOptions& options);
+                              const CoverageOptions& options,
+                              const std::function<double(const Eigen::Vector3d&)>& laid_at = {},
+                              const std::vector<double>& point_times = {});
+
+// When each point of a printed bead was laid: the time of the nearest of the
+// nozzle's positions along the path (sampled finely, each with its time) within
+// `radius_m`; -infinity (laid before any sampled time) when none is that near.
+class LayingTimes {
+ public:
+  // Throws std::invalid_argument when the sizes differ or radius_m is not > 0.
+  LayingTimes(std::vector<Eigen::Vector3d> nozzle, std::vector<double> times, double radius_m);
+  ~LayingTimes();
+  LayingTimes(const LayingTimes&) = delete;  // the grid refers to the positions
+  LayingTimes& operator=(const LayingTimes&) = delete;
+  double At(const Eigen::Vector3d& p) const;
+
+ private:
+  struct Grid;
+  std::vector<Eigen::Vector3d> nozzle_;
+  std::vector<double> times_;
+  double radius_m_;
+  std::unique_ptr<Grid> grid_;
+};
 
 // The median, over the points, of the distance to the nearest point of another
 // frame (the spacing of the profiles along the scan path); only neighbours within

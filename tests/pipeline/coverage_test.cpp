@@ -5,6 +5,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <stdexcept>
 
 #include "core/error.h"
 #include "pipeline/coverage.h"
@@ -43,6 +45,39 @@ TEST(Coverage, StripAroundALineOfPoints) {
   EXPECT_EQ(SurfaceCoverage(Square(), points, o).covered_m2, SurfaceCoverage(Square(), points, o).covered_m2);
   o.distance_m = 0;
   EXPECT_THROW(SurfaceCoverage(Square(), points, o), InputError);
+}
+
+TEST(Coverage, PointsMeasuredBeforeTheSurfaceWasLaidDoNotCoverIt) {
+  // A bead's top, the square, laid by a nozzle running along y = 0.5 mm from x = 0
+  // (t = 0 s) to x = 1 mm (t = 1 s), 0.2 mm above the square's plane. Every point
+  // lies 0.2 mm below the top (the layer under the bead, or the bed), within 0.25 mm
+  // of all of it: measured at t = 2 s, after the nozzle passed, the whole top is
+  // covered; measured at t = 0.5 s only the half laid by then (x < 0.5 mm).
+  // Before, the points' times were not looked at: a profile taken ahead of the
+  // nozzle, of what lay under the bead to come, covered it all.
+  std::vector<Eigen::Vector3d> points, nozzle;
+  std::vector<double> nozzle_times;
+  for (int i = 0; i <= 20; ++i)
+    for (int j = 0; j <= 20; ++j) points.emplace_back(i * 0.05e-3, j * 0.05e-3, -0.2e-3);
+  for (int i = 0; i <= 100; ++i) {
+    nozzle.emplace_back(i * 0.01e-3, 0.5e-3, 0.2e-3);
+    nozzle_times.push_back(i * 0.01);
+  }
+  const LayingTimes laid(nozzle, nozzle_times, 1.5e-3);
+  EXPECT_NEAR(laid.At({0.303e-3, 0.9e-3, 0}), 0.30, 1e-12);  // the nearest position's time
+  EXPECT_EQ(laid.At({5e-3, 0.5e-3, 0}), -std::numeric_limits<double>::infinity());  // none within 1.5 mm
+  const auto laid_at = [&](const Eigen::Vector3d& p) { return laid.At(p); };
+  CoverageOptions o;
+  o.distance_m = 0.25e-3;
+  o.sample_spacing_m = 0.01e-3;
+  EXPECT_NEAR(SurfaceCoverage(Square(), points, o).Share(), 1.0, 1e-12);  // times not given
+  EXPECT_NEAR(SurfaceCoverage(Square(), points, o, laid_at, std::vector<double>(points.size(), 2.0)).Share(), 1.0,
+              1e-12);
+  // 10 000 samples: the share's standard deviation is 0.005; 4 sigma.
+  EXPECT_NEAR(SurfaceCoverage(Square(), points, o, laid_at, std::vector<double>(points.size(), 0.5)).Share(), 0.5,
+              0.02);
+  EXPECT_EQ(SurfaceCoverage(Square(), points, o, laid_at, std::vector<double>(points.size(), -1.0)).covered_m2, 0.0);
+  EXPECT_THROW(SurfaceCoverage(Square(), points, o, laid_at, {1.0}), std::invalid_argument);
 }
 
 TEST(Coverage, SpacingBetweenFrames) {

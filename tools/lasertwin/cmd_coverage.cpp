@@ -2,11 +2,12 @@
 // print (a run rendered from a scene with "print" and a "gcode" motion, then
 // scanned) covers the beads of the moves under way at the run's start or started
 // during it, as printed by its end: the share of the beads' top
-// surface within D of a measured point, the spacing of the profiles along the
+// surface within D of a point measured after the nozzle laid it there, the spacing of the profiles along the
 // path and the scanner's largest turn rate over the run. Writes RUN_DIR/coverage.json.
 #include <cmath>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <memory>
 
 #include "core/atomic_file.h"
@@ -33,6 +34,28 @@ struct CoverageArgs {
 constexpr double kTopNormalZ = 0.7;      // faces whose world normal has z above this are "top"
 constexpr double kSpacingRadiusM = 3e-3;  // profiles further apart than this do not count as neighbours
 constexpr double kTurnStepS = 1e-3;      // heading sampled every millisecond for the turn rate
+constexpr double kNozzleStepM = 0.05e-3;  // the nozzle's positions sampled every 0.05 mm of path for the laying times
+constexpr double kLaidRadiusM = 1.5e-3;   // a bead's surface lies within this of the nozzle that laid it
+
+// The nozzle's positions (world frame) and G-code times while it laid the beads of
+// segments [first, ...) up to G-code time g1.
+LayingTimes NozzleLayingTimes(const GcodeMotion& motion, size_t first, double g1) {
+  const Toolpath& path = motion.toolpath->path();
+  std::vector<Eigen::Vector3d> nozzle;
+  std::vector<double> times;
+  for (size_t k = first; k < path.segments.size() && path.segments[k].t_start_s < g1; ++k) {
+    const ToolpathSegment& seg = path.segments[k];
+    if (!seg.LaysBead()) continue;
+    const int n = std::max(1, int(std::ceil(seg.length_m / kNozzleStepM)));
+    for (int j = 0; j <= n; ++j) {
+      const double t = seg.t_start_s + seg.Duration() * j / n;
+      if (t > g1) break;
+      nozzle.push_back(motion.world_from_gcode * path.PositionAt(t));
+      times.push_back(t);
+    }
+  }
+  return LayingTimes(std::move(nozzle), std::move(times), kLaidRadiusM);
+}
 
 void Run(const CoverageArgs& a) {
   const fs::path run(a.run_dir);
@@ -68,10 +91,21 @@ void Run(const CoverageArgs& a) {
   PointCloud cloud = ReadPly(run / "cloud.ply");
   if (!cloud.world_frame) throw InputError((run / "cloud.ply").string(), "is in the camera frame: coverage needs world points");
   const SceneGeometry geometry = LoadSceneGeometry(scene);
+  // Each point's G-code time: its frame's mid-exposure (the pose it was placed with).
+  std::map<int, double> frame_time;
+  for (const RunFrame& f : frames) frame_time[f.index] = motion.start_time_s + 0.5 * (f.t_start_s + f.t_end_s);
   std::vector<Eigen::Vector3d> points, on_print;
+  std::vector<double> point_times;
   std::vector<int> print_frames;
   for (const CloudPoint& c : cloud.points) {
+    const auto t = frame_time.find(c.frame);
+    if (t == frame_time.end()) {
+      throw InputError((run / "cloud.ply").string(), "a point of frame " + std::to_string(c.frame) +
+                                                         ", which " + (run / "manifest.jsonl").string() +
+                                                         " does not list (scan the run again)");
+    }
     points.push_back(c.p);
+    point_times.push_back(t->second);
     const bool print = !cloud.has_label ||
                        (c.label >= 0 && size_t(c.label) < geometry.instances.size() &&
                         geometry.instances[size_t(c.label)].object == scene.objects.size());
@@ -82,7 +116,11 @@ void Run(const CoverageArgs& a) {
   }
   CoverageOptions co;
   co.distance_m = a.distance_mm * 1e-3;
-  const CoverageStats cov = SurfaceCoverage(top, points, co);
+  // A bead's surface is covered only by points measured after the nozzle laid it:
+  // earlier profiles there measured the bed or the layer below, a layer height under it.
+  const LayingTimes laid = NozzleLayingTimes(motion, bo.first_segment, g1);
+  const CoverageStats cov =
+      SurfaceCoverage(top, points, co, [&](const Eigen::Vector3d& p) { return laid.At(p); }, point_times);
   const double spacing = MedianSpacingBetweenFrames(on_print, print_frames, kSpacingRadiusM);
 
   // The scanner's largest turn rate over the run, sampled (corners in heading
