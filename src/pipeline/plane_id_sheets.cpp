@@ -5,6 +5,10 @@
 #include <limits>
 #include <map>
 #include <numeric>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/text_fields.h"
 
 namespace lt {
 
@@ -45,14 +49,14 @@ std::vector<Across> AcrossLine(const std::vector<Plane>& planes, bool rows, doub
   return out;
 }
 
-// The orders the sheets take across a search line at depths from kNearest to
-// kFarthest, each over the inverse depths [w_lo, w_hi) where it holds.
+// The orders the sheets take across a search line at inverse depths from
+// w_min to w_max, each over the inverse depths [w_lo, w_hi) where it holds.
 struct OrderRun {
   std::vector<int> order;
   double w_lo, w_hi;
 };
-std::vector<OrderRun> OrdersOverDepth(const std::vector<Across>& line) {
-  const double w_min = 1 / kFarthest, w_max = 1 / kNearest;
+std::vector<OrderRun> OrdersOverDepth(const std::vector<Across>& line, double w_min = 1 / kFarthest,
+                                      double w_max = 1 / kNearest) {
   std::vector<double> ws = {w_min, w_max};
   for (size_t p = 0; p < line.size(); ++p) {
     for (size_t q = p + 1; q < line.size(); ++q) {
@@ -79,11 +83,43 @@ std::vector<OrderRun> OrdersOverDepth(const std::vector<Across>& line) {
   return runs;
 }
 
+// The inverse depth at which `ray` (camera frame) meets `plane` (negative or
+// not finite behind the camera or parallel to it).
+double InverseDepth(const Plane& plane, const Eigen::Vector3d& ray) {
+  return 1 / (-plane.d / plane.n.dot(ray) * ray.z());
+}
+
 }  // namespace
 
-SheetsOfRanks::SheetsOfRanks(const Triangulator& triangulator, SearchAxis axis)
-    : triangulator_(triangulator), axis_(axis), order_(PlanesInImageOrder(triangulator.planes(), axis)) {
-  // The central search line and lines half way to the image's edges
+void DepthRange::Check(const std::string& where) const {
+  if (!(std::isfinite(near_m) && std::isfinite(far_m) && near_m > 0 && far_m > near_m)) {
+    std::ostringstream s;
+    s << "the depth range must be 0 < MIN < MAX (finite), got " << near_m * 1e3 << ":" << far_m * 1e3 << " mm";
+    throw InputError(where, s.str());
+  }
+}
+
+DepthRange ParseDepthRange(const std::string& text, const std::string& where) {
+  const size_t colon = text.find(':');
+  if (colon == std::string::npos) throw InputError(where, "expected MIN_MM:MAX_MM (camera z), got '" + text + "'");
+  const std::optional<double> near_mm = ParseFiniteNumber(text.substr(0, colon));
+  const std::optional<double> far_mm = ParseFiniteNumber(text.substr(colon + 1));
+  if (!near_mm || !far_mm) throw InputError(where, "expected MIN_MM:MAX_MM (two numbers), got '" + text + "'");
+  const DepthRange range{*near_mm * 1e-3, *far_mm * 1e-3};
+  range.Check(where);
+  return range;
+}
+
+SheetsOfRanks::SheetsOfRanks(const Triangulator& triangulator, SearchAxis axis, std::optional<DepthRange> range)
+    : triangulator_(triangulator),
+      axis_(axis),
+      ranged_(range.has_value()),
+      w_min_(range ? 1 / range->far_m : 1 / kFarthest),
+      w_max_(range ? 1 / range->near_m : 1 / kNearest),
+      order_(PlanesInImageOrder(triangulator.planes(), axis)) {
+  if (range) range->Check("depth range");
+  // Whether the order changes in front of the camera (1 mm to 1 km), read on
+  // the central search line and lines half way to the image's edges
   // (normalised coordinate +-0.5).
   const bool rows = axis == SearchAxis::kRows;
   for (double line : {-0.5, 0.0, 0.5}) {
@@ -95,11 +131,23 @@ int SheetsOfRanks::Apply(std::vector<StripePoint>* points) const {
   const std::vector<Plane>& planes = triangulator_.planes();
   const bool rows = axis_ == SearchAxis::kRows;
   const double focal = rows ? triangulator_.camera().fx() : triangulator_.camera().fy();
+  // Whether a point on plane k lies outside the depth range.
+  auto outside = [&](const Eigen::Vector3d& ray, int k) {
+    const double w = InverseDepth(planes[size_t(k)], ray);
+    return ranged_ && !(w >= w_min_ && w <= w_max_);
+  };
   if (!depth_dependent_) {
+    int dropped = 0;
     for (StripePoint& p : *points) {
-      if (p.plane >= 0) p.plane = p.plane < int(order_.size()) ? order_[size_t(p.plane)] : -1;
+      if (p.plane < 0) continue;
+      p.plane = p.plane < int(order_.size()) ? order_[size_t(p.plane)] : -1;
+      if (p.plane >= 0 && ranged_) {
+        const std::optional<Eigen::Vector3d> ray = triangulator_.camera().Unproject({p.u, p.v});
+        if (!ray || outside(*ray, p.plane)) p.plane = -1;
+      }
+      dropped += p.plane < 0;
     }
-    return 0;
+    return dropped;
   }
   // The ranked points of each search line, with their rays.
   struct Ranked {
@@ -125,7 +173,7 @@ int SheetsOfRanks::Apply(std::vector<StripePoint>* points) const {
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
     for (const Ranked& r : ranked) mean += r.ray / r.ray.z();
     mean /= double(ranked.size());
-    const std::vector<OrderRun> runs = OrdersOverDepth(AcrossLine(planes, rows, mean.x(), mean.y()));
+    const std::vector<OrderRun> runs = OrdersOverDepth(AcrossLine(planes, rows, mean.x(), mean.y()), w_min_, w_max_);
     // Stripes measured within kMergedPx of another on the line: their order,
     // and so their ranks, are not certain.
     std::vector<char> uncertain(ranked.size(), 0);
@@ -153,7 +201,7 @@ int SheetsOfRanks::Apply(std::vector<StripePoint>* points) const {
         const Ranked& r = ranked[j];
         const int k = run.order[size_t(r.rank)];
         const Plane& sheet = planes[size_t(k)];
-        const double w = 1 / (-sheet.d / sheet.n.dot(r.ray) * r.ray.z());
+        const double w = InverseDepth(sheet, r.ray);
         const std::vector<Across> here = AcrossLine(planes, rows, r.ray.x() / r.ray.z(), r.ray.y() / r.ray.z());
         const double dw = kToleratedPx / (focal * std::abs(here[size_t(k)].beta));  // inverse depth per tolerated px
         fits = std::isfinite(w) && w > 0 && w >= run.w_lo - dw && w < run.w_hi + dw;
@@ -172,7 +220,7 @@ int SheetsOfRanks::Apply(std::vector<StripePoint>* points) const {
       }
     }
     for (size_t j = 0; j < ranked.size(); ++j) {
-      if (uncertain[j]) plane[j] = -1;
+      if (uncertain[j] || (plane[j] >= 0 && outside(ranked[j].ray, plane[j]))) plane[j] = -1;
     }
     for (size_t j = 0; j < ranked.size(); ++j) {
       if (plane[j] >= 0) {

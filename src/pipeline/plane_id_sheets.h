@@ -21,8 +21,18 @@
 // stripe is measured, or another sheet stands in a fitting order, within 3 px
 // of it (two sheets' light in one stripe, or stripes whose order a fraction
 // of a pixel's error may swap).
+//
+// A scanner's working range (its datasheet's measuring range, camera z) is
+// where its stripes' order is known: given one, only the orders the sheets
+// take at depths within it are tried, an order fits only points at depths
+// within it (give or take the 0.5 px), and a point whose depth on the plane
+// it would take lies outside it keeps no plane. Light from a surface outside
+// the range that reads exactly as a surface inside it (mirror-image rigs)
+// cannot be told apart: the range is a promise about where the surfaces are.
 #pragma once
 
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "pipeline/extraction_options.h"
@@ -31,22 +41,34 @@
 
 namespace lt {
 
+// Depths (camera z, metres) where the scanner measures: near_m < far_m, both > 0.
+struct DepthRange {
+  double near_m = 0, far_m = 0;
+  void Check(const std::string& where) const;  // throws lt::InputError(where, ...)
+};
+// "MIN_MM:MAX_MM" (millimetres, e.g. "60:120"); throws lt::InputError(where, ...).
+DepthRange ParseDepthRange(const std::string& text, const std::string& where);
+
 class SheetsOfRanks {
  public:
-  // The triangulator's planes (camera frame) and the axis the stripes were searched along.
-  SheetsOfRanks(const Triangulator& triangulator, SearchAxis axis);
+  // The triangulator's planes (camera frame), the axis the stripes were
+  // searched along, and the depths where the scanner measures (none: 1 mm to
+  // 1 km, every point kept that one order fits).
+  SheetsOfRanks(const Triangulator& triangulator, SearchAxis axis, std::optional<DepthRange> range = {});
 
   // Whether the sheets' image order changes with depth in front of the camera.
   bool depth_dependent() const { return depth_dependent_; }
 
   // Each point's rank (plane >= 0) becomes its plane, or -1 where the rank
-  // fits no plane or more than one; returns how many ranked points were left
-  // without a plane so.
+  // fits no plane or more than one, or (with a range) puts the point outside
+  // the range; returns how many ranked points were left without a plane so.
   int Apply(std::vector<StripePoint>* points) const;
 
  private:
   const Triangulator& triangulator_;
   SearchAxis axis_;
+  bool ranged_ = false;     // a depth range was given
+  double w_min_, w_max_;    // inverse depths (1/m) where the sheets' orders are read
   std::vector<int> order_;  // plane of each rank, at the planes' reference depth
   bool depth_dependent_ = false;
 };

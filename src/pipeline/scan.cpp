@@ -106,6 +106,7 @@ void ScanOptions::Check() const {
   plane_id.Check();
   triangulation.Check();
   colour.Check();
+  if (depth_range) depth_range->Check("--depth-range");
   if (frames_begin < 0) throw InputError("option frames", "the first frame must be >= 0");
   if (frames_end >= 0 && frames_end <= frames_begin) throw InputError("option frames", "the frame range is empty");
   if (bit_depth < 0 || bit_depth > 16) throw InputError("--bit-depth", "must be 1..16, got " + std::to_string(bit_depth));
@@ -293,13 +294,17 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
       id_options.edge_margin = std::max(id_options.edge_margin, edge_lines_without_points + 2);
       const PixelRect region = eo.roi ? *eo.roi : PixelRect{0, 0, width, height};
       PlaneIdentification id = IdentifyPlanes(points, region, int(planes.size()), id_options);
-      const SheetsOfRanks& sheets = sheets_of_ranks.try_emplace(int(axis), triangulator, axis).first->second;
+      const SheetsOfRanks& sheets = sheets_of_ranks.try_emplace(int(axis), triangulator, axis, options.depth_range).first->second;
       points = std::move(id.points);
       const int uncertain = sheets.Apply(&points);
       if (uncertain > 0 && !warned_uncertain_sheet) {
-        warn(frame.image.string() + ": " + std::to_string(uncertain) + " stripe point(s) left without a plane: the " +
-             "sheets of the rig's projectors change places across the image with depth, and these points' ranks " +
-             "fit several sheets (or none) at the depths their rays meet them (docs/extraction.md)");
+        const std::string range = options.depth_range ? " within --depth-range" : "";
+        warn(frame.image.string() + ": " + std::to_string(uncertain) + " stripe point(s) left without a plane: " +
+             (sheets.depth_dependent()
+                  ? "the sheets of the rig's projectors change places across the image with depth, and these points' "
+                    "ranks fit several sheets (or none) at the depths" + range + " their rays meet them"
+                  : "on the sheets their ranks give they lie outside --depth-range") +
+             " (docs/extraction.md)");
         warned_uncertain_sheet = true;
       }
       fs_summary.by_edge_chains = id.ok && id.method == PlaneIdMethod::kEdgeChains;

@@ -18,6 +18,7 @@
 #include "pipeline/capture_folder.h"
 #include "pipeline/colorize.h"
 #include "pipeline/extraction_options.h"
+#include "pipeline/plane_id_sheets.h"
 #include "pipeline/plane_identification.h"
 #include "pipeline/pose_file.h"
 #include "pipeline/triangulation.h"
@@ -47,6 +48,12 @@ struct ScanOptions {
   // Plane identification (multi-line projectors); `axis` and a too-small
   // edge_margin are set per frame.
   PlaneIdOptions plane_id;
+  // The scanner's working range (`--depth-range`, camera z): with several
+  // laser planes, only the sheets' orders at these depths number the stripes,
+  // and a point that would lie outside it keeps no plane
+  // (pipeline/plane_id_sheets.h). Unset: 1 mm to 1 km. Never taken from the
+  // run's ground truth.
+  std::optional<DepthRange> depth_range;
   TriangulationOptions triangulation;
   // Calibration file (pipeline/calibration_file.h): its laser planes replace
   // the run's ground-truth planes, its camera (when present) the run's camera,

@@ -281,6 +281,8 @@ TEST_F(ScanCommand, BadInputExitsWithTwo) {
       {Quoted(good) + " --pose-units mm", "--pose-units: describes a pose file: give it with --poses"},
       {Quoted(good) + " --shutter sometimes", "--shutter: unknown shutter pattern 'sometimes'"},
       {Quoted(good) + " --background ambient", "--background: expected a level (a number) or 'local', got 'ambient'"},
+      {Quoted(good) + " --depth-range 60", "--depth-range: expected MIN_MM:MAX_MM (camera z), got '60'"},
+      {Quoted(good) + " --depth-range 120:60", "--depth-range: the depth range must be 0 < MIN < MAX (finite), got 120:60 mm"},
   };
   std::vector<std::string> args;
   for (const auto& c : cases) args.push_back("scan " + c.args);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "core/error.h"
 #include "pipeline/plane_id_sheets.h"
 
 namespace lt::test {
@@ -150,6 +151,80 @@ TEST(SheetsOfRanks, FacingProjectorsCrossingAtOneDepthLeaveTheirMirrorUnnumbered
   const Outcome o = Score(points, truth);
   EXPECT_EQ(o.wrong, 0);
   EXPECT_EQ(o.none, 480) << o.right;
+}
+
+// The mirror-image rig (A0/B0 and A1/B1 cross at 94.6 mm, A1/B0 at 106 mm)
+// with a part at 98 mm over a bed at 102 mm: without a depth range each row
+// reads as well as a surface short of 94.6 mm, and none of the 480 points was
+// numbered. The scanner's working range 96 to 105 mm holds one order: every
+// point right.
+TEST(SheetsOfRanks, MirrorImageRigIsNumberedWithinItsDepthRange) {
+  const std::vector<Sheet> sheets = {{0.04, -0.38}, {0.04, -0.30}, {-0.03, 0.36}, {-0.03, 0.44}};
+  std::vector<Plane> planes;
+  for (const Sheet& s : sheets) planes.push_back(s.ToPlane());
+  const Triangulator triangulator(SmallCamera(), planes);
+  std::vector<int> truth;
+  const std::vector<StripePoint> points = FlatRows(sheets, [](int v) { return v < 60 ? 0.102 : 0.098; }, &truth);
+
+  std::vector<StripePoint> unranged = points;
+  SheetsOfRanks(triangulator, SearchAxis::kRows).Apply(&unranged);
+  EXPECT_EQ(Score(unranged, truth).none, 480);  // before: both readings fit
+
+  std::vector<StripePoint> ranged = points;
+  const SheetsOfRanks sheets_of_ranks(triangulator, SearchAxis::kRows, DepthRange{0.096, 0.105});
+  EXPECT_TRUE(sheets_of_ranks.depth_dependent());
+  EXPECT_EQ(sheets_of_ranks.Apply(&ranged), 0);
+  const Outcome o = Score(ranged, truth);
+  EXPECT_EQ(o.right, 480);
+  EXPECT_EQ(o.wrong, 0);
+}
+
+// A point whose depth on the sheet its rank gives lies outside the range
+// keeps no plane: the part's rows at 98 mm with the range 100 to 105 mm
+// (their other reading, at about 91 mm, lies outside it too), and one
+// projector's fan over depths 80 to 139.5 mm with the range 90.1 to 119.9 mm.
+TEST(SheetsOfRanks, PointsOutsideTheDepthRangeKeepNoPlane) {
+  {
+    const std::vector<Sheet> sheets = {{0.04, -0.38}, {0.04, -0.30}, {-0.03, 0.36}, {-0.03, 0.44}};
+    std::vector<Plane> planes;
+    for (const Sheet& s : sheets) planes.push_back(s.ToPlane());
+    const Triangulator triangulator(SmallCamera(), planes);
+    std::vector<int> truth;
+    std::vector<StripePoint> points = FlatRows(sheets, [](int v) { return v < 60 ? 0.102 : 0.098; }, &truth);
+    EXPECT_EQ(SheetsOfRanks(triangulator, SearchAxis::kRows, DepthRange{0.1, 0.105}).Apply(&points), 240);
+    int right = 0;
+    for (size_t i = 0; i < points.size(); ++i) right += points[i].plane == (points[i].v < 60 ? truth[i] : -1);
+    EXPECT_EQ(right, 480);
+  }
+  std::vector<Sheet> sheets;
+  for (int k = 0; k < 5; ++k) sheets.push_back({0.04, -0.5 + 0.05 * k});
+  std::vector<Plane> planes;
+  for (const Sheet& s : sheets) planes.push_back(s.ToPlane());
+  const Triangulator triangulator(SmallCamera(), planes);
+  const SheetsOfRanks sheets_of_ranks(triangulator, SearchAxis::kRows, DepthRange{0.0901, 0.1199});
+  EXPECT_FALSE(sheets_of_ranks.depth_dependent());
+  std::vector<int> truth;
+  std::vector<StripePoint> points = FlatRows(sheets, [](int v) { return 0.08 + 0.0005 * v; }, &truth);
+  EXPECT_EQ(sheets_of_ranks.Apply(&points), 5 * (20 + 41));  // rows 0..20 and 80..119
+  int right = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    right += points[i].plane == (points[i].v > 20 && points[i].v < 80 ? truth[i] : -1);
+  }
+  EXPECT_EQ(right, int(points.size()));
+}
+
+TEST(SheetsOfRanks, DepthRangeIsMillimetresMinColonMax) {
+  const DepthRange r = ParseDepthRange("60:120", "--depth-range");
+  EXPECT_DOUBLE_EQ(r.near_m, 0.06);
+  EXPECT_DOUBLE_EQ(r.far_m, 0.12);
+  for (const char* bad : {"60", "60:", ":120", "120:60", "0:120", "-5:120", "60:inf", "a:b", "60:60"}) {
+    try {
+      ParseDepthRange(bad, "--depth-range");
+      ADD_FAILURE() << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("--depth-range"), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(SheetsOfRanks, OneProjectorsFanKeepsTheImageOrder) {

@@ -33,6 +33,7 @@ struct ScanArgs {
   std::string poses;
   std::string pose_units;  // empty: the header's, else m
   std::string pose_order;
+  std::string depth_range;  // MIN_MM:MAX_MM
   std::string shutter = "recorded";  // empty: the header's (headerless 7/8-number rows need it)
   bool quiet = false;
   ScanOptions options;
@@ -49,6 +50,7 @@ void Run(ScanArgs& a) {
   if (!a.roi.empty()) o.extraction.roi = ParseRoi(a.roi, "--roi");
   if (!a.weights.empty()) o.extraction.channel_weights = ParseNumberList(a.weights, "--weights");
   if (!a.calib.empty()) o.calibration = a.calib;
+  if (!a.depth_range.empty()) o.depth_range = ParseDepthRange(a.depth_range, "--depth-range");
   if (!a.bayer.empty()) o.color_filter = ParseBayerPattern(a.bayer, "--bayer");
   if (!a.poses.empty()) o.poses = a.poses;
   if (a.poses.empty() && (!a.pose_units.empty() || !a.pose_order.empty())) {
@@ -197,6 +199,10 @@ void Add(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--min-segment-points", id.min_segment_points, "Plane identification: smaller segments are noise")
       ->capture_default_str();
+  cmd->add_option("--depth-range", args->depth_range,
+                  "Plane identification: the scanner's working range MIN_MM:MAX_MM (camera z), e.g. 60:120: with "
+                  "several sheets, stripes are numbered by the sheets' order at these depths only, and points outside "
+                  "it keep no plane");
   cmd->add_option("--min-ray-angle-deg", args->options.triangulation.min_ray_angle_deg,
                   "Reject rays closer than this to the laser plane (degrees)")
       ->capture_default_str();
