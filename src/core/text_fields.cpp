@@ -52,6 +52,14 @@ std::vector<std::string_view> SplitFields(std::string_view text, char separator)
   }
 }
 
+double FiniteField(const std::vector<std::string_view>& fields, size_t k, const std::string& where) {
+  const std::optional<double> v = ParseFiniteNumber(fields.at(k));
+  if (!v) {
+    throw InputError(where, "field " + std::to_string(k + 1) + " is not a finite number: '" + std::string(fields[k]) + "'");
+  }
+  return *v;
+}
+
 std::vector<std::string_view> SplitBlanks(std::string_view text) {
   std::vector<std::string_view> fields;
   size_t i = 0;

@@ -20,6 +20,10 @@ std::string_view TrimBlanks(std::string_view text);
 
 // Splits `text` at every `separator` (fields trimmed of blanks).
 std::vector<std::string_view> SplitFields(std::string_view text, char separator);
+// Field k (0-based) of a row read as a finite number (ParseFiniteNumber); an
+// lt::InputError naming `where` ("file:line") otherwise: "field K is not a
+// finite number: 'TEXT'", K 1-based.
+double FiniteField(const std::vector<std::string_view>& fields, size_t k, const std::string& where);
 // Splits `text` at runs of blanks (no empty fields).
 std::vector<std::string_view> SplitBlanks(std::string_view text);
 

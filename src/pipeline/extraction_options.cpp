@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "core/error.h"
+#include "core/text_fields.h"
 
 #include "pipeline/option_checks.h"
 
@@ -37,28 +38,11 @@ SearchAxis ParseAxis(const std::string& text, const std::string& where) {
   throw InputError(where, "unknown search axis '" + text + "' (expected rows or cols)");
 }
 
-namespace {
-
-// `text` read whole as a finite number; empty when it is not one.
-std::optional<double> ParseFinite(const std::string& text) {
-  size_t used = 0;
-  double v = 0;
-  try {
-    v = std::stod(text, &used);
-  } catch (const std::exception&) {
-    return std::nullopt;
-  }
-  if (used == 0 || used != text.size() || !std::isfinite(v)) return std::nullopt;
-  return v;
-}
-
-}  // namespace
-
 std::vector<double> ParseNumberList(const std::string& text, const std::string& where) {
   std::vector<double> values;
   std::stringstream ss(text);
   for (std::string f; std::getline(ss, f, ',');) {
-    const std::optional<double> v = ParseFinite(f);
+    const std::optional<double> v = ParseFiniteNumber(TrimBlanks(f));
     if (!v) throw InputError(where, "'" + f + "' is not a number");
     values.push_back(*v);
   }
@@ -79,7 +63,7 @@ void ParseBackground(const std::string& text, const std::string& where, double* 
     *mode = BackgroundMode::kLocal;
     return;
   }
-  const std::optional<double> v = ParseFinite(text);
+  const std::optional<double> v = ParseFiniteNumber(TrimBlanks(text));
   if (!v) throw InputError(where, "expected a level (a number) or 'local', got '" + text + "'");
   *level = *v;
   *mode = BackgroundMode::kLevel;

@@ -32,11 +32,7 @@ std::vector<TruthCenter> ReadTruthCentersCsv(const std::filesystem::path& path) 
     const std::vector<std::string_view> f = SplitFields(line, ',');
     if (f.size() != 9) throw InputError(where, "expected 9 fields, got " + std::to_string(f.size()));
     double v[6];
-    for (size_t k = 0; k < 6; ++k) {
-      const std::optional<double> x = ParseFiniteNumber(f[k]);
-      if (!x) throw InputError(where, "field " + std::to_string(k + 1) + " is not a finite number: '" + std::string(f[k]) + "'");
-      v[k] = *x;
-    }
+    for (size_t k = 0; k < 6; ++k) v[k] = FiniteField(f, k, where);
     if (v[2] != std::floor(v[2]) || v[2] < 0 || v[2] > 1e6) {
       throw InputError(where, "plane must be an integer >= 0, got '" + std::string(f[2]) + "'");
     }

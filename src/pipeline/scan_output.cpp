@@ -11,6 +11,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/text_fields.h"
 
 namespace lt {
 
@@ -72,19 +73,9 @@ std::vector<ScanPoint> ReadScanCsv(const std::filesystem::path& path) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty()) continue;
     const std::string where = path.string() + ":" + std::to_string(line_no);
-    std::vector<std::string> f;
-    std::stringstream ss(line);
-    for (std::string field; std::getline(ss, field, ',');) f.push_back(field);
-    if (!line.empty() && line.back() == ',') f.push_back("");
+    const std::vector<std::string_view> f = SplitFields(line, ',');
     if (f.size() != 11) throw InputError(where, "expected 11 fields, got " + std::to_string(f.size()));
-    auto number = [&](size_t k) {
-      char* end = nullptr;
-      double v = std::strtod(f[k].c_str(), &end);
-      if (f[k].empty() || *end != '\0' || !std::isfinite(v)) {
-        throw InputError(where, "field " + std::to_string(k + 1) + " is not a finite number: '" + f[k] + "'");
-      }
-      return v;
-    };
+    auto number = [&](size_t k) { return FiniteField(f, k, where); };
     auto point = [&](size_t k) -> std::optional<Eigen::Vector3d> {
       if (f[k].empty() && f[k + 1].empty() && f[k + 2].empty()) return std::nullopt;
       return Eigen::Vector3d(number(k), number(k + 1), number(k + 2));
@@ -96,7 +87,7 @@ std::vector<ScanPoint> ReadScanCsv(const std::filesystem::path& path) {
     s.pixel.strength = number(3);
     const double plane = number(4);
     if (plane != std::floor(plane) || plane < -1 || plane > 1e6) {
-      throw InputError(where, "plane must be an integer >= -1, got '" + f[4] + "'");
+      throw InputError(where, "plane must be an integer >= -1, got '" + std::string(f[4]) + "'");
     }
     s.pixel.plane = int(plane);
     s.p_in_cam = point(5);

@@ -7,6 +7,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/text_fields.h"
 
 namespace lt {
 
@@ -48,35 +49,19 @@ std::vector<StripePoint> ReadStripeCsv(const std::filesystem::path& path, bool* 
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty()) continue;
     const std::string where = path.string() + ":" + std::to_string(number);
-    std::vector<std::string> fields;
-    std::stringstream ss(line);
-    for (std::string f; std::getline(ss, f, ',');) fields.push_back(f);
+    const std::vector<std::string_view> fields = SplitFields(line, ',');
     if (fields.size() != (plane ? 5u : 4u)) {
       throw InputError(where, "expected " + std::string(plane ? "5" : "4") + " fields, got " + std::to_string(fields.size()));
     }
     double v[4];
-    for (int k = 0; k < 4; ++k) {
-      size_t used = 0;
-      try {
-        v[k] = std::stod(fields[k], &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used == 0 || used != fields[k].size() || !std::isfinite(v[k])) {
-        throw InputError(where, "field " + std::to_string(k + 1) + " is not a finite number: '" + fields[k] + "'");
-      }
-    }
+    for (size_t k = 0; k < 4; ++k) v[k] = FiniteField(fields, k, where);
     StripePoint p{v[0], v[1], v[2], v[3], -1};
     if (plane) {
-      size_t used = 0;
-      try {
-        p.plane = std::stoi(fields[4], &used);
-      } catch (const std::exception&) {
-        used = 0;
+      const std::optional<double> n = ParseFiniteNumber(fields[4]);
+      if (!n || *n != std::floor(*n) || *n < -1 || *n > 1e6) {
+        throw InputError(where, "plane must be an integer >= -1, got '" + std::string(fields[4]) + "'");
       }
-      if (used == 0 || used != fields[4].size() || p.plane < -1) {
-        throw InputError(where, "plane must be an integer >= -1, got '" + fields[4] + "'");
-      }
+      p.plane = int(*n);
     }
     points.push_back(p);
   }
