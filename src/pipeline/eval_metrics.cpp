@@ -203,8 +203,8 @@ FrameSamples EvaluateFrame(const RunFrame& frame, SearchAxis axis, const std::ve
   if (!scene_distance && !surface) return out;
   std::vector<Eigen::Vector3d> exact;  // the exact centres of a point's line and the lines beside it
   // A point's distance in metres: to the scene, else to the surfaces the buffers see.
-  auto distance = [&](const ScanPoint& m) -> std::optional<double> {
-    if (scene_distance) return scene_distance(*m.p_in_cam);
+  auto distance = [&](const ScanPoint& m, const Eigen::Vector3d& p_in_cam) -> std::optional<double> {
+    if (scene_distance) return scene_distance(p_in_cam);
     exact.clear();
     const int line = int(std::lround(line_of(m.pixel.u, m.pixel.v)));
     for (int l = line - 1; l <= line + 1; ++l) {
@@ -212,7 +212,7 @@ FrameSamples EvaluateFrame(const RunFrame& frame, SearchAxis axis, const std::ve
       if (it == by_line.end()) continue;
       for (int i : it->second.first) exact.push_back(truth[size_t(i)].p_in_cam);
     }
-    const std::optional<double> d = surface->SignedDistance(*m.p_in_cam, exact);
+    const std::optional<double> d = surface->SignedDistance(p_in_cam, exact);
     if (!d) return std::nullopt;
     return std::abs(*d);
   };
@@ -224,9 +224,21 @@ FrameSamples EvaluateFrame(const RunFrame& frame, SearchAxis axis, const std::ve
     p.u = m.pixel.u;
     p.v = m.pixel.v;
     p.depth_m = m.p_in_cam->z();
-    if (const std::optional<double> d = distance(m)) {
+    if (const std::optional<double> d = distance(m, *m.p_in_cam)) {
       p.on_surface = true;
       p.error_mm = *d * 1e3;
+    }
+    // Where the scan placed it, seen from the camera where it really was.
+    // Placed with the manifest's pose (within the CSV's digits): the same distance, not searched again.
+    if (m.p_in_world && frame.world_from_cam) {
+      const Eigen::Vector3d placed = frame.world_from_cam->inverse() * *m.p_in_world;
+      const std::optional<double> d = (placed - *m.p_in_cam).norm() <= 1e-9
+                                          ? (p.on_surface ? std::optional<double>(p.error_mm * 1e-3) : std::nullopt)
+                                          : distance(m, placed);
+      if (d) {
+        p.stitched = true;
+        p.stitched_error_mm = *d * 1e3;
+      }
     }
     out.points.push_back(p);
   }

@@ -45,6 +45,12 @@
 //                      triangulated point within completeness_mm of the true
 //                      3D point (x_cam, y_cam, z_cam) / ground-truth centres
 //
+// Stitched point error: the same distance for the point where the scan placed it
+// in the world (the centres CSV's world columns), taken to the frame's camera by the
+// manifest's world_from_cam: the point error plus the error of the pose scan used
+// (a hand-eye calibration's tool_from_cam, a pose file). Equal to the point error
+// when scan placed the points with the manifest's poses.
+//
 // Statistics (ErrorStats) are of absolute values; empty statistics have n = 0
 // and are written as null. No NaN or infinity is ever written.
 #pragma once
@@ -107,6 +113,12 @@ struct PointSample {
   double depth_m = 0;       // z of the point, camera frame
   bool on_surface = false;  // a true surface lies under it (else error_mm is 0 and unused)
   double error_mm = 0;      // |distance to the true surface|
+  // The point where the scan put it in the world (its CSV's x_world, y_world, z_world:
+  // placed with the pose scan used, such as world_from_tool · tool_from_cam of a
+  // calibration, or a pose file's) against the same surface; false when the CSV has
+  // no world point or the manifest no world_from_cam.
+  bool stitched = false;
+  double stitched_error_mm = 0;
 };
 
 struct EvalCounts {
@@ -122,6 +134,7 @@ struct EvalSummary {
   ErrorStats center_px;  // matched pairs
   double center_bias_px = 0;  // mean signed error of the pairs (0 when none)
   ErrorStats point_mm;
+  ErrorStats stitched_point_mm;  // of the stitched world points (PointSample::stitched); n = 0 when none
   std::optional<double> detection_rate, false_positive_rate, plane_id_accuracy, completeness;
   nlohmann::json ToJson() const;
 };

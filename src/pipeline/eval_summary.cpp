@@ -55,7 +55,7 @@ EvalSummary Summarise(const std::vector<CenterSample>& centers, const std::vecto
                       std::optional<int> plane) {
   EvalSummary s;
   EvalCounts& c = s.counts;
-  std::vector<double> center_errors, point_errors;
+  std::vector<double> center_errors, point_errors, stitched_errors;
   double bias = 0;
   for (const CenterSample& x : centers) {
     if (!x.has_truth) {
@@ -78,6 +78,7 @@ EvalSummary Summarise(const std::vector<CenterSample>& centers, const std::vecto
   for (const PointSample& p : points) {
     if (plane && p.plane != *plane) continue;
     ++c.points_triangulated;
+    if (p.stitched) stitched_errors.push_back(p.stitched_error_mm);
     if (p.on_surface) {
       point_errors.push_back(p.error_mm);
     } else {
@@ -87,6 +88,7 @@ EvalSummary Summarise(const std::vector<CenterSample>& centers, const std::vecto
   s.center_px = Summarize(std::move(center_errors));
   s.center_bias_px = c.matched > 0 ? bias / double(c.matched) : 0.0;
   s.point_mm = Summarize(std::move(point_errors));
+  s.stitched_point_mm = Summarize(std::move(stitched_errors));
   s.detection_rate = Ratio(c.matched, c.gt_centers);
   s.false_positive_rate = Ratio(c.false_positives, c.measured_centers);
   s.plane_id_accuracy = Ratio(c.plane_correct, c.matched);
@@ -144,7 +146,7 @@ nlohmann::json EvalSummary::ToJson() const {
   nlohmann::json center = center_px.ToJson();
   center["bias"] = center_px.n > 0 ? Num(center_bias_px) : nlohmann::json(nullptr);
   const EvalCounts& c = counts;
-  return {{"stripe_center_error_px", center},
+  nlohmann::json j = {{"stripe_center_error_px", center},
           {"detection_rate", Num(detection_rate)},
           {"false_positives", {{"count", c.false_positives}, {"rate", Num(false_positive_rate)}}},
           {"plane_id_accuracy", Num(plane_id_accuracy)},
@@ -159,6 +161,8 @@ nlohmann::json EvalSummary::ToJson() const {
             {"points_triangulated", c.points_triangulated},
             {"points_off_surface", c.points_off_surface},
             {"complete", c.complete}}}};
+  if (stitched_point_mm.n > 0) j["stitched_point_error_mm"] = stitched_point_mm.ToJson();
+  return j;
 }
 
 nlohmann::json RunMetrics::ToJson() const {

@@ -14,6 +14,7 @@
 
 #include "core/error.h"
 #include "core/image_io.h"
+#include "core/pose.h"
 #include "pipeline/eval_metrics.h"
 #include "pipeline/ground_truth.h"
 #include "pipeline/scan_output.h"
@@ -65,6 +66,8 @@ struct EvalRun {
   fs::path dir;
   int planes = 1;
   std::vector<Measured> measured;
+  std::optional<Pose> world_from_cam;       // the manifest's (the true pose)
+  std::optional<Pose> scan_world_from_cam;  // the pose the measured points were placed with
 
   // Every true centre measured with offset du and its own plane.
   static EvalRun Exact(const std::string& name, int planes, double du) {
@@ -116,6 +119,7 @@ struct EvalRun {
                            {"files", {{"image", "frames/000000.png"}, {"centers", "gt/000000_centers.csv"}}},
                            {"gt_axis", "rows"}};
     if (with_buffers) line["files"]["gt"] = "gt/000000.exr";
+    if (world_from_cam) line["world_from_cam"] = PoseToJson(*world_from_cam);
     nlohmann::json bright = {{"index", 1}, {"shutter", {{"laser_on", false}}}, {"files", {{"image", "frames/000001.png"}}}};
     std::ofstream(dir / "manifest.jsonl") << line.dump() << "\n" << bright.dump() << "\n";
     if (!scanned) return;
@@ -125,6 +129,7 @@ struct EvalRun {
       ScanPoint p;
       p.pixel = {m.u, m.v, 2.0, 500.0, m.plane};
       if (m.triangulate) p.p_in_cam = SurfacePoint(m.u, m.v) + m.off_surface_m * kSurface.n;
+      if (m.triangulate && scan_world_from_cam) p.p_in_world = *scan_world_from_cam * *p.p_in_cam;
       points.push_back(p);
     }
     WriteScanCsv(dir / "centers/000000.csv", points);
@@ -565,6 +570,56 @@ TEST(EvaluateRun, ASurfaceDistanceSourceScoresEveryPointOfItsFrames) {
   EXPECT_EQ(m.PointErrorMethod(), "gt_buffers");
   EXPECT_EQ(m.total.counts.points_off_surface, 1);  // the background point
   EXPECT_NEAR(m.total.point_mm.max, 0.05, 1e-4);
+}
+
+// The world points where scan placed them (the centres CSV's world columns) are
+// scored too: placed with a pose 0.3 mm off the manifest's along the surface's
+// normal (a hand-eye calibration's error, say), they lie 0.35 mm from the surface
+// while the points in the camera frame lie 0.05 mm from it. Before, only the camera
+// frame's points were scored (through the manifest's pose): a cloud stitched 0.5 mm
+// off by a wrong tool_from_cam scored as a right one.
+TEST(EvaluateRun, StitchedWorldPointsAreScoredWithThePoseTheScanUsed) {
+  EvalRun run = EvalRun::Exact("stitched", 1, 0);
+  for (Measured& m : run.measured) m.off_surface_m = 50e-6;
+  Pose w = Pose::Identity();
+  w.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  w.translation() = Eigen::Vector3d(0.2, -0.1, 0.3);
+  run.world_from_cam = w;
+  const auto plane_distance = [](const RunFrame&) -> PointToSurface {
+    return [](const Eigen::Vector3d& p) { return std::optional<double>(std::abs(kSurface.SignedDistance(p))); };
+  };
+  // Placed with the manifest's pose: the same errors.
+  run.scan_world_from_cam = w;
+  run.Write(true, false);
+  RunMetrics m = EvaluateRun(run.dir, {}, plane_distance);
+  EXPECT_EQ(m.total.stitched_point_mm.n, 60);
+  EXPECT_NEAR(m.total.stitched_point_mm.max, 0.05, 1e-6);
+  // Placed 0.3 mm off along the surface's normal (in the world).
+  Pose off = Pose::Identity();
+  off.translation() = 0.3e-3 * (w.linear() * kSurface.n);
+  run.scan_world_from_cam = off * w;
+  run.Write(true, false);
+  m = EvaluateRun(run.dir, {}, plane_distance);
+  EXPECT_NEAR(m.total.point_mm.median, 0.05, 1e-6);
+  EXPECT_EQ(m.total.stitched_point_mm.n, 60);
+  EXPECT_NEAR(m.total.stitched_point_mm.median, 0.35, 1e-6);
+  EXPECT_NEAR(m.ToJson()["stitched_point_error_mm"]["median"].get<double>(), 0.35, 1e-6);
+  EXPECT_NEAR(m.ToJson()["frames"][0]["stitched_point_error_mm"]["max"].get<double>(), 0.35, 1e-6);
+  // On the ground-truth buffers too.
+  run.Write(true, true);
+  m = EvaluateRun(run.dir, {});
+  EXPECT_NEAR(m.total.point_mm.median, 0.05, 1e-4);
+  EXPECT_NEAR(m.total.stitched_point_mm.median, 0.35, 1e-4);
+  // No world points (a scan without poses), or no manifest pose: nothing to score.
+  run.scan_world_from_cam.reset();
+  run.Write(true, false);
+  m = EvaluateRun(run.dir, {}, plane_distance);
+  EXPECT_EQ(m.total.stitched_point_mm.n, 0);
+  EXPECT_FALSE(m.ToJson().contains("stitched_point_error_mm"));
+  run.scan_world_from_cam = w;
+  run.world_from_cam.reset();
+  run.Write(true, false);
+  EXPECT_EQ(EvaluateRun(run.dir, {}, plane_distance).total.stitched_point_mm.n, 0);
 }
 
 }  // namespace

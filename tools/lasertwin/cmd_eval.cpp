@@ -75,8 +75,17 @@ void Run(EvalArgs& a) {
             << Val(t.point_mm, &ErrorStats::median, "%.4f") << ", p95 " << Val(t.point_mm, &ErrorStats::p95, "%.4f")
             << ", max " << Val(t.point_mm, &ErrorStats::max, "%.4f") << " (" << t.point_mm.n << " points)\n"
             << "  point error measured " << MethodText(m.PointErrorMethod()) << "\n"
-            << (m.point_error_note.empty() ? "" : "  (" + m.point_error_note + ")\n")
-            << "  completeness         " << Pct(t.completeness) << " (within " << m.options.completeness_mm << " mm)\n"
+            << (m.point_error_note.empty() ? "" : "  (" + m.point_error_note + ")\n");
+  if (t.stitched_point_mm.n > 0) {
+    // The points where scan placed them in the world: the poses it used (a hand-eye
+    // calibration, a pose file) against the manifest's.
+    std::cout << "  stitched point error rms " << Val(t.stitched_point_mm, &ErrorStats::rms, "%.4f") << " mm, median "
+              << Val(t.stitched_point_mm, &ErrorStats::median, "%.4f") << ", p95 "
+              << Val(t.stitched_point_mm, &ErrorStats::p95, "%.4f") << ", max "
+              << Val(t.stitched_point_mm, &ErrorStats::max, "%.4f") << " (" << t.stitched_point_mm.n
+              << " world points as scan placed them)\n";
+  }
+  std::cout << "  completeness         " << Pct(t.completeness) << " (within " << m.options.completeness_mm << " mm)\n"
             << "wrote " << json.string() << "\nreport " << report.string() << "\n";
 }
 
