@@ -20,6 +20,8 @@ constexpr double kWindowMargin = 1.05;
 // neighbouring hits are farther apart than kSegmentGap patch sizes.
 constexpr double kSegmentCos = 0.9;
 constexpr double kSegmentGap = 4.0;
+// Relative margin of the reach by which Sum prunes a node (r_max + its radius).
+constexpr double kRadiusMargin = 1e-4;
 
 LaserEntryTree::Moment ToMoment(const Eigen::Matrix3d& m) {
   return {float(m(0, 0)), float(m(1, 1)), float(m(2, 2)), float(m(0, 1)), float(m(0, 2)), float(m(1, 2))};
@@ -180,6 +182,7 @@ std::unique_ptr<LaserEntryTree> LaserEntryTree::Build(const EmbreeScene& scene, 
   tree->points_ = pts.size();
   if (pts.empty()) return tree;
   tree->nodes_.reserve(2 * pts.size());
+  tree->moments_.reserve(2 * pts.size());
   tree->BuildNode(pts, 0, pts.size());
   return tree;
 }
@@ -187,16 +190,18 @@ std::unique_ptr<LaserEntryTree> LaserEntryTree::Build(const EmbreeScene& scene, 
 uint32_t LaserEntryTree::BuildNode(std::vector<Point>& pts, size_t begin, size_t end) {
   const uint32_t index = uint32_t(nodes_.size());
   nodes_.emplace_back();
+  moments_.emplace_back();
   Node node;
-  node.lo = node.n_lo = Eigen::Vector3f::Constant(INFINITY);
-  node.hi = node.n_hi = Eigen::Vector3f::Constant(-INFINITY);
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = Eigen::Vector3f::Constant(-INFINITY);
+  node.n_lo = Eigen::Vector3f::Constant(INFINITY);
+  node.n_hi = Eigen::Vector3f::Constant(-INFINITY);
   Eigen::Vector3d wp = Eigen::Vector3d::Zero();
   double w = 0;
   node.material = int32_t(pts[begin].material);
   for (size_t i = begin; i < end; ++i) {
     const Point& p = pts[i];
-    node.lo = node.lo.cwiseMin(p.p);
-    node.hi = node.hi.cwiseMax(p.p);
+    lo = lo.cwiseMin(p.p);
+    hi = hi.cwiseMax(p.p);
     node.n_lo = node.n_lo.cwiseMin(p.n);
     node.n_hi = node.n_hi.cwiseMax(p.n);
     wp += double(p.w) * p.p.cast<double>();
@@ -204,18 +209,24 @@ uint32_t LaserEntryTree::BuildNode(std::vector<Point>& pts, size_t begin, size_t
     if (int32_t(p.material) != node.material) node.material = -1;
   }
   node.w = float(w);
-  const Eigen::Vector3d c = w > 0 ? Eigen::Vector3d(wp / w) : 0.5 * (node.lo + node.hi).cast<double>();
+  const Eigen::Vector3d c = w > 0 ? Eigen::Vector3d(wp / w) : 0.5 * (lo + hi).cast<double>();
   node.c = c.cast<float>();
   // Parallel axes: each point's own moment plus its offset from c.
   Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+  double radius = 0;
   for (size_t i = begin; i < end; ++i) {
     const Point& p = pts[i];
     const Eigen::Vector3d d = p.p.cast<double>() - c;
     m += double(p.w) * (FromMoment(p.m) + d * d.transpose());
+    radius = std::max(radius, (p.p.cast<double>() - node.c.cast<double>()).norm());
   }
   if (w > 0) m /= w;
-  node.m = ToMoment(m);
-  node.m2 = std::max(0.0f, node.m[0] + node.m[1] + node.m[2]);
+  const Moment moment = ToMoment(m);
+  node.m2 = std::max(0.0f, moment[0] + moment[1] + moment[2]);
+  // Sum prunes a node beyond r_max + radius; the margin is far above float
+  // rounding, so no entry point within r_max is ever pruned.
+  node.radius = float(radius * (1.0 + kRadiusMargin));
+  moments_[index] = moment;
   if (end - begin == 1) {
     nodes_[index] = node;
     return index;
@@ -236,17 +247,20 @@ bool LaserEntryTree::Covers(const Eigen::Vector3d& p, double r_max) const {
   return (window_.closed_lo || phi - m >= window_.phi_lo) && (window_.closed_hi || phi + m <= window_.phi_hi);
 }
 
-double LaserEntryTree::Sum(const Eigen::Vector3d& x_world, const Eigen::Vector3d& n_world, uint32_t material,
-                           const BurleyProfile& profile, double r_max, double opening_ratio) const {
-  if (nodes_.empty()) return 0.0;
-  // R(r) = A (t^3 + t) / (8 pi d r), t = exp(-r / (3 d)): BurleyProfile::Evaluate
-  // in float, for the hot path. Within s = sqrt(kSmoothing m2) of a node's
-  // centroid, the profile's light inside radius s spread evenly over the disc:
-  // A CDF(s) / (pi s^2).
-  const float opening2 = float(opening_ratio * opening_ratio);
-  const float inv_3d = float(1.0 / (3.0 * profile.d()));
-  const float scale = float(profile.albedo() / (8.0 * M_PI * profile.d()));
-  auto R = [&](const Node& node, const Eigen::Vector3f& d, float r2) {
+// R(r) = A (t^3 + t) / (8 pi d r), t = exp(-r / (3 d)): BurleyProfile::Evaluate
+// in float, for the hot path, at a node's centroid d = c - x (r2 = |d|^2)
+// with the second-order term where the node is small seen from x. Within
+// s = sqrt(kSmoothing m2) of a node's centroid, the profile's light inside
+// radius s spread evenly over the disc: A CDF(s) / (pi s^2).
+struct LaserEntryTree::Kernel {
+  const BurleyProfile& profile;
+  float opening2, inv_3d, scale;
+  Kernel(const BurleyProfile& p, double opening_ratio)
+      : profile(p),
+        opening2(float(opening_ratio * opening_ratio)),
+        inv_3d(float(1.0 / (3.0 * p.d()))),
+        scale(float(p.albedo() / (8.0 * M_PI * p.d()))) {}
+  float operator()(const Node& node, const Moment& m, const Eigen::Vector3f& d, float r2) const {
     const float s2 = kSmoothing * node.m2;
     if (r2 >= s2 && r2 > 0) {
       const float r = std::sqrt(r2), t = std::exp(-r * inv_3d), t3 = t * t * t;
@@ -254,7 +268,6 @@ double LaserEntryTree::Sum(const Eigen::Vector3d& x_world, const Eigen::Vector3d
       // The expansion holds where the node is small seen from x (the
       // opening test); a leaf nearer than that is taken at its centroid.
       if (!(node.m2 < opening2 * r2)) return value;
-      const Moment& m = node.m;
       const float q = (d.x() * (m[0] * d.x() + 2 * (m[3] * d.y() + m[4] * d.z())) +
                        d.y() * (m[1] * d.y() + 2 * m[5] * d.z()) + d.z() * m[2] * d.z()) / r2;
       const float br = r * inv_3d, ar = 3 * br;
@@ -263,39 +276,77 @@ double LaserEntryTree::Sum(const Eigen::Vector3d& x_world, const Eigen::Vector3d
                                          node.m2 * (t3 * (ar + 1) + t * (br + 1))));
     }
     return s2 > 0 ? float(profile.albedo() * profile.Cdf(std::sqrt(s2)) / (M_PI * s2)) : 0.0f;
-  };
+  }
+};
+
+// Bounds of n . n_o over a node's normals, from their bounding box (a leaf's:
+// its normal). Entry points count where n . n_o >= 0.
+void LaserEntryTree::CosBounds(const Node& node, const Eigen::Vector3f& n_o, float* cos_lo, float* cos_hi) {
+  *cos_lo = 0, *cos_hi = 0;
+  for (int i = 0; i < 3; ++i) {
+    const float a = n_o[i] * node.n_lo[i], b = n_o[i] * node.n_hi[i];
+    *cos_lo += std::min(a, b), *cos_hi += std::max(a, b);
+  }
+}
+
+double LaserEntryTree::Sum(const Eigen::Vector3d& x_world, const Eigen::Vector3d& n_world, uint32_t material,
+                           const BurleyProfile& profile, double r_max, double opening_ratio) const {
+  if (nodes_.empty()) return 0.0;
+  const Kernel R(profile, opening_ratio);
+  const float opening2 = R.opening2;
   const Eigen::Vector3f x = (x_world - origin_).cast<float>();
   const Eigen::Vector3f n_o = n_world.cast<float>();
   const float r_max2 = float(r_max) * float(r_max);
+  // A node is pruned beyond r_max + its radius; the slack covers the rounding
+  // of the float coordinates (relative to the projector) well above its size.
+  const float reach = float(r_max * (1.0 + kRadiusMargin)) + 1e-6f * (x.cwiseAbs().maxCoeff() + float(r_max));
   const int32_t mat = int32_t(material);
   double sum = 0;
   std::array<uint32_t, 64> stack;
   int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const Node& node = nodes_[stack[--top]];
-    if (node.material >= 0 && node.material != mat) continue;
-    const Eigen::Vector3f below = (node.lo - x).cwiseMax(0.0f), above = (x - node.hi).cwiseMax(0.0f);
-    if ((below + above).squaredNorm() >= r_max2) continue;
+  uint32_t index = 0;
+  for (;;) {
+    const Node& node = nodes_[index];
+    const Eigen::Vector3f d = node.c - x;
+    const float r2 = d.squaredNorm(), limit = reach + node.radius;
+    // Skipped: another material, beyond the profile's reach, or every entry
+    // point lit on a face turned away.
+    if (!(node.material >= 0 && node.material != mat) && !(r2 > limit * limit)) {
+      float cos_lo, cos_hi;
+      CosBounds(node, n_o, &cos_lo, &cos_hi);
+      if (!(cos_hi < 0)) {
+        // The centroid stands for an inner node only when its entry points
+        // share one material, it is small seen from x and all count; else
+        // descend (left child next, the right one stacked).
+        if (node.right != 0 && !(node.material >= 0 && node.m2 < opening2 * r2 && cos_lo >= 0)) {
+          stack[top++] = node.right;
+          ++index;
+          continue;
+        }
+        if (r2 < r_max2) sum += node.w * R(node, moments_[index], d, r2);
+      }
+    }
+    if (top == 0) break;
+    index = stack[--top];
+  }
+  return sum;
+}
+
+double LaserEntryTree::SumOverSegments(const Eigen::Vector3d& x_world, const Eigen::Vector3d& n_world,
+                                       uint32_t material, const BurleyProfile& profile, double r_max) const {
+  const Kernel R(profile, 0.0);
+  const Eigen::Vector3f x = (x_world - origin_).cast<float>();
+  const Eigen::Vector3f n_o = n_world.cast<float>();
+  const float r_max2 = float(r_max) * float(r_max);
+  double sum = 0;
+  for (size_t i = 0; i < nodes_.size(); ++i) {
+    const Node& node = nodes_[i];
+    if (node.right != 0 || node.material != int32_t(material)) continue;
+    float cos_lo, cos_hi;
+    CosBounds(node, n_o, &cos_lo, &cos_hi);
     const Eigen::Vector3f d = node.c - x;
     const float r2 = d.squaredNorm();
-    // Bounds of n . n_o over the node's normals, from their bounding box (a
-    // leaf's: its normal). Entry points count where n . n_o >= 0.
-    float cos_lo = 0, cos_hi = 0;
-    for (int i = 0; i < 3; ++i) {
-      const float a = n_o[i] * node.n_lo[i], b = n_o[i] * node.n_hi[i];
-      cos_lo += std::min(a, b), cos_hi += std::max(a, b);
-    }
-    if (cos_hi < 0) continue;  // every entry point lit on a face turned away
-    // The centroid stands for an inner node only when its entry points share
-    // one material, it is small seen from x and all count; else descend.
-    if (node.right != 0 && !(node.material >= 0 && node.m2 < opening2 * r2 && cos_lo >= 0)) {
-      const uint32_t self = uint32_t(&node - nodes_.data());
-      stack[top++] = node.right;
-      stack[top++] = self + 1;
-      continue;
-    }
-    if (r2 < r_max2) sum += node.w * R(node, d, r2);
+    if (!(cos_hi < 0) && r2 < r_max2) sum += node.w * R(node, moments_[i], d, r2);
   }
   return sum;
 }

@@ -31,7 +31,7 @@
 // is lost to the 1/r peak.
 //
 // The tree (segments in grid order, split in halves) stores per node the
-// summed weight, the weighted centroid and second moment, the bounding box,
+// summed weight, the weighted centroid and second moment, a radius about the centroid bounding its entry points,
 // the material (or mixed) and the bounding box of the normals, which bounds
 // n . n_o over them (a cone about the mean normal was looser: where the stripe
 // crosses a step, top and wall normals 90 degrees apart, its bound put the wall
@@ -101,19 +101,25 @@ class LaserEntryTree {
   // expansion approximates).
   double Sum(const Eigen::Vector3d& x, const Eigen::Vector3d& n_o, uint32_t material, const BurleyProfile& profile,
              double r_max, double opening_ratio = kOpeningRatio) const;
+  // The same sum over every segment in order, without the tree: equal to Sum
+  // with opening_ratio 0 bit for bit, since the tree only skips nodes none of
+  // whose segments count (a reference for tests).
+  double SumOverSegments(const Eigen::Vector3d& x, const Eigen::Vector3d& n_o, uint32_t material,
+                         const BurleyProfile& profile, double r_max) const;
 
   size_t points() const { return points_; }
 
  private:
-  struct Node {
-    Eigen::Vector3f lo, hi;  // bounding box, relative to origin_
-    Eigen::Vector3f c;       // weighted centroid
+  // The traversal's fields, one cache line a node; the second moments, read
+  // only where a node is evaluated, lie in moments_ (same index).
+  struct alignas(64) Node {
+    Eigen::Vector3f c;           // weighted centroid, relative to origin_
     Eigen::Vector3f n_lo, n_hi;  // bounding box of the unit normals
-    float w = 0;             // summed weight W
-    float m2 = 0;            // weighted mean squared distance from c (m^2): trace of m
-    Moment m{};              // weighted second moment about c (m^2)
-    int32_t material = -1;   // -1: mixed
-    uint32_t right = 0;      // right child (left child: this + 1); 0 for a leaf
+    float w = 0;                 // summed weight W
+    float m2 = 0;                // weighted mean squared distance from c (m^2): trace of the moment
+    float radius = 0;            // bounds |p - c| over the node's entry points (with a margin)
+    int32_t material = -1;       // -1: mixed
+    uint32_t right = 0;          // right child (left child: this + 1); 0 for a leaf
   };
   struct Point {
     Eigen::Vector3f p, n;
@@ -122,6 +128,8 @@ class LaserEntryTree {
     uint32_t material;
   };
   struct Segment;
+  struct Kernel;
+  static void CosBounds(const Node& node, const Eigen::Vector3f& n_o, float* cos_lo, float* cos_hi);
   uint32_t BuildNode(std::vector<Point>& pts, size_t begin, size_t end);
 
   Eigen::Vector3d origin_;  // of the float coordinates (the projector)
@@ -130,6 +138,7 @@ class LaserEntryTree {
   int sheet_ = 0;
   SheetWindow window_;
   std::vector<Node> nodes_;
+  std::vector<Moment> moments_;  // weighted second moment about c (m^2), per node
   size_t points_ = 0;
 };
 

@@ -157,6 +157,38 @@ TEST(LaserEntryTree, SumAcrossAStepMatchesTheSumOverEverySegment) {
   EXPECT_NEAR(tree->Sum(wall.p, tilted, 0, profile, r_max) / wall_only, 1.0, 0.01);
 }
 
+TEST(LaserEntryTree, TreeSkipsOnlyNodesWithNoSegmentInReach) {
+  // The traversal prunes a node beyond r_max plus its radius about the
+  // centroid, and one lit on faces turned away; with every node opened (ratio
+  // 0) it must sum exactly the segments that count, in order: bit for bit the
+  // plain loop over them. Queries around the stripe with reaches that cut
+  // through it (the nearest entry points at 0.1 to 1 r_max), on the slab and
+  // on a face turned away.
+  Slab slab;
+  const Eigen::Vector3d p0(0, 0, kD);
+  auto tree = slab.Tree(p0, nullptr);
+  ASSERT_TRUE(tree);
+  DiffusionProfileParams pp;
+  pp.albedo = 0.8;
+  pp.mean_free_path = kMfp;
+  const BurleyProfile profile(pp);
+  const Eigen::Vector3d n_o = -Eigen::Vector3d::UnitZ();
+  int nonzero = 0;
+  for (double r_max : {0.3e-3, 1e-3, slab.reach}) {
+    for (double h : {0.0, 0.1, 0.5, 0.9, 0.97, 1.0, 1.03}) {
+      for (double y : {0.0, 0.37e-3, -1.1e-3}) {
+        const Eigen::Vector3d x = p0 + Eigen::Vector3d(h * r_max, y, 0);
+        for (const Eigen::Vector3d& n : {n_o, Eigen::Vector3d(-n_o), Eigen::Vector3d(0.6, 0, -0.8)}) {
+          const double exact = tree->SumOverSegments(x, n, 0, profile, r_max);
+          EXPECT_EQ(tree->Sum(x, n, 0, profile, r_max, 0.0), exact) << "h " << h << " r_max " << r_max;
+          nonzero += exact > 0;
+        }
+      }
+    }
+  }
+  EXPECT_GT(nonzero, 80);
+}
+
 TEST(LaserEntryTree, CoversOnlyPointsWhoseReachLiesInTheWindow) {
   Slab slab;
   // The window of a hit on the stripe's middle: the stripe runs along y.
