@@ -16,7 +16,7 @@ namespace {
 const std::set<std::string>& KnownKeys() {
   static const std::set<std::string> keys = {"image_width",      "image_height",  "camera_matrix",
                                              "distortion_model", "fisheye_model", "distortion_coefficients",
-                                             "laser_planes",     "tool_from_cam"};
+                                             "laser_planes",     "tool_from_cam", "depth_min_mm", "depth_max_mm"};
   return keys;
 }
 
@@ -210,6 +210,15 @@ CalibrationFile ReadCalibrationFile(const std::filesystem::path& path) {
   }
   if (const YamlEntry* e = y.Find("laser_planes")) c.laser_planes = ReadPlanes(y, *e);
   if (const YamlEntry* e = y.Find("tool_from_cam")) c.tool_from_cam = ReadRigid(y, *e);
+  const YamlEntry* near = y.Find("depth_min_mm");
+  const YamlEntry* far = y.Find("depth_max_mm");
+  if (near || far) {
+    if (!near || !far) {
+      throw InputError(y.Where(near ? *near : *far), "the working range needs both depth_min_mm and depth_max_mm");
+    }
+    c.depth_range = DepthRange{y.Number(*near) / 1e3, y.Number(*far) / 1e3};
+    c.depth_range->Check(y.Where(*far));
+  }
   return c;
 }
 
@@ -251,6 +260,11 @@ std::string FormatCalibrationFile(const CalibrationFile& c, StorageFormat format
     for (int r = 0; r < 4; ++r)
       for (int k = 0; k < 4; ++k) data.push_back(t(r, k));
     w.Matrix("tool_from_cam", 4, 4, data);
+  }
+  if (c.depth_range) {
+    // Millimetres to the nanometre, so 85 mm (0.085 m) is written as 85.
+    w.Number("depth_min_mm", std::round(c.depth_range->near_m * 1e12) / 1e9);
+    w.Number("depth_max_mm", std::round(c.depth_range->far_m * 1e12) / 1e9);
   }
   return w.text();
 }

@@ -19,6 +19,8 @@
 //   laser_planes: !!opencv-matrix         N x 4, row k = (nx, ny, nz, d) of plane k:
 //                                         camera frame, n·p + d = 0, metres
 //   tool_from_cam: !!opencv-matrix        4x4 rigid transform (hand-eye), metres
+//   depth_min_mm: 60                      the scanner's working range, camera z
+//   depth_max_mm: 120                     (both or neither; pipeline/plane_id_sheets.h)
 //
 // Pixel coordinates follow OpenCV (centre of pixel (0,0) at (0,0)). Plane k is
 // global plane number k: the sheets of laser 0 first, then laser 1, ... Keys
@@ -34,6 +36,7 @@
 
 #include "core/pose.h"
 #include "pipeline/opencv_yaml.h"
+#include "pipeline/plane_id_sheets.h"
 #include "sensor/camera.h"
 #include "sensor/plane.h"
 
@@ -58,6 +61,7 @@ struct CalibrationFile {
   std::optional<CalibratedCamera> camera;
   std::vector<Plane> laser_planes;  // camera frame, unit normals
   std::optional<Pose> tool_from_cam;
+  std::optional<DepthRange> depth_range;  // depth_min_mm, depth_max_mm
   std::vector<std::string> ignored_keys;  // read only
 
   // Builds the camera (base supplies the non-geometric parameters). Throws

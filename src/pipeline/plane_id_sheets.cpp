@@ -105,7 +105,7 @@ DepthRange ParseDepthRange(const std::string& text, const std::string& where) {
   const std::optional<double> near_mm = ParseFiniteNumber(text.substr(0, colon));
   const std::optional<double> far_mm = ParseFiniteNumber(text.substr(colon + 1));
   if (!near_mm || !far_mm) throw InputError(where, "expected MIN_MM:MAX_MM (two numbers), got '" + text + "'");
-  const DepthRange range{*near_mm * 1e-3, *far_mm * 1e-3};
+  const DepthRange range{*near_mm / 1e3, *far_mm / 1e3};
   range.Check(where);
   return range;
 }

@@ -123,6 +123,10 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
   if (frames.empty()) throw InputError(listed.source.string(), "holds no frame (expected one JSON object per line)");
   std::optional<CalibrationFile> cal_file;
   if (options.calibration) cal_file = ReadCalibrationFile(*options.calibration);
+  // The working range: --depth-range, else the calibration file's.
+  const std::optional<DepthRange> depth_range = options.depth_range ? options.depth_range
+                                                : cal_file                ? cal_file->depth_range
+                                                                          : std::nullopt;
   ApplyShutterPattern(options.shutter, &frames);
   ScanSummary summary;
   summary.frames_source = listed.source;
@@ -294,16 +298,16 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
       id_options.edge_margin = std::max(id_options.edge_margin, edge_lines_without_points + 2);
       const PixelRect region = eo.roi ? *eo.roi : PixelRect{0, 0, width, height};
       PlaneIdentification id = IdentifyPlanes(points, region, int(planes.size()), id_options);
-      const SheetsOfRanks& sheets = sheets_of_ranks.try_emplace(int(axis), triangulator, axis, options.depth_range).first->second;
+      const SheetsOfRanks& sheets = sheets_of_ranks.try_emplace(int(axis), triangulator, axis, depth_range).first->second;
       points = std::move(id.points);
       const int uncertain = sheets.Apply(&points);
       if (uncertain > 0 && !warned_uncertain_sheet) {
-        const std::string range = options.depth_range ? " within --depth-range" : "";
+        const std::string range = depth_range ? " within the working range" : "";
         warn(frame.image.string() + ": " + std::to_string(uncertain) + " stripe point(s) left without a plane: " +
              (sheets.depth_dependent()
                   ? "the sheets of the rig's projectors change places across the image with depth, and these points' "
                     "ranks fit several sheets (or none) at the depths" + range + " their rays meet them"
-                  : "on the sheets their ranks give they lie outside --depth-range") +
+                  : "on the sheets their ranks give they lie outside the working range") +
              " (docs/extraction.md)");
         warned_uncertain_sheet = true;
       }

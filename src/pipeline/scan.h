@@ -51,7 +51,8 @@ struct ScanOptions {
   // The scanner's working range (`--depth-range`, camera z): with several
   // laser planes, only the sheets' orders at these depths number the stripes,
   // and a point that would lie outside it keeps no plane
-  // (pipeline/plane_id_sheets.h). Unset: 1 mm to 1 km. Never taken from the
+  // (pipeline/plane_id_sheets.h). Unset: the calibration file's
+  // depth_min_mm / depth_max_mm, else 1 mm to 1 km. Never taken from the
   // run's ground truth.
   std::optional<DepthRange> depth_range;
   TriangulationOptions triangulation;

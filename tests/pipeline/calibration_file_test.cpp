@@ -85,6 +85,25 @@ TEST(CalibrationFile, RoundTripIsExact) {
   EXPECT_EQ(FormatCalibrationFile(r), text);
 }
 
+// The scanner's working range (depth_min_mm, depth_max_mm) reads back as
+// written, in YAML and XML, and is no ignored key.
+TEST(CalibrationFile, WorkingRangeRoundTrips) {
+  CalibrationFile c = Example();
+  c.depth_range = DepthRange{0.085, 0.12};
+  const std::string text = FormatCalibrationFile(c);
+  EXPECT_THAT(text, HasSubstr("depth_min_mm: 85"));
+  for (const char* name : {"range.yml", "range.xml"}) {
+    fs::path p = TempFile(name, "");
+    WriteCalibrationFile(p, c);
+    const CalibrationFile r = ReadCalibrationFile(p);
+    ASSERT_TRUE(r.depth_range) << name;
+    EXPECT_EQ(r.depth_range->near_m, 0.085) << name;
+    EXPECT_EQ(r.depth_range->far_m, 0.12) << name;
+    EXPECT_TRUE(r.ignored_keys.empty()) << name;
+    EXPECT_EQ(FormatCalibrationFile(r), text) << name;
+  }
+}
+
 // A name ending in .xml is written in OpenCV's XML form (before: YAML under
 // any name), exactly as the YAML form reads back; other extensions are refused
 // before anything is written.
@@ -420,6 +439,9 @@ TEST(CalibrationFile, BadFilesNameTheFileAndLine) {
       {head + "just text\n", ":3", "expected 'key: value'"},
       {head + "- 1\n", ":3", "top-level sequences are not supported"},
       {head + "s: \"open\n", ":3", "unterminated quoted string"},
+      {head + "depth_min_mm: 60\n", ":3", "the working range needs both depth_min_mm and depth_max_mm"},
+      {head + "depth_min_mm: 120\ndepth_max_mm: 60\n", ":4", "the depth range must be 0 < MIN < MAX"},
+      {head + "depth_min_mm: near\ndepth_max_mm: 60\n", ":3", "depth_min_mm must be a finite number, got 'near'"},
   };
   int i = 0;
   for (const BadFile& c : cases) {
