@@ -112,6 +112,34 @@ TEST(Colorizer, KnownColourAveragedOverTheAdjacentBrightFrames) {
   EXPECT_FALSE(colorizer.stats().from_radiance);
 }
 
+// A moving scanner: each bright frame has its own pose, and a point takes its colour
+// where that frame's camera saw it. The camera moves +4 mm along x from frame 0 to
+// frame 2 (laser frame 1 in the middle); a point 0.1 m in front of the laser frame's
+// camera lies 8 px right of the image centre in frame 0 (u = 27.5) and 8 px left in
+// frame 2 (u = 11.5). Frame 0 is coloured only at u >= 24, frame 2 only at u <= 15:
+// with each frame's own pose the point takes the mean of both colours; with the laser
+// frame's pose it would sample the black centre (u = 19.5) of both.
+TEST(Colorizer, EachBrightFrameIsSampledWithItsOwnPose) {
+  ColourRun run;
+  for (int i = 0; i < 3; ++i) run.frames[size_t(i)].world_from_cam->translation() = Eigen::Vector3d((i - 1) * 2e-3, 0, 0);
+  auto write = [&](int index, const Eigen::Vector3d& rgb, int u_from, int u_to) {
+    Image<uint16_t> im(40, 30, 1);
+    for (int y = 0; y < 30; ++y)
+      for (int x = 0; x < 40; ++x)
+        im.At(x, y) = uint16_t(x >= u_from && x <= u_to ? rgb[FilterChannel(ColorFilter::kRGGB, x, y)] : 0.0);
+    WriteImage(run.frames[size_t(index)].image, im);
+  };
+  write(0, {800, 400, 100}, 24, 39);
+  write(2, {600, 200, 300}, 0, 15);
+  write(1, {0, 0, 0}, 0, 39);
+  Colorizer colorizer(run.frames, SmallCamera(), ColorFilter::kRGGB, 0.0);
+  const std::vector<PointColour> c = colorizer.Colour(1, {{0, 0, 0.1}});
+  ASSERT_TRUE(c[0].coloured);
+  EXPECT_EQ(int(c[0].rgb[0]), int(std::lround(700.0 / 1023 * 255)));
+  EXPECT_EQ(int(c[0].rgb[1]), int(std::lround(300.0 / 1023 * 255)));
+  EXPECT_EQ(int(c[0].rgb[2]), int(std::lround(200.0 / 1023 * 255)));
+}
+
 // A structured-light frame (pattern projector on, laser and LED off) is no
 // colour frame: the point takes frame 0's colour alone, and a flood-lit frame
 // after the pattern frame is the one used on that side. Before, the pattern
