@@ -68,6 +68,10 @@ TEST(EvalCommand, RenderScanEval) {
   // One pixel is about 0.45 mm on the part here (measured median 0.11 mm).
   EXPECT_GT(m["point_error_mm"]["n"].get<int>(), 100);
   EXPECT_LT(m["point_error_mm"]["median"].get<double>(), 0.3);
+  // scan placed the points with the manifest's poses: the stitched world points score the same.
+  EXPECT_THAT(r.out, HasSubstr("stitched point error rms"));
+  EXPECT_EQ(m["stitched_point_error_mm"]["n"], m["point_error_mm"]["n"]);
+  EXPECT_NEAR(m["stitched_point_error_mm"]["max"].get<double>(), m["point_error_mm"]["max"].get<double>(), 1e-9);
   EXPECT_GT(m["completeness"].get<double>(), 0.0);
   EXPECT_LE(m["completeness"].get<double>(), 1.0);
 
