@@ -112,11 +112,29 @@ bool RefineSaddle(const ImageView<float>& img, double sigma, int radius, double 
 }
 
 // The smoothed image on a circle around p; returns its range (max − min).
+namespace {
+
+// The directions of the kCircleSamples samples on a validation circle,
+// counter-clockwise from +x: computed once (the candidate search samples a
+// circle at every local maximum of the response, millions in a 12 MP photo,
+// where the cos and sin took a fifth of the detection's time).
+struct UnitCircle {
+  double c[kCircleSamples], s[kCircleSamples];
+  UnitCircle() {
+    for (int k = 0; k < kCircleSamples; ++k) {
+      const double a = 2 * M_PI * k / kCircleSamples;
+      c[k] = std::cos(a), s[k] = std::sin(a);
+    }
+  }
+};
+const UnitCircle kUnitCircle;
+
+}  // namespace
+
 double CircleSamples(const Smoothed& s, const Eigen::Vector2d& p, double radius, double* v) {
   double lo = HUGE_VAL, hi = -HUGE_VAL;
   for (int k = 0; k < kCircleSamples; ++k) {
-    const double a = 2 * M_PI * k / kCircleSamples;
-    v[k] = s.Sample(p.x() + radius * std::cos(a), p.y() + radius * std::sin(a));
+    v[k] = s.Sample(p.x() + radius * kUnitCircle.c[k], p.y() + radius * kUnitCircle.s[k]);
     lo = std::min(lo, v[k]);
     hi = std::max(hi, v[k]);
   }
@@ -173,8 +191,8 @@ bool ValidSaddleAt(const ImageView<float>& img, const Eigen::Vector2d& q, const 
   const double circle = 2.5 * sigma + 1;
   double v[kCircleSamples], lo = HUGE_VAL, hi = -HUGE_VAL;
   for (int k = 0; k < kCircleSamples; ++k) {
-    const double a = 2 * M_PI * k / kCircleSamples;
-    v[k] = SmoothedDerivativesAt(img, q.x() + circle * std::cos(a), q.y() + circle * std::sin(a), sigma, kernels.radius).r;
+    v[k] = SmoothedDerivativesAt(img, q.x() + circle * kUnitCircle.c[k], q.y() + circle * kUnitCircle.s[k], sigma,
+                                 kernels.radius).r;
     lo = std::min(lo, v[k]), hi = std::max(hi, v[k]);
   }
   const double ideal = (hi - lo) / (M_PI * (ideal_sigma * ideal_sigma + 1.0 / 6.0));
