@@ -215,7 +215,14 @@ std::string FormatEvalReport(const fs::path& run_dir, const RunMetrics& m, const
     << " px. Point error median " << Stat(t.point_mm, &ErrorStats::median, 4) << " mm, p95 "
     << Stat(t.point_mm, &ErrorStats::p95, 4) << " mm, max " << Stat(t.point_mm, &ErrorStats::max, 4) << " mm over "
     << t.point_mm.n << " points (" << t.counts.points_off_surface << " over no surface); distance to "
-    << PointMethodText(m.PointErrorMethod()) << ".</p>\n";
+    << PointMethodText(m.PointErrorMethod()) << ".";
+  if (t.stitched_point_mm.n > 0) {
+    h << " Stitched (the world points as scan placed them, with the poses it used): median "
+      << Stat(t.stitched_point_mm, &ErrorStats::median, 4) << " mm, p95 " << Stat(t.stitched_point_mm, &ErrorStats::p95, 4)
+      << " mm, max " << Stat(t.stitched_point_mm, &ErrorStats::max, 4) << " mm over " << t.stitched_point_mm.n
+      << " points.";
+  }
+  h << "</p>\n";
 
   h << "<h2>By plane</h2><table>" << kTableHead;
   for (const auto& [k, s] : m.planes) h << SummaryRow(k < 0 ? "unidentified" : "plane " + std::to_string(k), s);

@@ -65,6 +65,10 @@ TEST(EvalReport, SelfContainedPageWithoutFrames) {
   EXPECT_THAT(html, HasSubstr("Centre error against depth"));
   EXPECT_EQ(html.find("<script"), std::string::npos);
   EXPECT_EQ(html.find("http://www.w3.org/2000/svg\" src"), std::string::npos);
+  // The stitched points' error, when the run has world points.
+  EXPECT_EQ(html.find("Stitched"), std::string::npos);
+  m.total.stitched_point_mm = Summarize({0.25, 0.5});
+  EXPECT_THAT(FormatEvalReport(m.run_dir, m), HasSubstr("median 0.3750 mm, p95 0.4875 mm, max 0.5000 mm over 2 points."));
   EvalReportOptions bad;
   bad.max_frames = -1;
   EXPECT_THROW(bad.Check(), InputError);
