@@ -224,13 +224,13 @@ Failure GridFailure(const Grid& g, const std::vector<Candidate>& cands, const Ch
 // board's corners on a homography; lens distortion bends it little over two
 // squares.
 bool GridPrediction(const std::vector<Eigen::Vector2d>& corners, int rows, int cols, int i, int j,
-                    Eigen::Vector2d* predicted) {
+                    Eigen::Vector2d* predicted, const std::vector<char>* left_out) {
   std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> pts;  // (board, image)
   for (int reach = 1; reach <= 2 && pts.size() < 5; ++reach) {
     pts.clear();
     for (int a = std::max(0, i - reach); a <= std::min(rows - 1, i + reach); ++a)
       for (int b = std::max(0, j - reach); b <= std::min(cols - 1, j + reach); ++b)
-        if (a != i || b != j) pts.push_back({Eigen::Vector2d(b - j, a - i), corners[size_t(a * cols + b)]});
+        if ((a != i || b != j) && !(left_out && (*left_out)[size_t(a * cols + b)])) pts.push_back({Eigen::Vector2d(b - j, a - i), corners[size_t(a * cols + b)]});
   }
   if (pts.size() < 5) return false;  // too few neighbours
   // Normalised DLT: image points centred and scaled.

@@ -68,8 +68,9 @@ Failure GridFailure(const Grid& g, const std::vector<Candidate>& cands, const Ch
 // Where the homography through the neighbours of corner (i, j) of a rows x
 // cols detection (those within one step, or two when fewer than 5) puts it;
 // false when there are too few neighbours or the homography is degenerate.
+// Corners k with (*left_out)[k] set are not used.
 bool GridPrediction(const std::vector<Eigen::Vector2d>& corners, int rows, int cols, int i, int j,
-                    Eigen::Vector2d* predicted);
+                    Eigen::Vector2d* predicted, const std::vector<char>* left_out = nullptr);
 // How far corner (i, j) of a rows x cols detection lies from where the
 // homography through its neighbours puts it (0 with too few neighbours).
 double OffGrid(const std::vector<Eigen::Vector2d>& corners, int rows, int cols, int i, int j);

@@ -89,32 +89,65 @@ double OffGridTolerance(const CornerDetection& d, const CheckerboardSpec& board,
 // its prediction: where the corner itself is no candidate (its saddle lost,
 // a saddle of noise in a square of a JPEG beside it) another point up to
 // that far off may take its place, and the whole view would then pull the
-// calibration. The worst such corner is looked for again by Newton's method
-// from its prediction, until none is left; when the corner's saddle is not
-// there the board is refused, naming the corner.
+// calibration. Such corners are looked for again by Newton's method from
+// their predictions, the farthest off first, until none is left; where two
+// wrong corners lie side by side the prediction of the farther may be pulled
+// off by the other, so when its saddle is not found the next is tried (its
+// replacement then corrects the first's prediction). A saddle found there
+// replaces the corner when the homography through its neighbours puts it
+// within the tolerance. Two wrong corners side by side each pull the other's
+// prediction off, so that neither qualifies: when no corner does, each is
+// predicted again from its neighbours that lie within the tolerance, and
+// the first whose saddle found there at least halves its distance from
+// that prediction is replaced. The loop ends only with every corner within the
+// tolerance; when no off-grid corner's saddle is found at its prediction the
+// board is refused, naming the farthest off.
 bool CornersOnGrid(const Image<float>& img, double noise, const ContrastFloor& floor, double sigma,
                    double min_response, const CheckerboardSpec& board, CornerDetection* d) {
   const GaussianKernels kernels(sigma);
   for (int round = 0; round < board.CornerCount(); ++round) {
-    int worst = -1;
-    double worst_ratio = 1;
+    std::vector<std::pair<double, int>> off;  // (distance / tolerance, corner index), ratio > 1
     for (int i = 0; i < board.rows; ++i) {
       for (int j = 0; j < board.cols; ++j) {
         const double ratio = OffGrid(d->corners, board.rows, board.cols, i, j) /
                              OffGridTolerance(*d, board, i, j, d->corners[size_t(i * board.cols + j)]);
-        if (ratio > worst_ratio) worst_ratio = ratio, worst = i * board.cols + j;
+        if (ratio > 1) off.push_back({ratio, i * board.cols + j});
       }
     }
-    if (worst < 0) return true;
-    const int i = worst / board.cols, j = worst % board.cols;
-    Eigen::Vector2d predicted, p;
-    Eigen::Matrix2d hessian;
-    std::vector<Eigen::Vector2d> trial = d->corners;
-    const bool found = GridPrediction(d->corners, board.rows, board.cols, i, j, &predicted) &&
-                       SaddleNear(img.View(), predicted, sigma, floor, min_response, &p, &hessian) &&
-                       (trial[size_t(worst)] = p, true) &&
-                       OffGrid(trial, board.rows, board.cols, i, j) <= OffGridTolerance(*d, board, i, j, p);
-    if (!found || (p - d->corners[size_t(worst)]).norm() < 1e-3) {
+    if (off.empty()) return true;
+    // The farthest off first; equal ratios in board order.
+    std::stable_sort(off.begin(), off.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    bool replaced = false;
+    std::vector<char> off_grid(d->corners.size(), 0);
+    for (const auto& o : off) off_grid[size_t(o.second)] = 1;
+    for (int pass = 0; pass < 2 && !replaced; ++pass) {
+      for (const auto& [ratio, k] : off) {
+        const int i = k / board.cols, j = k % board.cols;
+        Eigen::Vector2d predicted, p;
+        Eigen::Matrix2d hessian;
+        if (!GridPrediction(d->corners, board.rows, board.cols, i, j, &predicted, pass == 0 ? nullptr : &off_grid) ||
+            !SaddleNear(img.View(), predicted, sigma, floor, min_response, &p, &hessian) ||
+            (p - d->corners[size_t(k)]).norm() < 1e-3) {
+          continue;
+        }
+        std::vector<Eigen::Vector2d> trial = d->corners;
+        trial[size_t(k)] = p;
+        const double after = OffGrid(trial, board.rows, board.cols, i, j);
+        if (pass == 0 ? !(after <= OffGridTolerance(*d, board, i, j, p))
+                      : !((p - predicted).norm() <= 0.5 * (d->corners[size_t(k)] - predicted).norm())) {
+          continue;
+        }
+        d->corners[size_t(k)] = p;
+        d->corner_std_px[size_t(k)] = SaddleStdPx(kernels, noise, hessian);
+        for (GridCorner& g : d->grid) {
+          if (g.i == i && g.j == j) g.pixel = p;
+        }
+        replaced = true;
+        break;
+      }
+    }
+    if (!replaced) {
+      const int i = off.front().second / board.cols, j = off.front().second % board.cols;
       d->ok = false;
       d->reason = "corner (" + std::to_string(i) + ", " + std::to_string(j) + ") of the grid lies " +
                   Fmt(OffGrid(d->corners, board.rows, board.cols, i, j)) +
@@ -122,11 +155,6 @@ bool CornersOnGrid(const Image<float>& img, double noise, const ContrastFloor& f
       d->corners.clear();
       d->corner_std_px.clear();
       return false;
-    }
-    d->corners[size_t(worst)] = p;
-    d->corner_std_px[size_t(worst)] = SaddleStdPx(kernels, noise, hessian);
-    for (GridCorner& g : d->grid) {
-      if (g.i == i && g.j == j) g.pixel = p;
     }
   }
   return true;

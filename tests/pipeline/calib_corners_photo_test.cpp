@@ -188,5 +188,74 @@ TEST(CalibCornersPhoto, ABoardFarOutOfFocusIsFoundOnTheHalvedImage) {
   EXPECT_GT(d.sigma_px, 5.0);  // refined at twice the halved image's scale
 }
 
+// A colour photograph: the board's light through an RGGB Bayer mosaic (the
+// channels' gains 0.55, 1, 0.7), 2% noise, bilinear demosaicing, white
+// balance, vignetting to 80% at the image's corners, defocus 1 px, gamma
+// 2.2, 8-bit RGB; a phone's lens (1024x768, k1 -0.28). The demosaiced noise
+// is smooth at the smoothing's scale, so its saddles in the squares pass as
+// corners (199 candidates for 54 corners), and the grid took three of them
+// for corners, two of them side by side: each pulled the other's prediction
+// from its neighbours off, so neither's own saddle qualified and the board
+// was refused ("corner (0, 4) of the grid lies 18.4 px from where its
+// neighbours put it, and no corner was found there"). Each such corner is
+// now predicted again from its neighbours that lie on the grid. Measured:
+// this one 0.13 px from the truth (16 of 16 such views found, worst
+// 0.155 px; 15 before).
+TEST(CalibCornersPhoto, AColourPhotoFromABayerSensor) {
+  CameraParams params;
+  params.width = 1024, params.height = 768;
+  params.fx = 880, params.fy = 884, params.cx = 517.3, params.cy = 380.6;
+  params.distortion = DistortionModel::kBrownConrady;
+  params.brown_conrady = {-0.28, 0.11, 6e-4, -4e-4, 0};
+  const Camera cam(params);
+  CheckerboardSpec b;
+  b.rows = 6, b.cols = 9, b.square_m = 0.025;
+  // Tilted 24 deg about an in-plane axis at 308.6 deg, turned 82.7 deg, squares about 56.8 px.
+  const double z = cam.fx() * b.square_m / 56.8;
+  Pose pose = Pose::Identity();
+  pose.linear() = (Eigen::AngleAxisd(24 * kDeg, Eigen::Vector3d(std::cos(308.6 * kDeg), std::sin(308.6 * kDeg), 0)) *
+                   Eigen::AngleAxisd(82.7 * kDeg, Eigen::Vector3d::UnitZ()))
+                      .toRotationMatrix();
+  Eigen::Vector3d ray = *cam.Unproject(Eigen::Vector2d(387.6, 341.8));
+  pose.translation() = ray / ray.z() * z - pose.linear() * Eigen::Vector3d(4 * b.square_m, 2.5 * b.square_m, 0);
+  SyntheticBoardOptions o;
+  o.supersampling = 4, o.black = 0.08, o.white = 0.85, o.background = 0.4;
+  const Image<float> light = Blurred(RenderCheckerboard(cam, pose, b, o), 1.0);
+  const int w = light.width, h = light.height;
+  const double gain[3] = {0.55, 1.0, 0.7};
+  auto channel = [](int x, int y) { return y % 2 == 0 ? (x % 2 == 0 ? 0 : 1) : (x % 2 == 0 ? 1 : 2); };
+  Image<float> raw(w, h, 1);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const double rx = (x - w / 2.0) / (w / 2.0), ry = (y - h / 2.0) / (h / 2.0);
+      const double v = light.At(x, y) * (1 - 0.2 * (rx * rx + ry * ry));
+      raw.At(x, y) = float(v * gain[channel(x, y)] + 0.02 * Rng::For(10, 0, size_t(y) * size_t(w) + size_t(x), 0).NextGaussian());
+    }
+  }
+  Image<uint8_t> img(w, h, 3);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      for (int c = 0; c < 3; ++c) {
+        // Bilinear demosaicing: the pixel's own sample, or the mean of its neighbours of that channel.
+        double sum = 0;
+        int n = 0;
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int xx = std::clamp(x + dx, 0, w - 1), yy = std::clamp(y + dy, 0, h - 1);
+            if (channel(xx, yy) != c || (channel(x, y) == c && (dx != 0 || dy != 0))) continue;
+            sum += raw.At(xx, yy), ++n;
+          }
+        }
+        const double v = std::pow(std::max(sum / n / gain[c], 0.0), 1 / 2.2);
+        img.At(x, y, c) = uint8_t(std::clamp(std::lround(255 * v), 0L, 255L));
+      }
+    }
+  }
+  const CornerDetection d = DetectCheckerboard(img.View(), b);
+  ASSERT_TRUE(d.ok) << d.reason;
+  EXPECT_EQ(d.sigma_px, 1.5);
+  EXPECT_LT(MaxError(d, cam, pose, b), 0.3);  // measured 0.13 px; a wrong corner is 15-20 px off
+}
+
 }  // namespace
 }  // namespace lt
