@@ -9,6 +9,9 @@
 #include <utility>
 #include <vector>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "pipeline/calib_corner_candidates.h"
 #include "pipeline/gaussian_filter.h"
 #include "pipeline/option_checks.h"
@@ -83,34 +86,45 @@ ScaleResult DetectAtScale(const Image<float>& img, double noise, const Checkerbo
   for (size_t k = 0; k < strength.size(); ++k) {
     strength[k] = sm.rxy[k] * sm.rxy[k] - sm.rxx[k] * sm.ryy[k];
   }
-  std::vector<Candidate> cands;
+  // The local maxima of each row, judged in parallel (each alone, from the
+  // smoothed image), then taken in scan order: the result does not depend on
+  // the threads.
   const int b0 = int(std::ceil(border));
-  for (int y = b0; y < h - b0; ++y) {
-    for (int x = b0; x < w - b0; ++x) {
-      const float s = strength[size_t(y) * size_t(w) + size_t(x)];
-      if (!(s > threshold)) continue;
-      bool is_max = true;
-      for (int dy = -nms; dy <= nms && is_max; ++dy) {
-        for (int dx = -nms; dx <= nms; ++dx) {
-          if (dx == 0 && dy == 0) continue;
-          const float o = strength[size_t(y + dy) * size_t(w) + size_t(x + dx)];
-          // Ties: the first in scan order wins.
-          if (o > s || (o == s && (dy < 0 || (dy == 0 && dx < 0)))) {
-            is_max = false;
-            break;
+  std::vector<std::vector<Candidate>> row_cands(size_t(std::max(0, h)));
+  tbb::parallel_for(tbb::blocked_range<int>(b0, std::max(b0, h - b0), 8), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y < rows.end(); ++y) {
+      for (int x = b0; x < w - b0; ++x) {
+        const float s = strength[size_t(y) * size_t(w) + size_t(x)];
+        if (!(s > threshold)) continue;
+        bool is_max = true;
+        for (int dy = -nms; dy <= nms && is_max; ++dy) {
+          for (int dx = -nms; dx <= nms; ++dx) {
+            if (dx == 0 && dy == 0) continue;
+            const float o = strength[size_t(y + dy) * size_t(w) + size_t(x + dx)];
+            // Ties: the first in scan order wins.
+            if (o > s || (o == s && (dy < 0 || (dy == 0 && dx < 0)))) {
+              is_max = false;
+              break;
+            }
           }
         }
+        if (!is_max) continue;
+        Candidate c;
+        c.p = Eigen::Vector2d(x, y);
+        c.strength = s;
+        double ring[kCircleSamples];
+        const double range = CircleSamples(sm, c.p, circle, ring);
+        const double brightest = *std::max_element(ring, ring + kCircleSamples);
+        if (!(range >= floor.For(brightest)) || !(s > response_floor(range))) continue;
+        if (!RefineSaddle(iv, sigma, kernels.radius, border, &c.p, &c.hessian)) continue;
+        if (!EdgeDirections(sm, c.p, circle, floor, &c)) continue;
+        row_cands[size_t(y)].push_back(c);
       }
-      if (!is_max) continue;
-      Candidate c;
-      c.p = Eigen::Vector2d(x, y);
-      c.strength = s;
-      double ring[kCircleSamples];
-      const double range = CircleSamples(sm, c.p, circle, ring);
-      const double brightest = *std::max_element(ring, ring + kCircleSamples);
-      if (!(range >= floor.For(brightest)) || !(s > response_floor(range))) continue;
-      if (!RefineSaddle(iv, sigma, kernels.radius, border, &c.p, &c.hessian)) continue;
-      if (!EdgeDirections(sm, c.p, circle, floor, &c)) continue;
+    }
+  });
+  std::vector<Candidate> cands;
+  for (const std::vector<Candidate>& row : row_cands) {
+    for (const Candidate& c : row) {
       bool duplicate = false;
       for (const auto& o : cands) duplicate = duplicate || (o.p - c.p).norm() < 1.0;
       if (!duplicate) cands.push_back(c);

@@ -8,6 +8,9 @@
 #include <cmath>
 #include <vector>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "pipeline/gaussian_filter.h"
 
 namespace lt {
@@ -37,45 +40,52 @@ Smoothed Smooth(const Image<float>& img, const GaussianKernels& k) {
   s.w = img.width, s.h = img.height;
   const int w = s.w, h = s.h, R = k.radius;
   const size_t n = size_t(w) * size_t(h);
-  std::vector<float> h0(n), h1(n), h2(n), row(size_t(w + 2 * R));
-  for (int y = 0; y < h; ++y) {
-    for (int x = -R; x < w + R; ++x) row[size_t(x + R)] = img.At(MirrorIndex(x, w), y);
-    float* o0 = &h0[size_t(y) * size_t(w)];
-    float* o1 = &h1[size_t(y) * size_t(w)];
-    float* o2 = &h2[size_t(y) * size_t(w)];
-    for (int x = 0; x < w; ++x) o0[x] = o1[x] = o2[x] = 0;
-    // out[x] = Σ_o in[x − o] K(o): derivatives of Σ_m in[m] K0(x − m).
-    for (int o = -R; o <= R; ++o) {
-      const float c0 = k.k0[size_t(o + R)], c1 = k.k1[size_t(o + R)], c2 = k.k2[size_t(o + R)];
-      const float* in = &row[size_t(R - o)];
-      for (int x = 0; x < w; ++x) {
-        o0[x] += in[x] * c0;
-        o1[x] += in[x] * c1;
-        o2[x] += in[x] * c2;
+  std::vector<float> h0(n), h1(n), h2(n);
+  // Rows in parallel: each output row is computed alone, in a fixed order, so
+  // the result does not depend on the threads.
+  tbb::parallel_for(tbb::blocked_range<int>(0, h, 16), [&](const tbb::blocked_range<int>& rows) {
+    std::vector<float> row(size_t(w + 2 * R));
+    for (int y = rows.begin(); y < rows.end(); ++y) {
+      for (int x = -R; x < w + R; ++x) row[size_t(x + R)] = img.At(MirrorIndex(x, w), y);
+      float* o0 = &h0[size_t(y) * size_t(w)];
+      float* o1 = &h1[size_t(y) * size_t(w)];
+      float* o2 = &h2[size_t(y) * size_t(w)];
+      for (int x = 0; x < w; ++x) o0[x] = o1[x] = o2[x] = 0;
+      // out[x] = Σ_o in[x − o] K(o): derivatives of Σ_m in[m] K0(x − m).
+      for (int o = -R; o <= R; ++o) {
+        const float c0 = k.k0[size_t(o + R)], c1 = k.k1[size_t(o + R)], c2 = k.k2[size_t(o + R)];
+        const float* in = &row[size_t(R - o)];
+        for (int x = 0; x < w; ++x) {
+          o0[x] += in[x] * c0;
+          o1[x] += in[x] * c1;
+          o2[x] += in[x] * c2;
+        }
       }
     }
-  }
+  });
   s.r.assign(n, 0);
   s.rxx.assign(n, 0);
   s.rxy.assign(n, 0);
   s.ryy.assign(n, 0);
-  for (int y = 0; y < h; ++y) {
-    float* r = &s.r[size_t(y) * size_t(w)];
-    float* rxx = &s.rxx[size_t(y) * size_t(w)];
-    float* rxy = &s.rxy[size_t(y) * size_t(w)];
-    float* ryy = &s.ryy[size_t(y) * size_t(w)];
-    for (int o = -R; o <= R; ++o) {
-      const size_t src = size_t(MirrorIndex(y - o, h)) * size_t(w);
-      const float c0 = k.k0[size_t(o + R)], c1 = k.k1[size_t(o + R)], c2 = k.k2[size_t(o + R)];
-      const float *a0 = &h0[src], *a1 = &h1[src], *a2 = &h2[src];
-      for (int x = 0; x < w; ++x) {
-        r[x] += a0[x] * c0;
-        rxx[x] += a2[x] * c0;
-        rxy[x] += a1[x] * c1;
-        ryy[x] += a0[x] * c2;
+  tbb::parallel_for(tbb::blocked_range<int>(0, h, 16), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y < rows.end(); ++y) {
+      float* r = &s.r[size_t(y) * size_t(w)];
+      float* rxx = &s.rxx[size_t(y) * size_t(w)];
+      float* rxy = &s.rxy[size_t(y) * size_t(w)];
+      float* ryy = &s.ryy[size_t(y) * size_t(w)];
+      for (int o = -R; o <= R; ++o) {
+        const size_t src = size_t(MirrorIndex(y - o, h)) * size_t(w);
+        const float c0 = k.k0[size_t(o + R)], c1 = k.k1[size_t(o + R)], c2 = k.k2[size_t(o + R)];
+        const float *a0 = &h0[src], *a1 = &h1[src], *a2 = &h2[src];
+        for (int x = 0; x < w; ++x) {
+          r[x] += a0[x] * c0;
+          rxx[x] += a2[x] * c0;
+          rxy[x] += a1[x] * c1;
+          ryy[x] += a0[x] * c2;
+        }
       }
     }
-  }
+  });
   return s;
 }
 
