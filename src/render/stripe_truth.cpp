@@ -31,6 +31,12 @@ constexpr double kBreakDegrees = 30.0;
 // A line crossing from one surface to another and on to a third within one
 // pixel (a step's top, wall and floor) is split at up to this many breaks.
 constexpr int kMaxBreaks = 3;
+// A bracket this narrow (px) whose ends still lie on two surfaces apart holds
+// a depth discontinuity, not a crossing: refining it on to tolerance_px only
+// confirms that. A crossing it could still hold lies on a surface seen over
+// less than this, or within it of a crease on a surface seen at more than 84
+// degrees (ends 1e-3 footprints apart over 1e-4 px).
+constexpr double kDiscontinuityPx = 1e-4;
 
 class LineScanner {
  public:
@@ -70,6 +76,7 @@ class LineScanner {
     if (g1 == 0.0) return std::make_pair(s1, b);
     int side = 0;
     for (int it = 0; it < options_.max_iterations && std::abs(s1 - s0) > options_.tolerance_px; ++it) {
+      if (std::abs(s1 - s0) < kDiscontinuityPx && MayBreak(a, b) && Apart(a, b)) return std::nullopt;
       double s = (s0 * g1 - s1 * g0) / (g1 - g0);  // regula falsi
       double lo = std::min(s0, s1), hi = std::max(s0, s1), w = hi - lo;
       if (!(s > lo + 1e-3 * w && s < hi - 1e-3 * w)) s = 0.5 * (s0 + s1);
@@ -88,8 +95,7 @@ class LineScanner {
       }
     }
     // A crossing on a continuous surface: both ends converge onto one point.
-    double gap = (a.p_world - b.p_world).norm();
-    if (gap > 1e-3 * Footprint(std::max(a.depth, b.depth))) return std::nullopt;
+    if (Apart(a, b)) return std::nullopt;
     const Sample& best = std::abs(ws.plane_world.SignedDistance(a.p_world)) <=
                                  std::abs(ws.plane_world.SignedDistance(b.p_world))
                              ? a
@@ -100,6 +106,11 @@ class LineScanner {
     double s = (ga != gb) ? (s0 * gb - s1 * ga) / (gb - ga) : s_best;
     if (!(s >= std::min(s0, s1) && s <= std::max(s0, s1))) s = s_best;
     return std::make_pair(s, best);
+  }
+
+  // Whether a bracket's ends are more than 1e-3 of a pixel's footprint apart.
+  bool Apart(const Sample& a, const Sample& b) const {
+    return (a.p_world - b.p_world).norm() > 1e-3 * Footprint(std::max(a.depth, b.depth));
   }
 
   // Whether neighbouring samples may lie on two surfaces: one a hit and the

@@ -246,6 +246,35 @@ TEST(StripeTruth, StripeBetweenTheLastPixelCentreAndASilhouette) {
   }
 }
 
+// A box's wall nearly in line with the camera, seen over 0.1 px between the
+// floor (before it) and the box's top (after it), the sheet crossing the wall
+// far from both: the sign change between the pixel centres on the floor and
+// the top is refined on to the wall. A bracket still spanning two surfaces
+// once narrower than 1e-4 px is taken for a depth discontinuity; taking it so
+// at 0.3 px loses every centre on the wall (0 of 49).
+TEST(StripeTruth, StripeOnAWallSeenOverATenthOfAPixel) {
+  const double fx = 180, top_z = 0.095, floor_z = 0.12;
+  const double wall_x = 0.1 / (fx * (1 / top_z - 1 / floor_z));  // seen over 0.1 px
+  World world;
+  world.Add(test::Rectangle({0, 0, floor_z}, Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 0.3, 0.3));
+  world.Add(test::Box({wall_x, -0.015, top_z}, {0.04, 0.015, floor_z}));
+  world.Build();
+  const Camera cam = test::TestCamera(200, 150, fx);
+  const std::vector<LaserProjector> lasers = {test::TestLaser(-0.03, 0.11)};
+  const auto centers = ComputeStripeCenters(*world.embree, cam, lasers, Pose::Identity(), ScanAxis::kRows);
+  // The sheet x / -0.03 + z / 0.11 = 1 meets the wall at z = 0.11 (1 + wall_x / 0.03).
+  const double z = 0.11 * (1 + wall_x / 0.03);
+  int on_wall = 0;
+  for (const StripeCenter& c : centers) {
+    if (std::abs(c.p_cam.x() - wall_x) < 1e-7 && std::abs(c.p_cam.y()) < 0.015) {
+      EXPECT_NEAR(c.p_cam.z(), z, 1e-6) << "row " << c.v;
+      ++on_wall;
+    }
+  }
+  // Rows over the box: |y| < 0.015 at z = 0.11, 49 rows at fx 180.
+  EXPECT_GE(on_wall, 45);
+}
+
 // The stripe on the wall of a 0.5 mm slot, and the same scene and scanner
 // 1 km from the world origin: the same centres. The lit test's shadow ray
 // starts off the surface by an offset that scaled with the distance from the
