@@ -7,6 +7,7 @@
 
 #include "calib_test_util.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -114,6 +115,87 @@ TEST(CalibCameraImages, ASymmetricBoardCalibratesTheCamera) {
   for (int i = 0; i < 8; ++i) {
     EXPECT_LT(std::abs(r.calibration.params[i] - t[size_t(i)]), 4 * r.calibration.param_std[i] + (i < 4 ? 0.02 : 0))
         << r.calibration.param_names[size_t(i)] << " = " << r.calibration.params[i];
+  }
+}
+
+// The board as a phone's JPEG delivers it: defocus blur 1.5 px, vignetting
+// to 75% at the image's corners, light falling by 40% across, 2% noise,
+// gamma 2.2, each 8 x 8 block's DCT quantised (steps 0.02 to 0.16 of white,
+// growing with frequency, as a JPEG of quality about 50), 8-bit.
+Image<uint8_t> JpegLikePhoto(const Camera& cam, const Pose& pose, uint64_t seed) {
+  SyntheticBoardOptions o;
+  o.supersampling = 4, o.black = 0.08, o.white = 0.85, o.background = 0.4;
+  Image<float> f = Blurred(RenderCheckerboard(cam, pose, Board(), o), 1.5);
+  const int w = f.width, h = f.height;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const double rx = (x - w / 2.0) / (w / 2.0), ry = (y - h / 2.0) / (h / 2.0);
+      const double v = f.At(x, y) * (1 - 0.125 * (rx * rx + ry * ry)) * (1 - 0.4 * x / w) +
+                       0.02 * Rng::For(seed, 0, size_t(y) * size_t(w) + size_t(x), 0).NextGaussian();
+      f.At(x, y) = float(std::pow(std::clamp(v, 0.0, 1.0), 1 / 2.2));
+    }
+  }
+  auto basis = [](int u, int x) { return (u == 0 ? std::sqrt(0.125) : 0.5) * std::cos((2 * x + 1) * u * M_PI / 16); };
+  for (int by = 0; by + 8 <= h; by += 8) {
+    for (int bx = 0; bx + 8 <= w; bx += 8) {
+      double q[8][8];
+      for (int u = 0; u < 8; ++u) {
+        for (int v = 0; v < 8; ++v) {
+          double c = 0;
+          for (int y = 0; y < 8; ++y)
+            for (int x = 0; x < 8; ++x) c += basis(u, x) * basis(v, y) * f.At(bx + x, by + y);
+          const double step = 0.02 * (1 + 0.5 * (u + v));
+          q[u][v] = std::round(c / step) * step;
+        }
+      }
+      for (int y = 0; y < 8; ++y) {
+        for (int x = 0; x < 8; ++x) {
+          double v = 0;
+          for (int u = 0; u < 8; ++u)
+            for (int t = 0; t < 8; ++t) v += basis(u, x) * basis(t, y) * q[u][t];
+          f.At(bx + x, by + y) = float(v);
+        }
+      }
+    }
+  }
+  Image<uint8_t> img(w, h);
+  for (size_t k = 0; k < f.pixels.size(); ++k) img.pixels[k] = uint8_t(std::clamp(std::lround(255 * f.pixels[k]), 0L, 255L));
+  return img;
+}
+
+// Photographs degraded as a phone's JPEGs are (above): every board found, and
+// every parameter within 4 of its reported standard deviations of the truth.
+// The quantisation's errors are correlated between neighbouring corners, so
+// the reported σ (which takes them as independent) is optimistic: the probe
+// of docs/calibration.md found fx, fy up to 2σ off under such images.
+// Measured: corners within 0.19 px, fx −0.43 (σ 1.11), fy −0.98 (1.09), cx
+// −2.37 (1.52), cy −0.06 (1.30), p2 1.9σ off, the rest within 1σ; 0.8 s.
+TEST(CalibCameraImages, JpegLikePhotographsCalibrateTheCamera) {
+  const CameraParams truth = Camera640Params({-0.18, 0.08, 3e-4, -2e-4, 0});
+  const Camera cam(truth);
+  const fs::path dir = Folder("jpeg_like");
+  for (size_t v = 0; v < Poses().size(); ++v) {
+    WriteImage(dir / ("IMG_" + std::to_string(v) + ".png"), JpegLikePhoto(cam, Poses()[v], v + 21));
+  }
+  CameraCalibrationOptions o;
+  o.fix_k3 = true;
+  const PhotoCameraResult r = CalibrateCameraFromImages(ListImageFiles(dir), Board(), o);
+  EXPECT_EQ(r.used.size(), Poses().size());
+  ASSERT_TRUE(r.calibration.ok) << r.calibration.reason;
+  // Each found view's corners against the projection.
+  for (int v : r.used) {
+    const auto pts = Board().CornerPoints();
+    double worst = 0;
+    for (size_t k = 0; k < pts.size(); ++k) {
+      worst = std::max(worst, (r.views[size_t(v)].detection.corners[k] - *cam.Project(Poses()[size_t(v)] * pts[k])).norm());
+    }
+    EXPECT_LT(worst, 0.3) << r.views[size_t(v)].image;  // measured 0.15-0.19 px; a wrong corner is a square off
+  }
+  const std::vector<double> t = {truth.fx, truth.fy, truth.cx, truth.cy, -0.18, 0.08, 3e-4, -2e-4};
+  for (int i = 0; i < 8; ++i) {
+    EXPECT_LT(std::abs(r.calibration.params[i] - t[size_t(i)]), 4 * r.calibration.param_std[i])
+        << r.calibration.param_names[size_t(i)] << " = " << r.calibration.params[i] << " +- "
+        << r.calibration.param_std[i];
   }
 }
 

@@ -144,29 +144,6 @@ TEST(CalibCornersPhoto, APointBesideALostCornerDoesNotTakeItsPlace) {
   EXPECT_NE(d.reason.find("corner (1, 2)"), std::string::npos) << d.reason;
 }
 
-// Separable Gaussian blur of standard deviation `sigma` px (edges clamped).
-Image<float> Blurred(const Image<float>& img, double sigma) {
-  const int r = int(std::ceil(4 * sigma));
-  std::vector<double> k(size_t(2 * r + 1));
-  double sum = 0;
-  for (int i = -r; i <= r; ++i) sum += k[size_t(i + r)] = std::exp(-0.5 * i * i / (sigma * sigma));
-  for (double& v : k) v /= sum;
-  Image<float> tmp(img.width, img.height, 1), out(img.width, img.height, 1);
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x) {
-      double a = 0;
-      for (int i = -r; i <= r; ++i) a += k[size_t(i + r)] * img.At(std::clamp(x + i, 0, img.width - 1), y);
-      tmp.At(x, y) = float(a);
-    }
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x) {
-      double a = 0;
-      for (int i = -r; i <= r; ++i) a += k[size_t(i + r)] * tmp.At(x, std::clamp(y + i, 0, img.height - 1));
-      out.At(x, y) = float(a);
-    }
-  return out;
-}
-
 // A board out of focus beyond the scale ladder's reach (blur sigma 12 px on
 // 48 px squares, 1% noise): not found at any scale of the image itself, it is
 // found on the image halved and its corners refined on the image (before:

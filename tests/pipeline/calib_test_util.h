@@ -2,8 +2,11 @@
 // checkerboard with its poses.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
+#include "core/image.h"
 #include "core/pose.h"
 #include "pipeline/calib_checkerboard.h"
 #include "sensor/camera.h"
@@ -75,6 +78,29 @@ inline Pose BoardPose(double ox, double oy, double z, double tilt, double axis, 
                    .toRotationMatrix();
   p.translation() = Eigen::Vector3d(ox, oy, z) - p.linear() * centre;
   return p;
+}
+
+// Separable Gaussian blur of standard deviation `sigma` px (edges clamped).
+inline Image<float> Blurred(const Image<float>& img, double sigma) {
+  const int r = int(std::ceil(4 * sigma));
+  std::vector<double> k(size_t(2 * r + 1));
+  double sum = 0;
+  for (int i = -r; i <= r; ++i) sum += k[size_t(i + r)] = std::exp(-0.5 * i * i / (sigma * sigma));
+  for (double& v : k) v /= sum;
+  Image<float> tmp(img.width, img.height, 1), out(img.width, img.height, 1);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      double a = 0;
+      for (int i = -r; i <= r; ++i) a += k[size_t(i + r)] * img.At(std::clamp(x + i, 0, img.width - 1), y);
+      tmp.At(x, y) = float(a);
+    }
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      double a = 0;
+      for (int i = -r; i <= r; ++i) a += k[size_t(i + r)] * tmp.At(x, std::clamp(y + i, 0, img.height - 1));
+      out.At(x, y) = float(a);
+    }
+  return out;
 }
 
 }  // namespace lt
