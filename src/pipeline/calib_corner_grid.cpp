@@ -230,7 +230,8 @@ bool GridPrediction(const std::vector<Eigen::Vector2d>& corners, int rows, int c
     pts.clear();
     for (int a = std::max(0, i - reach); a <= std::min(rows - 1, i + reach); ++a)
       for (int b = std::max(0, j - reach); b <= std::min(cols - 1, j + reach); ++b)
-        if ((a != i || b != j) && !(left_out && (*left_out)[size_t(a * cols + b)])) pts.push_back({Eigen::Vector2d(b - j, a - i), corners[size_t(a * cols + b)]});
+        if ((a != i || b != j) && !(left_out && (*left_out)[size_t(a * cols + b)]))
+          pts.push_back({Eigen::Vector2d(b - j, a - i), corners[size_t(a * cols + b)]});
   }
   if (pts.size() < 5) return false;  // too few neighbours
   // Normalised DLT: image points centred and scaled.

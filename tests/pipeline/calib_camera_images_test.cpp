@@ -159,7 +159,9 @@ Image<uint8_t> JpegLikePhoto(const Camera& cam, const Pose& pose, uint64_t seed)
     }
   }
   Image<uint8_t> img(w, h);
-  for (size_t k = 0; k < f.pixels.size(); ++k) img.pixels[k] = uint8_t(std::clamp(std::lround(255 * f.pixels[k]), 0L, 255L));
+  for (size_t k = 0; k < f.pixels.size(); ++k) {
+    img.pixels[k] = uint8_t(std::clamp(std::lround(255 * f.pixels[k]), 0L, 255L));
+  }
   return img;
 }
 
@@ -187,7 +189,8 @@ TEST(CalibCameraImages, JpegLikePhotographsCalibrateTheCamera) {
     const auto pts = Board().CornerPoints();
     double worst = 0;
     for (size_t k = 0; k < pts.size(); ++k) {
-      worst = std::max(worst, (r.views[size_t(v)].detection.corners[k] - *cam.Project(Poses()[size_t(v)] * pts[k])).norm());
+      const Eigen::Vector2d truth_px = *cam.Project(Poses()[size_t(v)] * pts[k]);
+      worst = std::max(worst, (r.views[size_t(v)].detection.corners[k] - truth_px).norm());
     }
     EXPECT_LT(worst, 0.3) << r.views[size_t(v)].image;  // measured 0.15-0.19 px; a wrong corner is a square off
   }

@@ -206,7 +206,8 @@ TEST(CalibCornersPhoto, AColourPhotoFromABayerSensor) {
     for (int x = 0; x < w; ++x) {
       const double rx = (x - w / 2.0) / (w / 2.0), ry = (y - h / 2.0) / (h / 2.0);
       const double v = light.At(x, y) * (1 - 0.2 * (rx * rx + ry * ry));
-      raw.At(x, y) = float(v * gain[channel(x, y)] + 0.02 * Rng::For(10, 0, size_t(y) * size_t(w) + size_t(x), 0).NextGaussian());
+      const double noise = 0.02 * Rng::For(10, 0, size_t(y) * size_t(w) + size_t(x), 0).NextGaussian();
+      raw.At(x, y) = float(v * gain[channel(x, y)] + noise);
     }
   }
   Image<uint8_t> img(w, h, 3);
