@@ -29,8 +29,9 @@
 //     neighbours puts it (within 0.35 px and 6 predicted standard deviations,
 //     or a tenth of the local spacing): a point that took a lost corner's
 //     place (a saddle of noise in a JPEG's square beside it) is replaced by
-//     the saddle found from that prediction, or the board is refused, naming
-//     the corner.
+//     the saddle found from that prediction (where two such points lie side
+//     by side, from the prediction of its neighbours on the grid), or the
+//     board is refused, naming the corner.
 //  5. Order: the grid must be complete and rows x cols (or cols x rows); the
 //     board's orientation follows from the colour convention of
 //     pipeline/calib_checkerboard.h (rows + cols odd; a symmetric board comes
