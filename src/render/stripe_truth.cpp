@@ -37,6 +37,9 @@ constexpr int kMaxBreaks = 3;
 // less than this, or within it of a crease on a surface seen at more than 84
 // degrees (ends 1e-3 footprints apart over 1e-4 px).
 constexpr double kDiscontinuityPx = 1e-4;
+// A bracket's ends whose normals differ by less than this lie on one plane
+// where each is on the other's tangent plane.
+constexpr double kSamePlaneDegrees = 1.0;
 
 class LineScanner {
  public:
@@ -108,9 +111,17 @@ class LineScanner {
     return std::make_pair(s, best);
   }
 
-  // Whether a bracket's ends are more than 1e-3 of a pixel's footprint apart.
+  // Whether a bracket's ends are more than 1e-3 of a pixel's footprint apart
+  // and not on one plane (normals within kSamePlaneDegrees, each end within
+  // that distance of the other's tangent plane): a surface seen edge-on spans
+  // more than that over a 1e-6 px bracket.
   bool Apart(const Sample& a, const Sample& b) const {
-    return (a.p_world - b.p_world).norm() > 1e-3 * Footprint(std::max(a.depth, b.depth));
+    static const double kCosSamePlane = std::cos(kSamePlaneDegrees * M_PI / 180.0);
+    const double tol = 1e-3 * Footprint(std::max(a.depth, b.depth));
+    const Eigen::Vector3d ab = b.p_world - a.p_world;
+    if (ab.norm() <= tol) return false;
+    return !(std::abs(a.normal.dot(b.normal)) >= kCosSamePlane && std::abs(a.normal.dot(ab)) <= tol &&
+             std::abs(b.normal.dot(ab)) <= tol);
   }
 
   // Whether neighbouring samples may lie on two surfaces: one a hit and the

@@ -10,7 +10,8 @@
 // between neighbouring samples on a continuous surface is refined by the
 // Illinois method to |Δu| < 1e-6 px. A bracket whose ends stay apart (a depth
 // discontinuity, not a crossing) is rejected, at once when it is narrower than
-// 1e-4 px with its ends on two surfaces. Between neighbouring samples on
+// 1e-4 px with its ends on two surfaces; ends on one plane (a surface seen
+// edge-on) have converged however far apart. Between neighbouring samples on
 // two surfaces (normals more than 30 degrees apart, one off the other's plane
 // by more than a pixel's footprint, or a hit beside a miss) near a sheet, the
 // line is bisected to each break and every surface is searched up to it: the
