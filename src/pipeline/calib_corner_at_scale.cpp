@@ -82,10 +82,7 @@ ScaleResult DetectAtScale(const Image<float>& img, double noise, const Checkerbo
   const double threshold = response_floor(floor.noise_floor);  // the lowest floor: dim corners too
   const double border = 2 * sigma + 2;
   const int nms = std::max(1, int(std::lround(sigma)));
-  std::vector<float> strength(size_t(w) * size_t(h), 0.0f);
-  for (size_t k = 0; k < strength.size(); ++k) {
-    strength[k] = sm.rxy[k] * sm.rxy[k] - sm.rxx[k] * sm.ryy[k];
-  }
+  const std::vector<float>& strength = sm.strength;
   // The local maxima of each row, judged in parallel (each alone, from the
   // smoothed image), then taken in scan order: the result does not depend on
   // the threads.

@@ -64,15 +64,20 @@ Smoothed Smooth(const Image<float>& img, const GaussianKernels& k) {
     }
   });
   s.r.assign(n, 0);
-  s.rxx.assign(n, 0);
-  s.rxy.assign(n, 0);
-  s.ryy.assign(n, 0);
+  s.strength.assign(n, 0);
   tbb::parallel_for(tbb::blocked_range<int>(0, h, 16), [&](const tbb::blocked_range<int>& rows) {
+    // The second derivatives of one row at a time: only the response is kept
+    // (a 12 MP image's three planes of them were 144 MB).
+    const size_t row_len = size_t(w);
+    std::vector<float> row_xx(row_len), row_xy(row_len), row_yy(row_len);
     for (int y = rows.begin(); y < rows.end(); ++y) {
       float* r = &s.r[size_t(y) * size_t(w)];
-      float* rxx = &s.rxx[size_t(y) * size_t(w)];
-      float* rxy = &s.rxy[size_t(y) * size_t(w)];
-      float* ryy = &s.ryy[size_t(y) * size_t(w)];
+      float* rxx = row_xx.data();
+      float* rxy = row_xy.data();
+      float* ryy = row_yy.data();
+      std::fill(row_xx.begin(), row_xx.end(), 0.0f);
+      std::fill(row_xy.begin(), row_xy.end(), 0.0f);
+      std::fill(row_yy.begin(), row_yy.end(), 0.0f);
       for (int o = -R; o <= R; ++o) {
         const size_t src = size_t(MirrorIndex(y - o, h)) * size_t(w);
         const float c0 = k.k0[size_t(o + R)], c1 = k.k1[size_t(o + R)], c2 = k.k2[size_t(o + R)];
@@ -84,6 +89,8 @@ Smoothed Smooth(const Image<float>& img, const GaussianKernels& k) {
           ryy[x] += a0[x] * c2;
         }
       }
+      float* strength = &s.strength[size_t(y) * size_t(w)];
+      for (int x = 0; x < w; ++x) strength[x] = rxy[x] * rxy[x] - rxx[x] * ryy[x];
     }
   });
   return s;

@@ -20,10 +20,11 @@ namespace corner_detail {
 // Image noise σ (Immerkær's operator, the median of its magnitude).
 double NoiseSigma(const Image<float>& img);
 
-// The smoothed image and its second derivatives, whole image (borders mirrored).
+// The smoothed image and its saddle response, whole image (borders mirrored).
 struct Smoothed {
   int w = 0, h = 0;
-  std::vector<float> r, rxx, rxy, ryy;
+  std::vector<float> r;         // the smoothed image
+  std::vector<float> strength;  // the saddle response r_xy² − r_xx·r_yy (its second derivatives are not kept)
   float At(const std::vector<float>& v, int x, int y) const { return v[size_t(y) * size_t(w) + size_t(x)]; }
   // Bilinear sample of r (clamped to the image).
   double Sample(double x, double y) const {
@@ -36,7 +37,7 @@ struct Smoothed {
   }
 };
 
-// The image smoothed with kernels k, and its second derivatives.
+// The image smoothed with kernels k, and its saddle response.
 Smoothed Smooth(const Image<float>& img, const GaussianKernels& k);
 
 // The contrast a corner must span on its validation circle (and two
