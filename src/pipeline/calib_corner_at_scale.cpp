@@ -164,11 +164,16 @@ ScaleResult DetectAtScale(const Image<float>& img, double noise, const Checkerbo
     if (best.cells.size() < 4) return refuse(Failure::kNoGrid, "no checkerboard found: no grid of corners");
     const GridExtent e = Extent(best);
     const Failure failure = GridFailure(best, cands, board, w, h, border, circle);
+    const std::string off_edges = EdgesTheGridRunsOff(best, cands, w, h, border);
     const std::string why =
         !e.FitsIn(board) ? "more corners along a line than the board: a board of another size, or corner-like "
                            "points beyond its edge joined the grid"
         : failure == Failure::kGridNotTheBoard
             ? "a whole grid of another size, or a board whose outer corners are hidden"
+        : !off_edges.empty()
+            ? "the board is partly outside the image (the grid runs off its " + off_edges + " edge" +
+                  (off_edges.find(" and ") == std::string::npos ? "" : "s") +
+                  "), or occluded, or too small or blurred for sigma_px = " + Fmt(sigma)
             : "the board is partly outside the image, occluded, or too small or blurred for sigma_px = " + Fmt(sigma);
     return refuse(failure, "found a grid of " + std::to_string(best.cells.size()) + " corners (" +
                                std::to_string(e.rows) + " x " + std::to_string(e.cols) + (e.full ? "" : " with holes") +

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -217,6 +218,28 @@ Failure GridFailure(const Grid& g, const std::vector<Candidate>& cands, const Ch
   }
   if (da >= 2 && dc >= 2 && inside && spacing >= 2 * circle) return Failure::kGridNotTheBoard;
   return Failure::kIncompleteGrid;
+}
+
+std::string EdgesTheGridRunsOff(const Grid& g, const std::vector<Candidate>& cands, int w, int h, double border) {
+  bool off[4] = {false, false, false, false};  // left, right, top, bottom
+  for (const auto& [cell, idx] : g.cells) {
+    for (const Cell& d : {Cell{1, 0}, Cell{-1, 0}, Cell{0, 1}, Cell{0, -1}}) {
+      if (g.cells.count({cell.first + d.first, cell.second + d.second})) continue;
+      const auto back = g.cells.find({cell.first - d.first, cell.second - d.second});
+      if (back == g.cells.end()) continue;
+      const Eigen::Vector2d next = 2 * cands[size_t(idx)].p - cands[size_t(back->second)].p;
+      off[0] = off[0] || next.x() < border;
+      off[1] = off[1] || next.x() > w - 1 - border;
+      off[2] = off[2] || next.y() < border;
+      off[3] = off[3] || next.y() > h - 1 - border;
+    }
+  }
+  std::string edges;
+  const char* names[4] = {"left", "right", "top", "bottom"};
+  for (int k = 0; k < 4; ++k) {
+    if (off[k]) edges += (edges.empty() ? "" : " and ") + std::string(names[k]);
+  }
+  return edges;
 }
 
 // Where the homography through the neighbours of corner (i, j) (those within

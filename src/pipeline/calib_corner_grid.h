@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 #include <map>
 #include <utility>
+#include <string>
 #include <vector>
 
 #include "pipeline/calib_checkerboard.h"
@@ -64,6 +65,12 @@ enum class Failure { kNone, kFewCandidates, kNoGrid, kIncompleteGrid, kNoContras
 // scale may complete it, kGridNotTheBoard when none can.
 Failure GridFailure(const Grid& g, const std::vector<Candidate>& cands, const CheckerboardSpec& board, int w, int h,
                     double border, double circle);
+
+// The image's edges ("left", "right", "top", "bottom", in that order, joined
+// by " and ") beyond which the grid's next corners would lie: a step on from
+// a corner with a neighbour on one side and none on the other falls within
+// `border` of that edge or beyond it. Empty when none does.
+std::string EdgesTheGridRunsOff(const Grid& g, const std::vector<Candidate>& cands, int w, int h, double border);
 
 // Where the homography through the neighbours of corner (i, j) of a rows x
 // cols detection (those within one step, or two when fewer than 5) puts it;

@@ -172,10 +172,29 @@ TEST(CalibCorners, RefusesAPartlyVisibleBoard) {
   const CornerDetection d = DetectCheckerboard(img.View(), Board());
   EXPECT_FALSE(d.ok);
   EXPECT_NE(d.reason.find("partly outside"), std::string::npos) << d.reason;
+  // The reason says where: the next corners beyond the grid lie past the
+  // image's right edge (before, only "partly outside the image, occluded, or
+  // too small or blurred").
+  EXPECT_NE(d.reason.find("the grid runs off its right edge)"), std::string::npos) << d.reason;
   EXPECT_TRUE(d.corners.empty());
   // The visible corners are reported in the grid's own indices.
   EXPECT_GE(d.grid.size(), 7u * 7u);
   EXPECT_LT(d.grid.size(), 70u);
+  // Off the right and bottom edges at once.
+  const Image<float> corner = RenderCheckerboard(cam, BoardPose(0.055, 0.05, 0.2, 0, 0, 0), Board());
+  const CornerDetection dc = DetectCheckerboard(corner.View(), Board());
+  EXPECT_FALSE(dc.ok);
+  EXPECT_NE(dc.reason.find("the grid runs off its right and bottom edges)"), std::string::npos) << dc.reason;
+  // A board wholly inside the image with a corner hidden (a grey patch of
+  // 30 px, the squares are 24) names no edge.
+  Image<float> hidden = RenderCheckerboard(cam, BoardPose(0, 0, 0.2, 0, 0, 0), Board());
+  const Eigen::Vector2d c = *cam.Project(BoardPose(0, 0, 0.2, 0, 0, 0) * Board().CornerPoints()[3 * 10 + 4]);
+  for (int y = 0; y < hidden.height; ++y)
+    for (int x = 0; x < hidden.width; ++x)
+      if (std::abs(x - c.x()) < 15 && std::abs(y - c.y()) < 15) hidden.At(x, y) = 0.5f;
+  const CornerDetection dh = DetectCheckerboard(hidden.View(), Board());
+  EXPECT_FALSE(dh.ok);
+  EXPECT_EQ(dh.reason.find("runs off"), std::string::npos) << dh.reason;
 }
 
 TEST(CalibCorners, RefusesABoardOfAnotherSize) {
