@@ -10,7 +10,7 @@
 #include <string_view>
 
 #include "scene/gcode_reader.h"
-#include "scene/motion_text.h"
+#include "core/text_fields.h"
 
 namespace lt {
 namespace gcode_detail {

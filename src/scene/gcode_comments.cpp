@@ -9,7 +9,7 @@
 
 #include "core/error.h"
 #include "scene/gcode_reader.h"
-#include "scene/motion_text.h"
+#include "core/text_fields.h"
 
 namespace lt {
 namespace gcode_detail {

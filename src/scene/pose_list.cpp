@@ -6,7 +6,7 @@
 #include <string_view>
 
 #include "core/error.h"
-#include "scene/motion_text.h"
+#include "core/text_fields.h"
 
 namespace lt {
 
