@@ -52,6 +52,8 @@ std::vector<std::string_view> SplitFields(std::string_view text, char separator)
   }
 }
 
+std::string SizeText(int width, int height) { return std::to_string(width) + "x" + std::to_string(height); }
+
 double FiniteField(const std::vector<std::string_view>& fields, size_t k, const std::string& where) {
   const std::optional<double> v = ParseFiniteNumber(fields.at(k));
   if (!v) {

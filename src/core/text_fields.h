@@ -27,6 +27,9 @@ double FiniteField(const std::vector<std::string_view>& fields, size_t k, const 
 // Splits `text` at runs of blanks (no empty fields).
 std::vector<std::string_view> SplitBlanks(std::string_view text);
 
+// An image size for messages: "640x480".
+std::string SizeText(int width, int height);
+
 // The whole content of a text file. Throws lt::InputError naming `display_name`
 // when it cannot be read.
 std::string ReadTextFile(const std::filesystem::path& path, const std::string& display_name);

@@ -4,17 +4,12 @@
 #include <variant>
 
 #include "core/error.h"
+#include "core/text_fields.h"
 #include "core/image_io.h"
 
 namespace lt {
 
 namespace fs = std::filesystem;
-
-namespace {
-
-std::string Size(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
-
-}  // namespace
 
 PhotoCameraResult CalibrateCameraFromImages(const std::vector<fs::path>& images, const CheckerboardSpec& board,
                                             const CameraCalibrationOptions& options,
@@ -30,8 +25,8 @@ PhotoCameraResult CalibrateCameraFromImages(const std::vector<fs::path>& images,
     if (r.views.empty()) {
       r.width = w, r.height = h;
     } else if (w != r.width || h != r.height) {
-      throw InputError(path.string(), "the image is " + Size(w, h) + " but " + r.views.front().image.string() +
-                                          " is " + Size(r.width, r.height) +
+      throw InputError(path.string(), "the image is " + SizeText(w, h) + " but " + r.views.front().image.string() +
+                                          " is " + SizeText(r.width, r.height) +
                                           ": calibrate images of one size (one camera mode) together");
     }
     PhotoView v{path, DetectCheckerboard(image, board, corners)};

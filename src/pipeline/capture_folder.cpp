@@ -3,18 +3,13 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/text_fields.h"
 #include "core/image_io.h"
 #include "pipeline/image_folder.h"
 
 namespace lt {
 
 namespace fs = std::filesystem;
-
-namespace {
-
-std::string Size(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
-
-}  // namespace
 
 CaptureFolder ReadCaptureFolder(const fs::path& dir) {
   const std::vector<fs::path> top = ImageFilesIn(dir), sub = ImageFilesIn(dir / "frames");
@@ -36,9 +31,9 @@ CaptureFolder ReadCaptureFolder(const fs::path& dir) {
     if (i == 0) {
       c.width = size.width, c.height = size.height;
     } else if (size.width != c.width || size.height != c.height) {
-      throw InputError(files[i].string(), "the image is " + Size(size.width, size.height) + " but " +
+      throw InputError(files[i].string(), "the image is " + SizeText(size.width, size.height) + " but " +
                                               files.front().filename().string() + ", the first frame, is " +
-                                              Size(c.width, c.height) + ": the frames of a capture have one size");
+                                              SizeText(c.width, c.height) + ": the frames of a capture have one size");
     }
     RunFrame f;
     f.index = int(i);
@@ -67,8 +62,8 @@ ScanFrames ReadScanFrames(const fs::path& dir) {
 
 void ScanFrames::CheckSize(int camera_width, int camera_height, const std::string& camera_source) const {
   if (!from_listing || frames.empty() || (width == camera_width && height == camera_height)) return;
-  throw InputError(frames.front().image.string(), "the image is " + Size(width, height) + " but the camera (" +
-                                                      camera_source + ") is " + Size(camera_width, camera_height));
+  throw InputError(frames.front().image.string(), "the image is " + SizeText(width, height) + " but the camera (" +
+                                                      camera_source + ") is " + SizeText(camera_width, camera_height));
 }
 
 ShutterPattern ParseShutterPattern(const std::string& text, const std::string& option) {

@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "core/error.h"
+#include "core/text_fields.h"
 #include "core/image_io.h"
 #include "pipeline/calibration_file.h"
 #include "pipeline/capture_folder.h"
@@ -81,8 +82,6 @@ class ExtractorCache {
  private:
   std::map<std::tuple<double, double, int, int, std::vector<double>>, std::unique_ptr<StripeExtractor>> cache_;
 };
-
-std::string Size(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
 
 }  // namespace
 
@@ -159,9 +158,9 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     }
     if (cal.laser_planes.empty()) throw InputError(path.string(), "holds no laser_planes (needed to triangulate)");
     if (cal.camera && (cal.camera->width != camera.width() || cal.camera->height != camera.height())) {
-      throw InputError(path.string(), "the calibrated camera is " + Size(cal.camera->width, cal.camera->height) +
+      throw InputError(path.string(), "the calibrated camera is " + SizeText(cal.camera->width, cal.camera->height) +
                                           " but the run's camera (" + rig.source.string() + ") is " +
-                                          Size(camera.width(), camera.height()));
+                                          SizeText(camera.width(), camera.height()));
     }
     camera = cal.MakeCamera(camera.params(), path.string());
     if (!rig_from_calibration && int(cal.laser_planes.size()) != int(planes.size())) {
@@ -332,8 +331,8 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
         throw InputError(e.where(), e.message() + context);
       }
       if (instance.width != width || instance.height != height) {
-        throw InputError(frame.gt_buffers->string(), "the ground truth is " + Size(instance.width, instance.height) +
-                                                 " but the image is " + Size(width, height) + context);
+        throw InputError(frame.gt_buffers->string(), "the ground truth is " + SizeText(instance.width, instance.height) +
+                                                 " but the image is " + SizeText(width, height) + context);
       }
     } else {
       all_labelled = false;

@@ -9,6 +9,7 @@
 #include <tbb/task_arena.h>
 
 #include "core/error.h"
+#include "core/text_fields.h"
 #include "pipeline/demosaic.h"
 #include "pipeline/extract_methods.h"
 #include "pipeline/extract_steger.h"
@@ -22,8 +23,6 @@ double FullScale() {
   if constexpr (std::is_integral_v<T>) return double(std::numeric_limits<T>::max());
   return 1.0;
 }
-
-std::string Size(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
 
 // Copies `src` transposed into `dst` (dst row i = src column i).
 template <typename T>
@@ -182,7 +181,7 @@ void StripeExtractor::Extract(const ImageView<T>& image, std::vector<StripePoint
   points->clear();
   impl_->rejections = {};
   if (image.data == nullptr || image.empty()) {
-    throw InputError("", "image is empty (" + Size(image.width, image.height) + ")");
+    throw InputError("", "image is empty (" + SizeText(image.width, image.height) + ")");
   }
   if (image.channels < 1) throw InputError("", "image has no channels");
   ImageView<T> view = image;
@@ -193,7 +192,7 @@ void StripeExtractor::Extract(const ImageView<T>& image, std::vector<StripePoint
         int64_t(r.y) + r.height > image.height) {
       throw InputError("", "ROI " + std::to_string(r.x) + "," + std::to_string(r.y) + "," + std::to_string(r.width) +
                                "," + std::to_string(r.height) + " is not inside the " +
-                               Size(image.width, image.height) + " image");
+                               SizeText(image.width, image.height) + " image");
     }
     view = image.Crop(r.x, r.y, r.width, r.height);
     region = r;
