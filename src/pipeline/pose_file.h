@@ -42,6 +42,9 @@ enum class PoseUnits { kMetres, kMillimetres };
 struct PoseFileOptions {
   std::optional<PoseUnits> units;         // unset: the header's, else metres
   std::optional<QuaternionOrder> order;   // headerless 7/8-column rows need it (not TUM)
+  // Matching (scan_poses.h): seconds added to every image name's time before
+  // its pose is interpolated; set, the poses must be matched by time.
+  std::optional<double> image_time_offset_s;
 };
 
 struct PoseFile {

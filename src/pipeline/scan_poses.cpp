@@ -11,10 +11,10 @@ namespace lt {
 namespace {
 
 // The poses at the times the images' names give ("1305031102.175304.png"), in
-// seconds or, when those fall outside the pose file's times, ms, us or ns;
-// nullopt unless every name is a number within the file's times.
+// seconds or, when those fall outside the pose file's times, ms, us or ns,
+// plus offset_s; nullopt unless every such time lies within the file's times.
 std::optional<std::vector<Pose>> PosesAtImageTimes(const PoseFile& poses, const std::filesystem::path& file,
-                                                   const std::vector<RunFrame>& frames) {
+                                                   const std::vector<RunFrame>& frames, double offset_s) {
   if (poses.times_s.size() < 2 || poses.times_s.size() != poses.poses.size()) return std::nullopt;
   std::vector<double> names;
   for (const RunFrame& f : frames) {
@@ -24,7 +24,9 @@ std::optional<std::vector<Pose>> PosesAtImageTimes(const PoseFile& poses, const 
   }
   const double first = poses.times_s.front(), last = poses.times_s.back();
   for (const double to_s : {1.0, 1e-3, 1e-6, 1e-9}) {
-    if (!std::all_of(names.begin(), names.end(), [&](double t) { return t * to_s >= first && t * to_s <= last; })) continue;
+    auto time_of = [&](double name) { return name * to_s + offset_s; };
+    if (!std::all_of(names.begin(), names.end(), [&](double t) { return time_of(t) >= first && time_of(t) <= last; }))
+      continue;
     std::vector<PoseSample> samples;
     for (size_t k = 0; k < poses.poses.size(); ++k) {
       if (k > 0 && !(poses.times_s[k] > poses.times_s[k - 1])) {
@@ -37,7 +39,7 @@ std::optional<std::vector<Pose>> PosesAtImageTimes(const PoseFile& poses, const 
     }
     const PoseTrajectory trajectory(std::move(samples));
     std::vector<Pose> out;
-    for (const double t : names) out.push_back(trajectory.At(t * to_s));
+    for (const double t : names) out.push_back(trajectory.At(time_of(t)));
     return out;
   }
   return std::nullopt;
@@ -46,12 +48,27 @@ std::optional<std::vector<Pose>> PosesAtImageTimes(const PoseFile& poses, const 
 }  // namespace
 
 std::string GivePoses(const PoseFile& poses, const std::filesystem::path& file, bool as_tool,
-                      std::vector<RunFrame>* frames, const std::string& frames_source) {
+                      std::vector<RunFrame>* frames, const std::string& frames_source,
+                      std::optional<double> image_time_offset_s) {
   std::vector<Pose> chosen = poses.poses;
   std::string how;
-  if (poses.poses.size() != frames->size()) {
+  if (image_time_offset_s) {
+    std::optional<std::vector<Pose>> at_times = PosesAtImageTimes(poses, file, *frames, *image_time_offset_s);
+    if (!at_times) {
+      throw InputError(file.string(), "--image-time-offset matches poses to the images' times, but " +
+                                          (poses.times_s.size() < 2 ? std::string("the file has no times")
+                                                                    : frames_source +
+                                                                          "'s image names are not all times within "
+                                                                          "the file's, " +
+                                                                          FormatNumber(poses.times_s.front()) + " to " +
+                                                                          FormatNumber(poses.times_s.back()) +
+                                                                          " s, once shifted by the offset"));
+    }
+    chosen = std::move(*at_times);
+    how = ", interpolated at the images' times + " + FormatNumber(*image_time_offset_s) + " s";
+  } else if (poses.poses.size() != frames->size()) {
     // More (or fewer) poses than frames: a tracker's log at its own rate, matched by the images' times.
-    std::optional<std::vector<Pose>> at_times = PosesAtImageTimes(poses, file, *frames);
+    std::optional<std::vector<Pose>> at_times = PosesAtImageTimes(poses, file, *frames, 0.0);
     if (!at_times) {
       throw InputError(file.string(), "holds " + std::to_string(poses.poses.size()) + " pose" +
                                           (poses.poses.size() == 1 ? "" : "s") + " but " + frames_source + " has " +
@@ -77,7 +94,7 @@ std::string ResolveScanPoses(const std::optional<std::filesystem::path>& pose_fi
   std::string source = "world_from_cam", tool_source = "world_from_tool";
   if (pose_file) {
     const PoseFile poses = ReadPoseFile(*pose_file, options, warn);
-    source = GivePoses(poses, *pose_file, tool_from_cam.has_value(), frames, frames_source);
+    source = GivePoses(poses, *pose_file, tool_from_cam.has_value(), frames, frames_source, options.image_time_offset_s);
     tool_source = source;
   }
   if (!tool_from_cam) return source;

@@ -23,10 +23,14 @@ namespace lt {
 // column) and every image is named by its time ("1305031102.175304.png", in s,
 // or ms, us, ns) within the file's times, frame k takes the pose interpolated
 // at its image's time (core/pose_trajectory.h; the times must increase);
-// otherwise throws lt::InputError naming the file and both counts. Returns
-// what the poses are ("world_from_cam from FILE (TUM, m)").
+// otherwise throws lt::InputError naming the file and both counts. With
+// `image_time_offset_s`, every frame is matched by time, at its name's time
+// plus the offset (a camera stamping the start of its exposure: half the
+// exposure), whatever the counts; names that are not times within the file's
+// then throw. Returns what the poses are ("world_from_cam from FILE (TUM, m)").
 std::string GivePoses(const PoseFile& poses, const std::filesystem::path& file, bool as_tool,
-                      std::vector<RunFrame>* frames, const std::string& frames_source);
+                      std::vector<RunFrame>* frames, const std::string& frames_source,
+                      std::optional<double> image_time_offset_s = std::nullopt);
 
 // Sets each frame's world_from_cam as above: reads `pose_file` (when given; the
 // tool's poses when `tool_from_cam` is given, else the camera's), then chains

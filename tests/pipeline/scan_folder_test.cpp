@@ -258,6 +258,46 @@ TEST(ScanFolder, PosesAreInterpolatedAtTheImagesTimes) {
               HasSubstr(o.poses->string() + ": holds 5 poses but " + (run.dir / "frames").string() + " has 4 frames"));
 }
 
+// --image-time-offset: a camera stamping the start of its exposure names each
+// image half an exposure before the time its pose belongs to; the offset
+// matches every frame by time, also when the counts agree.
+TEST(ScanFolder, ImageTimeOffsetShiftsTheMatchedTimes) {
+  SyntheticRun run = MakeRun("folder_time_offset", 1);
+  fs::remove(run.dir / "manifest.jsonl");
+  const std::vector<double> names = {100.05, 100.25};
+  for (double n : names) fs::copy_file(run.dir / "frames/000000.png", run.dir / "frames" / (FormatNumber(n) + ".png"));
+  fs::remove(run.dir / "frames/000000.png");
+  std::vector<PoseSample> samples;
+  std::ofstream csv(run.dir / "poses.csv");
+  csv << "t,x,y,z,qx,qy,qz,qw\n";
+  csv.precision(17);
+  for (int k = 0; k < 2; ++k) {  // as many poses as frames: without the offset they go by order
+    const Pose p = FramePose(k);
+    const Eigen::Quaterniond q(p.linear());
+    samples.push_back({100 + 0.3 * k, p.translation(), q});
+    csv << 100 + 0.3 * k << "," << p.translation().x() << "," << p.translation().y() << "," << p.translation().z()
+        << "," << q.x() << "," << q.y() << "," << q.z() << "," << q.w() << "\n";
+  }
+  csv.close();
+  const PoseTrajectory truth(samples);
+  ScanOptions o;
+  o.poses = run.dir / "poses.csv";
+  o.pose_file.image_time_offset_s = 0.02;
+  ScanSummary s = ScanRun(run.dir, o);
+  EXPECT_THAT(s.pose_source, HasSubstr("interpolated at the images' times + 0.02 s"));
+  for (int k = 0; k < 2; ++k) {
+    const Pose expected = truth.At(names[size_t(k)] + 0.02);
+    const std::vector<ScanPoint> points = ReadScanCsv(run.dir / ScanCentersName(k));
+    ASSERT_GE(points.size(), 150u);
+    for (const ScanPoint& p : points) EXPECT_LT((*p.p_in_world - expected * *p.p_in_cam).norm(), 1e-9) << k;
+  }
+  // Shifted past the file's last time: an error naming the file and its times.
+  o.pose_file.image_time_offset_s = 0.1;
+  EXPECT_THAT(ErrorOf([&] { ScanRun(run.dir, o); }),
+              HasSubstr(o.poses->string() + ": --image-time-offset matches poses to the images' times, but " +
+                        (run.dir / "frames").string() + "'s image names are not all times within the file's, 100 to 100.3 s"));
+}
+
 // A run with a manifest: the pose file replaces its world_from_cam.
 TEST(ScanFolder, PoseFileReplacesTheManifestsPoses) {
   SyntheticRun run = MakeRun("manifest_poses", 1);  // frames 0 (laser) and 1 (bright)

@@ -8,10 +8,12 @@
 #include <iostream>
 #include <memory>
 #include <sstream>
+#include <utility>
 #include <vector>
 
 #include "core/error.h"
 #include "core/frame_range.h"
+#include "core/text_fields.h"
 #include "pipeline/demosaic.h"
 #include "pipeline/scan.h"
 #include "pipeline/stripe_extractor.h"
@@ -32,9 +34,10 @@ struct ScanArgs {
   std::string bayer;       // empty: the rig's color_filter
   std::string poses;
   std::string pose_units;  // empty: the header's, else m
-  std::string pose_order;
+  std::string pose_order;  // empty: the header's (headerless 7/8-number rows need it)
+  std::string image_time_offset;  // seconds; empty: match by time only when the counts differ
   std::string depth_range;  // MIN_MM:MAX_MM
-  std::string shutter = "recorded";  // empty: the header's (headerless 7/8-number rows need it)
+  std::string shutter = "recorded";
   bool quiet = false;
   ScanOptions options;
 };
@@ -53,8 +56,16 @@ void Run(ScanArgs& a) {
   if (!a.depth_range.empty()) o.depth_range = ParseDepthRange(a.depth_range, "--depth-range");
   if (!a.bayer.empty()) o.color_filter = ParseBayerPattern(a.bayer, "--bayer");
   if (!a.poses.empty()) o.poses = a.poses;
-  if (a.poses.empty() && (!a.pose_units.empty() || !a.pose_order.empty())) {
-    throw InputError(a.pose_units.empty() ? "--pose-order" : "--pose-units", "describes a pose file: give it with --poses");
+  for (const auto& [option, value] : {std::pair<const char*, const std::string*>{"--pose-units", &a.pose_units},
+                                      {"--pose-order", &a.pose_order},
+                                      {"--image-time-offset", &a.image_time_offset}}) {
+    if (a.poses.empty() && !value->empty()) throw InputError(option, "describes a pose file: give it with --poses");
+  }
+  if (!a.image_time_offset.empty()) {
+    o.pose_file.image_time_offset_s = ParseFiniteNumber(a.image_time_offset);
+    if (!o.pose_file.image_time_offset_s) {
+      throw InputError("--image-time-offset", "'" + a.image_time_offset + "' is not a number of seconds");
+    }
   }
   o.shutter = ParseShutterPattern(a.shutter, "--shutter");
   if (!a.pose_units.empty()) o.pose_file.units = ParsePoseUnits(a.pose_units, "--pose-units");
@@ -155,6 +166,10 @@ void Add(CLI::App& app) {
   cmd->add_option("--pose-units", args->pose_units, "m | mm: the pose file's translations (default: its header's, else m)");
   cmd->add_option("--pose-order", args->pose_order,
                   "xyzw | wxyz: the quaternion order of a pose file without a header (TUM's is xyzw)");
+  cmd->add_option("--image-time-offset", args->image_time_offset,
+                  "Seconds added to each image name's time before its pose is interpolated (a camera stamping the "
+                  "start of its exposure: half the exposure; a camera clock behind the robot's: the lag); matches "
+                  "every frame by time");
   cmd->add_option("--shutter", args->shutter,
                   "recorded | alternate | alternate-bright-first: which frames the laser lit: the manifest's shutter "
                   "keys (none, or no manifest: every frame), or alternate frames, the first a laser (dim) frame or a "
