@@ -99,8 +99,16 @@ Eigen::Vector3d EmbreeScene::BuildMeshScene(size_t mesh_index) {
   RTCScene ms = mesh_scenes_[mesh_index];
   if (mesh_attached_[mesh_index]) rtcDetachGeometry(ms, 0);
   mesh_attached_[mesh_index] = mesh.TriangleCount() > 0;
+  mesh_alpha_filtered_[mesh_index] = 0;
   Eigen::AlignedBox3d b = mesh.Bounds();
   Eigen::Vector3f c = b.isEmpty() ? Eigen::Vector3f::Zero() : Eigen::Vector3f(b.center().cast<float>());
+  if (mesh.TriangleCount() > 0 && MeshNeedsAlphaFilter(mesh_index)) {
+    if (rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED) == 0) {
+      throw std::runtime_error("mesh \"" + mesh.name + "\" has a MASK or BLEND material, but this Embree library "
+                               "was built without filter functions (EMBREE_FILTER_FUNCTION), which they need");
+    }
+    mesh_alpha_filtered_[mesh_index] = 1;
+  }
   if (mesh.TriangleCount() > 0) {
     RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
     // Vertices are copied (Embree pads the buffer for its SIMD loads); the
@@ -114,6 +122,11 @@ Eigen::Vector3d EmbreeScene::BuildMeshScene(size_t mesh_index) {
     }
     rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.indices.data(), 0,
                                3 * sizeof(uint32_t), mesh.TriangleCount());
+    if (mesh_alpha_filtered_[mesh_index]) {
+      rtcSetGeometryUserData(geom, this);
+      rtcSetGeometryIntersectFilterFunction(geom, &EmbreeScene::AlphaFilter);
+      rtcSetGeometryOccludedFilterFunction(geom, &EmbreeScene::AlphaFilter);
+    }
     rtcCommitGeometry(geom);
     rtcAttachGeometryByID(ms, geom, 0);
     rtcReleaseGeometry(geom);
@@ -148,11 +161,18 @@ void EmbreeScene::Build() {
   rtcSetDeviceErrorFunction(device_, &DeviceErrors::Callback, errors_.get());
 
   try {
+    if (std::any_of(g.materials.begin(), g.materials.end(),
+                    [](const Material& m) { return m.alpha_mode != AlphaMode::kOpaque; })) {
+      for (const Material& m : g.materials) {
+        material_min_alpha_.push_back(m.alpha_mode == AlphaMode::kOpaque ? 1.0f : m.MinAlpha());
+      }
+    }
     for (size_t i = 0; i < g.meshes.size(); ++i) {
       RTCScene ms = rtcNewScene(device_);
       rtcSetSceneFlags(ms, RTC_SCENE_FLAG_ROBUST);  // watertight: no ray slips through a shared edge
       mesh_scenes_.push_back(ms);
       mesh_attached_.push_back(0);
+      mesh_alpha_filtered_.push_back(0);
       rtcSetSceneBuildQuality(ms, RTC_BUILD_QUALITY_MEDIUM);
       mesh_center_.push_back(BuildMeshScene(i));
     }

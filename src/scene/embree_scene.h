@@ -18,6 +18,14 @@
 // scene is rebuilt, and the top scene refitted over the instances; other meshes
 // are untouched. The render origin stays where construction put it. A mesh may be
 // empty (no triangles): it is instanced but nothing is hit.
+//
+// Alpha (glTF alphaMode, Material::alpha_mode): a mesh whose materials may let
+// light through somewhere (MASK with some alpha below the cutoff, BLEND with
+// some alpha below 1; alpha = factor x texture x vertex alpha) gets an Embree
+// intersection and occlusion filter that discards the hits the surface does not
+// cover (embree_alpha.cpp). Every query (Intersect, Occluded, and callers of
+// handle()) so sees the same surface. Meshes without such materials get no
+// filter: their rays run exactly the code they ran before.
 #pragma once
 
 #include <embree3/rtcore.h>
@@ -97,6 +105,8 @@ class EmbreeScene {
   size_t unique_triangle_count() const { return geometry_->UniqueTriangleCount(); }
   size_t instance_count() const { return geometry_->instances.size(); }
   size_t degenerate_triangle_count() const { return geometry_->degenerate_triangles; }
+  // Meshes whose triangles carry the alpha filter (0 for a scene without MASK or BLEND).
+  size_t alpha_filtered_mesh_count() const;
   const std::vector<std::string>& warnings() const { return geometry_->warnings; }
 
   // Whether ReplaceMesh may be called (built from mutable geometry).
@@ -122,6 +132,11 @@ class EmbreeScene {
   // Builds mesh_scenes_[mesh_index]'s content; returns the re-centring offset.
   Eigen::Vector3d BuildMeshScene(size_t mesh_index);
   void SetInstanceTransform(size_t instance_index, RTCGeometry geom) const;
+  // Alpha (embree_alpha.cpp): whether a mesh needs the filter, the filter, and
+  // whether a candidate hit is on the surface (`ray` in the frame Embree gives).
+  bool MeshNeedsAlphaFilter(size_t mesh_index) const;
+  static void AlphaFilter(const RTCFilterFunctionNArguments* args);
+  bool Covers(uint32_t instance_id, uint32_t primitive_id, float u, float v, const float ray[6]) const;
 
   std::shared_ptr<const SceneGeometry> geometry_;
   SceneGeometry* mutable_geometry_ = nullptr;  // the same geometry, when it may change
@@ -132,6 +147,8 @@ class EmbreeScene {
   std::vector<char> mesh_attached_;                // per mesh: its scene holds geometry 0
   std::vector<Eigen::Vector3d> mesh_center_;       // per mesh: the re-centring offset (float-exact)
   std::vector<Eigen::Matrix3d> normal_from_mesh_;  // inverse transpose of each instance's linear part
+  std::vector<float> material_min_alpha_;          // per material: MinAlpha() (1 when opaque); empty when all are opaque
+  std::vector<char> mesh_alpha_filtered_;          // per mesh: its geometry has the alpha filter
   Eigen::Vector3d render_origin_ = Eigen::Vector3d::Zero();
   Eigen::AlignedBox3d bounds_;
 };

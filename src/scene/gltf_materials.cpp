@@ -69,6 +69,24 @@ int ReadTextureTransform(const tinygltf::TextureInfo& info, const std::string& w
   return tc.GetNumberAsInt();
 }
 
+// alphaMode and alphaCutoff (glTF 3.9.4): MASK cuts holes where alpha < alphaCutoff,
+// BLEND reads alpha as coverage (EmbreeScene applies both).
+void ReadAlphaMode(const tinygltf::Material& gm, const std::string& where, Material* mat) {
+  if (gm.alphaMode == "OPAQUE") {
+    mat->alpha_mode = AlphaMode::kOpaque;
+  } else if (gm.alphaMode == "MASK") {
+    mat->alpha_mode = AlphaMode::kMask;
+  } else if (gm.alphaMode == "BLEND") {
+    mat->alpha_mode = AlphaMode::kBlend;
+  } else {
+    throw InputError(where + "/alphaMode", "must be \"OPAQUE\", \"MASK\" or \"BLEND\", got \"" + gm.alphaMode + "\"");
+  }
+  if (!std::isfinite(gm.alphaCutoff) || gm.alphaCutoff < 0) {
+    throw InputError(where + "/alphaCutoff", "must be a number >= 0, got " + FormatNumber(gm.alphaCutoff));
+  }
+  mat->alpha_cutoff = float(gm.alphaCutoff);
+}
+
 // A number for a warning: 3 significant digits.
 std::string Short(double v) {
   char buf[32];
@@ -115,7 +133,8 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
       mat.base_color[c] = float(UnitFactor(pbr.baseColorFactor[size_t(c)],
                                            where + "/pbrMetallicRoughness/baseColorFactor/" + std::to_string(c)));
     }
-    UnitFactor(pbr.baseColorFactor[3], where + "/pbrMetallicRoughness/baseColorFactor/3");
+    mat.alpha = float(UnitFactor(pbr.baseColorFactor[3], where + "/pbrMetallicRoughness/baseColorFactor/3"));
+    ReadAlphaMode(gm, where, &mat);
     mat.metallic = float(UnitFactor(pbr.metallicFactor, where + "/pbrMetallicRoughness/metallicFactor"));
     mat.roughness = float(UnitFactor(pbr.roughnessFactor, where + "/pbrMetallicRoughness/roughnessFactor"));
     if (gm.emissiveFactor.size() != 3) throw InputError(where + "/emissiveFactor", "must have 3 elements");
@@ -158,11 +177,14 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
       if (sg.Has("diffuseFactor")) {
         const tinygltf::Value& d = sg.Get("diffuseFactor");
         if (!d.IsArray() || d.ArrayLen() != 4) throw InputError(sg_where + "/diffuseFactor", "must have 4 elements");
-        for (int c = 0; c < 3; ++c) {
+        for (int c = 0; c < 4; ++c) {
           const tinygltf::Value& x = d.Get(c);
-          mat.base_color[c] = float(UnitFactor(x.IsNumber() ? x.GetNumberAsDouble() : -1.0,
-                                               sg_where + "/diffuseFactor/" + std::to_string(c)));
+          const double v = UnitFactor(x.IsNumber() ? x.GetNumberAsDouble() : -1.0,
+                                      sg_where + "/diffuseFactor/" + std::to_string(c));
+          (c < 3 ? mat.base_color[c] : mat.alpha) = float(v);  // alpha: the extension's coverage
         }
+      } else {
+        mat.alpha = 1;
       }
       mat.metallic = 0;
       mat.roughness = float(1.0 - UnitFactor(ExtNumber(sg, "glossinessFactor", 1.0, sg_where), sg_where + "/glossinessFactor"));
@@ -281,7 +303,6 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
     }
     note(gm.normalTexture.index >= 0, "normal texture");
     note(gm.occlusionTexture.index >= 0, "occlusion texture");
-    note(gm.alphaMode != "OPAQUE", "alpha mode");
     if (!ignored.empty() || !approximated.empty()) {
       warnings->push_back(src.file + ": material \"" + mat.name + "\": " +
                           (ignored.empty() ? "" : "ignored " + ignored) +

@@ -11,8 +11,9 @@
 namespace lt {
 
 // All materials of the file, in order. Textures used by several materials are
-// shared. Features that are not rendered (normal and occlusion textures, alpha
-// modes) are ignored with a warning; metallic-roughness, emissive and
+// shared. alphaMode, alphaCutoff and the base colour's alpha are read (Material::
+// alpha_mode; EmbreeScene applies them). Features that are not rendered (normal and
+// occlusion textures) are ignored with a warning; metallic-roughness, emissive and
 // specular-glossiness textures, which are not sampled either, scale their factors
 // by their mean texel, with a warning.
 std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<std::string>* warnings);

@@ -104,7 +104,7 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Materia
   // texture reads, else TEXCOORD_0 (-1: the primitive has neither).
   std::vector<int> uv_accessor(gm.primitives.size(), -1);
   std::vector<std::string> uv_name(gm.primitives.size(), "TEXCOORD_0");
-  bool any_texcoords = false, any_colors = false;
+  bool any_texcoords = false, any_colors = false, any_alphas = false;
   for (size_t pi = 0; pi < gm.primitives.size(); ++pi) {
     const tinygltf::Primitive& prim = gm.primitives[pi];
     const std::string where = mesh_where + "/primitives/" + std::to_string(pi);
@@ -122,6 +122,10 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Materia
     }
     any_texcoords |= uv_accessor[pi] >= 0;
     any_colors |= prim.attributes.count("COLOR_0") != 0;
+    if (auto c = prim.attributes.find("COLOR_0"); c != prim.attributes.end() && c->second >= 0 &&
+                                                  size_t(c->second) < src.model.accessors.size()) {
+      any_alphas |= src.model.accessors[size_t(c->second)].type == TINYGLTF_TYPE_VEC4;
+    }
   }
 
   for (size_t pi = 0; pi < gm.primitives.size(); ++pi) {
@@ -199,9 +203,9 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Materia
     }
 
     // COLOR_0 (RGB or RGBA, linear; glTF 3.7.2.1): multiplies the base
-    // colour. Alpha is dropped (surfaces are opaque); a primitive without it
-    // in a mesh with it gets white.
-    std::vector<float> rgb;
+    // colour (and its alpha the material's, read by MASK and BLEND materials);
+    // a primitive without it in a mesh with it gets opaque white.
+    std::vector<float> rgb, alpha;
     if (int acc = FindAttribute(src, prim, "COLOR_0", where); acc >= 0) {
       const tinygltf::Accessor& ca = src.model.accessors[size_t(acc)];
       // glTF 3.7.2.1: floats, or unsigned bytes / shorts that are normalized. Other
@@ -225,8 +229,13 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Materia
       rgb.resize(3 * nverts);
       for (size_t v = 0; v < nverts; ++v)
         for (int k = 0; k < 3; ++k) rgb[3 * v + size_t(k)] = std::clamp(c[size_t(components) * v + size_t(k)], 0.0f, 1.0f);
+      if (components == 4) {
+        alpha.resize(nverts);
+        for (size_t v = 0; v < nverts; ++v) alpha[v] = std::clamp(c[4 * v + 3], 0.0f, 1.0f);
+      }
     }
     auto color_of = [&](size_t v) { return rgb.empty() ? Eigen::Vector3f::Ones().eval() : Vec3At(rgb, v); };
+    auto alpha_of = [&](size_t v) { return alpha.empty() ? 1.0f : alpha[v]; };
 
     ApplyMorphTargets(src, prim, where, morph, &pos, &nrm);
     if (morph != nullptr && !prim.targets.empty()) CheckFinite(src, pos_acc, pos, 3, "morphed position", &used);
@@ -276,6 +285,7 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Materia
       mesh.normals.reserve(base + kept_vertices);
       if (any_texcoords) mesh.texcoords.reserve(base + kept_vertices);
       if (any_colors) mesh.colors.reserve(base + kept_vertices);
+      if (any_alphas) mesh.alphas.reserve(base + kept_vertices);
       std::vector<uint32_t> zero;  // new indices
       for (size_t v = 0; v < nverts; ++v) {
         if (remap[v] == UINT32_MAX) continue;
@@ -288,6 +298,7 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Materia
           mesh.texcoords.push_back(uv.empty() ? Eigen::Vector2f::Zero() : Eigen::Vector2f(uv[2 * v], uv[2 * v + 1]));
         }
         if (any_colors) mesh.colors.push_back(color_of(v));
+        if (any_alphas) mesh.alphas.push_back(alpha_of(v));
       }
       for (uint32_t& i : tri) i = remap[i];
       if (!zero.empty()) {
@@ -319,6 +330,7 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Materia
       mesh.normals.reserve(base + tri.size());
       if (any_texcoords) mesh.texcoords.reserve(base + tri.size());
       if (any_colors) mesh.colors.reserve(base + tri.size());
+      if (any_alphas) mesh.alphas.reserve(base + tri.size());
       mesh.indices.reserve(mesh.indices.size() + tri.size());
       for (size_t t = 0; t < tri.size() / 3; ++t) {
         Eigen::Vector3f p[3] = {Vec3At(pos, tri[3 * t]), Vec3At(pos, tri[3 * t + 1]), Vec3At(pos, tri[3 * t + 2])};
@@ -332,6 +344,7 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Materia
             mesh.texcoords.push_back(uv.empty() ? Eigen::Vector2f::Zero() : Eigen::Vector2f(uv[2 * v], uv[2 * v + 1]));
           }
           if (any_colors) mesh.colors.push_back(color_of(v));
+          if (any_alphas) mesh.alphas.push_back(alpha_of(v));
         }
       }
     }

@@ -95,6 +95,21 @@ Eigen::Vector3f Material::BaseColorAt(const Eigen::Vector2f& uv) const {
   return base_color.cwiseProduct(base_color_texture->Sample(base_color_uv_transform.Apply(uv)).head<3>());
 }
 
+float Material::AlphaAt(const Eigen::Vector2f& uv) const {
+  if (!base_color_texture) return alpha;
+  return alpha * base_color_texture->Sample(base_color_uv_transform.Apply(uv)).w();
+}
+
+float Material::MinAlpha() const {
+  const Image<uint8_t>* image = base_color_texture ? &base_color_texture->image : nullptr;
+  if (image == nullptr || image->empty() || image->channels != 4) return alpha;
+  uint8_t lowest = 255;
+  for (int y = 0; y < image->height && lowest > 0; ++y) {
+    for (int x = 0; x < image->width; ++x) lowest = std::min(lowest, image->At(x, y, 3));
+  }
+  return alpha * (lowest / 255.0f);
+}
+
 void Material::Check() const {
   auto fail = [&](const std::string& m) { throw std::invalid_argument("material \"" + name + "\": " + m); };
   for (int i = 0; i < 3; ++i) {
@@ -106,6 +121,8 @@ void Material::Check() const {
     fail("base colour texture transform must be finite");
   }
   if (!InUnit(roughness)) fail("roughness must be in [0, 1]");
+  if (!InUnit(alpha)) fail("alpha must be in [0, 1]");
+  if (!std::isfinite(alpha_cutoff) || alpha_cutoff < 0) fail("alpha cutoff must be finite and >= 0");
   if (subsurface) {
     if (!(subsurface->mean_free_path_m.array() > 0).all() || !subsurface->mean_free_path_m.allFinite()) {
       fail("subsurface mean free path must be > 0");

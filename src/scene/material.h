@@ -53,6 +53,13 @@ struct Subsurface {
   double mean_free_path_laser_m = 0;  // at the laser's wavelength, > 0
 };
 
+// glTF alphaMode: how the base colour's alpha (factor x texture alpha x COLOR_0
+// alpha) covers the surface. kOpaque ignores it; kMask makes the surface a hole
+// where alpha < alpha_cutoff; kBlend reads alpha as coverage: a ray meets the
+// surface with probability alpha (docs/scene-format.md). EmbreeScene applies it,
+// so every ray (camera, shadow, laser, ground truth) sees the same surface.
+enum class AlphaMode { kOpaque, kMask, kBlend };
+
 struct Material {
   std::string name;
   Eigen::Vector3f base_color = Eigen::Vector3f::Ones();  // linear, [0, 1]
@@ -65,10 +72,19 @@ struct Material {
   Eigen::Vector3f emissive = Eigen::Vector3f::Zero();    // radiance, W/(m^2 sr), >= 0
   bool double_sided = false;
   std::optional<Subsurface> subsurface;
+  AlphaMode alpha_mode = AlphaMode::kOpaque;
+  float alpha = 1;                                       // baseColorFactor[3], [0, 1]
+  float alpha_cutoff = 0.5f;                             // kMask: alpha below it is a hole, >= 0
 
   // Linear base colour at a texture coordinate (texture, read at
   // base_color_uv_transform(uv), times factor).
   Eigen::Vector3f BaseColorAt(const Eigen::Vector2f& uv) const;
+  // The base colour's alpha at a texture coordinate (alpha times the texture's
+  // alpha, bilinear as BaseColorAt), before the vertex colour's alpha.
+  float AlphaAt(const Eigen::Vector2f& uv) const;
+  // The smallest alpha AlphaAt can return (alpha times the texture's smallest
+  // texel alpha). Reads every texel: call it once per material, not per ray.
+  float MinAlpha() const;
   // Throws std::invalid_argument when a value is out of range or not finite.
   void Check() const;
 };

@@ -14,6 +14,7 @@ Eigen::AlignedBox3d Mesh::Bounds() const {
 size_t Mesh::MemoryBytes() const {
   return positions.capacity() * sizeof(Eigen::Vector3f) + normals.capacity() * sizeof(Eigen::Vector3f) +
          texcoords.capacity() * sizeof(Eigen::Vector2f) + colors.capacity() * sizeof(Eigen::Vector3f) +
+         alphas.capacity() * sizeof(float) +
          indices.capacity() * sizeof(uint32_t) +
          triangle_material.capacity() * sizeof(uint32_t);
 }
@@ -26,6 +27,9 @@ void Mesh::Validate() const {
   }
   if (!colors.empty() && colors.size() != positions.size()) {
     throw std::logic_error(what + "colors/positions size mismatch");
+  }
+  if (!alphas.empty() && alphas.size() != positions.size()) {
+    throw std::logic_error(what + "alphas/positions size mismatch");
   }
   if (indices.size() % 3 != 0) throw std::logic_error(what + "index count not a multiple of 3");
   if (triangle_material.size() != TriangleCount()) {

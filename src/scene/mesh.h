@@ -24,6 +24,9 @@ struct Mesh {
   // Linear RGB per vertex (glTF COLOR_0), multiplying the material's base
   // colour; empty when the mesh has none.
   std::vector<Eigen::Vector3f> colors;
+  // The alpha of an RGBA COLOR_0 per vertex ([0, 1]; glTF: it multiplies the
+  // base colour's alpha), empty when no primitive had one (alpha 1).
+  std::vector<float> alphas;
   std::vector<uint32_t> indices;           // 3 per triangle
   std::vector<uint32_t> triangle_material; // 1 per triangle
 
