@@ -142,4 +142,10 @@ int ExtractionOptions::EdgeLinesWithoutPoints() const {
   return method == ExtractionMethod::kSteger ? int(std::ceil(3.0 * SigmaUsed())) : 0;
 }
 
+int UnscaledBitDepth(double brightest) {
+  int bits = 1;
+  while (bits < 16 && brightest > std::ldexp(1.0, bits) - 1) ++bits;
+  return bits >= 8 && bits < 16 ? bits : 0;
+}
+
 }  // namespace lt

@@ -143,4 +143,9 @@ struct ExtractionOptions {
   int EdgeLinesWithoutPoints() const;
 };
 
+// The bits (8 to 15) a 16-bit image's brightest sample fits in: a camera of
+// that depth storing its raw DN unscaled, which the default threshold (10% of
+// 65535) misses; 0 when the sample needs 16 bits or fewer than 8 (a dark frame).
+int UnscaledBitDepth(double brightest);
+
 }  // namespace lt

@@ -276,9 +276,14 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     if (points.empty() && !warned_unknown_depth && type_full_scale == 65535.0 && frame.bit_depth <= 0 &&
         std::isnan(options.extraction.threshold)) {
       // A 10- or 12-bit camera's raw DN in 16-bit files lie far below 10% of 65535.
+      const double brightest = Brightest(image);
+      const int bits = UnscaledBitDepth(brightest);
       warn(frame.image.string() + ": no stripe point in a 16-bit image of unknown bit depth (no bit_depth in the "
-           "manifest, no image_sensor.bit_depth in a rig.json, no --bit-depth): the threshold is 10% of 65535; a 10- "
-           "or 12-bit camera's frames need bit_depth in the manifest, or --threshold in DN, or --bit-depth");
+           "manifest, no image_sensor.bit_depth in a rig.json, no --bit-depth): the threshold is 10% of 65535" +
+           (bits > 0 ? ", and its brightest sample, " + FormatNumber(brightest) + ", fits in " + std::to_string(bits) +
+                           " bits" : std::string()) +
+           "; a 10- or 12-bit camera's frames need --bit-depth with its ADC's bits (or bit_depth in the manifest), "
+           "or --threshold in DN");
       warned_unknown_depth = true;
     }
 

@@ -125,7 +125,7 @@ TEST(ScanFolder, FramesWithAPoseFileAreStitchedInTheWorld) {
   EXPECT_EQ(none.triangulated, 0);
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_THAT(warnings[0], HasSubstr("no stripe point in a 16-bit image of unknown bit depth"));
-  EXPECT_THAT(warnings[0], HasSubstr("or --bit-depth"));
+  EXPECT_THAT(warnings[0], HasSubstr("fits in 10 bits; a 10- or 12-bit camera's frames need --bit-depth"));
   o.bit_depth = 10;
   ScanSummary s = ScanRun(run.dir, o);
   EXPECT_TRUE(s.frames_from_listing);

@@ -5,6 +5,8 @@
 // pixel-integrated Gaussian around it. The triangulated points must match the
 // exact surface points; plane numbers must match the sheet each stripe came
 // from; outputs and errors are checked.
+#include <algorithm>
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -128,9 +130,14 @@ TEST(Scan, ThresholdFollowsTheFramesBitDepth) {
   std::vector<std::string> warnings;
   EXPECT_EQ(ScanRun(without.dir, o, [&](const std::string& w) { warnings.push_back(w); }).points, 0);
   // The user is told why and what to give.
+  const std::vector<float>& pixels = ReadImageFloat(without.dir / "frames/000000.png").pixels;
+  const double peak = *std::max_element(pixels.begin(), pixels.end());
+  ASSERT_GT(peak, 511);  // 10-bit DN
+  ASSERT_LT(peak, 1024);
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_THAT(warnings[0], HasSubstr("000000.png: no stripe point in a 16-bit image of unknown bit depth"));
-  EXPECT_THAT(warnings[0], HasSubstr("need bit_depth in the manifest, or --threshold"));
+  EXPECT_THAT(warnings[0], HasSubstr("its brightest sample, " + FormatNumber(peak) + ", fits in 10 bits"));
+  EXPECT_THAT(warnings[0], HasSubstr("need --bit-depth with its ADC's bits (or bit_depth in the manifest), or --threshold"));
   o.extraction.threshold = 100;  // explicit DN threshold
   EXPECT_GT(ScanRun(without.dir, o).points, 150);
 }

@@ -52,10 +52,8 @@ std::string DimImageNote(const Image<T>& im, const StripeExtractor& extractor, c
   std::string note = "its brightest pixel" + std::string(o.roi ? " in the ROI" : "") + " is " + FormatNumber(brightest) +
                      ", below the threshold " + FormatNumber(threshold);
   if (std::is_same_v<T, uint16_t> && std::isnan(o.threshold)) {
-    int bits = 1;
-    while (bits < 16 && brightest > std::ldexp(1.0, bits) - 1) ++bits;
     note += " (10% of 65535)";
-    if (bits >= 8 && bits < 16) {  // a 10-, 12- or 14-bit camera's range, not a dark frame's
+    if (const int bits = UnscaledBitDepth(brightest)) {
       const double full = std::ldexp(1.0, bits) - 1;
       note += "; its values fit in " + std::to_string(bits) + " bits: for a " + std::to_string(bits) +
               "-bit camera's frames stored unscaled give --threshold, e.g. " + FormatNumber(0.1 * full) +
