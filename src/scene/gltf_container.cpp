@@ -167,6 +167,20 @@ GltfContainer ParseGltfContainer(const std::vector<unsigned char>& bytes, const 
   }
   c.json_text.assign(bytes.begin() + 20, bytes.begin() + static_cast<ptrdiff_t>(20 + json_length));
   c.total_length = length;
+  // Chunks after the first two: of unknown types, glTF has them ignored; a second
+  // BIN chunk is not glTF (buffer 0 is the first BIN chunk, and no buffer can name
+  // another), so its bytes are not read: say so.
+  std::string extra_bins;
+  size_t extra_count = 0;
+  for (uint64_t at = has_bin ? end + 8 + bin_length : end; at + 8 <= length;) {
+    const uint64_t chunk_length = ReadU32(bytes, size_t(at));
+    if (ReadU32(bytes, size_t(at) + 4) == kChunkBin) {
+      ++extra_count;
+      extra_bins += (extra_bins.empty() ? "" : ", ") + std::to_string(chunk_length) + " bytes at byte " +
+                    std::to_string(at);
+    }
+    at += 8 + chunk_length;
+  }
   if (json_length % 4 != 0 || bin_length % 4 != 0) {
     // Each chunk is where its length says; only the padding glTF asks for is missing.
     const size_t bin_start = size_t(end) + 8;
@@ -176,6 +190,10 @@ GltfContainer ParseGltfContainer(const std::vector<unsigned char>& bytes, const 
                 std::to_string(json_length) + " bytes" +
                 (has_bin ? ", BIN chunk of " + std::to_string(bin_length) + " bytes" : std::string()) +
                 "); they are read as their lengths say";
+  }
+  if (extra_count > 0) {
+    c.warning += std::string(c.warning.empty() ? "" : "; ") + (extra_count == 1 ? "a second BIN chunk" : std::to_string(extra_count) + " more BIN chunks") +
+                 " (" + extra_bins + ") ignored: a GLB holds one BIN chunk (buffer 0); only the first is read";
   }
   return c;
 }

@@ -19,6 +19,8 @@ struct GltfContainer {
   // padded with spaces and the BIN chunk with zeros, for tinygltf, which refuses
   // them; `warning` then says so. Empty for a well-formed file.
   std::vector<unsigned char> aligned;
+  // What the loader warns about (without the file name): the padding above, and
+  // BIN chunks after the first (ignored); parts joined by "; ".
   std::string warning;
 };
 

@@ -74,5 +74,41 @@ TEST(GltfContainer, ChunksWithoutPaddingAreReadByTheirLengths) {
               HasSubstr("short.glb: invalid GLB: BIN chunk of 102 bytes does not fit in the file"));
 }
 
+// glTF allows one BIN chunk, and chunks of unknown types after it (ignored). A
+// second BIN chunk (a writer that split its buffers) was ignored silently, its
+// data missing from the model: now a warning names the file and the chunk.
+TEST(GltfContainer, SecondBinChunkIsWarnedAbout) {
+  TempDir dir;
+  GltfBuilder b = test::SquareBuilder();
+  std::vector<uint8_t> glb = b.ToGlb();
+  ASSERT_EQ(glb.size() % 4, 0u);
+  const size_t second_at = glb.size();
+  AppendU32(&glb, 8);
+  AppendU32(&glb, 0x004E4942);  // "BIN\0"
+  for (int i = 0; i < 8; ++i) glb.push_back(uint8_t(i));
+  AppendU32(&glb, 4);
+  AppendU32(&glb, 0x41525458);  // "XTRA": an extension's chunk, ignored without a word
+  AppendU32(&glb, 0);
+  const uint32_t length = uint32_t(glb.size());
+  std::memcpy(&glb[8], &length, 4);
+  test::WriteBytes(dir / "two_bins.glb", glb);
+
+  const GltfAsset a = LoadGltf(dir / "two_bins.glb", "two_bins.glb");
+  ASSERT_EQ(a.meshes.size(), 1u);
+  EXPECT_EQ(a.meshes[0].TriangleCount(), 2u);
+  ASSERT_EQ(a.warnings.size(), 1u);
+  EXPECT_EQ(a.warnings[0], "two_bins.glb: a second BIN chunk (8 bytes at byte " + std::to_string(second_at) +
+                               ") ignored: a GLB holds one BIN chunk (buffer 0); only the first is read");
+  // Without the second BIN chunk: no warning.
+  std::vector<uint8_t> one = b.ToGlb();
+  AppendU32(&one, 4);
+  AppendU32(&one, 0x41525458);
+  AppendU32(&one, 0);
+  const uint32_t one_length = uint32_t(one.size());
+  std::memcpy(&one[8], &one_length, 4);
+  test::WriteBytes(dir / "one_bin.glb", one);
+  EXPECT_TRUE(LoadGltf(dir / "one_bin.glb", "one_bin.glb").warnings.empty());
+}
+
 }  // namespace
 }  // namespace lt
