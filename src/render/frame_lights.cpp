@@ -26,6 +26,15 @@ EmitterLayout MakeEmitterLayout(const SensorRig& rig) {
   return layout;
 }
 
+PointEmitter EmitterAt(const PointEmitter& e, const Pose& world_from_cam) {
+  PointEmitter placed = e;
+  const Pose world_from_projector =
+      world_from_cam * (e.laser ? e.laser->cam_from_projector() : e.pattern->cam_from_projector());
+  placed.projector_from_world = world_from_projector.inverse();
+  placed.origin_world = world_from_projector.translation();
+  return placed;
+}
+
 FrameLights MakeFrameLights(const SensorRig& rig, const Pose& world_from_cam, double laser_fraction,
                             double pattern_fraction, double led_fraction) {
   FrameLights lights;

@@ -54,7 +54,16 @@ struct FrameLights {
   // Laser light reflected on from grazing incidence is carried by light paths
   // (PathTracer::TraceLightPaths), which camera paths then leave out.
   bool grazing_by_light_paths = false;
+  // A moving frame's caches by time slice (FrameRenderer::Render): the exposure
+  // cut into entry_tree_slices.size() equal parts, each holding, per emitter and
+  // sheet, the caches built at the pose of its middle; a camera sample at time t
+  // takes those of the part holding t. Empty: each emitter's entry_trees serve
+  // the whole exposure.
+  std::vector<std::vector<std::vector<const LaserEntryTree*>>> entry_tree_slices;  // [slice][emitter][sheet]
 };
+
+// Emitter e (of MakeFrameLights) placed for the camera pose world_from_cam.
+PointEmitter EmitterAt(const PointEmitter& e, const Pose& world_from_cam);
 
 // Lights at the camera pose world_from_cam, weighted by the lit fractions of the
 // frame (laser_fraction, pattern_fraction, led_fraction).

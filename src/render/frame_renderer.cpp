@@ -31,25 +31,48 @@ constexpr double kEntrySpacingPerMeanFreePath = 0.125;
 // surface it sees moves by more than this fraction of the entry spacing from
 // the middle of the exposure to its start or end (1/32 of the smallest mean
 // free path: 11 um for the demo's PLA; a dim frame of 100 us at 50 mm/s moves
-// 2.5 um).
+// 2.5 um). Beyond that the exposure is cut into time slices that each move
+// within the bound, each with the caches of the pose of its middle, at most
+// kMaxCacheSlices of them (beyond: Monte Carlo).
 constexpr double kCacheMotionPerSpacing = 0.25;
+constexpr int kMaxCacheSlices = 16;
 
 double Ms(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
 
 // How far a scene point within `reach_m` of the camera moves relative to the
-// scanner between the exposure's middle and its start or end (a bound: the
-// translation plus the rotation angle times the reach).
+// scanner between times t_a and t_b (a bound: the translation plus the
+// rotation angle times the reach).
+double Displacement(const Motion& motion, double t_a, double t_b, double reach_m) {
+  const Pose a_from_b = WorldFromCamAt(motion, t_a).inverse() * WorldFromCamAt(motion, t_b);
+  const double angle = Eigen::AngleAxisd(a_from_b.linear()).angle();
+  return a_from_b.translation().norm() + std::abs(angle) * reach_m;
+}
+
+// The same between the middle of [t0, t1] and its start or end, the larger.
 double ExposureDisplacement(const Motion& motion, double t0, double t1, double reach_m) {
-  const Pose mid = WorldFromCamAt(motion, 0.5 * (t0 + t1));
-  double largest = 0;
-  for (double t : {t0, t1}) {
-    const Pose mid_from_t = mid.inverse() * WorldFromCamAt(motion, t);
-    const double angle = Eigen::AngleAxisd(mid_from_t.linear()).angle();
-    largest = std::max(largest, mid_from_t.translation().norm() + std::abs(angle) * reach_m);
+  const double mid = 0.5 * (t0 + t1);
+  return std::max(Displacement(motion, mid, t0, reach_m), Displacement(motion, mid, t1, reach_m));
+}
+
+// The fewest equal parts of [t0, t1] (at most kMaxCacheSlices) in each of
+// which no point within reach_m moves by more than bound_m from the part's
+// middle to its ends; 0 when kMaxCacheSlices parts still move more.
+int CacheSlices(const Motion& motion, double t0, double t1, double reach_m, double bound_m) {
+  const double whole = ExposureDisplacement(motion, t0, t1, reach_m);
+  if (whole <= bound_m) return 1;
+  // Uniform motion needs ceil(whole / bound) parts; start there.
+  for (int k = int(std::clamp(std::ceil(whole / bound_m), 2.0, double(kMaxCacheSlices + 1))); k <= kMaxCacheSlices;
+       ++k) {
+    bool within = true;
+    for (int s = 0; s < k && within; ++s) {
+      const double a = t0 + (t1 - t0) * s / k, b = s + 1 == k ? t1 : t0 + (t1 - t0) * (s + 1) / k;
+      within = ExposureDisplacement(motion, a, b, reach_m) <= bound_m;
+    }
+    if (within) return k;
   }
-  return largest;
+  return 0;
 }
 
 // Photo-electrons per joule at wavelength lambda in the sensor's most sensitive channel.
@@ -146,20 +169,49 @@ FrameRenderer::FrameRenderer(const SceneFile& scene, const EmbreeScene& embree, 
 FrameRenderer::~FrameRenderer() = default;
 
 std::vector<std::unique_ptr<LaserEntryTree>> FrameRenderer::BuildEntryTrees(std::span<const ChiefHit> hits,
-                                                                           FrameLights* lights,
-                                                                           FrameStats* stats) const {
+                                                                           FrameLights* lights, FrameStats* stats,
+                                                                           double window_extra_m) const {
   std::vector<std::unique_ptr<LaserEntryTree>> trees;
   if (!(min_subsurface_mfp_m_ > 0) || !scene_.render.subsurface_cache) return trees;
   for (PointEmitter& e : lights->emitters) {
     if (!e.laser) continue;
     e.entry_trees.assign(size_t(e.channels), nullptr);
     for (int k = 0; k < e.channels; ++k) {
-      const SheetWindow window = SheetWindowOfHits(e, k, hits, subsurface_reach_m_);
+      const SheetWindow window = SheetWindowOfHits(e, k, hits, subsurface_reach_m_, window_extra_m);
       trees.push_back(
           LaserEntryTree::Build(embree_, e, k, window, kEntrySpacingPerMeanFreePath * min_subsurface_mfp_m_,
                                 &stats->rays));
       e.entry_trees[size_t(k)] = trees.back().get();
     }
+  }
+  return trees;
+}
+
+std::vector<std::unique_ptr<LaserEntryTree>> FrameRenderer::BuildSlicedEntryTrees(std::span<const ChiefHit> hits,
+                                                                                 const ShutterFrame& sf, int slices,
+                                                                                 double reach_m, FrameLights* lights,
+                                                                                 FrameStats* stats) const {
+  std::vector<std::unique_ptr<LaserEntryTree>> trees;
+  const double t0 = sf.t_start_s, t1 = sf.t_end_s, mid = 0.5 * (t0 + t1);
+  size_t points = 0;
+  lights->entry_tree_slices.assign(size_t(slices), {});
+  for (int s = 0; s < slices; ++s) {
+    const double a = t0 + (t1 - t0) * s / slices, b = s + 1 == slices ? t1 : t0 + (t1 - t0) * (s + 1) / slices;
+    // The lasers move with the scanner: the slice's sheets cast from the pose
+    // of its middle. Its camera sees the surface up to `extra` away from the
+    // mid-exposure chief hits, which the sheets' windows take in.
+    FrameLights at = MakeFrameLights(scene_.sensor, WorldFromCamAt(scene_.motion, 0.5 * (a + b)), sf.laser_fraction,
+                                     sf.pattern_fraction, sf.led_fraction);
+    const double extra =
+        std::max(Displacement(scene_.motion, mid, a, reach_m), Displacement(scene_.motion, mid, b, reach_m));
+    std::vector<std::unique_ptr<LaserEntryTree>> built = BuildEntryTrees(hits, &at, stats, extra);
+    for (const auto& tree : built) points += tree ? tree->points() : 0;
+    if (points > LaserEntryTree::kMaxPoints) {  // too large all together: Monte Carlo
+      lights->entry_tree_slices.clear();
+      return {};
+    }
+    for (const PointEmitter& e : at.emitters) lights->entry_tree_slices[size_t(s)].push_back(e.entry_trees);
+    for (auto& tree : built) trees.push_back(std::move(tree));
   }
   return trees;
 }
@@ -230,14 +282,15 @@ RenderedFrame FrameRenderer::Render(int64_t frame_index) const {
   Film film(film_options);
   std::vector<ChiefHit> chief_hits;
   std::vector<std::unique_ptr<LaserEntryTree>> entry_trees;
-  // Laser light reflected on from grazing incidence comes from light paths in a
-  // frame where the scanner holds still (render/path_tracer_light_paths.cpp).
+  // Laser light reflected on from grazing incidence comes from light paths
+  // (render/path_tracer_light_paths.cpp), each at its own time of the exposure
+  // in a frame where the scanner moves.
   const bool is_static = IsStaticWithin(scene_.motion, sf.t_start_s, sf.t_end_s);
   const bool has_laser = std::any_of(lights.emitters.begin(), lights.emitters.end(),
                                      [](const PointEmitter& e) { return e.laser != nullptr; });
   const bool fisheye_lens = !cam.is_pinhole() && cam.distortion_model() == DistortionModel::kFisheye;
   lights.grazing_by_light_paths =
-      is_static && has_laser && scene_.render.light_paths > 0 && scene_.render.max_bounces > 0 && !fisheye_lens;
+      has_laser && scene_.render.light_paths > 0 && scene_.render.max_bounces > 0 && !fisheye_lens;
   Image<float> splat;
   FrameStats::PassTimes& pass_ms = out.stats.pass_ms;
   std::chrono::steady_clock::time_point last;
@@ -255,14 +308,20 @@ RenderedFrame FrameRenderer::Render(int64_t frame_index) const {
     // a frame where the scanner holds still, or moves (relative to every
     // surface it sees) by less than kCacheMotionPerSpacing of the cache's
     // entry spacing, a shift far below the profile's scale whose first-order
-    // effect cancels about the middle of the exposure.
-    auto moves_little = [&] {
+    // effect cancels about the middle of the exposure. A frame that moves more
+    // takes one cache per time slice that moves that little (CacheSlices).
+    if (is_static) {
+      entry_trees = BuildEntryTrees(chief_hits, &lights, &out.stats);
+      out.stats.entry_tree_slices = entry_trees.empty() ? 0 : 1;
+    } else if (has_laser && min_subsurface_mfp_m_ > 0 && scene_.render.subsurface_cache) {
       double reach_m = 0;
       for (const ChiefHit& c : chief_hits) reach_m = c.valid ? std::max(reach_m, c.depth) : reach_m;
-      return ExposureDisplacement(scene_.motion, sf.t_start_s, sf.t_end_s, reach_m) <=
-             kCacheMotionPerSpacing * kEntrySpacingPerMeanFreePath * min_subsurface_mfp_m_;
-    };
-    if (is_static || moves_little()) entry_trees = BuildEntryTrees(chief_hits, &lights, &out.stats);
+      const int slices = CacheSlices(scene_.motion, sf.t_start_s, sf.t_end_s, reach_m,
+                                     kCacheMotionPerSpacing * kEntrySpacingPerMeanFreePath * min_subsurface_mfp_m_);
+      if (slices == 1) entry_trees = BuildEntryTrees(chief_hits, &lights, &out.stats);
+      if (slices > 1) entry_trees = BuildSlicedEntryTrees(chief_hits, sf, slices, reach_m, &lights, &out.stats);
+      out.stats.entry_tree_slices = entry_trees.empty() ? 0 : slices;
+    }
     lap(&pass_ms.entry_trees);
     const Image<uint8_t> budget =
         SampleBudgets(reach, chief_hits, broadband || !scene_.render.adaptive_sampling, &out);
@@ -274,7 +333,10 @@ RenderedFrame FrameRenderer::Render(int64_t frame_index) const {
       const int64_t paths = std::min<int64_t>(int64_t(scene_.render.light_paths) * spp_, kMaxLightPaths);
       splat = Image<float>(w, h, std::max(layout_.channels, 1), 0.0f);
       TraceStats ts;
-      tracer_->TraceLightPaths(lights, cam, out.world_from_cam, paths, seed_, frame_index, &splat, &ts);
+      ExposureMotion motion{sf.t_start_s, sf.t_end_s,
+                            [this](double t) { return WorldFromCamAt(scene_.motion, t); }};
+      tracer_->TraceLightPaths(lights, cam, out.world_from_cam, paths, seed_, frame_index, &splat, &ts,
+                               is_static ? nullptr : &motion);
       out.stats.rays += ts.rays;
       for (const PointEmitter& e : lights.emitters) out.stats.light_paths += e.laser ? paths * e.channels : 0;
     }

@@ -28,19 +28,21 @@
 //     all of them: where the stripe crosses an edge, the laser's reflection off
 //     one face onto the other makes glints finer than a pixel, rare bright paths
 //     that a first batch does not reveal.
-//  2. When the scanner holds still during the exposure, or moves by less than
-//     a small fraction of the cache's entry spacing: per laser sheet, the
-//     laser light entering subsurface materials over the fan angles the camera
-//     sees at mid-exposure, cast once and kept in a tree
+//  2. Per laser sheet, the laser light entering subsurface materials over the
+//     fan angles the camera sees at mid-exposure, cast once and kept in a tree
 //     (render/laser_entry_tree.h), so that every path vertex on such a material
-//     sums it without noise.
+//     sums it without noise. A scanner that moves during the exposure by more
+//     than a small fraction of the cache's entry spacing gets one tree per time
+//     slice of the exposure, each cast at the pose of the slice's middle, the
+//     slices as many as keep that bound (at most 16; beyond, Monte Carlo).
 //  3. Path samples (render/path_tracer.h), stratified over the pixel, the lens
 //     aperture (thin lens only) and the exposure time (moving scanner only),
 //     accumulated in the film. Every random number comes from
 //     Rng::For(seed, frame, pixel, sample), so frames are bit-identical whatever
-//     the thread count. Then, when the scanner holds still, light paths from the
-//     lasers carry the laser light that surfaces meet at grazing incidence and
-//     reflect on, splatted to the camera (render/path_tracer_light_paths.cpp).
+//     the thread count. Then light paths from the lasers carry the laser light
+//     that surfaces meet at grazing incidence and reflect on, splatted to the
+//     camera (render/path_tracer_light_paths.cpp); in a moving frame each at its
+//     own time, with the lasers and the camera posed then.
 //  4. Radiance -> sensor irradiance (Camera::RadianceToIrradiance) -> energy per
 //     pixel over the exposure -> EMVA 1288 image sensor -> digital numbers.
 //  5. Exact stripe centres by ray casting (render/stripe_truth.h).
@@ -89,6 +91,9 @@ struct FrameStats {
   int64_t near_pixels = 0;
   int64_t edge_pixels = 0;  // of them, beam pixels at a geometric edge (render.edge_spp_factor)
   int64_t light_paths = 0;  // traced from the lasers (render.light_paths), all sheets
+  // Subsurface caches per laser sheet: 1 (the frame's), k > 1 (a moving
+  // frame's time slices) or 0 (none: no subsurface laser light, or Monte Carlo).
+  int entry_tree_slices = 0;
   double render_ms = 0;        // passes 1-3
   double ground_truth_ms = 0;  // stripe centres
   // Wall time of render_ms's parts, ms (the rest of render_ms: the printed
@@ -176,8 +181,16 @@ class FrameRenderer {
                   const SampleNoise& noise, Film* film, FrameStats* stats) const;
   // The frame's caches of laser light entering subsurface materials, one per
   // laser sheet (null where the grid would be too large), attached to `lights`.
+  // `window_extra_m`: SheetWindowOfHits's extra_m.
   std::vector<std::unique_ptr<LaserEntryTree>> BuildEntryTrees(std::span<const ChiefHit> hits, FrameLights* lights,
-                                                               FrameStats* stats) const;
+                                                               FrameStats* stats, double window_extra_m = 0) const;
+  // A moving frame's caches, one per laser sheet and time slice (`slices` equal
+  // parts of the exposure, each cast at the pose of its middle), set in
+  // lights->entry_tree_slices; none when together they would exceed
+  // LaserEntryTree::kMaxPoints. reach_m: the farthest chief hit.
+  std::vector<std::unique_ptr<LaserEntryTree>> BuildSlicedEntryTrees(std::span<const ChiefHit> hits,
+                                                                     const ShutterFrame& sf, int slices, double reach_m,
+                                                                     FrameLights* lights, FrameStats* stats) const;
   // The radiance images from the film (laser speckle applied, the laser total in
   // radiance channel 3) and the ground truth of the sheet that lights each pixel.
   // `splat`: the light paths' radiance per film laser channel, or empty.

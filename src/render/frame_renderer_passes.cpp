@@ -19,6 +19,7 @@ namespace {
 constexpr uint64_t kPixelSamplePurpose = 0x504958454c53414dull;  // camera samples
 constexpr uint64_t kPixelPatternPurpose = 0x504958454c504154ull;  // multi-jitter pattern of a pixel
 constexpr uint64_t kLensPatternPurpose = 0x4c454e5350415454ull;   // multi-jitter pattern of its lens points
+constexpr uint64_t kTimePatternPurpose = 0x54494d4550415454ull;   // of its times (moving scanner)
 constexpr int kTile = 16;
 constexpr double kNearSigmas = 8.0;
 // The sheet itself (Reach::kInSheet): within this many of its sigmas (its light
@@ -147,6 +148,8 @@ void FrameRenderer::SamplePass(const RenderedFrame& frame, const FrameLights& fi
           uint32_t(HashKey(seed_, uint64_t(sf.index), pixel, kPixelPatternPurpose, uint64_t(batch)));
       const uint32_t lens_pattern =
           uint32_t(HashKey(seed_, uint64_t(sf.index), pixel, kLensPatternPurpose, uint64_t(batch)));
+      const uint32_t time_pattern =
+          moving ? uint32_t(HashKey(seed_, uint64_t(sf.index), pixel, kTimePatternPurpose, uint64_t(batch))) : 0;
       for (int i = 0; i < n; ++i) {
         const int s = taken + i;
         Rng rng = Rng::For(seed_, uint64_t(sf.index), pixel, uint64_t(s), kPixelSamplePurpose);
@@ -157,14 +160,23 @@ void FrameRenderer::SamplePass(const RenderedFrame& frame, const FrameLights& fi
         FrameLights moving_lights;
         const FrameLights* lights = &fixed_lights;
         if (moving) {
-          double t = sf.t_start_s + rng.NextDouble() * (sf.t_end_s - sf.t_start_s);
+          // The sample's time in the exposure, 0..1, stratified over the batch
+          // (a pattern of its own): each time slice's caches (below) take
+          // their share of the pixel's samples.
+          const double u = MultiJitter2D(uint32_t(i), uint32_t(n), time_pattern).x();
+          double t = sf.t_start_s + u * (sf.t_end_s - sf.t_start_s);
           world_from_cam = WorldFromCamAt(scene_.motion, t);
           moving_lights = MakeFrameLights(scene_.sensor, world_from_cam, sf.laser_fraction, sf.pattern_fraction,
                                           sf.led_fraction);
-          // The mid-exposure caches, where the frame has them (Render: the
-          // scanner moves by a fraction of their entry spacing).
+          // The caches of the time slice holding t, or the mid-exposure ones
+          // (Render: the scanner moves by a fraction of their entry spacing),
+          // where the frame has them.
+          const auto& slices = fixed_lights.entry_tree_slices;
+          const size_t slice = std::min(slices.size(), size_t(u * double(slices.size())) + 1) - 1;
           for (size_t e = 0; e < moving_lights.emitters.size() && e < fixed_lights.emitters.size(); ++e)
-            moving_lights.emitters[e].entry_trees = fixed_lights.emitters[e].entry_trees;
+            moving_lights.emitters[e].entry_trees =
+                slices.empty() ? fixed_lights.emitters[e].entry_trees : slices[slice][e];
+          moving_lights.grazing_by_light_paths = fixed_lights.grazing_by_light_paths;
           lights = &moving_lights;
         }
         auto cam_ray = cam.GenerateRay(Eigen::Vector2d(x - 0.5 + j.x(), y - 0.5 + j.y()), lens);

@@ -82,6 +82,7 @@ nlohmann::json WriteFrame(const RunFolder& run, const RenderedFrame& frame, int 
         {"near_pixels", frame.stats.near_pixels},
         {"edge_pixels", frame.stats.edge_pixels},
         {"light_paths", frame.stats.light_paths},
+        {"entry_tree_slices", frame.stats.entry_tree_slices},
         {"render_ms", frame.stats.render_ms},
         {"ground_truth_ms", frame.stats.ground_truth_ms}}}};
   frame.stats.pass_ms.ForEach([&](const char* name, double ms) { line["stats"]["pass_ms"][name] = ms; });

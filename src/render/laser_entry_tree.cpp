@@ -69,15 +69,15 @@ struct LaserEntryTree::Segment {
 };
 
 SheetWindow SheetWindowOfHits(const PointEmitter& e, int sheet, std::span<const ChiefHit> hits,
-                              std::span<const double> reach_m) {
+                              std::span<const double> reach_m, double extra_m) {
   SheetWindow w;
   if (!e.laser) return w;
   const LaserProjector& laser = *e.laser;
   double lo = INFINITY, hi = -INFINITY;
   for (const ChiefHit& h : hits) {
     if (!h.valid || h.material >= reach_m.size()) continue;
-    const double reach = reach_m[h.material];
-    if (!(reach > 0)) continue;
+    if (!(reach_m[h.material] > 0)) continue;
+    const double reach = reach_m[h.material] + extra_m;
     const Eigen::Vector3d p = e.projector_from_world * h.p_world;
     const double r = p.norm();
     if (!(r > 0)) continue;

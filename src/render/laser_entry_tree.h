@@ -72,9 +72,11 @@ struct SheetWindow {
 
 // The window of sheet `sheet` of emitter e (a laser) over the camera's chief
 // hits: every hit on a subsurface material (reach_m[material] > 0) that the
-// sheet passes within that reach, widened by the reach.
+// sheet passes within that reach, widened by the reach. `extra_m` widens each
+// hit's reach further: a cache for another pose of the scanner than the chief
+// rays' must cover the points its camera sees, up to that far from the hits.
 SheetWindow SheetWindowOfHits(const PointEmitter& e, int sheet, std::span<const ChiefHit> hits,
-                              std::span<const double> reach_m);
+                              std::span<const double> reach_m, double extra_m = 0);
 
 class LaserEntryTree {
  public:

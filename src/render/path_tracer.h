@@ -36,6 +36,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -70,6 +71,15 @@ struct TraceStats {
   uint64_t rays = 0;  // closest-hit and occlusion rays
 };
 
+// The exposure of a frame whose scanner moves, for the light paths: path i of n
+// of a sheet takes the time t0 + (i + u) / n (t1 - t0), u uniform in [0, 1)
+// (stratified over the exposure), and the camera's pose world_from_cam_at(t);
+// the lasers move with the camera.
+struct ExposureMotion {
+  double t0 = 0, t1 = 0;
+  std::function<Pose(double)> world_from_cam_at;
+};
+
 class PathTracer {
  public:
   static constexpr int kMaxGroups = kMaxRigEmitters;   // monochromatic emitters per rig
@@ -94,16 +104,18 @@ class PathTracer {
   void Trace(const Ray& ray, const FrameLights& lights, Rng& rng, Eigen::Vector3f* rgb, std::span<float> mono,
              TraceStats* stats, bool laser_connection = true) const;
 
-  // Light paths from every laser sheet of a static frame through a reflection
-  // at grazing incidence, connected to the camera at world_from_cam: adds their
-  // radiance estimate (paths_per_sheet paths per sheet) to `splat` (the film's
-  // size, one channel per film laser channel). The camera paths of the frame
-  // must leave those paths out (FrameLights::grazing_by_light_paths). The
-  // camera must not be a fisheye with a thin lens. Deterministic for a seed and
-  // frame, at any thread count.
+  // Light paths from every laser sheet through a reflection at grazing
+  // incidence, connected to the camera at world_from_cam: adds their radiance
+  // estimate (paths_per_sheet paths per sheet) to `splat` (the film's size, one
+  // channel per film laser channel). With `motion` (a frame whose scanner moves)
+  // each path takes its own time of the exposure, and the lasers (`lights`' at
+  // that time's pose, ExposureMotion) and the camera posed then. The camera
+  // paths of the frame must leave those paths out
+  // (FrameLights::grazing_by_light_paths). The camera must not be a fisheye with
+  // a thin lens. Deterministic for a seed and frame, at any thread count.
   void TraceLightPaths(const FrameLights& lights, const Camera& camera, const Pose& world_from_cam,
                        int64_t paths_per_sheet, uint64_t seed, int64_t frame, Image<float>* splat,
-                       TraceStats* stats) const;
+                       TraceStats* stats, const ExposureMotion* motion = nullptr) const;
 
   // Radiance of the environment in a world direction.
   Eigen::Vector3f EnvironmentRadiance(const Eigen::Vector3d& dir) const;

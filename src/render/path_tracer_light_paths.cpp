@@ -38,6 +38,12 @@
 // factors cancel. Then the path bounces by the BSDF, T_{j+1} = T_j f_j cos_j(out)
 // / p_j * cos_sj(in) / cos_j(in). The image of those splats, divided by the
 // number of paths, is added to the film's mean.
+//
+// In a frame whose scanner moves, path i of n takes the time
+// t = t0 + (i + u) / n (t1 - t0) of the exposure (u from its own random stream,
+// so that a still frame's paths are unchanged), the lasers and the camera at
+// their poses then, and splats into the pixel the camera sees then: the mean
+// over the exposure that the camera's moving samples also take.
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
@@ -53,6 +59,12 @@ namespace lt {
 namespace {
 
 constexpr uint64_t kLightPathPurpose = 0x4c49474854504154ull;
+constexpr uint64_t kLightPathTimePurpose = 0x4c5041544854494dull;  // a path's time in a moving frame
+// A moving frame's light paths find their grazing cells at the poses of the
+// middles of this many equal parts of the exposure; a path takes the cells of
+// the part holding its time (any cells are a valid proposal: the uniform share
+// covers the whole fan).
+constexpr int kTimeSlices = 16;
 // Cells of the grid over the fan that locates grazing hits and jumps.
 constexpr int kFanCells = 4096;
 // Share of light paths drawn uniformly over the whole fan (so that every grazing
@@ -139,17 +151,25 @@ double PathTracer::FanCells::SamplePhi(Rng& rng) const {
 
 void PathTracer::TraceLightPaths(const FrameLights& lights, const Camera& camera, const Pose& world_from_cam,
                                  int64_t paths_per_sheet, uint64_t seed, int64_t frame, Image<float>* splat,
-                                 TraceStats* stats) const {
-  const Pose cam_from_world = world_from_cam.inverse();
+                                 TraceStats* stats, const ExposureMotion* motion) const {
+  const Pose cam_from_world_mid = world_from_cam.inverse();
   const bool pinhole = camera.is_pinhole();
   const double lens_radius = pinhole ? 0.0 : 0.5 * camera.aperture_diameter_m();
   const double focus = camera.focus_distance_m();
   for (const PointEmitter& e : lights.emitters) {
     if (!e.laser || !(e.weight > 0)) continue;
-    const Eigen::Matrix3d world_from_projector = e.projector_from_world.linear().transpose();
+    const Eigen::Matrix3d world_from_projector_mid = e.projector_from_world.linear().transpose();
     for (int k = 0; k < e.channels; ++k) {
-      const FanCells cells = FindGrazingCells(e, k, stats);
-      if (!(cells.sigma > 0)) continue;
+      // The grazing cells: of the frame's pose, or of each time slice's.
+      std::vector<FanCells> slice_cells;
+      double sigma = 0;
+      for (int s = 0; s < (motion ? kTimeSlices : 1); ++s) {
+        const double t_s = motion ? motion->t0 + (motion->t1 - motion->t0) * (s + 0.5) / kTimeSlices : 0.0;
+        slice_cells.push_back(FindGrazingCells(motion ? EmitterAt(e, motion->world_from_cam_at(t_s)) : e, k, stats));
+        sigma = std::max(sigma, slice_cells.back().sigma);
+      }
+      if (!(sigma > 0)) continue;
+      for (FanCells& c : slice_cells) c.sigma = c.sigma > 0 ? c.sigma : sigma;  // a slice whose fan hits nothing
       const int channel = e.first_channel + k;
       const int64_t chunks = (paths_per_sheet + kChunk - 1) / kChunk;
       std::vector<std::vector<Splat>> chunk_splats(static_cast<size_t>(chunks));
@@ -159,6 +179,29 @@ void PathTracer::TraceLightPaths(const FrameLights& lights, const Camera& camera
         std::vector<Splat>& out = chunk_splats[size_t(c)];
         for (int64_t i = c * kChunk; i < std::min(paths_per_sheet, (c + 1) * kChunk); ++i) {
           Rng rng = Rng::For(seed, uint64_t(frame), uint64_t(channel), uint64_t(i), kLightPathPurpose);
+          // The path's poses: the frame's, or at its time of a moving exposure.
+          const FanCells* cells_at = &slice_cells[0];
+          Pose world_from_cam_t, cam_from_world_t;
+          const Pose* world_from_cam_at = &world_from_cam;
+          const Pose* cam_from_world_at = &cam_from_world_mid;
+          Pose projector_from_world_t;
+          const Pose* projector_from_world = &e.projector_from_world;
+          Eigen::Matrix3d world_from_projector = world_from_projector_mid;
+          Eigen::Vector3d origin = e.origin_world;
+          if (motion) {
+            Rng time_rng = Rng::For(seed, uint64_t(frame), uint64_t(channel), uint64_t(i), kLightPathTimePurpose);
+            const double u = (double(i) + time_rng.NextDouble()) / double(paths_per_sheet);
+            cells_at = &slice_cells[std::min(size_t(u * kTimeSlices), slice_cells.size() - 1)];
+            world_from_cam_t = motion->world_from_cam_at(motion->t0 + u * (motion->t1 - motion->t0));
+            cam_from_world_t = world_from_cam_t.inverse();
+            const Pose world_from_projector_t = world_from_cam_t * e.laser->cam_from_projector();
+            projector_from_world_t = world_from_projector_t.inverse();
+            world_from_cam_at = &world_from_cam_t, cam_from_world_at = &cam_from_world_t;
+            projector_from_world = &projector_from_world_t;
+            world_from_projector = projector_from_world_t.linear().transpose();
+            origin = world_from_projector_t.translation();
+          }
+          const FanCells& cells = *cells_at;
           const double phi = cells.SamplePhi(rng);
           const double psi = cells.sigma * rng.NextGaussian();
           if (std::abs(psi) >= 0.5 * M_PI) continue;
@@ -166,21 +209,21 @@ void PathTracer::TraceLightPaths(const FrameLights& lights, const Camera& camera
                              std::exp(-0.5 * psi * psi / (cells.sigma * cells.sigma)) /
                              (cells.sigma * std::sqrt(2 * M_PI)) / std::cos(psi);
           if (!(p_w > 0)) continue;
-          Ray ray{e.origin_world, world_from_projector * e.laser->DirectionAt(k, phi, psi), 0,
+          Ray ray{origin, world_from_projector * e.laser->DirectionAt(k, phi, psi), 0,
                   std::numeric_limits<double>::infinity()};
           ++ts.rays;
           const auto hit1 = scene_.Intersect(ray);
           if (!hit1) continue;
           // The laser-lit vertex: only grazing ones are the light paths' part.
           const Eigen::Vector3d x1 = hit1->position;
-          const Eigen::Vector3d to_laser = e.origin_world - x1;
+          const Eigen::Vector3d to_laser = origin - x1;
           const double r_l = to_laser.norm();
           const Eigen::Vector3d wl = to_laser / r_l;
           Eigen::Vector3d n1 = hit1->geometric_normal;
           if (n1.dot(wl) < 0) n1 = -n1;
           const double cos_1l = n1.dot(wl);
           if (!(cos_1l > 0 && cos_1l < kGrazingCosine)) continue;
-          const Eigen::Vector3d p_proj = e.projector_from_world * x1;
+          const Eigen::Vector3d p_proj = *projector_from_world * x1;
           if (!e.laser->MayIlluminate(p_proj)) continue;
           const double intensity = e.laser->SheetIntensityAt(k, p_proj) * e.weight;
           if (!(intensity > 0)) continue;
@@ -225,11 +268,11 @@ void PathTracer::TraceLightPaths(const FrameLights& lights, const Camera& camera
               const Eigen::Vector2d d = ConcentricDisk(Eigen::Vector2d(rng.NextDouble(), rng.NextDouble()));
               lens = Eigen::Vector3d(d.x() * lens_radius, d.y() * lens_radius, 0.0);
             }
-            const Eigen::Vector3d x_cam = cam_from_world * x;
+            const Eigen::Vector3d x_cam = *cam_from_world_at * x;
             if (x_cam.z() > 0) {
               const Eigen::Vector3d p_f = pinhole ? x_cam : Eigen::Vector3d(lens + (x_cam - lens) * (focus / x_cam.z()));
               const auto u = camera.Project(p_f);
-              const Eigen::Vector3d lens_world = world_from_cam * lens;
+              const Eigen::Vector3d lens_world = *world_from_cam_at * lens;
               const Eigen::Vector3d to_lens = lens_world - x;
               const double d_l = to_lens.norm();
               const Eigen::Vector3d wc = to_lens / d_l;

@@ -1,5 +1,8 @@
 // Same seed, same frame: bit-identical output whatever the thread count.
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
 
 #include "render/frame_renderer.h"
 #include "render_test_world.h"
@@ -52,6 +55,26 @@ TEST(Determinism, BitIdenticalWithOneAndTwoThreads) {
   EXPECT_GT(laser, 0);
   EXPECT_GT(rgb, 0);
   EXPECT_GT(a.centers.size(), 40u);
+}
+
+// A scanner moving during the exposure (0.1 m/s across the stripe, 1 ms: six
+// time slices of the subsurface caches) and light paths at their own times.
+TEST(Determinism, MovingFrameBitIdenticalWithOneAndTwoThreads) {
+  test::World world = SceneWithEverything();
+  const auto dir = std::filesystem::temp_directory_path() / ("lt_determinism_moving_" + std::to_string(::getpid()));
+  world.scene.motion = test::SlidingAlongX(dir, 0.1);
+  world.scene.render.light_paths = 64;
+  RenderOverrides one, two;
+  one.threads = 1;
+  two.threads = 2;
+  RenderedFrame a = FrameRenderer(world.scene, *world.embree, one).Render(0);  // frame 0: within the poses' 10 ms
+  RenderedFrame b = FrameRenderer(world.scene, *world.embree, two).Render(0);
+  std::filesystem::remove_all(dir);
+  EXPECT_GT(a.stats.entry_tree_slices, 1);
+  EXPECT_GT(a.stats.light_paths, 0);
+  EXPECT_EQ(a.raw.pixels, b.raw.pixels);
+  EXPECT_EQ(a.radiance.pixels, b.radiance.pixels);
+  EXPECT_EQ(a.laser_radiance.pixels, b.laser_radiance.pixels);
 }
 
 TEST(Determinism, OtherSeedOtherNoise) {

@@ -2,7 +2,8 @@
 // incidence (render/path_tracer_light_paths.cpp): camera paths that leave that
 // light out plus the light paths' splats give the same pixel radiance as camera
 // paths that carry all of it, through a pinhole and through a thin lens; and the
-// light paths' share is large enough there that a lost or doubled share would show.
+// light paths' share is large enough there that a lost or doubled share would show;
+// and in a moving frame, each path at its own time of the exposure.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -131,6 +132,73 @@ void ExpectSameRadiance(bool thin_lens) {
 }
 
 TEST(LightPaths, GrazingReflectionsThroughAPinholeKeepThePixelsRadiance) { ExpectSameRadiance(false); }
+
+// A scanner moving during the exposure: each light path takes its own time, the
+// laser and the camera posed then. The camera slides 150 um toward the wall
+// (the wall's foot crosses 3 rows) and 0.3 mm away from the floor (the stripe,
+// from a projector 30 mm beside the camera, crosses 1.8 columns) over the
+// exposure; the frame's splats must be the mean over the exposure of still
+// frames' splats, here 64 poses at the middles of equal parts of it.
+TEST(LightPaths, AMovingScannersPathsSplatTheMeanOverTheExposure) {
+  const lt::Setup s(false);
+  constexpr double kT = 1e-3;
+  constexpr int kPoses = 64, kRuns = 8;
+  constexpr int64_t kPaths = 64000;
+  auto world_from_cam_at = [](double t) {
+    Pose p = Pose::Identity();
+    p.translation() = Eigen::Vector3d(0, 150e-6 * t / kT, -0.3e-3 * t / kT);
+    return p;
+  };
+  const ExposureMotion motion{0.0, kT, world_from_cam_at};
+  // Per row, mean and standard error over the runs of the splats' sum over the row.
+  struct Rows {
+    std::vector<double> sum = std::vector<double>(kH, 0.0), sum2 = std::vector<double>(kH, 0.0);
+    void Add(const Image<float>& splat) {
+      for (int y = 0; y < kH; ++y) {
+        double row = 0;
+        for (int x = 0; x < kW; ++x) row += splat.At(x, y);
+        sum[size_t(y)] += row, sum2[size_t(y)] += row * row;
+      }
+    }
+    Estimate Row(int y) const { return MeanOf(sum[size_t(y)], sum2[size_t(y)], kRuns); }
+  } moving, still, mid_only;
+  const Pose mid = world_from_cam_at(0.5 * kT);
+  for (int r = 0; r < kRuns; ++r) {
+    Image<float> splat(kW, kH, 1, 0.0f), mean(kW, kH, 1, 0.0f);
+    TraceStats stats;
+    FrameLights l = MakeFrameLights(s.world.scene.sensor, mid, 1.0, 0.0, 0.0);
+    l.grazing_by_light_paths = true;
+    s.tracer->TraceLightPaths(l, s.camera, mid, kPaths, uint64_t(200 + r), 0, &splat, &stats, &motion);
+    moving.Add(splat);
+    Image<float> at_mid(kW, kH, 1, 0.0f);  // what a frame that ignored the motion would splat
+    s.tracer->TraceLightPaths(l, s.camera, mid, kPaths, uint64_t(200 + r), 0, &at_mid, &stats);
+    mid_only.Add(at_mid);
+    for (int i = 0; i < kPoses; ++i) {
+      const Pose at = world_from_cam_at((i + 0.5) / kPoses * kT);
+      FrameLights li = MakeFrameLights(s.world.scene.sensor, at, 1.0, 0.0, 0.0);
+      li.grazing_by_light_paths = true;
+      Image<float> one(kW, kH, 1, 0.0f);
+      s.tracer->TraceLightPaths(li, s.camera, at, kPaths / kPoses, uint64_t(1000 * r + i), 0, &one, &stats);
+      for (size_t k = 0; k < one.pixels.size(); ++k) mean.pixels[k] += one.pixels[k] / kPoses;
+    }
+    still.Add(mean);
+  }
+  double total = 0, largest = 0;
+  for (int y = 0; y < kH; ++y) total += still.Row(y).mean, largest = std::max(largest, still.Row(y).mean);
+  int rows_off = 0;  // rows where the mid pose's splats alone fail the comparison
+  for (int y = 0; y < kH; ++y) {
+    const Estimate m = moving.Row(y), q = still.Row(y), c = mid_only.Row(y);
+    std::printf("row %d: moving %.5g +- %.2g, mean of still poses %.5g +- %.2g, mid pose only %.5g\n", y, m.mean,
+                m.standard_error, q.mean, q.standard_error, c.mean);
+    // 4 combined standard errors, and 2% of the largest row for the 64 poses'
+    // midpoint rule in time.
+    EXPECT_NEAR(m.mean, q.mean, 4 * std::hypot(m.standard_error, q.standard_error) + 0.02 * largest) << "row " << y;
+    rows_off += std::abs(c.mean - q.mean) > 4 * std::hypot(c.standard_error, q.standard_error) + 0.02 * largest;
+  }
+  // The comparison tells the motion: the splats of the mid pose alone fail it.
+  EXPECT_GE(rows_off, 2);
+  EXPECT_GT(total, 0);
+}
 
 TEST(LightPaths, GrazingReflectionsThroughAThinLensKeepThePixelsRadiance) { ExpectSameRadiance(true); }
 

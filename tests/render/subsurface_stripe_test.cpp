@@ -152,7 +152,8 @@ TEST(SubsurfaceStripe, GlowBeyondTheBeamStartsWithTwoSamples) {
 // when no surface moves by more than a quarter of the entry spacing (1/32 of the
 // mean free path, 15.6 um here) from the middle to either end: the glow is then
 // as noise-free as in a still frame, and the same light as Monte Carlo's. A
-// faster scanner's frames use Monte Carlo.
+// scanner too fast for 16 time slices of that bound (motion_cache_test.cpp)
+// uses Monte Carlo.
 TEST(SubsurfaceStripe, SlowlyMovingScannerUsesTheMidExposureCache) {
   const double exposure_s = 1e-4;
   // The scanner slides along the stripe's line (x).
@@ -195,8 +196,8 @@ TEST(SubsurfaceStripe, SlowlyMovingScannerUsesTheMidExposureCache) {
   // 20 mm/s: 2 um in the exposure, 1 um from the middle to either end.
   const auto slow_cache_a = glow(0.02, true, 1), slow_cache_b = glow(0.02, true, 2);
   const auto slow_mc_a = glow(0.02, false, 1), slow_mc_b = glow(0.02, false, 2);
-  // 1 m/s: 50 um from the middle to either end, beyond the cache's bound.
-  const auto fast_a = glow(1.0, true, 1), fast_b = glow(1.0, true, 2);
+  // 10 m/s: 500 um from the middle to either end, 32 times the cache's bound.
+  const auto fast_a = glow(10.0, true, 1), fast_b = glow(10.0, true, 2);
   const double n_cache = noise(slow_cache_a, slow_cache_b), n_mc = noise(slow_mc_a, slow_mc_b),
                n_fast = noise(fast_a, fast_b);
   std::printf("glow noise: slow, cache %.5f; slow, Monte Carlo %.5f; fast %.5f; cache / Monte Carlo light %.4f\n",
