@@ -16,7 +16,8 @@ mkdir -p "$out"
 "$bin/lasertwin" render "$root/scenes/multi_line/scene.json" --out "$run" --resume --quiet
 methods=(multicom steger)
 for m in "${methods[@]}"; do
-  # Steger's filter scale from the stripe's width here (FWHM about 3 px), not its 5 px default.
+  # Steger's filter scale from the stripe's width here (FWHM about 3 px), not the width it measures
+  # on each frame by default (5 px before StegerDefaults.WidthIsMeasuredOnTheFrame).
   extra=()
   if [ "$m" = steger ]; then extra=(--width 3); fi
   # The thesis's setup: its edge chains need every stripe to cross the searched
