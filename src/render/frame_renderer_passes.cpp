@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "render/chief_rays.h"
 #include "render/frame_renderer.h"
 #include "render/multi_jitter.h"
 
@@ -48,57 +49,62 @@ void FrameRenderer::GroundTruthPass(const Pose& world_from_cam, const FrameLight
   hits->assign(size_t(w) * size_t(h), ChiefHit{});
   const Pose cam_from_world = world_from_cam.inverse();
   const double footprint_per_m = cam.pixel_pitch_m() / cam.image_distance_m();  // metres per pixel per metre depth
-  tbb::enumerable_thread_specific<uint64_t> rays(0);
-  tbb::parallel_for(0, h, [&](int y) {
-    uint64_t& ray_count = rays.local();
-    for (int x = 0; x < w; ++x) {
-      auto dir = cam.Unproject(Eigen::Vector2d(x, y));
-      if (!dir) continue;
-      Ray ray;
-      ray.origin = world_from_cam.translation();
-      ray.direction = world_from_cam.linear() * *dir;
-      ++ray_count;
-      auto hit = embree_.Intersect(ray);
-      if (!hit) continue;
-      ChiefHit& chief = (*hits)[size_t(y) * size_t(w) + size_t(x)];
-      chief.valid = true;
-      chief.p_world = hit->position;
-      chief.normal = hit->geometric_normal;
-      chief.depth = hit->t * ray.direction.norm();
-      chief.material = hit->material_id;
-      Eigen::Vector3d p_cam = cam_from_world * hit->position;
-      Eigen::Vector3d n = cam_from_world.linear() * hit->shading_normal;
-      if (n.dot(p_cam) > 0) n = -n;
-      gt.depth.At(x, y) = float(p_cam.z());
-      for (int c = 0; c < 3; ++c) gt.normal.At(x, y, c) = float(n[c]);
-      gt.instance.At(x, y) = float(hit->instance_id);
-      gt.material.At(x, y) = float(hit->material_id);
-      // Can an emitter's beam, or the glow it makes below the surface, reach the
-      // neighbourhood of this point?
-      double distance = (hit->position - ray.origin).norm();
-      uint8_t& r_class = reach->At(x, y);
-      for (const PointEmitter& e : lights.emitters) {
-        if (e.pattern) {
-          r_class = kInSheet;
-          break;
-        }
-        Eigen::Vector3d p_proj = e.projector_from_world * hit->position;
-        double r = p_proj.norm();
-        if (!(r > 0)) continue;
-        const uint32_t m = hit->material_id;
-        const double footprints = 2.0 * distance * footprint_per_m / r;
-        const double sheet = kSheetSigmas * e.laser->SheetSigma(r) + footprints;
-        const double beam = kNearSigmas * e.laser->SheetSigma(r) + footprints + subsurface_half_m_[m] / r;
-        const double glow = subsurface_reach_m_[m] / r;
-        for (int k = 0; k < e.channels && r_class != kInSheet; ++k) {
-          const double offset = std::abs(e.laser->SheetOffsetAngle(k, p_proj));
-          if (offset <= sheet) r_class = kInSheet;
-          else if (offset <= beam) r_class = std::max<uint8_t>(r_class, kInBeam);
-          else if (offset <= beam + glow) r_class = std::max<uint8_t>(r_class, kInGlow);
-        }
-        if (r_class == kInSheet) break;
+  // A pixel's chief hit, ground truth, and Reach.
+  auto shade = [&](int x, int y, const ChiefRay& chief_ray) {
+    if (!chief_ray.hit) return;
+    const Hit& hit = *chief_ray.hit;
+    ChiefHit& chief = (*hits)[size_t(y) * size_t(w) + size_t(x)];
+    chief.valid = true;
+    chief.p_world = hit.position;
+    chief.normal = hit.geometric_normal;
+    chief.depth = hit.t * chief_ray.direction.norm();
+    chief.material = hit.material_id;
+    Eigen::Vector3d p_cam = cam_from_world * hit.position;
+    Eigen::Vector3d n = cam_from_world.linear() * hit.shading_normal;
+    if (n.dot(p_cam) > 0) n = -n;
+    gt.depth.At(x, y) = float(p_cam.z());
+    for (int c = 0; c < 3; ++c) gt.normal.At(x, y, c) = float(n[c]);
+    gt.instance.At(x, y) = float(hit.instance_id);
+    gt.material.At(x, y) = float(hit.material_id);
+    // Can an emitter's beam, or the glow it makes below the surface, reach the
+    // neighbourhood of this point?
+    double distance = (hit.position - world_from_cam.translation()).norm();
+    uint8_t& r_class = reach->At(x, y);
+    for (const PointEmitter& e : lights.emitters) {
+      if (e.pattern) {
+        r_class = kInSheet;
+        break;
       }
+      Eigen::Vector3d p_proj = e.projector_from_world * hit.position;
+      double r = p_proj.norm();
+      if (!(r > 0)) continue;
+      const uint32_t m = hit.material_id;
+      const double footprints = 2.0 * distance * footprint_per_m / r;
+      const double sigma = e.laser->SheetSigma(r);
+      const double sheet = kSheetSigmas * sigma + footprints;
+      const double beam = kNearSigmas * sigma + footprints + subsurface_half_m_[m] / r;
+      const double glow = subsurface_reach_m_[m] / r;
+      for (int k = 0; k < e.channels && r_class != kInSheet; ++k) {
+        const double offset = std::abs(e.laser->SheetOffsetAngle(k, p_proj));
+        if (offset <= sheet) r_class = kInSheet;
+        else if (offset <= beam) r_class = std::max<uint8_t>(r_class, kInBeam);
+        else if (offset <= beam + glow) r_class = std::max<uint8_t>(r_class, kInGlow);
+      }
+      if (r_class == kInSheet) break;
     }
+  };
+  // Fixed tiles, so that the chief rays' packets do not depend on the threads.
+  const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
+  tbb::enumerable_thread_specific<uint64_t> rays(0);
+  tbb::enumerable_thread_specific<std::vector<ChiefRay>> tile_rays;
+  tbb::parallel_for(0, tiles_x * tiles_y, [&](int tile) {
+    const int x0 = (tile % tiles_x) * kTile, y0 = (tile / tiles_x) * kTile;
+    const int x1 = std::min(w, x0 + kTile), y1 = std::min(h, y0 + kTile);
+    std::vector<ChiefRay>& chief_rays = tile_rays.local();
+    chief_rays.resize(size_t(x1 - x0) * size_t(y1 - y0));
+    rays.local() += TraceChiefRays(embree_, cam, world_from_cam, x0, y0, x1, y1, chief_rays);
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) shade(x, y, chief_rays[size_t(y - y0) * size_t(x1 - x0) + size_t(x - x0)]);
   });
   for (uint64_t r : rays) out->stats.rays += r;
 }
