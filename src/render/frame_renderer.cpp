@@ -304,6 +304,10 @@ RenderedFrame FrameRenderer::Render(int64_t frame_index) const {
     last = std::chrono::steady_clock::now();
     GroundTruthPass(out.world_from_cam, lights, &out, &chief_hits, &reach);
     lap(&pass_ms.chief_rays);
+    // A moving frame: the farthest surface the camera sees (how far a turn moves it).
+    double reach_m = 0;
+    if (!is_static)
+      for (const ChiefHit& c : chief_hits) reach_m = c.valid ? std::max(reach_m, c.depth) : reach_m;
     // The subsurface cache holds the lit surface of the mid-exposure pose: in
     // a frame where the scanner holds still, or moves (relative to every
     // surface it sees) by less than kCacheMotionPerSpacing of the cache's
@@ -314,8 +318,6 @@ RenderedFrame FrameRenderer::Render(int64_t frame_index) const {
       entry_trees = BuildEntryTrees(chief_hits, &lights, &out.stats);
       out.stats.entry_tree_slices = entry_trees.empty() ? 0 : 1;
     } else if (has_laser && min_subsurface_mfp_m_ > 0 && scene_.render.subsurface_cache) {
-      double reach_m = 0;
-      for (const ChiefHit& c : chief_hits) reach_m = c.valid ? std::max(reach_m, c.depth) : reach_m;
       const int slices = CacheSlices(scene_.motion, sf.t_start_s, sf.t_end_s, reach_m,
                                      kCacheMotionPerSpacing * kEntrySpacingPerMeanFreePath * min_subsurface_mfp_m_);
       if (slices == 1) entry_trees = BuildEntryTrees(chief_hits, &lights, &out.stats);
@@ -333,8 +335,8 @@ RenderedFrame FrameRenderer::Render(int64_t frame_index) const {
       const int64_t paths = std::min<int64_t>(int64_t(scene_.render.light_paths) * spp_, kMaxLightPaths);
       splat = Image<float>(w, h, std::max(layout_.channels, 1), 0.0f);
       TraceStats ts;
-      ExposureMotion motion{sf.t_start_s, sf.t_end_s,
-                            [this](double t) { return WorldFromCamAt(scene_.motion, t); }};
+      ExposureMotion motion{sf.t_start_s, sf.t_end_s, [this](double t) { return WorldFromCamAt(scene_.motion, t); },
+                            is_static ? 0.0 : ExposureDisplacement(scene_.motion, sf.t_start_s, sf.t_end_s, reach_m)};
       tracer_->TraceLightPaths(lights, cam, out.world_from_cam, paths, seed_, frame_index, &splat, &ts,
                                is_static ? nullptr : &motion);
       out.stats.rays += ts.rays;

@@ -74,10 +74,12 @@ struct TraceStats {
 // The exposure of a frame whose scanner moves, for the light paths: path i of n
 // of a sheet takes the time t0 + (i + u) / n (t1 - t0), u uniform in [0, 1)
 // (stratified over the exposure), and the camera's pose world_from_cam_at(t);
-// the lasers move with the camera.
+// the lasers move with the camera. displacement_m: how far a surface the camera
+// sees moves relative to it from the middle of the exposure to its ends.
 struct ExposureMotion {
   double t0 = 0, t1 = 0;
   std::function<Pose(double)> world_from_cam_at;
+  double displacement_m = 0;
 };
 
 class PathTracer {
@@ -153,6 +155,7 @@ class PathTracer {
   // sigma: the Gaussian across the sheet.
   struct FanCells {
     double half_width = 0, step = 0, sigma = 0;
+    double r_near = 0;  // distance of the nearest surface the grid meets
     std::vector<int> grazing;
     double PhiDensity(double phi) const;  // per radian
     double SamplePhi(Rng& rng) const;

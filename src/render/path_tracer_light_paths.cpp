@@ -61,9 +61,10 @@ namespace {
 constexpr uint64_t kLightPathPurpose = 0x4c49474854504154ull;
 constexpr uint64_t kLightPathTimePurpose = 0x4c5041544854494dull;  // a path's time in a moving frame
 // A moving frame's light paths find their grazing cells at the poses of the
-// middles of this many equal parts of the exposure; a path takes the cells of
-// the part holding its time (any cells are a valid proposal: the uniform share
-// covers the whole fan).
+// middles of equal parts of the exposure, as many as keep the scanner's travel
+// over each within one cell at the nearest surface, at most this many; a path
+// takes the cells of the part holding its time (any cells are a valid
+// proposal: the uniform share covers the whole fan).
 constexpr int kTimeSlices = 16;
 // Cells of the grid over the fan that locates grazing hits and jumps.
 constexpr int kFanCells = 4096;
@@ -128,6 +129,8 @@ PathTracer::FanCells PathTracer::FindGrazingCells(const PointEmitter& e, int she
   }
   if (grid.back().valid) sigma = std::max(sigma, laser.SheetSigma(grid.back().r));
   cells.sigma = kAcrossWidening * sigma;
+  cells.r_near = INFINITY;
+  for (const GridHit& g : grid) cells.r_near = g.valid ? std::min(cells.r_near, g.r) : cells.r_near;
   return cells;
 }
 
@@ -161,13 +164,19 @@ void PathTracer::TraceLightPaths(const FrameLights& lights, const Camera& camera
     const Eigen::Matrix3d world_from_projector_mid = e.projector_from_world.linear().transpose();
     for (int k = 0; k < e.channels; ++k) {
       // The grazing cells: of the frame's pose, or of each time slice's.
-      std::vector<FanCells> slice_cells;
-      double sigma = 0;
-      for (int s = 0; s < (motion ? kTimeSlices : 1); ++s) {
-        const double t_s = motion ? motion->t0 + (motion->t1 - motion->t0) * (s + 0.5) / kTimeSlices : 0.0;
-        slice_cells.push_back(FindGrazingCells(motion ? EmitterAt(e, motion->world_from_cam_at(t_s)) : e, k, stats));
-        sigma = std::max(sigma, slice_cells.back().sigma);
+      std::vector<FanCells> slice_cells{FindGrazingCells(e, k, stats)};
+      const double travel_cells =
+          motion ? 2 * motion->displacement_m / (slice_cells[0].step * slice_cells[0].r_near) : 0.0;
+      if (travel_cells > 1) {
+        const int slices = int(std::min(std::ceil(travel_cells), double(kTimeSlices)));
+        slice_cells.clear();
+        for (int s = 0; s < slices; ++s) {
+          const double t_s = motion->t0 + (motion->t1 - motion->t0) * (s + 0.5) / slices;
+          slice_cells.push_back(FindGrazingCells(EmitterAt(e, motion->world_from_cam_at(t_s)), k, stats));
+        }
       }
+      double sigma = 0;
+      for (const FanCells& c : slice_cells) sigma = std::max(sigma, c.sigma);
       if (!(sigma > 0)) continue;
       for (FanCells& c : slice_cells) c.sigma = c.sigma > 0 ? c.sigma : sigma;  // a slice whose fan hits nothing
       const int channel = e.first_channel + k;
@@ -191,7 +200,7 @@ void PathTracer::TraceLightPaths(const FrameLights& lights, const Camera& camera
           if (motion) {
             Rng time_rng = Rng::For(seed, uint64_t(frame), uint64_t(channel), uint64_t(i), kLightPathTimePurpose);
             const double u = (double(i) + time_rng.NextDouble()) / double(paths_per_sheet);
-            cells_at = &slice_cells[std::min(size_t(u * kTimeSlices), slice_cells.size() - 1)];
+            cells_at = &slice_cells[std::min(size_t(u * double(slice_cells.size())), slice_cells.size() - 1)];
             world_from_cam_t = motion->world_from_cam_at(motion->t0 + u * (motion->t1 - motion->t0));
             cam_from_world_t = world_from_cam_t.inverse();
             const Pose world_from_projector_t = world_from_cam_t * e.laser->cam_from_projector();

@@ -149,7 +149,9 @@ TEST(LightPaths, AMovingScannersPathsSplatTheMeanOverTheExposure) {
     p.translation() = Eigen::Vector3d(0, 150e-6 * t / kT, -0.3e-3 * t / kT);
     return p;
   };
-  const ExposureMotion motion{0.0, kT, world_from_cam_at};
+  // From the middle to either end the camera moves 84 um: 16 slices of
+  // grazing cells (5 um at the floor).
+  const ExposureMotion motion{0.0, kT, world_from_cam_at, 0.5 * std::hypot(150e-6, 0.3e-3)};
   // Per row, mean and standard error over the runs of the splats' sum over the row.
   struct Rows {
     std::vector<double> sum = std::vector<double>(kH, 0.0), sum2 = std::vector<double>(kH, 0.0);
