@@ -205,6 +205,37 @@ TEST(GltfAlpha, InstanceMaterialOverridesAreRespected) {
   EXPECT_FALSE(s.Occluded(Down(2.5, 0.5)));
 }
 
+// ReplaceMesh (a mesh that changes over time) decides the filter again from the new mesh.
+TEST(GltfAlpha, ReplacedMeshGetsTheFilterItNeeds) {
+  auto g = std::make_shared<SceneGeometry>();
+  Mesh m;
+  m.name = "square";
+  const std::vector<float> p = test::SquarePositions();
+  for (size_t i = 0; i < 4; ++i) {
+    m.positions.emplace_back(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
+    m.normals.emplace_back(0, 0, 1);
+  }
+  m.indices = test::SquareIndices();
+  m.triangle_material = {0, 0};
+  g->meshes.push_back(m);
+  g->materials.resize(1);
+  g->materials[0].alpha_mode = AlphaMode::kMask;
+  SceneInstance inst;
+  inst.world_from_mesh = Eigen::Affine3d::Identity();
+  g->instances.push_back(inst);
+  EmbreeScene s{g};
+  EXPECT_EQ(s.alpha_filtered_mesh_count(), 0u);  // alpha 1 everywhere
+  EXPECT_TRUE(s.Intersect(Down(0.5, 0.5)));
+  m.alphas = {0, 0, 0, 0};
+  s.ReplaceMesh(0, m);
+  EXPECT_EQ(s.alpha_filtered_mesh_count(), 1u);
+  EXPECT_FALSE(s.Intersect(Down(0.5, 0.5)));
+  m.alphas.clear();
+  s.ReplaceMesh(0, m);
+  EXPECT_EQ(s.alpha_filtered_mesh_count(), 0u);
+  EXPECT_TRUE(s.Intersect(Down(0.5, 0.5)));
+}
+
 TEST(GltfAlpha, BadAlphaModeAndCutoffAreErrors) {
   TempDir dir;
   GltfBuilder b = QuadOverFloor({1, 1, 1, 1}, "mask");
