@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -65,6 +66,71 @@ double PoissonSample(Rng& rng, double mean) {
     if (std::log(V) + std::log(invalpha) - std::log(a / (us * us) + b) <= -mean + k * loglam - LogFactorial(k)) {
       return k;
     }
+  }
+}
+
+namespace {
+
+// ZIGNOR's tables: layer i (0 = the base strip with the tail beyond kZigR)
+// spans |x| < x[i], and x[i + 1] / x[i] of it lies wholly under the density.
+constexpr int kZigLayers = 128;
+constexpr double kZigR = 3.442619855899;            // start of the tail
+constexpr double kZigArea = 9.91256303526217e-3;    // area of each layer
+struct Ziggurat {
+  double x[kZigLayers + 1];
+  double ratio[kZigLayers];
+  Ziggurat() {
+    auto f = [](double v) { return std::exp(-0.5 * v * v); };
+    x[0] = kZigArea / f(kZigR);
+    x[1] = kZigR;
+    x[kZigLayers] = 0;
+    for (int i = 2; i < kZigLayers; ++i) x[i] = std::sqrt(-2.0 * std::log(kZigArea / x[i - 1] + f(x[i - 1])));
+    for (int i = 0; i < kZigLayers; ++i) ratio[i] = x[i + 1] / x[i];
+  }
+};
+
+const Ziggurat& ZigguratTables() {
+  static const Ziggurat z;
+  return z;
+}
+
+uint64_t Next64(Rng& rng) { return (uint64_t(rng.NextU32()) << 32) | rng.NextU32(); }
+
+// Uniform in (0, 1), for a logarithm: the centres of 2^52 equal intervals.
+double OpenUniform(Rng& rng) { return (double(Next64(rng) >> 12) + 0.5) * 0x1p-52; }
+
+// std::round (halves away from zero), without the library call: |v| < 2^52
+// holds every value that has a fraction, and there v - trunc(v) is exact.
+double RoundHalfAway(double v) {
+  if (!(std::abs(v) < 0x1p52)) return v;  // an integer already (or NaN, inf)
+  const double t = double(int64_t(v));
+  const double f = v - t;
+  return f >= 0.5 ? t + 1.0 : f <= -0.5 ? t - 1.0 : t;
+}
+
+}  // namespace
+
+double NormalSample(Rng& rng) {
+  const Ziggurat& z = ZigguratTables();
+  for (;;) {
+    const uint64_t bits = Next64(rng);
+    const double u = 2.0 * (double(bits >> 11) * 0x1p-53) - 1.0;  // [-1, 1), 53 bits
+    const int i = int(bits & (kZigLayers - 1));                    // 7 of the other 11 bits
+    if (std::abs(u) < z.ratio[i]) return u * z.x[i];               // inside the layer's rectangle
+    if (i == 0) {
+      // The tail beyond kZigR (Marsaglia 1964).
+      double x, y;
+      do {
+        x = std::log(OpenUniform(rng)) / kZigR;
+        y = std::log(OpenUniform(rng));
+      } while (-2.0 * y < x * x);
+      return u < 0 ? x - kZigR : kZigR - x;
+    }
+    // The layer's wedge: accept under the density.
+    const double x = u * z.x[i];
+    const double f0 = std::exp(-0.5 * (z.x[i] * z.x[i] - x * x));
+    const double f1 = std::exp(-0.5 * (z.x[i + 1] * z.x[i + 1] - x * x));
+    if (f1 + rng.NextDouble() * (f0 - f1) < 1.0) return x;
   }
 }
 
@@ -227,8 +293,8 @@ Image<uint16_t> ImageSensor::Expose(const SensorExposure& in, uint64_t seed, uin
       double photo = PoissonSample(rng, double(mu.At(x, y)) * PrnuFactor(i));
       double dark = PoissonSample(rng, dark_mean);
       double charge = std::min(photo + dark, params_.full_well_e);
-      double signal = charge + DsnuOffset(i) + (params_.dark_noise_e > 0 ? params_.dark_noise_e * rng.NextGaussian() : 0.0);
-      double dn = std::round(params_.black_level_dn + K * signal);
+      double signal = charge + DsnuOffset(i) + (params_.dark_noise_e > 0 ? params_.dark_noise_e * NormalSample(rng) : 0.0);
+      double dn = RoundHalfAway(params_.black_level_dn + K * signal);
       out.At(x, y) = uint16_t(std::clamp(dn, 0.0, max_value));
     }
   });

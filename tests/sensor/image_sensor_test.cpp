@@ -47,6 +47,31 @@ TEST(ImageSensor, PoissonSamplerHasPoissonMoments) {
   }
 }
 
+TEST(ImageSensor, NormalSamplerIsStandardNormal) {
+  // 10^6 draws: mean and variance against 0 and 1, and the share below each
+  // edge against the normal distribution function (the tail beyond 3.44 and the
+  // ziggurat's wedges included), each within 5 standard errors.
+  Rng rng(7);
+  const int n = 1000000;
+  const double edges[] = {-4.0, -3.5, -3.0, -2.0, -1.0, -0.3, 0.0, 0.3, 1.0, 2.0, 3.0, 3.5, 4.0};
+  std::vector<int64_t> below(std::size(edges), 0);
+  double s = 0, s2 = 0;
+  for (int i = 0; i < n; ++i) {
+    const double g = NormalSample(rng);
+    ASSERT_TRUE(std::isfinite(g));
+    s += g;
+    s2 += g * g;
+    for (size_t k = 0; k < std::size(edges); ++k) below[k] += g < edges[k];
+  }
+  const double mean = s / n, var = s2 / n - mean * mean;
+  EXPECT_NEAR(mean, 0.0, 5.0 / std::sqrt(double(n)));
+  EXPECT_NEAR(var, 1.0, 5.0 * std::sqrt(2.0 / n));
+  for (size_t k = 0; k < std::size(edges); ++k) {
+    const double p = 0.5 * std::erfc(-edges[k] / std::sqrt(2.0));
+    EXPECT_NEAR(double(below[k]) / n, p, 5.0 * std::sqrt(p * (1.0 - p) / n)) << "below " << edges[k];
+  }
+}
+
 TEST(ImageSensor, ExpectedDnIsTheLinearModel) {
   ImageSensorParams p;
   p.qe = {{{0.55}, {0.55}, {0.55}}};
