@@ -23,32 +23,29 @@ void FrameRenderer::RadianceFromFilm(const Film& film, const Image<float>& splat
   const int w = cam.width(), h = cam.height();
   out->radiance = Image<float>(w, h, 4, 0.0f);
   out->laser_radiance = Image<float>(w, h, std::max(layout_.channels, 1), 0.0f);
-  tbb::parallel_for(0, h, [&](int y) {
-    for (int x = 0; x < w; ++x) {
-      Eigen::Vector3f rgb = film.MeanRgb(x, y);
-      for (int c = 0; c < 3; ++c) out->radiance.At(x, y, c) = rgb[c];
-      for (int c = 0; c < layout_.channels; ++c) {
-        out->laser_radiance.At(x, y, c) = film.MeanLaser(x, y, c) + (splat.empty() ? 0.0f : splat.At(x, y, c));
-      }
-    }
-  });
   // Laser speckle: one fully developed field per frame over all monochromatic channels.
+  Image<float> speckle;
   if (scene_.render.speckle_contrast > 0 && !lights.emitters.empty()) {
     SpeckleOptions so;
     so.wavelength = lights.emitters.front().wavelength_m;
     so.f_number = cam.working_f_number();
     so.pixel_pitch = cam.pixel_pitch_m();
     so.contrast = scene_.render.speckle_contrast;
-    Image<float> field = GenerateSpeckle(w, h, so, HashKey(seed_, uint64_t(frame_index), kSpecklePurpose));
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x)
-        for (int c = 0; c < layout_.channels; ++c) out->laser_radiance.At(x, y, c) *= field.At(x, y);
+    speckle = GenerateSpeckle(w, h, so, HashKey(seed_, uint64_t(frame_index), kSpecklePurpose));
   }
+  // One pass over the film: the means, the splat, the speckle, the laser total.
   std::vector<float> row_max(size_t(h), 0.0f);
   tbb::parallel_for(0, h, [&](int y) {
     for (int x = 0; x < w; ++x) {
+      Eigen::Vector3f rgb = film.MeanRgb(x, y);
+      for (int c = 0; c < 3; ++c) out->radiance.At(x, y, c) = rgb[c];
       float total = 0;
-      for (int c = 0; c < layout_.channels; ++c) total += out->laser_radiance.At(x, y, c);
+      for (int c = 0; c < layout_.channels; ++c) {
+        float& laser = out->laser_radiance.At(x, y, c);
+        laser = film.MeanLaser(x, y, c) + (splat.empty() ? 0.0f : splat.At(x, y, c));
+        if (!speckle.empty()) laser *= speckle.At(x, y);
+        total += laser;
+      }
       out->radiance.At(x, y, 3) = total;
       row_max[size_t(y)] = std::max(row_max[size_t(y)], total);
     }
