@@ -35,6 +35,11 @@ uint64_t TraceChiefRays(const EmbreeScene& embree, const Camera& cam, const Pose
   // t in [0, inf).
   const Eigen::Vector3d origin_in_render = origin - embree.render_origin();
   const bool finite_origin = origin.allFinite();
+  // An Embree built without ray packets (EMBREE_RAY_PACKETS off) reports no
+  // native packet size: then every ray is traced alone.
+  RTCDevice device = rtcGetSceneDevice(embree.handle());
+  const bool packets = rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_NATIVE_RAY4_SUPPORTED) != 0;
+  rtcReleaseDevice(device);
   uint64_t count = 0;
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
@@ -56,8 +61,8 @@ uint64_t TraceChiefRays(const EmbreeScene& embree, const Camera& cam, const Pose
         r.traced = true;
         r.direction = world_from_cam.linear() * *dir;
         ++count;
-        if (!finite_origin || !r.direction.allFinite() || r.direction.squaredNorm() == 0.0) {
-          // EmbreeScene::Intersect's own check, and its error.
+        if (!packets || !finite_origin || !r.direction.allFinite() || r.direction.squaredNorm() == 0.0) {
+          // Alone; a bad ray gets EmbreeScene::Intersect's own check and error.
           Ray ray;
           ray.origin = origin;
           ray.direction = r.direction;

@@ -27,7 +27,8 @@ struct ChiefRay {
 // the one the single ray finds (a hit within kEdgeBarycentric of a triangle's
 // edge, where two triangles meet at the same distance and the traversal order
 // decides) or whose refined hit lies at or behind the origin is traced again by
-// embree.Intersect. Returns the number of rays (pixels with one). Thread-safe.
+// embree.Intersect (as is every ray when Embree has no ray packets). Returns
+// the number of rays (pixels with one). Thread-safe.
 uint64_t TraceChiefRays(const EmbreeScene& embree, const Camera& cam, const Pose& world_from_cam, int x0, int y0, int x1,
                         int y1, std::span<ChiefRay> rays);
 
