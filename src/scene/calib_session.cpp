@@ -95,11 +95,23 @@ std::string Num(double v) {
   return buf;
 }
 
-// The rig's sensor section, binned, without a pattern projector, with the
-// session's shutter cycle.
-nlohmann::json SessionSensor(const nlohmann::json& rig_sensor, const CalibSessionOptions& o) {
+// The rig's sensor section, binned (camera and image sensor), without a
+// pattern projector, with the session's shutter cycle. `pixel` is the rig's
+// image sensor as parsed (its defaults for keys the rig leaves out).
+nlohmann::json SessionSensor(const nlohmann::json& rig_sensor, const ImageSensorParams& pixel,
+                             const CalibSessionOptions& o) {
   nlohmann::json sensor = rig_sensor;
   sensor.erase("pattern_projector");
+  if (o.binning > 1) {
+    const ImageSensorParams b = BinnedImageSensor(pixel, o.binning);
+    nlohmann::json& is = sensor["image_sensor"];  // an object once a key is set
+    is["full_well_e"] = b.full_well_e;
+    is["system_gain_dn_per_e"] = b.system_gain_dn_per_e;
+    is["dark_noise_e"] = b.dark_noise_e;
+    if (b.dark_current_e_per_s > 0) is["dark_current_e_per_s"] = b.dark_current_e_per_s;
+    if (b.dsnu_e > 0) is["dsnu_e"] = b.dsnu_e;
+    if (b.prnu > 0) is["prnu_percent"] = b.prnu * 100;
+  }
   if (o.binning > 1 && sensor.contains("camera") && sensor["camera"].is_object()) {
     nlohmann::json& cam = sensor["camera"];
     const double n = o.binning;
@@ -233,6 +245,18 @@ std::optional<Eigen::Vector3d> AimDirection(const Camera& cam, int view, int att
 
 }  // namespace
 
+ImageSensorParams BinnedImageSensor(const ImageSensorParams& pixel, int n) {
+  ImageSensorParams b = pixel;
+  const double n2 = double(n) * n;
+  b.full_well_e *= n2;
+  b.system_gain_dn_per_e /= n2;
+  b.dark_noise_e *= n;
+  b.dark_current_e_per_s *= n2;
+  b.dsnu_e *= n;
+  b.prnu /= n;
+  return b;
+}
+
 Pose CalibSessionOptions::DefaultToolFromCam() {
   // A camera mounted 40 mm off the flange axis and 110 mm out, turned a quarter
   // turn about the flange axis and tilted 10°.
@@ -267,8 +291,8 @@ CalibSession WriteCalibSession(const CalibSessionOptions& o, const fs::path& out
   const nlohmann::json& rig_raw = rig_doc.Root().raw();
   if (!rig_raw.contains("sensor")) throw InputError(o.rig_scene.string(), "has no \"sensor\" section");
   // Check the rig as given (errors name the rig file), then the session's version of it.
-  (void)ParseSensorRig(rig_root.GetObject("sensor"));
-  const nlohmann::json sensor_json = SessionSensor(rig_raw["sensor"], o);
+  const SensorRig rig_as_given = ParseSensorRig(rig_root.GetObject("sensor"));
+  const nlohmann::json sensor_json = SessionSensor(rig_raw["sensor"], rig_as_given.image_sensor.params(), o);
   const std::string session_name = o.rig_scene.string() + " (sensor, as binned for the session)";
   const json::Document sensor_doc =
       json::Document::Parse(sensor_json.dump(), session_name, o.rig_scene.parent_path());

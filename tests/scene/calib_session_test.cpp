@@ -6,11 +6,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "core/error.h"
 #include "scene/calib_session.h"
 #include "scene/scene_file.h"
 #include "scene/scene_geometry.h"
+#include "sensor/rig.h"
 #include "test_util.h"
 
 namespace lt {
@@ -162,6 +165,128 @@ TEST(CalibSession, BoardSquaresFollowTheColourConvention) {
     EXPECT_NEAR(black_area, 0.5 * squares * sq, 1e-3 * sq);  // (rows + 1)(cols + 1) is even
     const double whole = (o.rows + 1 + 2 * o.margin_squares) * (o.cols + 1 + 2 * o.margin_squares) * sq;
     EXPECT_NEAR(black_area + white_area, whole, 1e-3 * sq);
+  }
+}
+
+// Options whose board fits the demo camera binned 8 x 8 (160x128): 2 x 2
+// inner corners of 4.5 mm squares, so that each square is >= 12 px.
+CalibSessionOptions Binned(int n) {
+  CalibSessionOptions o = Options();
+  o.binning = n;
+  o.views = 2;
+  if (n == 8) o.rows = o.cols = 2, o.square_m = 4.5e-3;
+  return o;
+}
+
+// The session's image sensor is the rig's, binned as a real camera's n x n
+// binning (BinnedImageSensor): full well x n², system gain / n², dark noise
+// x n (a sum of n² reads), dark current x n², DSNU x n, PRNU / n; the rest as
+// the rig's. Before, the rig's sensor was kept as it was: each binned pixel
+// got n² times the light with the pixel's full well and gain, and at
+// --binning 8 the whole board saturated (997-1003 DN of 1023 on the demo rig,
+// "0 corner-like points"); the default --binning 2 clipped the white squares.
+TEST(CalibSession, BinnedSessionsSensorSumsTheChargeOfItsPixels) {
+  const ImageSensorParams rig = LoadSceneFile(DemoRig()).sensor.image_sensor.params();
+  ASSERT_EQ(rig.full_well_e, 10000);  // the demo rig's, as the numbers below assume
+  ASSERT_EQ(rig.system_gain_dn_per_e, 0.1);
+  ASSERT_EQ(rig.dark_noise_e, 8);
+  for (int n : {1, 2, 8}) {
+    SCOPED_TRACE(n);
+    test::TempDir dir;
+    WriteCalibSession(Binned(n), dir.path());
+    const SceneFile scene = LoadSceneFile(dir / "scene.json");
+    EXPECT_EQ(scene.sensor.camera.width(), 1280 / n);
+    const ImageSensorParams& s = scene.sensor.image_sensor.params();
+    EXPECT_DOUBLE_EQ(s.full_well_e, 10000.0 * n * n);
+    EXPECT_DOUBLE_EQ(s.system_gain_dn_per_e, 0.1 / (n * n));
+    EXPECT_DOUBLE_EQ(s.dark_noise_e, 8.0 * n);
+    EXPECT_EQ(s.bit_depth, rig.bit_depth);
+    EXPECT_EQ(s.black_level_dn, rig.black_level_dn);
+    EXPECT_EQ(s.analog_gain_db, rig.analog_gain_db);
+    EXPECT_EQ(s.qe, rig.qe);
+    // The full scale is the summed well: the same saturation level in DN.
+    EXPECT_DOUBLE_EQ(scene.sensor.image_sensor.SaturationDn(), 1000.0);
+  }
+  // A rig without an image_sensor section (the sensor's defaults), and one
+  // with dark current, DSNU, PRNU and an analogue gain.
+  test::TempDir dir;
+  std::ifstream in(DemoRig());
+  nlohmann::json rig_json = nlohmann::json::parse(in);
+  rig_json.erase("objects");
+  rig_json["sensor"].erase("image_sensor");
+  {
+    std::ofstream(dir / "no_sensor.json") << rig_json.dump();
+    CalibSessionOptions o = Binned(2);
+    o.rig_scene = dir / "no_sensor.json";
+    WriteCalibSession(o, dir / "a");
+    const ImageSensorParams s = LoadSceneFile(dir / "a/scene.json").sensor.image_sensor.params();
+    const ImageSensorParams d;
+    EXPECT_DOUBLE_EQ(s.full_well_e, 4 * d.full_well_e);
+    EXPECT_DOUBLE_EQ(s.system_gain_dn_per_e, d.system_gain_dn_per_e / 4);
+    EXPECT_DOUBLE_EQ(s.dark_noise_e, 2 * d.dark_noise_e);
+  }
+  rig_json["sensor"]["image_sensor"] = {{"full_well_e", 6000},     {"system_gain_dn_per_e", 0.5},
+                                        {"dark_noise_e", 3},       {"dark_current_e_per_s", 100},
+                                        {"dsnu_e", 2},             {"prnu_percent", 1},
+                                        {"analog_gain_db", 6},     {"black_level_dn", 16}};
+  std::ofstream(dir / "noisy.json") << rig_json.dump();
+  CalibSessionOptions o = Binned(2);
+  o.rig_scene = dir / "noisy.json";
+  WriteCalibSession(o, dir / "b");
+  const ImageSensor b = LoadSceneFile(dir / "b/scene.json").sensor.image_sensor;
+  const ImageSensorParams& s = b.params();
+  EXPECT_DOUBLE_EQ(s.full_well_e, 24000);
+  EXPECT_DOUBLE_EQ(s.system_gain_dn_per_e, 0.125);
+  EXPECT_DOUBLE_EQ(s.dark_noise_e, 6);
+  EXPECT_DOUBLE_EQ(s.dark_current_e_per_s, 400);
+  EXPECT_DOUBLE_EQ(s.dsnu_e, 4);
+  EXPECT_DOUBLE_EQ(s.prnu, 0.005);
+  EXPECT_EQ(s.analog_gain_db, 6);
+  EXPECT_EQ(s.black_level_dn, 16);
+}
+
+// A flat target of known irradiance: the binned camera (the session's sensor
+// at --binning n, each pixel n² times the pixel area) gives the unbinned
+// camera's mean DN, with n times less shot noise. Before, the same light gave
+// n² times the DN (saturated at n = 8: 1000 DN for 125).
+TEST(CalibSession, BinnedCameraGivesTheUnbinnedLevelWithLessNoise) {
+  const ImageSensor pixel = LoadSceneFile(DemoRig()).sensor.image_sensor;
+  const double wavelength = 650e-9;
+  // Energy per unbinned pixel for 1250 photo-electrons (125 DN at 0.1 DN/e-).
+  const double electrons = 1250;
+  const double energy = electrons * kPlanck * kSpeedOfLight / (pixel.QuantumEfficiency(0, wavelength) * wavelength);
+  auto exposure = [&](double pixel_energy) {
+    SensorExposure e;
+    e.width = e.height = 96;
+    e.exposure_s = 2e-3;
+    e.monochromatic.push_back({wavelength, Image<float>(96, 96, 1, float(pixel_energy))});
+    return e;
+  };
+  auto mean_std = [](const Image<uint16_t>& im) {
+    double s = 0, s2 = 0;
+    for (uint16_t v : im.pixels) s += v, s2 += double(v) * v;
+    const double m = s / im.pixels.size();
+    return std::pair{m, std::sqrt(s2 / im.pixels.size() - m * m)};
+  };
+  const auto [mean1, std1] = mean_std(pixel.Expose(exposure(energy), 7, 0));
+  EXPECT_NEAR(mean1, 125, 0.5);
+  EXPECT_NEAR(std1, 0.1 * std::sqrt(electrons + 64), 0.4);  // shot and dark noise, 3.6 DN
+  for (int n : {2, 8}) {
+    SCOPED_TRACE(n);
+    test::TempDir dir;
+    WriteCalibSession(Binned(n), dir.path());
+    const ImageSensor binned = LoadSceneFile(dir / "scene.json").sensor.image_sensor;
+    const double n2 = double(n) * n;
+    EXPECT_NEAR(binned.ExpectedDn(exposure(n2 * energy)).At(0, 0), 125, 1e-3);
+    const auto [mean, sd] = mean_std(binned.Expose(exposure(n2 * energy), 7, 0));
+    EXPECT_NEAR(mean, mean1, 0.5);
+    // n² times the charge and n times the dark noise, at gain 0.1 / n² DN/e-,
+    // plus quantisation (1/12 DN²): 1.81 DN at n = 2, 0.52 DN at n = 8.
+    const double expected = std::sqrt(std::pow(0.1 / n2, 2) * (n2 * electrons + n2 * 64) + 1.0 / 12);
+    EXPECT_NEAR(sd, expected, 0.12 * expected);
+    EXPECT_LT(sd, std1 / (0.7 * n));
+    // The pixel's sensor kept (as before) takes n² times the light.
+    EXPECT_GE(pixel.ExpectedDn(exposure(n2 * energy)).At(0, 0), n == 8 ? 1000.0 : 499.0);
   }
 }
 
