@@ -63,5 +63,40 @@ TEST(ChiefRays, PacketsGiveTheSingleRaysHits) {
   EXPECT_THROW(TraceChiefRays(*world.embree, cam, world_from_cam, 0, 0, 2, 2, wrong), std::invalid_argument);
 }
 
+TEST(ChiefRays, PacketsSeeMaskHolesAsSingleRaysDo) {
+  // A plate whose upper half a MASK texture cuts out (the alpha filter runs on
+  // 16-ray packets), over a floor: each pixel's hit equals Intersect's, and
+  // rays through the hole reach the floor.
+  test::World world;
+  world.Add(test::Rectangle({0, 0, 0.12}, Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 0.3, 0.3));
+  Mesh plate = test::Rectangle({0, 0, 0.1}, Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 0.1, 0.1, 1);
+  plate.texcoords = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  world.Add(plate);
+  auto texture = std::make_shared<Texture>();
+  texture->image = Image<uint8_t>(2, 1, 4, 255);
+  texture->image.At(0, 0, 3) = 0;
+  texture->wrap_s = texture->wrap_t = WrapMode::kClampToEdge;
+  Material mask = test::Plastic();
+  mask.alpha_mode = AlphaMode::kMask;
+  mask.base_color_texture = texture;
+  world.geometry->materials = {test::Plastic(), mask};
+  world.Build();
+  ASSERT_EQ(world.embree->alpha_filtered_mesh_count(), 1u);
+  const Camera cam = test::TestCamera(kW, kH, 40);
+  std::vector<ChiefRay> rays(size_t(kW) * size_t(kH));
+  TraceChiefRays(*world.embree, cam, Pose::Identity(), 0, 0, kW, kH, rays);
+  int on_floor = 0, on_plate = 0;
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      const ChiefRay& r = rays[size_t(y) * kW + size_t(x)];
+      Ray ray;
+      ray.direction = r.direction;
+      ExpectSameHit(r.hit, world.embree->Intersect(ray), x, y);
+      if (r.hit) (r.hit->instance_id == 0 ? on_floor : on_plate)++;
+    }
+  EXPECT_GT(on_plate, 100);
+  EXPECT_GT(on_floor, 100);
+}
+
 }  // namespace
 }  // namespace lt
