@@ -54,7 +54,7 @@ void Add(CLI::App& app) {
   cmd->add_option("--square-mm", args->square_mm, "Square size (mm)")->capture_default_str();
   cmd->add_option("--margin-squares", o.margin_squares, "White border (squares)")->capture_default_str();
   cmd->add_option("--views", o.views, "Number of board poses")->capture_default_str();
-  cmd->add_option("--binning", o.binning, "Camera pixels binned n x n")->capture_default_str();
+  cmd->add_option("--binning", o.binning, "Camera pixels binned n x n: resolution / n; the sensor sums their charge (full well x n^2, gain / n^2), so images keep the unbinned level")->capture_default_str();
   cmd->add_option("--min-tilt-deg", o.min_tilt_deg, "Smallest board tilt")->capture_default_str();
   cmd->add_option("--max-tilt-deg", o.max_tilt_deg, "Largest board tilt")->capture_default_str();
   cmd->add_option("--min-distance-mm", args->min_distance_mm, "Nearest board centre")->capture_default_str();
