@@ -12,6 +12,7 @@
 #include "core/json_reader.h"
 #include "core/random.h"
 #include "scene/gltf_writer.h"
+#include "scene/sensor_binning.h"
 #include "sensor/rig.h"
 
 namespace lt {
@@ -102,40 +103,7 @@ nlohmann::json SessionSensor(const nlohmann::json& rig_sensor, const ImageSensor
                              const CalibSessionOptions& o) {
   nlohmann::json sensor = rig_sensor;
   sensor.erase("pattern_projector");
-  if (o.binning > 1) {
-    const ImageSensorParams b = BinnedImageSensor(pixel, o.binning);
-    nlohmann::json& is = sensor["image_sensor"];  // an object once a key is set
-    is["full_well_e"] = b.full_well_e;
-    is["system_gain_dn_per_e"] = b.system_gain_dn_per_e;
-    is["dark_noise_e"] = b.dark_noise_e;
-    if (b.dark_current_e_per_s > 0) is["dark_current_e_per_s"] = b.dark_current_e_per_s;
-    if (b.dsnu_e > 0) is["dsnu_e"] = b.dsnu_e;
-    if (b.prnu > 0) is["prnu_percent"] = b.prnu * 100;
-  }
-  if (o.binning > 1 && sensor.contains("camera") && sensor["camera"].is_object()) {
-    nlohmann::json& cam = sensor["camera"];
-    const double n = o.binning;
-    auto bin_centre = [n](double c) { return (c + 0.5) / n - 0.5; };
-    if (cam.contains("resolution") && cam["resolution"].is_array() && cam["resolution"].size() == 2 &&
-        cam["resolution"][0].is_number_integer() && cam["resolution"][1].is_number_integer()) {
-      cam["resolution"] = {cam["resolution"][0].get<int>() / o.binning, cam["resolution"][1].get<int>() / o.binning};
-    }
-    if (cam.contains("pixel_pitch_um") && cam["pixel_pitch_um"].is_number()) {
-      cam["pixel_pitch_um"] = cam["pixel_pitch_um"].get<double>() * n;
-    }
-    for (const char* k : {"fx", "fy"}) {
-      if (cam.contains(k) && cam[k].is_number()) cam[k] = cam[k].get<double>() / n;
-    }
-    for (const char* k : {"cx", "cy"}) {
-      if (cam.contains(k) && cam[k].is_number()) cam[k] = bin_centre(cam[k].get<double>());
-    }
-    if (cam.contains("principal_point_px") && cam["principal_point_px"].is_array() &&
-        cam["principal_point_px"].size() == 2 && cam["principal_point_px"][0].is_number() &&
-        cam["principal_point_px"][1].is_number()) {
-      cam["principal_point_px"] = {bin_centre(cam["principal_point_px"][0].get<double>()),
-                                   bin_centre(cam["principal_point_px"][1].get<double>())};
-    }
-  }
+  BinSensorSection(sensor, pixel, o.binning);
   double bright_us = 2000, dim_us = 50, period_ms = 10;
   if (sensor.contains("shutter") && sensor["shutter"].is_object()) {
     const nlohmann::json& sh = sensor["shutter"];
@@ -244,18 +212,6 @@ std::optional<Eigen::Vector3d> AimDirection(const Camera& cam, int view, int att
 }
 
 }  // namespace
-
-ImageSensorParams BinnedImageSensor(const ImageSensorParams& pixel, int n) {
-  ImageSensorParams b = pixel;
-  const double n2 = double(n) * n;
-  b.full_well_e *= n2;
-  b.system_gain_dn_per_e /= n2;
-  b.dark_noise_e *= n;
-  b.dark_current_e_per_s *= n2;
-  b.dsnu_e *= n;
-  b.prnu /= n;
-  return b;
-}
 
 Pose CalibSessionOptions::DefaultToolFromCam() {
   // A camera mounted 40 mm off the flange axis and 110 mm out, turned a quarter

@@ -44,7 +44,7 @@ struct CalibSessionOptions {
   // lasers, LED, image sensor; its shutter's exposures when alternating).
   std::filesystem::path rig_scene;
   int binning = 2;            // camera pixels binned n x n (resolution / n, pitch x n,
-                              // the image sensor as BinnedImageSensor)
+                              // the image sensor as scene/sensor_binning.h bins it)
   double min_tilt_deg = 15, max_tilt_deg = 45;  // board normal against the optical axis
   double min_distance_m = 0.072, max_distance_m = 0.09;  // board centre along the optical axis
   int spp = 4;
@@ -70,18 +70,6 @@ struct CalibSession {
   std::vector<CalibSessionView> views;
   int frames = 0;
 };
-
-// The image sensor of a camera whose pixels are binned n x n, as a real
-// camera's binning: a binned pixel sums the charge of n² pixels, so its full
-// well is n² times the pixel's and the system gain (DN per e-) n² times
-// smaller (the full scale covers the summed well), which keeps the image's
-// level: at a given irradiance and exposure the binned pixel's mean DN is the
-// pixel's. The sum of n² independent pixels also has n times the dark noise
-// (n² reads), n² times the dark current, n times the DSNU and 1/n of the
-// PRNU; shot noise in DN is n times smaller (the signal in e- is n² times
-// larger). Black level, bit depth, analogue gain, QE and colour filter are
-// kept. n = 1 returns `pixel` unchanged.
-ImageSensorParams BinnedImageSensor(const ImageSensorParams& pixel, int n);
 
 // Writes the session into `out_dir` (created; existing session files are
 // replaced). Throws lt::InputError for a bad rig scene (naming the file and

@@ -3,6 +3,7 @@
 // the Pareto plot is written. Bad options exit with code 2.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <fstream>
 #include <sstream>
@@ -41,8 +42,16 @@ TEST(SweepCommand, QuickLadder) {
   }
   EXPECT_TRUE(fs::exists(dir / "runs/spp1/report_max.html"));
   EXPECT_FALSE(fs::exists(dir / "runs/bounces0/metrics_max.json"));
-  // The half-resolution run renders 48x36 frames.
-  EXPECT_THAT(ReadFile(dir / "runs/half_resolution/rig.json"), HasSubstr("48"));
+  // The half-resolution run renders 48x36 frames on the camera binned 2 x 2:
+  // a binned pixel's well holds 4 pixels' charge at a quarter of the gain, so
+  // its images keep the full-resolution run's level.
+  const nlohmann::json full = nlohmann::json::parse(ReadFile(dir / "runs/spp1/rig.json"));
+  const nlohmann::json half = nlohmann::json::parse(ReadFile(dir / "runs/half_resolution/rig.json"));
+  EXPECT_EQ(half["camera"]["resolution"], nlohmann::json::array({48, 36}));
+  EXPECT_EQ(full["camera"]["resolution"], nlohmann::json::array({96, 72}));
+  EXPECT_DOUBLE_EQ(half["image_sensor"]["full_well_e"].get<double>(), 4 * full["image_sensor"]["full_well_e"].get<double>());
+  EXPECT_DOUBLE_EQ(half["image_sensor"]["system_gain_dn_per_e"].get<double>(),
+                   full["image_sensor"]["system_gain_dn_per_e"].get<double>() / 4);
   const std::string svg = ReadFile(dir / "pareto.svg");
   EXPECT_THAT(svg, HasSubstr("Pareto front"));
   EXPECT_THAT(svg, HasSubstr("half_resolution"));

@@ -6,9 +6,9 @@
 //
 // Configurations: one factor at a time from the base (the scene's settings
 // with the base spp): adaptive sampling off, max_bounces 0 / 1 / 4 (those not
-// the scene's), subsurface off, half resolution (width, height and fx, fy, cx,
-// cy halved and the pixel pitch doubled: the same lens and field of view on a
-// sensor with 2x2 larger pixels); plus the spp ladder, each with every method
+// the scene's), subsurface off, half resolution (the camera binned 2 x 2,
+// scene/sensor_binning.h: the same lens and field of view on a quarter of the
+// pixels, at the same image level); plus the spp ladder, each with every method
 // (the one-factor configurations use the first method). Each configuration
 // renders into DIR/runs/<name>/ (replaced if present); its scan outputs and
 // evaluation for method M are renamed centers_M/, cloud_M.ply, metrics_M.json,
@@ -36,6 +36,7 @@
 #include "pipeline/scan.h"
 #include "pipeline/svg_plot.h"
 #include "render/frame_renderer.h"
+#include "scene/sensor_binning.h"
 #include "render/frame_writer.h"
 #include "render/run_folder.h"
 #include "scene/embree_scene.h"
@@ -100,22 +101,6 @@ std::vector<int> ParseInts(const std::string& text, const std::string& option) {
   return v;
 }
 
-// The camera of a resolved scene with 2x2 larger pixels: same lens and field of view.
-void HalveResolution(nlohmann::json& cam) {
-  auto& res = cam["resolution"];
-  res = {res[0].get<int>() / 2, res[1].get<int>() / 2};
-  cam["pixel_pitch_um"] = cam["pixel_pitch_um"].get<double>() * 2;
-  auto centre = [](double c) { return (c + 0.5) / 2 - 0.5; };  // pixel (0,0)'s centre at (0,0)
-  if (cam.contains("fx")) {
-    for (const char* k : {"fx", "fy"}) cam[k] = cam[k].get<double>() / 2;
-    for (const char* k : {"cx", "cy"}) cam[k] = centre(cam[k].get<double>());
-  }
-  if (cam.contains("principal_point_px")) {
-    auto& pp = cam["principal_point_px"];
-    pp = {centre(pp[0].get<double>()), centre(pp[1].get<double>())};
-  }
-}
-
 std::vector<RenderConfig> Ladder(const SceneFile& scene, const std::vector<int>& spps,
                                  const std::vector<ExtractionMethod>& methods, bool quick) {
   RenderConfig base;
@@ -157,7 +142,8 @@ void RenderRun(const SceneFile& original, const RenderConfig& c, int threads, co
   j["render"]["max_bounces"] = c.bounces;
   j["render"]["subsurface"] = c.subsurface;
   j["render"]["threads"] = threads;
-  if (c.half_resolution) HalveResolution(j["sensor"]["camera"]);
+  // A camera binned 2 x 2: a quarter of the pixels at the same image level.
+  if (c.half_resolution) BinSensorSection(j["sensor"], original.sensor.image_sensor.params(), 2);
   const SceneFile scene = ParseSceneText(j.dump(), original.path.string() + " (" + c.name + ")", original.path.parent_path());
   fs::remove_all(dir);
   RunFolder run(dir, scene.resolved, false);
