@@ -13,21 +13,8 @@ namespace {
 TEST(AlphaMaskTruth, CentresThroughAMaskHoleLandOnTheSurfaceBehind) {
   const double plate_z = 0.1, floor_z = 0.12;
   test::World world;
-  world.Add(test::Rectangle({0, 0, floor_z}, Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 0.3, 0.3));
-  // The plate: u runs along world y (u = 0 at y = -0.1), a 2x1 texture of alpha
-  // (0, 1), clamped: alpha < 0.5 (a hole) where y < 0.
-  Mesh plate = test::Rectangle({0, 0, plate_z}, Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 0.1, 0.1, 1);
-  plate.texcoords = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-  world.Add(plate);
-  auto texture = std::make_shared<Texture>();
-  texture->image = Image<uint8_t>(2, 1, 4, 255);
-  texture->image.At(0, 0, 3) = 0;
-  texture->wrap_s = texture->wrap_t = WrapMode::kClampToEdge;
-  Material mask = test::Plastic();
-  mask.alpha_mode = AlphaMode::kMask;
-  mask.base_color_texture = texture;
-  world.geometry->materials = {test::Plastic(), mask};
-  world.Build();
+  // The plate: a hole (alpha < 0.5) where y < 0.
+  test::BuildMaskedPlateOverFloor(world, plate_z, floor_z);
   ASSERT_EQ(world.embree->alpha_filtered_mesh_count(), 1u);
 
   const Camera cam = test::TestCamera(160, 120, 150);

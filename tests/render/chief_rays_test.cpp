@@ -68,19 +68,7 @@ TEST(ChiefRays, PacketsSeeMaskHolesAsSingleRaysDo) {
   // 16-ray packets), over a floor: each pixel's hit equals Intersect's, and
   // rays through the hole reach the floor.
   test::World world;
-  world.Add(test::Rectangle({0, 0, 0.12}, Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 0.3, 0.3));
-  Mesh plate = test::Rectangle({0, 0, 0.1}, Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 0.1, 0.1, 1);
-  plate.texcoords = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-  world.Add(plate);
-  auto texture = std::make_shared<Texture>();
-  texture->image = Image<uint8_t>(2, 1, 4, 255);
-  texture->image.At(0, 0, 3) = 0;
-  texture->wrap_s = texture->wrap_t = WrapMode::kClampToEdge;
-  Material mask = test::Plastic();
-  mask.alpha_mode = AlphaMode::kMask;
-  mask.base_color_texture = texture;
-  world.geometry->materials = {test::Plastic(), mask};
-  world.Build();
+  test::BuildMaskedPlateOverFloor(world, 0.1, 0.12);
   ASSERT_EQ(world.embree->alpha_filtered_mesh_count(), 1u);
   const Camera cam = test::TestCamera(kW, kH, 40);
   std::vector<ChiefRay> rays(size_t(kW) * size_t(kH));

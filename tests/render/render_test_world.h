@@ -85,6 +85,25 @@ struct World {
   }
 };
 
+// A floor 0.6 m square at z = floor_z and, above it at plate_z, a 0.2 m plate
+// of a glTF MASK material (material 1) whose 2x1 clamped alpha texture (0, 1)
+// cuts out its half at y < 0 (u runs along world y); the world is built.
+inline void BuildMaskedPlateOverFloor(World& world, double plate_z, double floor_z) {
+  world.Add(Rectangle({0, 0, floor_z}, Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 0.3, 0.3));
+  Mesh plate = Rectangle({0, 0, plate_z}, Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 0.1, 0.1, 1);
+  plate.texcoords = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  world.Add(plate);
+  auto texture = std::make_shared<Texture>();
+  texture->image = Image<uint8_t>(2, 1, 4, 255);
+  texture->image.At(0, 0, 3) = 0;
+  texture->wrap_s = texture->wrap_t = WrapMode::kClampToEdge;
+  Material mask = Plastic();
+  mask.alpha_mode = AlphaMode::kMask;
+  mask.base_color_texture = texture;
+  world.geometry->materials = {Plastic(), mask};
+  world.Build();
+}
+
 // A pinhole (or distorted) camera looking along +z from the world origin.
 inline Camera TestCamera(int w, int h, double fx, DistortionModel model = DistortionModel::kNone,
                          BrownConradyCoeffs bc = {}) {
