@@ -232,6 +232,8 @@ FrameSamples EvaluateFrame(const RunFrame& frame, SearchAxis axis, const std::ve
     // Placed with the manifest's pose (within the CSV's digits): the same distance, not searched again.
     if (m.p_in_world && frame.world_from_cam) {
       const Eigen::Vector3d placed = frame.world_from_cam->inverse() * *m.p_in_world;
+      p.has_pose_offset = true;
+      p.pose_offset_mm = (placed - *m.p_in_cam).norm() * 1e3;  // a rigid motion keeps lengths
       const std::optional<double> d = (placed - *m.p_in_cam).norm() <= 1e-9
                                           ? (p.on_surface ? std::optional<double>(p.error_mm * 1e-3) : std::nullopt)
                                           : distance(m, placed);

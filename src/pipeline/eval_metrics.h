@@ -119,6 +119,12 @@ struct PointSample {
   // no world point or the manifest no world_from_cam.
   bool stitched = false;
   double stitched_error_mm = 0;
+  // How far the scan's pose moved the point from where the manifest's pose puts
+  // the same camera-frame point, |p_in_world - world_from_cam · p_in_cam|: the
+  // stitching's own error, also along a surface, where the distance above is
+  // blind to it (set with `stitched`, whether or not a surface lies under it).
+  bool has_pose_offset = false;
+  double pose_offset_mm = 0;
 };
 
 struct EvalCounts {
@@ -135,6 +141,7 @@ struct EvalSummary {
   double center_bias_px = 0;  // mean signed error of the pairs (0 when none)
   ErrorStats point_mm;
   ErrorStats stitched_point_mm;  // of the stitched world points (PointSample::stitched); n = 0 when none
+  ErrorStats pose_offset_mm;     // PointSample::pose_offset_mm; n = 0 when none
   std::optional<double> detection_rate, false_positive_rate, plane_id_accuracy, completeness;
   nlohmann::json ToJson() const;
 };

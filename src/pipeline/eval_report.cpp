@@ -222,6 +222,11 @@ std::string FormatEvalReport(const fs::path& run_dir, const RunMetrics& m, const
       << " mm, max " << Stat(t.stitched_point_mm, &ErrorStats::max, 4) << " mm over " << t.stitched_point_mm.n
       << " points.";
   }
+  if (t.pose_offset_mm.n > 0) {
+    h << " Stitch pose offset (each world point against where the true pose puts the same measurement): median "
+      << Stat(t.pose_offset_mm, &ErrorStats::median, 4) << " mm, p95 " << Stat(t.pose_offset_mm, &ErrorStats::p95, 4)
+      << " mm, max " << Stat(t.pose_offset_mm, &ErrorStats::max, 4) << " mm.";
+  }
   h << "</p>\n";
 
   h << "<h2>By plane</h2><table>" << kTableHead;

@@ -55,7 +55,7 @@ EvalSummary Summarise(const std::vector<CenterSample>& centers, const std::vecto
                       std::optional<int> plane) {
   EvalSummary s;
   EvalCounts& c = s.counts;
-  std::vector<double> center_errors, point_errors, stitched_errors;
+  std::vector<double> center_errors, point_errors, stitched_errors, pose_offsets;
   double bias = 0;
   for (const CenterSample& x : centers) {
     if (!x.has_truth) {
@@ -79,6 +79,7 @@ EvalSummary Summarise(const std::vector<CenterSample>& centers, const std::vecto
     if (plane && p.plane != *plane) continue;
     ++c.points_triangulated;
     if (p.stitched) stitched_errors.push_back(p.stitched_error_mm);
+    if (p.has_pose_offset) pose_offsets.push_back(p.pose_offset_mm);
     if (p.on_surface) {
       point_errors.push_back(p.error_mm);
     } else {
@@ -89,6 +90,7 @@ EvalSummary Summarise(const std::vector<CenterSample>& centers, const std::vecto
   s.center_bias_px = c.matched > 0 ? bias / double(c.matched) : 0.0;
   s.point_mm = Summarize(std::move(point_errors));
   s.stitched_point_mm = Summarize(std::move(stitched_errors));
+  s.pose_offset_mm = Summarize(std::move(pose_offsets));
   s.detection_rate = Ratio(c.matched, c.gt_centers);
   s.false_positive_rate = Ratio(c.false_positives, c.measured_centers);
   s.plane_id_accuracy = Ratio(c.plane_correct, c.matched);
@@ -162,6 +164,7 @@ nlohmann::json EvalSummary::ToJson() const {
             {"points_off_surface", c.points_off_surface},
             {"complete", c.complete}}}};
   if (stitched_point_mm.n > 0) j["stitched_point_error_mm"] = stitched_point_mm.ToJson();
+  if (pose_offset_mm.n > 0) j["stitch_pose_offset_mm"] = pose_offset_mm.ToJson();
   return j;
 }
 

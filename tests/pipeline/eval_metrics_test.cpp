@@ -623,4 +623,42 @@ TEST(EvaluateRun, StitchedWorldPointsAreScoredWithThePoseTheScanUsed) {
 }
 
 }  // namespace
+// A pose error along a flat surface leaves every stitched point on it, so the
+// distance to the surface cannot see it; the stitch pose offset (each world
+// point against where the manifest's pose puts the same camera-frame point) can.
+TEST(EvaluateRun, StitchPoseOffsetSeesAPoseErrorAlongTheSurface) {
+  EvalRun run = EvalRun::Exact("pose_offset", 1, 0);
+  for (Measured& m : run.measured) m.off_surface_m = 50e-6;
+  Pose w = Pose::Identity();
+  w.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  w.translation() = Eigen::Vector3d(0.2, -0.1, 0.3);
+  run.world_from_cam = w;
+  const auto plane_distance = [](const RunFrame&) -> PointToSurface {
+    return [](const Eigen::Vector3d& p) { return std::optional<double>(std::abs(kSurface.SignedDistance(p))); };
+  };
+  run.scan_world_from_cam = w;
+  run.Write(true, false);
+  RunMetrics m = EvaluateRun(run.dir, {}, plane_distance);
+  EXPECT_EQ(m.total.pose_offset_mm.n, 60);
+  EXPECT_LT(m.total.pose_offset_mm.max, 1e-6);
+  // 0.4 mm off within the surface's plane.
+  const Eigen::Vector3d along = kSurface.n.unitOrthogonal();
+  Pose off = Pose::Identity();
+  off.translation() = 0.4e-3 * (w.linear() * along);
+  run.scan_world_from_cam = off * w;
+  run.Write(true, false);
+  m = EvaluateRun(run.dir, {}, plane_distance);
+  EXPECT_NEAR(m.total.stitched_point_mm.median, 0.05, 1e-6);  // blind to it
+  EXPECT_EQ(m.total.pose_offset_mm.n, 60);
+  EXPECT_NEAR(m.total.pose_offset_mm.median, 0.4, 1e-6);
+  EXPECT_NEAR(m.total.pose_offset_mm.max, 0.4, 1e-6);
+  EXPECT_NEAR(m.ToJson()["stitch_pose_offset_mm"]["median"].get<double>(), 0.4, 1e-6);
+  // Without world points nothing is scored.
+  run.scan_world_from_cam.reset();
+  run.Write(true, false);
+  m = EvaluateRun(run.dir, {}, plane_distance);
+  EXPECT_EQ(m.total.pose_offset_mm.n, 0);
+  EXPECT_FALSE(m.ToJson().contains("stitch_pose_offset_mm"));
+}
+
 }  // namespace lt

@@ -85,6 +85,13 @@ void Run(EvalArgs& a) {
               << Val(t.stitched_point_mm, &ErrorStats::max, "%.4f") << " (" << t.stitched_point_mm.n
               << " world points as scan placed them)\n";
   }
+  if (t.pose_offset_mm.n > 0) {
+    // The same points against the manifest's pose: the stitching's error along surfaces too.
+    std::cout << "  stitch pose offset   rms " << Val(t.pose_offset_mm, &ErrorStats::rms, "%.4f") << " mm, median "
+              << Val(t.pose_offset_mm, &ErrorStats::median, "%.4f") << ", p95 "
+              << Val(t.pose_offset_mm, &ErrorStats::p95, "%.4f") << ", max "
+              << Val(t.pose_offset_mm, &ErrorStats::max, "%.4f") << " (scan's world point against the true pose's)\n";
+  }
   std::cout << "  completeness         " << Pct(t.completeness) << " (within " << m.options.completeness_mm << " mm)\n"
             << "wrote " << json.string() << "\nreport " << report.string() << "\n";
 }
