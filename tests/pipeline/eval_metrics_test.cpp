@@ -572,6 +572,22 @@ TEST(EvaluateRun, ASurfaceDistanceSourceScoresEveryPointOfItsFrames) {
   EXPECT_NEAR(m.total.point_mm.max, 0.05, 1e-4);
 }
 
+// A run whose measured points lie 0.05 mm off kSurface, its camera at a
+// general pose w (the manifest's world_from_cam), and the distance to kSurface.
+struct StitchedRun {
+  EvalRun run;
+  Pose w = Pose::Identity();
+  explicit StitchedRun(const std::string& name) : run(EvalRun::Exact(name, 1, 0)) {
+    for (Measured& m : run.measured) m.off_surface_m = 50e-6;
+    w.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+    w.translation() = Eigen::Vector3d(0.2, -0.1, 0.3);
+    run.world_from_cam = w;
+  }
+  static PointToSurface PlaneDistance(const RunFrame&) {
+    return [](const Eigen::Vector3d& p) { return std::optional<double>(std::abs(kSurface.SignedDistance(p))); };
+  }
+};
+
 // The world points where scan placed them (the centres CSV's world columns) are
 // scored too: placed with a pose 0.3 mm off the manifest's along the surface's
 // normal (a hand-eye calibration's error, say), they lie 0.35 mm from the surface
@@ -579,15 +595,10 @@ TEST(EvaluateRun, ASurfaceDistanceSourceScoresEveryPointOfItsFrames) {
 // frame's points were scored (through the manifest's pose): a cloud stitched 0.5 mm
 // off by a wrong tool_from_cam scored as a right one.
 TEST(EvaluateRun, StitchedWorldPointsAreScoredWithThePoseTheScanUsed) {
-  EvalRun run = EvalRun::Exact("stitched", 1, 0);
-  for (Measured& m : run.measured) m.off_surface_m = 50e-6;
-  Pose w = Pose::Identity();
-  w.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
-  w.translation() = Eigen::Vector3d(0.2, -0.1, 0.3);
-  run.world_from_cam = w;
-  const auto plane_distance = [](const RunFrame&) -> PointToSurface {
-    return [](const Eigen::Vector3d& p) { return std::optional<double>(std::abs(kSurface.SignedDistance(p))); };
-  };
+  StitchedRun stitched("stitched");
+  EvalRun& run = stitched.run;
+  const Pose w = stitched.w;
+  const auto plane_distance = &StitchedRun::PlaneDistance;
   // Placed with the manifest's pose: the same errors.
   run.scan_world_from_cam = w;
   run.Write(true, false);
@@ -627,15 +638,10 @@ TEST(EvaluateRun, StitchedWorldPointsAreScoredWithThePoseTheScanUsed) {
 // distance to the surface cannot see it; the stitch pose offset (each world
 // point against where the manifest's pose puts the same camera-frame point) can.
 TEST(EvaluateRun, StitchPoseOffsetSeesAPoseErrorAlongTheSurface) {
-  EvalRun run = EvalRun::Exact("pose_offset", 1, 0);
-  for (Measured& m : run.measured) m.off_surface_m = 50e-6;
-  Pose w = Pose::Identity();
-  w.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
-  w.translation() = Eigen::Vector3d(0.2, -0.1, 0.3);
-  run.world_from_cam = w;
-  const auto plane_distance = [](const RunFrame&) -> PointToSurface {
-    return [](const Eigen::Vector3d& p) { return std::optional<double>(std::abs(kSurface.SignedDistance(p))); };
-  };
+  StitchedRun stitched("pose_offset");
+  EvalRun& run = stitched.run;
+  const Pose w = stitched.w;
+  const auto plane_distance = &StitchedRun::PlaneDistance;
   run.scan_world_from_cam = w;
   run.Write(true, false);
   RunMetrics m = EvaluateRun(run.dir, {}, plane_distance);
