@@ -633,7 +633,6 @@ TEST(EvaluateRun, StitchedWorldPointsAreScoredWithThePoseTheScanUsed) {
   EXPECT_EQ(EvaluateRun(run.dir, {}, plane_distance).total.stitched_point_mm.n, 0);
 }
 
-}  // namespace
 // A pose error along a flat surface leaves every stitched point on it, so the
 // distance to the surface cannot see it; the stitch pose offset (each world
 // point against where the manifest's pose puts the same camera-frame point) can.
@@ -667,4 +666,5 @@ TEST(EvaluateRun, StitchPoseOffsetSeesAPoseErrorAlongTheSurface) {
   EXPECT_FALSE(m.ToJson().contains("stitch_pose_offset_mm"));
 }
 
+}  // namespace
 }  // namespace lt
