@@ -26,12 +26,21 @@ EmitterLayout MakeEmitterLayout(const SensorRig& rig) {
   return layout;
 }
 
-PointEmitter EmitterAt(const PointEmitter& e, const Pose& world_from_cam) {
-  PointEmitter placed = e;
+ProjectorPlacement PlaceProjector(const PointEmitter& e, const Pose& world_from_cam) {
   const Pose world_from_projector =
       world_from_cam * (e.laser ? e.laser->cam_from_projector() : e.pattern->cam_from_projector());
-  placed.projector_from_world = world_from_projector.inverse();
-  placed.origin_world = world_from_projector.translation();
+  return {world_from_projector.inverse(), world_from_projector.translation()};
+}
+
+void PointEmitter::Place(const Pose& world_from_cam) {
+  const ProjectorPlacement p = PlaceProjector(*this, world_from_cam);
+  projector_from_world = p.projector_from_world;
+  origin_world = p.origin_world;
+}
+
+PointEmitter EmitterAt(const PointEmitter& e, const Pose& world_from_cam) {
+  PointEmitter placed = e;
+  placed.Place(world_from_cam);
   return placed;
 }
 
@@ -41,11 +50,9 @@ FrameLights MakeFrameLights(const SensorRig& rig, const Pose& world_from_cam, do
   int channel = 0, group = 0;
   for (const auto& laser : rig.lasers) {
     if (laser_fraction > 0 && laser.power_w() > 0) {
-      Pose world_from_projector = world_from_cam * laser.cam_from_projector();
       PointEmitter e;
       e.laser = &laser;
-      e.projector_from_world = world_from_projector.inverse();
-      e.origin_world = world_from_projector.translation();
+      e.Place(world_from_cam);
       e.wavelength_m = laser.wavelength_m();
       e.group = group;
       e.first_channel = channel;
@@ -58,11 +65,9 @@ FrameLights MakeFrameLights(const SensorRig& rig, const Pose& world_from_cam, do
   }
   if (rig.pattern) {
     if (pattern_fraction > 0 && rig.pattern->power_w() > 0) {
-      Pose world_from_projector = world_from_cam * rig.pattern->cam_from_projector();
       PointEmitter e;
       e.pattern = &*rig.pattern;
-      e.projector_from_world = world_from_projector.inverse();
-      e.origin_world = world_from_projector.translation();
+      e.Place(world_from_cam);
       e.wavelength_m = rig.pattern->wavelength_m();
       e.group = group;
       e.first_channel = channel;

@@ -29,7 +29,19 @@ struct PointEmitter {
   // Per sheet, the frame's cache of lit entry points (render/laser_entry_tree.h),
   // or null: subsurface light then comes from Monte Carlo. Empty: none.
   std::vector<const LaserEntryTree*> entry_trees;
+  // Sets projector_from_world and origin_world for the camera pose
+  // world_from_cam (PlaceProjector); laser or pattern must be set.
+  void Place(const Pose& world_from_cam);
 };
+
+// Where a point emitter's projector is for a camera pose.
+struct ProjectorPlacement {
+  Pose projector_from_world;
+  Eigen::Vector3d origin_world;
+};
+// Emitter e's projector (its laser's or pattern's cam_from_projector) placed
+// for the camera pose world_from_cam.
+ProjectorPlacement PlaceProjector(const PointEmitter& e, const Pose& world_from_cam);
 
 struct LedLight {
   const Led* led = nullptr;

@@ -161,7 +161,6 @@ void PathTracer::TraceLightPaths(const FrameLights& lights, const Camera& camera
   const double focus = camera.focus_distance_m();
   for (const PointEmitter& e : lights.emitters) {
     if (!e.laser || !(e.weight > 0)) continue;
-    const Eigen::Matrix3d world_from_projector_mid = e.projector_from_world.linear().transpose();
     for (int k = 0; k < e.channels; ++k) {
       // The grazing cells: of the frame's pose, or of each time slice's.
       std::vector<FanCells> slice_cells{FindGrazingCells(e, k, stats)};
@@ -190,26 +189,18 @@ void PathTracer::TraceLightPaths(const FrameLights& lights, const Camera& camera
           Rng rng = Rng::For(seed, uint64_t(frame), uint64_t(channel), uint64_t(i), kLightPathPurpose);
           // The path's poses: the frame's, or at its time of a moving exposure.
           const FanCells* cells_at = &slice_cells[0];
-          Pose world_from_cam_t, cam_from_world_t;
-          const Pose* world_from_cam_at = &world_from_cam;
-          const Pose* cam_from_world_at = &cam_from_world_mid;
-          Pose projector_from_world_t;
-          const Pose* projector_from_world = &e.projector_from_world;
-          Eigen::Matrix3d world_from_projector = world_from_projector_mid;
-          Eigen::Vector3d origin = e.origin_world;
+          Pose world_from_cam_path = world_from_cam, cam_from_world_path = cam_from_world_mid;
+          ProjectorPlacement projector{e.projector_from_world, e.origin_world};
           if (motion) {
             Rng time_rng = Rng::For(seed, uint64_t(frame), uint64_t(channel), uint64_t(i), kLightPathTimePurpose);
             const double u = (double(i) + time_rng.NextDouble()) / double(paths_per_sheet);
             cells_at = &slice_cells[std::min(size_t(u * double(slice_cells.size())), slice_cells.size() - 1)];
-            world_from_cam_t = motion->world_from_cam_at(motion->t0 + u * (motion->t1 - motion->t0));
-            cam_from_world_t = world_from_cam_t.inverse();
-            const Pose world_from_projector_t = world_from_cam_t * e.laser->cam_from_projector();
-            projector_from_world_t = world_from_projector_t.inverse();
-            world_from_cam_at = &world_from_cam_t, cam_from_world_at = &cam_from_world_t;
-            projector_from_world = &projector_from_world_t;
-            world_from_projector = projector_from_world_t.linear().transpose();
-            origin = world_from_projector_t.translation();
+            world_from_cam_path = motion->world_from_cam_at(motion->t0 + u * (motion->t1 - motion->t0));
+            cam_from_world_path = world_from_cam_path.inverse();
+            projector = PlaceProjector(e, world_from_cam_path);
           }
+          const Eigen::Matrix3d world_from_projector = projector.projector_from_world.linear().transpose();
+          const Eigen::Vector3d& origin = projector.origin_world;
           const FanCells& cells = *cells_at;
           const double phi = cells.SamplePhi(rng);
           const double psi = cells.sigma * rng.NextGaussian();
@@ -232,7 +223,7 @@ void PathTracer::TraceLightPaths(const FrameLights& lights, const Camera& camera
           if (n1.dot(wl) < 0) n1 = -n1;
           const double cos_1l = n1.dot(wl);
           if (!(cos_1l > 0 && cos_1l < kGrazingCosine)) continue;
-          const Eigen::Vector3d p_proj = *projector_from_world * x1;
+          const Eigen::Vector3d p_proj = projector.projector_from_world * x1;
           if (!e.laser->MayIlluminate(p_proj)) continue;
           const double intensity = e.laser->SheetIntensityAt(k, p_proj) * e.weight;
           if (!(intensity > 0)) continue;
@@ -277,11 +268,11 @@ void PathTracer::TraceLightPaths(const FrameLights& lights, const Camera& camera
               const Eigen::Vector2d d = ConcentricDisk(Eigen::Vector2d(rng.NextDouble(), rng.NextDouble()));
               lens = Eigen::Vector3d(d.x() * lens_radius, d.y() * lens_radius, 0.0);
             }
-            const Eigen::Vector3d x_cam = *cam_from_world_at * x;
+            const Eigen::Vector3d x_cam = cam_from_world_path * x;
             if (x_cam.z() > 0) {
               const Eigen::Vector3d p_f = pinhole ? x_cam : Eigen::Vector3d(lens + (x_cam - lens) * (focus / x_cam.z()));
               const auto u = camera.Project(p_f);
-              const Eigen::Vector3d lens_world = *world_from_cam_at * lens;
+              const Eigen::Vector3d lens_world = world_from_cam_path * lens;
               const Eigen::Vector3d to_lens = lens_world - x;
               const double d_l = to_lens.norm();
               const Eigen::Vector3d wc = to_lens / d_l;
