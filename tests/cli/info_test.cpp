@@ -86,6 +86,49 @@ TEST(InfoCommand, TextOutputNamesEverySection) {
   }
 }
 
+// A glTF's alpha modes (glTF 3.9.4) and double-sidedness, as the renderer reads
+// them: the same square under three meshes, one material each.
+TEST(InfoCommand, TextAndJsonNameAlphaModes) {
+  const fs::path dir = lt::test::TestFolder("info_alpha");
+  fs::create_directories(dir);
+  nlohmann::json g = nlohmann::json::parse(ReadFile(kData / "gltf/square.gltf"));
+  g["materials"] = {{{"name", "opaque"}},
+                    {{"name", "stencil"}, {"alphaMode", "MASK"}, {"alphaCutoff", 0.3}, {"doubleSided", true},
+                     {"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 0.9}}}}},
+                    {{"name", "glass"}, {"alphaMode", "BLEND"}, {"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 0.4}}}}}};
+  const nlohmann::json primitive = g["meshes"][0]["primitives"][0];
+  g["meshes"] = nlohmann::json::array();
+  g["nodes"] = nlohmann::json::array();
+  g["scenes"][0]["nodes"] = nlohmann::json::array();
+  for (int m = 0; m < 3; ++m) {
+    nlohmann::json prim = primitive;
+    prim["material"] = m;
+    g["meshes"].push_back({{"primitives", {prim}}});
+    g["nodes"].push_back({{"mesh", m}, {"translation", {0.02 * m, 0, 0}}, {"scale", {0.01, 0.01, 0.01}}});
+    g["scenes"][0]["nodes"].push_back(m);
+  }
+  std::ofstream(dir / "plates.gltf") << g.dump();
+  std::ofstream(dir / "scene.json") << R"({"objects": [{"name": "plates", "gltf": "plates.gltf"}],
+    "sensor": {"camera": {"resolution": [64, 48], "pixel_pitch_um": 5, "focal_length_mm": 4, "f_number": 4}}})";
+  Result r = RunLasertwin("info " + Quoted(dir / "scene.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("0 opaque: base_color [1, 1, 1], metallic 1, roughness 1\n"));
+  EXPECT_THAT(r.out, HasSubstr(", double-sided, alpha mask (holes where alpha < 0.3, alpha 0.9)\n"));
+  EXPECT_THAT(r.out, HasSubstr(", alpha blend (alpha 0.4 read as coverage)\n"));
+  Result j = RunLasertwin("info --json " + Quoted(dir / "scene.json"));
+  ASSERT_EQ(j.exit_code, 0) << j.err;
+  const auto materials = nlohmann::json::parse(j.out)["materials"];
+  ASSERT_EQ(materials.size(), 3u);
+  EXPECT_FALSE(materials[0].contains("alpha_mode"));
+  EXPECT_EQ(materials[1]["alpha_mode"], "mask");
+  EXPECT_NEAR(materials[1]["alpha_cutoff"].get<double>(), 0.3, 1e-6);
+  EXPECT_EQ(materials[1]["double_sided"], true);
+  EXPECT_EQ(materials[2]["alpha_mode"], "blend");
+  EXPECT_NEAR(materials[2]["alpha"].get<double>(), 0.4, 1e-6);
+  EXPECT_FALSE(materials[2].contains("alpha_cutoff"));
+  fs::remove_all(dir);
+}
+
 TEST(InfoCommand, ListsWarnings) {
   // warnings.gltf: a triangle, a collinear (degenerate) triangle and a points primitive.
   Result r = RunLasertwin("info " + Quoted(kData / "scenes/warnings.json"));

@@ -102,6 +102,12 @@ nlohmann::json Describe(const SceneFile& scene, const EmbreeScene& embree) {
                                   {"size", {m.base_color_texture->image.width, m.base_color_texture->image.height}}};
     }
     if (m.emissive.squaredNorm() > 0) jm["emissive"] = JsonVec(m.emissive.cast<double>());
+    if (m.double_sided) jm["double_sided"] = true;
+    if (m.alpha_mode != AlphaMode::kOpaque) {
+      jm["alpha_mode"] = m.alpha_mode == AlphaMode::kMask ? "mask" : "blend";
+      jm["alpha"] = m.alpha;
+      if (m.alpha_mode == AlphaMode::kMask) jm["alpha_cutoff"] = m.alpha_cutoff;
+    }
     if (m.subsurface) {
       jm["subsurface"] = {{"mean_free_path_mm", JsonVec(m.subsurface->mean_free_path_m * 1e3)},
                           {"mean_free_path_laser_mm", m.subsurface->mean_free_path_laser_m * 1e3}};
@@ -212,6 +218,16 @@ void PrintText(const nlohmann::json& j, std::ostream& out) {
           << m["base_color_texture"]["size"][0] << "x" << m["base_color_texture"]["size"][1] << ")";
     }
     if (m.contains("emissive")) out << ", emissive " << vec(m["emissive"]) << " W/(m^2 sr)";
+    if (m.contains("double_sided")) out << ", double-sided";
+    if (m.contains("alpha_mode")) {
+      // How the renderer reads the base colour's alpha (Material::alpha_mode).
+      if (m["alpha_mode"] == "mask") {
+        out << ", alpha mask (holes where alpha < " << Num(m["alpha_cutoff"].get<double>()) << ", alpha "
+            << Num(m["alpha"].get<double>()) << ")";
+      } else {
+        out << ", alpha blend (alpha " << Num(m["alpha"].get<double>()) << " read as coverage)";
+      }
+    }
     if (m.contains("subsurface")) {
       out << ", subsurface mean free path " << vec(m["subsurface"]["mean_free_path_mm"]) << " mm (laser "
           << Num(m["subsurface"]["mean_free_path_laser_mm"].get<double>()) << " mm)";
