@@ -90,6 +90,36 @@ TEST(StegerDefaults, WidthIsMeasuredOnTheFrame) {
   EXPECT_EQ(extractor.resolved_options().expected_width, 7);
 }
 
+TEST(StegerDefaults, WidthOfSaturatedStripesBesideEachOther) {
+  // A diffractive element's 9 sheets, 6.5 px apart, saturated (peak 560 in an
+  // 8-bit frame): between two stripes the line stays at 58-67% of full scale,
+  // above half of it, so each peak's FWHM ran on past its neighbours to the
+  // outer flanks of all nine (about 56 px); the filter made of that width
+  // smoothed them into one (no points). The width is now bounded by the
+  // valleys between them: 5.2 px.
+  SyntheticFrame f;
+  f.width = 140;
+  f.height = 60;
+  f.noise_sigma = 1.5;
+  f.seed = 7;
+  const double spacing = 6.5;
+  for (int k = 0; k < 9; ++k) f.stripes.push_back(LineStripe(40.2 + spacing * k, 30, 3, 1.6, 560));
+  ExtractionOptions o;
+  o.threshold = 100;
+  o.method = ExtractionMethod::kSteger;
+  StripeExtractor extractor(o);
+  Image<uint8_t> img = QuantizeImage<uint8_t>(RenderSyntheticFrame(f));
+  const auto points = extractor.Extract(img.View());
+  const double w = extractor.resolved_options().expected_width;
+  EXPECT_GE(w, 0.6 * spacing);
+  EXPECT_LE(w, spacing);
+  // All nine on the rows beyond ceil(3 sigma) = 5 of the top and bottom (450 points).
+  const ErrorStats e = RowErrors(points, f);
+  EXPECT_EQ(e.unmatched, 0);
+  EXPECT_GE(e.points, 9 * 48);
+  EXPECT_LT(e.rms, 0.5);  // clipped plateaus
+}
+
 TEST(StegerDefaults, NoiseIsNotAStripe) {
   // Noise of 10% of the threshold (its 3-sigma tail is far below it) and no
   // stripe: no chain reaches the threshold.
