@@ -202,7 +202,12 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
       case 19: ReadWords(code, pos, true); Expect("", CommandName('G', n)); plane_ = n; return;
       case 20:
       case 21: ReadWords(code, pos, true); Expect("", CommandName('G', n)); unit_mm_ = n == 20 ? 25.4 : 1.0; return;
-      case 28: ReadWords(code, pos, false); Home(); return;
+      case 28:
+        // T is a parameter here: Bambu's "G28 Z P0 T300" (home Z with low precision,
+        // permitting a nozzle of up to 300 degrees), not a tool change.
+        ReadWords(code, pos, false, true);
+        Home();
+        return;
       case 29:  // bed levelling (Marlin, RepRapFirmware, Bambu): probes the bed
       case 30:  // a single Z probe
       case 32:  // RepRapFirmware's bed.g (probing); Marlin's sled undock
@@ -289,8 +294,11 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
   }
   if (letter == 'M' && (n == 220 || n == 221)) {
     ReadWords(code, pos, false, true);
-    // Bambu's start scripts switch soft endstops with "M221 X0 Y0 Z0": skipped.
-    if (n == 221 && (Find('X') || Find('Y') || Find('Z'))) {
+    // Bambu's start scripts switch soft endstops with "M221 X0 Y0 Z0", and push and
+    // pop their state with a bare "M221 S" and "M221 R" (X1 and P1 start scripts, around
+    // the nozzle wipe below the bed's surface): skipped.
+    const Word* s = Find('S');
+    if (n == 221 && (Find('X') || Find('Y') || Find('Z') || Find('R') || (s && !s->value))) {
       ++path_.skipped_commands["M221"];
       return;
     }

@@ -1,0 +1,51 @@
+// Constructs met in real slicers' files (docs/sequences.md, "Real files checked"), each
+// as a tiny hand-written excerpt in the form the file has it: lines that stopped a real
+// file from loading, or were read wrongly, before the reader knew them.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "scene/gcode.h"
+#include "test_util.h"
+
+namespace lt {
+namespace {
+
+using test::ErrorOf;
+using ::testing::HasSubstr;
+constexpr double kMm = 1e-3;
+
+// Bambu Studio's X1 Carbon start script wipes the nozzle below the bed's surface: it
+// pushes the soft endstops' state with a bare "M221 S", turns the Z endstop off, wipes,
+// and pops the state with "M221 R"; it homes Z with "G28 Z P0 T300" (low precision,
+// a nozzle of up to 300 degrees permitted). Each of these lines was an error ("M221 S
+// (flow percentage) must be >= 0", "M221 takes no parameter R", "one command per line:
+// found T after the command"), so no Bambu Studio file for an X1 or P1 could be read.
+TEST(GcodeRealFiles, BambuX1StartScriptSoftEndstopsAndLowPrecisionHoming) {
+  Toolpath p = ParseGcode(
+      "G90\nM83\nG28 X\nG1 X135 Y253 Z5 F20000\n"
+      "G28 Z P0 T300; home z with low precision,permit 300deg temperature\n"
+      "G29.2 S0 ; turn off ABL\nG0 Z5 F20000\n"
+      "M221 S; push soft endstop status\nM221 Z0 ;turn off Z axis endstop\n"
+      "G0 X125 Y259.5 Z-1.01\nG0 X131 F211\n"
+      "M221 R; pop softend status\nG1 Z10 F1200\n"
+      "G1 X128 Y128 Z0.2 F20000\nG1 X138 E1 F1200\n",
+      "x1c.gcode");
+  ASSERT_EQ(p.segments.size(), 8u);
+  EXPECT_EQ(p.segments[1].gcode, 28);  // G28 Z: Z alone homes, from 5 mm
+  EXPECT_NEAR(p.segments[1].start_m.z(), 5 * kMm, 1e-12);
+  EXPECT_NEAR(p.segments[1].end_m.z(), 0.0, 1e-12);
+  EXPECT_NEAR(p.segments[1].end_m.x(), 135 * kMm, 1e-12);
+  EXPECT_NEAR(p.segments[3].end_m.z(), -1.01 * kMm, 1e-12);  // the wipe below the surface
+  // The flow percentage is untouched: the bead feeds the 1 mm the file says.
+  EXPECT_NEAR(p.segments.back().extruded_m, 1 * kMm, 1e-12);
+  EXPECT_EQ(p.skipped_commands.at("M221"), 3u);
+  EXPECT_EQ(p.skipped_commands.count("T300"), 0u);
+  // A flow percentage that is one is still read, and a bad one is still an error.
+  Toolpath flow = ParseGcode("M83\nM221 S50\nG1 X10 E1 F600\n", "flow.gcode");
+  EXPECT_NEAR(flow.segments.back().extruded_m, 0.5 * kMm, 1e-12);
+  EXPECT_THAT(ErrorOf([] { ParseGcode("M221 S-5\n", "flow.gcode"); }),
+              HasSubstr("flow.gcode:1: M221 S (flow percentage) must be >= 0"));
+}
+
+}  // namespace
+}  // namespace lt
