@@ -68,7 +68,8 @@
 // CraftWare's ";segType:name" name the type; header "layerHeight,", "filamentDiameters,"
 // (Simplify3D), "layer_thickness_mm =", "fiber_dia_mm =" (KISSlicer), "sliceHeight ="
 // (Kiri:Moto); ";FLAVOR:UltiGCode" (Cura for Ultimaker 2): E in mm^3, held as lengths of
-// 2.85 mm filament. Comments hold
+// 2.85 mm filament; ";FLAVOR:Marlin(Volumetric)" (Cura's RepRap (Volumetric)): E in
+// mm^3, held as lengths of Marlin's nominal 1.75 mm filament. Comments hold
 // millimetres under G20 too. A file without any layer comment takes its layers from
 // the heights it extrudes at (Toolpath::layers_from_z). Structured
 // comments count only on lines holding nothing else. Line numbers (N) are dropped; a

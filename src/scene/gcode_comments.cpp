@@ -18,6 +18,9 @@ namespace {
 
 // The filament diameter of the Ultimaker 2 family, which Cura's UltiGCode flavour is for.
 constexpr double kUltimakerFilamentMm = 2.85;
+// Marlin's DEFAULT_NOMINAL_FILAMENT_DIA, the diameter its volumetric mode assumes
+// until M200 D sets one: for Cura's Marlin(Volumetric) flavour, which states none.
+constexpr double kMarlinNominalFilamentMm = 1.75;
 
 }  // namespace
 
@@ -110,12 +113,17 @@ void GcodeReader::Comment(std::string_view comment) {
     double h = *CommentNumber(c.substr(c.find(':') + 1), "HEIGHT");
     // Slicers' comments are in millimetres, whatever G20/G21 say.
     state_height(h * kMetresPerMm);
-  } else if (StartsWith(c, "FLAVOR:") && TrimBlanks(c.substr(7)) == "UltiGCode") {
-    // Cura's UltiGCode flavour (Ultimaker 2 and 2+): E is the volume of filament in
-    // mm^3 (the printer knows the material's diameter), as under M200; held as lengths
-    // of Ultimaker's 2.85 mm filament (the beads' volume does not depend on the choice).
+  } else if (StartsWith(c, "FLAVOR:") &&
+             (TrimBlanks(c.substr(7)) == "UltiGCode" || TrimBlanks(c.substr(7)) == "Marlin(Volumetric)")) {
+    // Cura's UltiGCode flavour (Ultimaker 2 and 2+) and its "RepRap (Volumetric)"
+    // setting, written as Marlin(Volumetric): E is the volume of filament in mm^3 (the
+    // printer knows the material's diameter), as under M200; held as lengths of
+    // Ultimaker's 2.85 mm filament, or of Marlin's nominal 1.75 mm (the beads' volume
+    // does not depend on the choice).
     volumetric_ = true;
-    if (volumetric_diameter_mm_ <= 0) volumetric_diameter_mm_ = kUltimakerFilamentMm;
+    if (volumetric_diameter_mm_ <= 0) {
+      volumetric_diameter_mm_ = TrimBlanks(c.substr(7)) == "UltiGCode" ? kUltimakerFilamentMm : kMarlinNominalFilamentMm;
+    }
     path_.filament_diameter_m = volumetric_diameter_mm_ * kMetresPerMm;
   } else if (StartsWith(c, "Layer height:")) {
     path_.header_layer_height_m = *CommentNumber(c.substr(13), "Layer height") * kMetresPerMm;

@@ -4,6 +4,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "scene/gcode.h"
 #include "test_util.h"
 
@@ -45,6 +47,28 @@ TEST(GcodeRealFiles, BambuX1StartScriptSoftEndstopsAndLowPrecisionHoming) {
   EXPECT_NEAR(flow.segments.back().extruded_m, 0.5 * kMm, 1e-12);
   EXPECT_THAT(ErrorOf([] { ParseGcode("M221 S-5\n", "flow.gcode"); }),
               HasSubstr("flow.gcode:1: M221 S (flow percentage) must be >= 0"));
+}
+
+// Cura's "RepRap (Volumetric)" flavour, written ";FLAVOR:Marlin(Volumetric)" (a real Cura
+// 4.13.1 file's header: ";Filament used: 4615.03mm3"): E is a volume in mm^3, as
+// CuraEngine documents the flavour, without M200; retraction is G10/G11. It was read as
+// millimetres of filament: 2.4 times the volume for 1.75 mm filament. Held as lengths of
+// Marlin's nominal 1.75 mm filament, as its volumetric mode assumes without M200 D.
+TEST(GcodeRealFiles, CuraMarlinVolumetricFlavourExtrudesVolumes) {
+  Toolpath p = ParseGcode(
+      ";FLAVOR:Marlin(Volumetric)\n;TIME:64\n;Filament used: 18mm3\n;Layer height: 0.4\n"
+      ";Generated with Cura_SteamEngine 4.13.1\nM82 ;absolute extrusion mode\nG28 ;Home\n"
+      ";LAYER_COUNT:1\n;LAYER:0\nG0 X10 Y10 Z0.4 F3000\nG1 X20 Y10 E6 F1200\nG1 X20 Y20 E18\n"
+      "G10\nG0 X30 Y30\nG11\n;TIME_ELAPSED:64.979067\n",
+      "volumetric.gcode");
+  const double area_mm2 = M_PI * 0.25 * 1.75 * 1.75;
+  double bead_e = 0;
+  for (const ToolpathSegment& s : p.segments) {
+    if (s.LaysBead()) bead_e += s.extruded_m;
+  }
+  EXPECT_NEAR(bead_e, 18 / area_mm2 * kMm, 1e-15);  // the header's 18 mm^3
+  EXPECT_NEAR(p.filament_diameter_m, 1.75 * kMm, 1e-15);
+  EXPECT_NEAR(p.ExtrudedLength(), 18 / area_mm2 * kMm, 1e-15);  // G10/G11 cancel
 }
 
 }  // namespace
