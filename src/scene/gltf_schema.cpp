@@ -48,6 +48,40 @@ struct Checker {
       Fail(pointer + "/" + key, "must be an integer" + range + ", got " + it->dump());
     }
   }
+  // Number property `key` of `o`, when present.
+  void Number(const json& o, const std::string& pointer, const char* key) const {
+    auto it = o.find(key);
+    if (it != o.end() && !it->is_number()) Fail(pointer + "/" + key, "must be a number, got " + it->dump());
+  }
+  // Boolean property `key` of `o`, when present.
+  void Boolean(const json& o, const std::string& pointer, const char* key) const {
+    auto it = o.find(key);
+    if (it != o.end() && !it->is_boolean()) Fail(pointer + "/" + key, "must be true or false, got " + it->dump());
+  }
+  // Number array property `key` of `o`, when present: `size` numbers (any count when 0).
+  void Numbers(const json& o, const std::string& pointer, const char* key, size_t size) const {
+    auto it = o.find(key);
+    if (it == o.end()) return;
+    const std::string at = pointer + "/" + key;
+    if (!it->is_array() || (size != 0 && it->size() != size)) {
+      const std::string what = size != 0 ? "an array of " + std::to_string(size) + " numbers" : "an array of numbers";
+      Fail(at, "must be " + what + ", got " + (it->is_array() ? std::to_string(it->size()) + " elements" : it->dump()));
+    }
+    for (size_t k = 0; k < it->size(); ++k) {
+      if (!(*it)[k].is_number()) Fail(at + "/" + std::to_string(k), "must be a number, got " + (*it)[k].dump());
+    }
+  }
+  // A textureInfo object `key` of `o` (baseColorTexture, normalTexture, ...), when present.
+  void TextureInfo(const json& o, const std::string& pointer, const char* key) const {
+    auto it = o.find(key);
+    if (it == o.end()) return;
+    const std::string at = pointer + "/" + key;
+    if (!it->is_object()) Fail(at, "must be an object, got " + it->dump());
+    Integer(*it, at, "index", true);
+    Integer(*it, at, "texCoord", false, 0);
+    Number(*it, at, "scale");
+    Number(*it, at, "strength");
+  }
 };
 
 }  // namespace
@@ -97,6 +131,13 @@ void CheckGltfSchema(const json& root, const std::string& file) {
       const json& n = (*nodes)[i];
       const std::string at = "/nodes/" + std::to_string(i);
       for (const char* key : {"mesh", "skin", "camera"}) c.Integer(n, at, key, false);
+      // tinygltf keeps the numbers before a non-number (a "must have 3 elements" error
+      // followed) and drops a value that is not an array (a "scale": 2 was no scale).
+      c.Numbers(n, at, "matrix", 16);
+      c.Numbers(n, at, "translation", 3);
+      c.Numbers(n, at, "rotation", 4);
+      c.Numbers(n, at, "scale", 3);
+      c.Numbers(n, at, "weights", 0);
       if (auto children = n.find("children"); children != n.end()) {
         if (!children->is_array()) c.Fail(at + "/children", "must be an array of node indices, got " + children->dump());
         for (size_t k = 0; k < children->size(); ++k) {
@@ -108,9 +149,34 @@ void CheckGltfSchema(const json& root, const std::string& file) {
       }
     }
   }
+  if (const json* materials = c.Array(root, "materials")) {
+    // tinygltf drops a factor of the wrong type and uses the default instead: a
+    // "metallicFactor": "0" made a metal, a string in baseColorFactor made it white.
+    for (size_t i = 0; i < materials->size(); ++i) {
+      const json& m = (*materials)[i];
+      const std::string at = "/materials/" + std::to_string(i);
+      if (auto pbr = m.find("pbrMetallicRoughness"); pbr != m.end()) {
+        const std::string pat = at + "/pbrMetallicRoughness";
+        if (!pbr->is_object()) c.Fail(pat, "must be an object, got " + pbr->dump());
+        c.Numbers(*pbr, pat, "baseColorFactor", 4);
+        c.Number(*pbr, pat, "metallicFactor");
+        c.Number(*pbr, pat, "roughnessFactor");
+        c.TextureInfo(*pbr, pat, "baseColorTexture");
+        c.TextureInfo(*pbr, pat, "metallicRoughnessTexture");
+      }
+      c.Numbers(m, at, "emissiveFactor", 3);
+      c.Number(m, at, "alphaCutoff");
+      c.Boolean(m, at, "doubleSided");
+      if (auto mode = m.find("alphaMode"); mode != m.end() && !mode->is_string()) {
+        c.Fail(at + "/alphaMode", "must be \"OPAQUE\", \"MASK\" or \"BLEND\", got " + mode->dump());
+      }
+      for (const char* key : {"normalTexture", "occlusionTexture", "emissiveTexture"}) c.TextureInfo(m, at, key);
+    }
+  }
   if (const json* meshes = c.Array(root, "meshes")) {
     for (size_t i = 0; i < meshes->size(); ++i) {
       const std::string at = "/meshes/" + std::to_string(i);
+      c.Numbers((*meshes)[i], at, "weights", 0);
       auto prims = (*meshes)[i].find("primitives");
       if (prims == (*meshes)[i].end()) c.Fail(at, "missing required property \"primitives\"");
       if (!prims->is_array()) c.Fail(at + "/primitives", "must be an array");

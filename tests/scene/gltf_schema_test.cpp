@@ -58,5 +58,56 @@ TEST(GltfSchema, ErrorsNameTheirPointer) {
   EXPECT_EQ(GlbError([](nlohmann::json& j) { j["accessors"] = {{"a", 1}}; }), "bad.glb: /accessors: must be an array");
 }
 
+// Numbers of the wrong type in a node's transform or a material: tinygltf keeps the
+// numbers before a non-number and drops a value that is not an array or a number, so
+// assimp's regression file malformed_node_scale.gltf ("scale": [2.0, "not-a-number",
+// 3.0]) failed with "must have 3 elements", a "scale": 2 loaded unscaled, a
+// "metallicFactor": "0" loaded as a metal and a string in baseColorFactor as white.
+TEST(GltfSchema, MistypedNumbersNameTheirPointer) {
+  auto with_material = [](nlohmann::json& j) {
+    j["materials"] = {{{"pbrMetallicRoughness", {{"baseColorFactor", {0.8, 0.8, 0.8, 1.0}}, {"metallicFactor", 0}}}}};
+    j["meshes"][0]["primitives"][0]["material"] = 0;
+  };
+  EXPECT_EQ(GlbError([](nlohmann::json& j) { j["nodes"][0]["scale"] = {2.0, "not-a-number", 3.0}; }),
+            "bad.glb: /nodes/0/scale/1: must be a number, got \"not-a-number\"");
+  EXPECT_EQ(GlbError([](nlohmann::json& j) { j["nodes"][0]["scale"] = 2; }),
+            "bad.glb: /nodes/0/scale: must be an array of 3 numbers, got 2");
+  EXPECT_EQ(GlbError([](nlohmann::json& j) { j["nodes"][0]["translation"] = {0, 1}; }),
+            "bad.glb: /nodes/0/translation: must be an array of 3 numbers, got 2 elements");
+  EXPECT_EQ(GlbError([](nlohmann::json& j) { j["nodes"][0]["weights"] = {"0.5"}; }),
+            "bad.glb: /nodes/0/weights/0: must be a number, got \"0.5\"");
+  EXPECT_EQ(GlbError([&](nlohmann::json& j) {
+              with_material(j);
+              j["materials"][0]["pbrMetallicRoughness"]["metallicFactor"] = "0";
+            }),
+            "bad.glb: /materials/0/pbrMetallicRoughness/metallicFactor: must be a number, got \"0\"");
+  EXPECT_EQ(GlbError([&](nlohmann::json& j) {
+              with_material(j);
+              j["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"][2] = "0.8";
+            }),
+            "bad.glb: /materials/0/pbrMetallicRoughness/baseColorFactor/2: must be a number, got \"0.8\"");
+  EXPECT_EQ(GlbError([&](nlohmann::json& j) {
+              with_material(j);
+              j["materials"][0]["doubleSided"] = "true";
+            }),
+            "bad.glb: /materials/0/doubleSided: must be true or false, got \"true\"");
+  EXPECT_EQ(GlbError([&](nlohmann::json& j) {
+              with_material(j);
+              j["materials"][0]["emissiveTexture"] = {{"index", "0"}};
+            }),
+            "bad.glb: /materials/0/emissiveTexture/index: must be an integer, got \"0\"");
+  // Well-typed values still load.
+  GltfBuilder b = test::SquareBuilder();
+  with_material(b.json());
+  b.json()["nodes"][0]["scale"] = {2, 2.0, 1};
+  TempDir dir;
+  b.WriteGlb(dir / "ok.glb");
+  const GltfAsset asset = LoadGltf(dir / "ok.glb", "ok.glb");
+  ASSERT_EQ(asset.materials.size(), 1u);
+  EXPECT_FLOAT_EQ(asset.materials[0].metallic, 0.0f);
+  ASSERT_EQ(asset.instances.size(), 1u);
+  EXPECT_NEAR(asset.instances[0].file_from_mesh.linear()(0, 0), 2.0, 1e-12);
+}
+
 }  // namespace
 }  // namespace lt
