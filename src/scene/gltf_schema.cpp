@@ -111,6 +111,20 @@ void CheckGltfSchema(const json& root, const std::string& file) {
       if (auto n = a.find("normalized"); n != a.end() && !n->is_boolean()) {
         c.Fail(at + "/normalized", "must be true or false, got " + n->dump());
       }
+      // tinygltf: "the sparse object of this accessor doesn't have values", no place.
+      if (auto sparse = a.find("sparse"); sparse != a.end()) {
+        const std::string sat = at + "/sparse";
+        if (!sparse->is_object()) c.Fail(sat, "must be an object, got " + sparse->dump());
+        c.Integer(*sparse, sat, "count", true, 1);
+        for (const char* key : {"indices", "values"}) {
+          auto part = sparse->find(key);
+          if (part == sparse->end()) c.Fail(sat, std::string("missing required property \"") + key + "\"");
+          if (!part->is_object()) c.Fail(sat + "/" + key, "must be an object, got " + part->dump());
+          c.Integer(*part, sat + "/" + key, "bufferView", true);
+          c.Integer(*part, sat + "/" + key, "byteOffset", false, 0);
+        }
+        c.Integer((*sparse)["indices"], sat + "/indices", "componentType", true);
+      }
     }
   }
   if (const json* views = c.Array(root, "bufferViews")) {

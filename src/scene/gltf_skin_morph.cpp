@@ -33,7 +33,9 @@ void ApplySkin(const GltfSource& src, const tinygltf::Primitive& prim, const std
          ja.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) ||
         ja.normalized) {
       throw InputError(GltfWhere(src, "accessors", joints_acc),
-                       joints_name + " must be unsigned bytes or shorts, not normalized");
+                       joints_name + " must be unsigned bytes or shorts (componentType 5121 or 5123) without "
+                       "\"normalized\" (glTF 3.7.3.1), got componentType " + std::to_string(ja.componentType) +
+                           (ja.normalized ? " normalized" : ""));
     }
     const std::vector<float> joints = ReadFloatAccessor(src, joints_acc, 4);
     const std::vector<float> weights = ReadFloatAccessor(src, weights_acc, 4);

@@ -109,5 +109,35 @@ TEST(GltfSchema, MistypedNumbersNameTheirPointer) {
   EXPECT_NEAR(asset.instances[0].file_from_mesh.linear()(0, 0), 2.0, 1e-12);
 }
 
+// assimp's regression files: malformed_sparse.gltf (a sparse accessor without
+// "values") failed with tinygltf's "the sparse object of this accessor doesn't have
+// values", no place; mixed_skin_joints.gltf (JOINTS_1 as unsigned ints) with
+// "JOINTS_1 must be unsigned bytes or shorts, not normalized", not saying what it is.
+TEST(GltfSchema, SparseAndJointsErrorsSayWhatIsWrong) {
+  EXPECT_EQ(GlbError([](nlohmann::json& j) {
+              j["accessors"][0]["sparse"] = {{"count", 1}, {"indices", {{"bufferView", 0}, {"componentType", 5121}}}};
+            }),
+            "bad.glb: /accessors/0/sparse: missing required property \"values\"");
+  EXPECT_EQ(GlbError([](nlohmann::json& j) {
+              j["accessors"][0]["sparse"] = {{"count", 1}, {"indices", {{"componentType", 5121}}}, {"values", {{"bufferView", 0}}}};
+            }),
+            "bad.glb: /accessors/0/sparse/indices: missing required property \"bufferView\"");
+  GltfBuilder b = test::SquareBuilder();
+  const std::vector<uint32_t> joints(16, 0);
+  const int jv = b.AddBufferView(joints.data(), joints.size() * sizeof(uint32_t));
+  auto& attributes = b.json()["meshes"][0]["primitives"][0]["attributes"];
+  attributes["JOINTS_0"] = b.AddAccessor(jv, 5125, 4, "VEC4");
+  attributes["WEIGHTS_0"] = b.AddFloats({1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0}, "VEC4");
+  b.json()["nodes"][0]["skin"] = 0;
+  b.json()["nodes"].push_back({{"name", "joint"}});
+  b.json()["skins"] = {{{"joints", {1}}}};
+  TempDir dir;
+  b.WriteGlb(dir / "bad.glb");
+  EXPECT_EQ(ErrorOf([&] { LoadGltf(dir / "bad.glb", "bad.glb"); }),
+            "bad.glb: /accessors/" + std::to_string(attributes["JOINTS_0"].get<int>()) +
+                ": JOINTS_0 must be unsigned bytes or shorts (componentType 5121 or 5123) without \"normalized\" "
+                "(glTF 3.7.3.1), got componentType 5125");
+}
+
 }  // namespace
 }  // namespace lt
