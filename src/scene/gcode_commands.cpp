@@ -28,7 +28,8 @@ bool IsProbingMacro(const std::string& name) {
 // G29 forms that load, fill, activate or save a mesh without probing: RepRapFirmware's
 // S1 (load the height map), S2 (clear), S3 (save); Marlin's unified bed levelling and
 // Prusa's Buddy firmware's A (activate), D (disable), L (load), F (fade), T and W
-// (reports), P3 (fill: "G29 P3.2"), P5 and P6, with C and V modifiers. Bare G29, S0,
+// (reports), P3 (fill: "G29 P3.2"), P5 and P6, with C and V modifiers, and G (Prusa's
+// MK4, XL and Core One start scripts: "G29 G ; absorb heat", a wait). Bare G29, S0,
 // P1, J, and any point or area (X, Y, I, J, W with P1; Bambu's "G29 A X.. Y.. I.. J..")
 // probe.
 bool GcodeReader::MeshCommandOnly() const {
@@ -37,7 +38,7 @@ bool GcodeReader::MeshCommandOnly() const {
     const double v = w.value.value_or(0);
     const bool ok = (w.letter == 'S' && w.value && v >= 1 && v <= 3 && v == std::floor(v)) ||
                     (w.letter == 'P' && w.value && (std::floor(v) == 3 || v == 5 || v == 6)) ||
-                    std::string_view("ADLFTWCV").find(w.letter) != std::string_view::npos;
+                    std::string_view("ADLFTWCVG").find(w.letter) != std::string_view::npos;
     if (!ok) return false;
   }
   return true;
@@ -215,7 +216,8 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
       case 34:  // Z steppers' auto-alignment (probes)
       case 35:  // Marlin's tramming assistant (probes the screws' points)
       case 380:  // Bambu's move until contact ("G380 S2 Z-5 F300")
-        ReadWords(code, pos, false);
+        // T is G29's parameter (Marlin's and Prusa's "G29 T": report the mesh), no tool.
+        ReadWords(code, pos, false, n == 29);
         if (n == 29 && MeshCommandOnly()) {
           ++path_.skipped_commands["G29"];
           return;

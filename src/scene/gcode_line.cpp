@@ -80,8 +80,9 @@ void GcodeReader::ReadWords(std::string_view code, size_t pos, bool numbers_requ
       w.value = ParseFiniteNumber(number);
       if (!w.value) Fail(std::string(1, letter) + " has a malformed number \"" + std::string(number) + "\"");
     }
-    if (letter == 'G' || letter == 'M') {
-      // Several commands on one line ("G21 G90", "G90 G94 G17"): each in turn.
+    if ((letter == 'G' || letter == 'M') && w.value) {
+      // Several commands on one line ("G21 G90", "G90 G94 G17"): each in turn. A G
+      // without a number is a parameter (Prusa's "G29 G": absorb the bed's heat).
       next_command_ = code.substr(start - 1);
       return;
     }

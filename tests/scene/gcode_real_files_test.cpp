@@ -71,5 +71,28 @@ TEST(GcodeRealFiles, CuraMarlinVolumetricFlavourExtrudesVolumes) {
   EXPECT_NEAR(p.ExtrudedLength(), 18 / area_mm2 * kMm, 1e-15);  // G10/G11 cancel
 }
 
+// PrusaSlicer's start scripts for the MK4, XL and Core One wait for the bed's heat to
+// soak in with "G29 G ; absorb heat"; OctoPrint's bed level visualizer has the mesh
+// reported with "G29 T" (here in a Prusa XL's start script). Both were errors ("G
+// without a number": a bare G was taken for the line's next command; "one command per
+// line: found T after the command"), so no file sliced for these printers could be read.
+// Neither probes: skipped; the probing around them is warned as before.
+TEST(GcodeRealFiles, PrusaAbsorbHeatAndMeshReport) {
+  Toolpath p = ParseGcode(
+      "M140 S60 ; set bed temp\nG28 XY\nT0 S1 L0 D0\nM84 E ; turn off E motor\nG28 Z\n"
+      "G0 Z5 ; add Z clearance\nM190 S60 ; wait for bed temp\nG29 G ; absorb heat\n"
+      "G1 X32.0999 Y-6.90006 Z5 F24000\nG29 P1 ; invalidate mbl & probe print area\n"
+      "G29 P3.2 ; interpolate mbl probes\nG29 A ; activate mbl\nG29 T\n"
+      "G1 X40 Y10 Z10 F720\n",
+      "xl.gcode");
+  EXPECT_EQ(p.skipped_commands.at("G29"), 4u);  // G, P3.2, A, T
+  ASSERT_EQ(p.warnings.size(), 1u);
+  EXPECT_EQ(p.warnings[0].line, 10);  // G29 P1 probes
+  EXPECT_EQ(p.warnings[0].count, 1);
+  EXPECT_NEAR(p.segments.back().end_m.x(), 40 * kMm, 1e-12);
+  // A G without a number is still no command of its own.
+  EXPECT_THAT(ErrorOf([] { ParseGcode("G21 G\n", "g.gcode"); }), HasSubstr("g.gcode:1: G without a number"));
+}
+
 }  // namespace
 }  // namespace lt
