@@ -6,6 +6,8 @@
 #include <map>
 #include <numeric>
 
+#include "pipeline/plane_id_room.h"
+
 namespace lt {
 
 namespace {
@@ -20,7 +22,7 @@ constexpr double kSpanTolerance = 0.25;
 // before the piece there is cut off.
 constexpr int kMinCutLines = 3;
 
-using Line = std::vector<std::pair<double, int>>;  // (position across, segment), in order across
+using Line = StripeLine;  // (position across, segment), in order across
 
 // A line taken to show all N sheets: its stripes and the sheet of each.
 struct RankedLine {
@@ -233,6 +235,14 @@ StripeOrderPlanes PlanesByStripeOrder(const std::vector<StripeSegment>& segments
       if (reversed) continue;
       for (size_t j = 0; j < r.rank.size(); ++j) ranks_of[size_t((*r.stripes)[j].second)].push_back({r.line, r.rank[j]});
     }
+    // A step that joins one sheet's piece to the next sheet's may leave no line
+    // beyond it that meets or spans all N; the pieces beside the joined one
+    // there can still leave it no room for its number (plane_id_room.h).
+    // Such lines count only beyond the lines that agree: they are read from
+    // fewer stripes than a line meeting all N, and one in the middle (a blob
+    // beside a piece without a number) does not keep a joined piece whole.
+    std::vector<std::vector<std::pair<long, int>>> without_room(segments.size());
+    AddRanksWithoutRoom(lines, label, n_planes, &without_room);
     for (int s : candidates) {
       // A segment without a number (its lines agree by less than 3/4) is
       // taken for the rank most of its lines give it.
@@ -253,6 +263,9 @@ StripeOrderPlanes PlanesByStripeOrder(const std::vector<StripeSegment>& segments
         (line < agree_lo ? before : line > agree_hi ? after : within) += 1;
       }
       if (within > 0) continue;
+      for (const auto& [line, r] : without_room[size_t(s)]) {
+        if (agree_lo <= agree_hi) before += line < agree_lo, after += line > agree_hi;
+      }
       if (before >= kMinCutLines) out.cut_before[size_t(s)] = double(agree_lo);
       if (after >= kMinCutLines) out.cut_after[size_t(s)] = double(agree_hi);
     }
@@ -332,6 +345,20 @@ StripeOrderPlanes PlanesByStripeOrder(const std::vector<StripeSegment>& segments
           if (!last_voted) excluded[size_t(last_segment)] = 1, again = true;
         }
         last = lab, last_segment = seg;
+      }
+      // A piece numbered by its position leaves room for the stripes beside
+      // it: on none of its lines do more other sheets' stripes (the numbered
+      // ones by their number, each piece without a number as one) stand
+      // before it than its rank, or after it than the sheets after it. A step
+      // can join one sheet's piece to the next sheet's beyond it, and the
+      // pieces numbered beside that one are then off by one. (Lines meeting
+      // more than N segments show two surfaces at a step, or a blob.)
+      for (size_t k = 0; int(v.size()) <= n_planes && k < v.size(); ++k) {
+        const int seg = v[k].second, lab = label[size_t(seg)];
+        if (lab < 0 || by_votes[size_t(seg)] >= 0) continue;
+        if (SheetsOn(v, 0, k, label, lab) > lab || SheetsOn(v, k + 1, v.size(), label, lab) > n_planes - 1 - lab) {
+          excluded[size_t(seg)] = 1, again = true;
+        }
       }
     }
   }
