@@ -63,8 +63,8 @@
 // (Cura), "; layer_height =" and "; filament_diameter =" (PrusaSlicer); Bambu Studio's
 // and OrcaSlicer's "; CHANGE_LAYER", "; FEATURE: name" and "; LAYER_HEIGHT: h" are
 // read as LAYER_CHANGE, TYPE: and HEIGHT:; Simplify3D's "; layer 1, Z = 0.2" and
-// KISSlicer's "; BEGIN_LAYER_OBJECT z=.. z_thickness=h" start the next layer (with
-// height h); Simplify3D's "; feature name", KISSlicer's "; 'Name Path', ..." and
+// KISSlicer's "; BEGIN_LAYER_OBJECT z=.. z_thickness=h" (and a raft's "; BEGIN_LAYER_RAFT
+// z=..") start the next layer (with height h); Simplify3D's "; feature name", KISSlicer's "; 'Name Path', ..." and
 // CraftWare's ";segType:name" name the type; header "layerHeight,", "filamentDiameters,"
 // (Simplify3D), "layer_thickness_mm =", "fiber_dia_mm =" (KISSlicer), "sliceHeight ="
 // (Kiri:Moto); ";FLAVOR:UltiGCode" (Cura for Ultimaker 2): E in mm^3, held as lengths of

@@ -94,8 +94,9 @@ void GcodeReader::Comment(std::string_view comment) {
     next_layer();
   } else if (c.size() > 6 && StartsWith(c, "layer ") && c[6] >= '0' && c[6] <= '9') {
     next_layer();  // Simplify3D: "; layer 1, Z = 0.200" (counted from 1)
-  } else if (StartsWith(c, "BEGIN_LAYER_OBJECT")) {
-    // KISSlicer: "; BEGIN_LAYER_OBJECT z=0.20 z_thickness=0.20"
+  } else if (StartsWith(c, "BEGIN_LAYER_OBJECT") || StartsWith(c, "BEGIN_LAYER_RAFT")) {
+    // KISSlicer: "; BEGIN_LAYER_OBJECT z=0.20 z_thickness=0.20"; a raft's layers below
+    // the object's are "; BEGIN_LAYER_RAFT z=0.50" (KISSlicer 1.1: no z_thickness)
     next_layer();
     size_t at = c.find("z_thickness=");
     if (at != std::string_view::npos) {

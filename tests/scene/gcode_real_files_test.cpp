@@ -94,5 +94,31 @@ TEST(GcodeRealFiles, PrusaAbsorbHeatAndMeshReport) {
   EXPECT_THAT(ErrorOf([] { ParseGcode("G21 G\n", "g.gcode"); }), HasSubstr("g.gcode:1: G without a number"));
 }
 
+// KISSlicer 1.1 starts a raft's layers with "; BEGIN_LAYER_RAFT z=0.50" (no
+// z_thickness), then the object's with "; BEGIN_LAYER_OBJECT z=1.00". Only the object's
+// were layers: a real file's two raft layers (59 % of its filament) were outside any
+// layer, and it had 12 layers where it prints 14.
+TEST(GcodeRealFiles, KisslicerRaftLayersAreLayers) {
+  Toolpath p = ParseGcode(
+      "; KISSlicer - FREE\n; version 1.1.0.5\nG21 ; Set to metric\nM82 ; Absolute Extruder\nG90\n"
+      "; Reset extruder pos\nG92 E0\n; BEGIN_LAYER_RAFT z=0.50\n; 'Raft', 0.8 [feed mm/s], 20.0 [head mm/s]\n"
+      "G1 F9000\nG1 X11.39 Y-1.49 Z0.5 E0\nG1 F1200\nG1 E1\nG1 X8.05 Y1.85 E1.197\nG1 F210\n"
+      "G1 X8.05 Y1.85 Z0.75 E1.197\n; END_LAYER_RAFT z=0.50\nG92 E0\n; BEGIN_LAYER_RAFT z=0.75\n"
+      "G1 F9000\nG1 X11.39 Y1.49 Z0.75 E0\nG1 F2400\nG1 X8.05 Y-1.85 E0.0985\nG1 F210\n"
+      "G1 X8.05 Y-1.85 Z1 E0.0985\n; END_LAYER_RAFT z=0.75\nG92 E0\n; BEGIN_LAYER_OBJECT z=1.00\n"
+      "; 'Crown', 0.1 [feed mm/s], 9.1 [head mm/s]\nG1 F9000\nG1 X-9.72 Y-9.72 Z1 E0\nG1 F546.9\n"
+      "G1 X-9.74 Y9.43 E0.2955\n; END_LAYER_OBJECT z=1.00\n",
+      "thinbox.gcode");
+  EXPECT_EQ(p.LayerCount(), 3);
+  int beads = 0;
+  for (const ToolpathSegment& s : p.segments) {
+    if (!s.LaysBead()) continue;
+    ++beads;
+    EXPECT_NE(s.layer, ToolpathSegment::kNoLayer) << s.line;
+    EXPECT_EQ(s.layer, s.end_m.z() < 0.6 * kMm ? 0 : s.end_m.z() < 0.8 * kMm ? 1 : 2) << s.line;
+  }
+  EXPECT_EQ(beads, 3);
+}
+
 }  // namespace
 }  // namespace lt
