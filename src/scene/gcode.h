@@ -74,7 +74,7 @@
 // the heights it extrudes at (Toolpath::layers_from_z). Structured
 // comments count only on lines holding nothing else. Line numbers (N) are dropped; a
 // checksum (*n) must match the line's bytes before it; parenthesised comments are
-// dropped (a ';' or '*' inside one is part of it; one without ')' runs to the end of
+// dropped (a ';' or '*' inside one is part of it, a '(' nests: Skeinforge's settings; one without ')' runs to the end of
 // the line, warned), and so are a quoted string's and
 // a message's or file name's (M23, M117, ...; unless only a checksum follows '*');
 // letters may be lower case; G5 (Bezier) is an error. A UTF-8

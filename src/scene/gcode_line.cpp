@@ -145,11 +145,14 @@ void GcodeReader::ReadLine(std::string_view line, int line_no) {
   line_no_ = line_no;
   if (line.find('\0') != std::string_view::npos) Fail("a NUL byte: this is not a text G-code file");
   // One pass over the line: a parenthesised comment runs to its ')' (a ';' or '*'
-  // inside it is part of the comment, as in RS-274 and Marlin's PAREN_COMMENTS), a
+  // inside it is part of the comment, as in RS-274 and Marlin's PAREN_COMMENTS; a '('
+  // inside it nests: Skeinforge's "(<setting> dimension Filament_Diameter_(mm): 1.75
+  // </setting>)" is one comment, as ReplicatorG, the host of its files, read it), a
   // quoted string to its closing '"' (RepRapFirmware's M291 P"..." and file names);
   // outside them, ';' starts the line's comment and the first '*' its checksum.
   size_t semicolon = line.find(';'), star = std::string_view::npos;
-  bool paren = false, inside = false, quoted = false;
+  bool paren = false, quoted = false;
+  int depth = 0;  // of nested '(' comments
   size_t open_paren = 0;  // where the last '(' comment opened
   // Most lines hold neither '(' nor '"' before a ';': the searches suffice (the pass
   // over every character made a 44 MB file's parse 18 % slower).
@@ -159,12 +162,12 @@ void GcodeReader::ReadLine(std::string_view line, int line_no) {
   semicolon = plain ? semicolon : std::string_view::npos;
   for (size_t i = 0; !plain && i < line.size(); ++i) {
     const char c = line[i];
-    if (inside) {
-      if (c == ')') inside = false;
+    if (depth > 0) {
+      depth += c == '(' ? 1 : c == ')' ? -1 : 0;
     } else if (quoted || c == '"') {
       if (c == '"') quoted = !quoted;
     } else if (c == '(') {
-      inside = true;
+      depth = 1;
       paren = true;
       open_paren = i;
     } else if (c == ';') {
@@ -174,7 +177,7 @@ void GcodeReader::ReadLine(std::string_view line, int line_no) {
       star = i;
     }
   }
-  if (inside) {
+  if (depth > 0) {
     // A '(' without ')' runs to the end of the line, as Marlin (PAREN_COMMENTS) and
     // RepRapFirmware read it; the words before it are read. Whether the writer meant
     // the rest as a comment is not certain: warned.
@@ -195,12 +198,13 @@ void GcodeReader::ReadLine(std::string_view line, int line_no) {
   }
   std::string cleaned;
   if (paren) {
-    inside = quoted = false;
+    quoted = false;
+    depth = 0;
     for (char c : code) {
-      if (!inside && c == '"') quoted = !quoted;
-      if (!quoted && c == '(') inside = true;
-      if (!inside) cleaned += c;
-      if (c == ')') inside = false;
+      if (depth == 0 && c == '"') quoted = !quoted;
+      if (!quoted && c == '(') ++depth;
+      if (depth == 0) cleaned += c;
+      if (c == ')' && depth > 0) --depth;
     }
     code = cleaned;
   }

@@ -120,5 +120,29 @@ TEST(GcodeRealFiles, KisslicerRaftLayersAreLayers) {
   EXPECT_EQ(beads, 3);
 }
 
+// Skeinforge writes its settings as parenthesised comments that hold parentheses:
+// "(<setting> dimension Filament_Diameter_(mm): 1.82 </setting>)". The comment ended at
+// the first ')', and ": 1.82 </setting>)" was "expected a command (G, M or T)": no
+// Skeinforge file (MakerBot's sample files among them) could be read. A '(' inside a
+// comment now nests, as ReplicatorG, the host these files were written for, read them.
+TEST(GcodeRealFiles, SkeinforgeNestedParenthesesInComments) {
+  Toolpath p = ParseGcode(
+      "(<format> skeinforge gcode </format>)\n(<layerThickness> 0.27 </layerThickness>)\n"
+      "(<setting> dimension Filament_Diameter_(mm): 1.82 </setting>)\n"
+      "(<setting> dimension Extruder_Retraction_Speed_(mm/s): 20.0 </setting>)\n"
+      "(<layer> 0.675 )\n(<rotation> (6.12323399574e-17+1j) )\n(<loop> outer )\n"
+      "G1 X-9.22 Y-9.4 Z0.68 F3300.0\nM101\nG1 X-0.5 Y-9.4 Z0.68 F2400.0 E0.426\n"
+      "G1 X-0.5 (a (nested) note) Y-0.5 Z0.68 F2400.0 E0.861\nM103\n(</loop>)\n(</layer>)\n",
+      "skeinforge.gcode");
+  ASSERT_EQ(p.segments.size(), 3u);
+  EXPECT_NEAR(p.segments[2].end_m.y(), -0.5 * kMm, 1e-12);  // the words after a nested comment are read
+  EXPECT_NEAR(p.ExtrudedLength(), 0.861 * kMm, 1e-12);
+  EXPECT_TRUE(p.warnings.empty());
+  // A '(' that never closes still runs to the end of its line, warned.
+  Toolpath unclosed = ParseGcode("G1 X10 F600 (a (b) c Y5\n", "u.gcode");
+  EXPECT_NEAR(unclosed.segments.back().end_m.y(), 0.0, 1e-12);
+  EXPECT_EQ(unclosed.warnings.size(), 1u);
+}
+
 }  // namespace
 }  // namespace lt
