@@ -184,7 +184,7 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
   CheckGltfSchema(root, file);
   static const std::set<std::string> kSupported = {"KHR_materials_emissive_strength", "KHR_mesh_quantization",
                                                      "KHR_texture_transform", "EXT_mesh_gpu_instancing",
-                                                     "KHR_materials_pbrSpecularGlossiness"};
+                                                     "KHR_materials_pbrSpecularGlossiness", "KHR_materials_unlit"};
   if (auto req = root.find("extensionsRequired"); req != root.end() && req->is_array()) {
     for (size_t i = 0; i < req->size(); ++i) {
       const auto& e = (*req)[i];

@@ -97,7 +97,7 @@ std::string Short(double v) {
 // Material extensions whose effect is not rendered: one warning each, naming the materials.
 constexpr const char* kIgnoredMaterialExtensions[] = {
     "KHR_materials_volume",       "KHR_materials_ior",    "KHR_materials_specular",
-    "KHR_materials_clearcoat",    "KHR_materials_sheen",  "KHR_materials_unlit", "KHR_materials_iridescence",
+    "KHR_materials_clearcoat",    "KHR_materials_sheen",  "KHR_materials_iridescence",
     "KHR_materials_anisotropy",   "KHR_materials_dispersion", "KHR_materials_diffuse_transmission"};
 
 }  // namespace
@@ -109,6 +109,7 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
   out.reserve(m.materials.size());
   std::map<std::string, std::string> ignored_extensions;  // name -> the materials using it
   std::string transmissive[2];
+  std::string unlit_names;  // the materials with KHR_materials_unlit
   // Mean texel of (texture, sRGB-encoded), or why there is none (MeanTexel).
   std::map<std::pair<int, bool>, std::pair<std::optional<Eigen::Vector4d>, std::string>> texture_means;  // the materials with KHR_materials_transmission, [with a transmissionTexture]
   // Makes texture info.index (in range) mat's base colour texture, each texture
@@ -222,6 +223,12 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
     // (Blender, Sketchfab, the Khronos samples), so the factor alone made a painted
     // part a rough metal (no diffuse laser return) and a part with a few glowing
     // texels glow all over; the texture's mean is the constant closest to it.
+    // KHR_materials_unlit (photogrammetry, Sketchfab, "shadeless" exports): colour =
+    // base colour, and every other PBR property is only a fallback for viewers without
+    // the extension. Unlit shading has no light to answer, and a scanner sees the light a
+    // part reflects, so the part is a diffuse surface of its base colour (with its alpha
+    // and vertex colours): UnlitTest's materials, with no metallicFactor, were metals.
+    const bool unlit = gm.extensions.count("KHR_materials_unlit") != 0;
     std::string approximated;
     auto scale_by_mean = [&](const tinygltf::TextureInfo& info, const std::string& info_where, const char* what,
                              bool srgb, const std::function<std::string(const Eigen::Vector4d&)>& apply) {
@@ -253,7 +260,7 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
           return "glossiness " + Short(glossiness) + " x " + Short(mean[3]);
         });
       }
-    } else {
+    } else if (!unlit) {
       scale_by_mean(pbr.metallicRoughnessTexture, where + "/pbrMetallicRoughness/metallicRoughnessTexture",
                     "metallic-roughness", false, [&](const Eigen::Vector4d& mean) {
                       const std::string text = "metallic " + Short(mat.metallic) + " x " +
@@ -264,12 +271,19 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
                       return text;
                     });
     }
-    scale_by_mean(gm.emissiveTexture, where + "/emissiveTexture", "emissive", true,
-                  [&](const Eigen::Vector4d& mean) {
-                    for (int c = 0; c < 3; ++c) mat.emissive[c] = float(mat.emissive[c] * mean[c]);
-                    return "emissive factor times (" + Short(mean[0]) + ", " + Short(mean[1]) + ", " +
-                           Short(mean[2]) + ")";
-                  });
+    if (unlit) {
+      mat.metallic = 0;
+      mat.roughness = 1;
+      mat.emissive = Eigen::Vector3f::Zero();
+      unlit_names += (unlit_names.empty() ? "\"" : ", \"") + mat.name + "\"";
+    } else {
+      scale_by_mean(gm.emissiveTexture, where + "/emissiveTexture", "emissive", true,
+                    [&](const Eigen::Vector4d& mean) {
+                      for (int c = 0; c < 3; ++c) mat.emissive[c] = float(mat.emissive[c] * mean[c]);
+                      return "emissive factor times (" + Short(mean[0]) + ", " + Short(mean[1]) + ", " +
+                             Short(mean[2]) + ")";
+                    });
+    }
     // KHR_materials_transmission: glTF's dielectric is mix(diffuse, transmission,
     // transmissionFactor) under the specular layer. Transmitted light is not traced,
     // but the diffuse share it takes is removed, so a clear part does not show a
@@ -317,6 +331,11 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
                         "share it takes is removed (base colour times 1 - transmissionFactor" +
                         std::string(with_texture ? "; the transmission texture is ignored" : "") + "), material" +
                         (names.find(',') != std::string::npos ? "s " : " ") + names);
+  }
+  if (!unlit_names.empty()) {
+    warnings->push_back(src.file + ": KHR_materials_unlit: read as a diffuse surface of the base colour (metallic 0, "
+                        "roughness 1, no emission; the other properties are the extension's fallbacks), material" +
+                        (unlit_names.find(',') != std::string::npos ? "s " : " ") + unlit_names);
   }
   for (const auto& [name, materials] : ignored_extensions) {
     warnings->push_back(src.file + ": " + name + " ignored (not rendered), used by material" +

@@ -178,6 +178,34 @@ TEST(GltfExporters, TransmissionTakesItsShareFromTheDiffuseLayer) {
               HasSubstr("model.glb: /materials/0/extensions/KHR_materials_transmission/transmissionFactor"));
 }
 
+// KHR_materials_unlit, as the Khronos UnlitTest writes it (required, base colour
+// only) and photogrammetry exports use it: the part is a diffuse surface of its base
+// colour. UnlitTest was refused ('required extension "KHR_materials_unlit" is not
+// supported'); optional, its materials (no metallicFactor) loaded as metals.
+TEST(GltfExporters, UnlitMaterialsAreDiffuseSurfacesOfTheirBaseColour) {
+  TempDir dir;
+  GltfBuilder b = test::SquareBuilder();
+  b.json()["meshes"][0]["primitives"][0]["material"] = b.AddMaterial("Orange", {1, 0.217637640824031, 0, 1}, 1, 1);
+  b.AddMaterial("lit", {0.5, 0.5, 0.5, 1}, 1, 0.25);
+  b.json()["materials"][0]["pbrMetallicRoughness"].erase("metallicFactor");
+  b.json()["materials"][0]["pbrMetallicRoughness"].erase("roughnessFactor");
+  b.json()["materials"][0]["emissiveFactor"] = {1, 1, 1};
+  b.json()["materials"][0]["extensions"]["KHR_materials_unlit"] = nlohmann::json::object();
+  b.json()["extensionsUsed"] = {"KHR_materials_unlit"};
+  b.json()["extensionsRequired"] = {"KHR_materials_unlit"};
+  GltfAsset a = LoadGlb(b, dir);
+  ASSERT_EQ(a.materials.size(), 2u);
+  EXPECT_TRUE(a.materials[0].base_color.isApprox(Eigen::Vector3f(1, 0.217637640824031f, 0)));
+  EXPECT_EQ(a.materials[0].metallic, 0.0f);
+  EXPECT_EQ(a.materials[0].roughness, 1.0f);
+  EXPECT_EQ(a.materials[0].emissive, Eigen::Vector3f::Zero());
+  EXPECT_EQ(a.materials[1].metallic, 1.0f);  // a material without the extension keeps its values
+  EXPECT_FLOAT_EQ(a.materials[1].roughness, 0.25f);
+  EXPECT_THAT(AllWarnings(a), HasSubstr("model.glb: KHR_materials_unlit: read as a diffuse surface of the base colour "
+                                        "(metallic 0, roughness 1, no emission; the other properties are the "
+                                        "extension's fallbacks), material \"Orange\""));
+}
+
 // ------------------------------------------------------------------ morph targets
 
 TEST(GltfExporters, MorphTargetsArePosedByTheirDefaultWeights) {
