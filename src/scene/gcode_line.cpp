@@ -147,7 +147,7 @@ void GcodeReader::ReadLine(std::string_view line, int line_no) {
   // One pass over the line: a parenthesised comment runs to its ')' (a ';' or '*'
   // inside it is part of the comment, as in RS-274 and Marlin's PAREN_COMMENTS; a '('
   // inside it nests: Skeinforge's "(<setting> dimension Filament_Diameter_(mm): 1.75
-  // </setting>)" is one comment, as ReplicatorG, the host of its files, read it), a
+  // </setting>)" is one comment, as MakerBot's print driver (s3g) counts them), a
   // quoted string to its closing '"' (RepRapFirmware's M291 P"..." and file names);
   // outside them, ';' starts the line's comment and the first '*' its checksum.
   size_t semicolon = line.find(';'), star = std::string_view::npos;
