@@ -241,8 +241,18 @@ StripeOrderPlanes PlanesByStripeOrder(const std::vector<StripeSegment>& segments
     // Such lines count only beyond the lines that agree: they are read from
     // fewer stripes than a line meeting all N, and one in the middle (a blob
     // beside a piece without a number) does not keep a joined piece whole.
+    // Pieces too small to be numbered (noise, or a stripe's few points where
+    // extraction lost the rest) count as stripes here: a stripe's few points
+    // before the first numbered one are all that may show that a step moved
+    // every stripe by a spacing.
+    std::map<long, Line> all_lines = lines;
+    for (size_t s = 0; s < segments.size(); ++s) {
+      if (!segments[s].ignored) continue;
+      for (int i : segments[s].points) all_lines[std::lround(axes.along[size_t(i)])].push_back({axes.across[size_t(i)], int(s)});
+    }
+    for (auto& [line, v] : all_lines) std::sort(v.begin(), v.end());
     std::vector<std::vector<std::pair<long, int>>> without_room(segments.size());
-    AddRanksWithoutRoom(lines, label, n_planes, &without_room);
+    AddRanksWithoutRoom(all_lines, label, n_planes, &without_room);
     for (int s : candidates) {
       // A segment without a number (its lines agree by less than 3/4) is
       // taken for the rank most of its lines give it.
