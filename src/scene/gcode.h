@@ -49,7 +49,8 @@
 //                   BED_MESH_CALIBRATE etc. (probing: warned, it takes no time here);
 //                   Marlin's G12 clean and G27 park, Prusa XL's P0 park and T.. D0: X, Y,
 //                   Z unknown until an absolute move or homing sets each (a relative
-//                   move on an unknown axis is warned: Toolpath::warnings). G29 that only
+//                   move on an unknown axis is warned: Toolpath::warnings; so is a bead
+//                   laid while an axis is unknown, at its last known value). G29 that only
 //                   loads, fills, activates or saves a mesh (S1-S3, A, L, P3, ...) is skipped
 //   G29.1 Z         Bambu's z-trim: an offset of later moves (M221 X Y Z, Bambu's soft
 //                   endstops, is skipped)

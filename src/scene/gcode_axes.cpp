@@ -80,6 +80,21 @@ void GcodeReader::TrackKnownAxes(const std::string& command, int arc_axes) {
   }
 }
 
+void GcodeReader::WarnBeadAtUnknown(const std::string& command, double extruded_mm, double xy_length_mm) {
+  if (!(extruded_mm > 0) || !(xy_length_mm > 0)) return;
+  const char axes[3] = {'X', 'Y', 'Z'};
+  const Eigen::Vector3d last = pos_mm_ - offset_mm_;
+  std::string unknown;
+  for (int k = 0; k < 3; ++k) {
+    if (!axis_known_[k]) unknown += std::string(unknown.empty() ? "" : " ") + axes[k] + FormatNumber(last[k] / unit_mm_);
+  }
+  if (unknown.empty()) return;
+  Warn(kBeadAtUnknown, command + " extrudes while " + unknown_since_ +
+                           " left the position unknown (probing and docking end where the firmware stops): its bead "
+                           "is laid at the last known " + unknown +
+                           "; the beads are off by as much until an absolute move on each axis");
+}
+
 void GcodeReader::KlipperGcodeOffset(std::string_view params) {
   Eigen::Vector3d delta = Eigen::Vector3d::Zero();
   bool move = false;

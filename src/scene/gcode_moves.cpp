@@ -208,6 +208,7 @@ void GcodeReader::Move(int gcode) {
   TrackKnownAxes(CommandName('G', gcode), 0);
   Eigen::Vector3d end = Target();
   double extruded = Extruded();
+  WarnBeadAtUnknown(CommandName('G', gcode), extruded, (end - pos_mm_).head<2>().norm());
   ExtraAxes(CommandName('G', gcode), extruded);
   double length = (end - pos_mm_).norm();
   AddSegment(gcode, end, extruded, length, (end - pos_mm_).head<2>().norm(), nullptr, MoveFeed(length, extruded));
@@ -291,6 +292,7 @@ void GcodeReader::Arc(int gcode) {
   const int l = 3 - p - q;
   double length = std::hypot(plane_length, end[l] - pos_mm_[l]);
   double extruded = Extruded();
+  WarnBeadAtUnknown(command, extruded, plane_ == 17 ? plane_length : (end - pos_mm_).head<2>().norm());
   ExtraAxes(command, extruded);
   const double feed = MoveFeed(length, extruded);
   if (plane_ == 17) {

@@ -65,9 +65,9 @@ class GcodeReader {
 
   // An approximation of the file (Toolpath::warnings): the first of each kind keeps
   // its line and text, later ones are counted.
-  enum WarningKind { kUnclosedParen, kRelativeFromUnknown, kExtraAxes, kProbingTime, kWarningKinds };
+  enum WarningKind { kUnclosedParen, kRelativeFromUnknown, kExtraAxes, kProbingTime, kBeadAtUnknown, kWarningKinds };
   void Warn(WarningKind kind, const std::string& text);
-  int warning_index_[kWarningKinds] = {-1, -1, -1, -1};
+  int warning_index_[kWarningKinds] = {-1, -1, -1, -1, -1};
   // An extended command the reader does not know (a macro of the printer's
   // configuration: PRINT_START, ...): skipped, one warning per distinct name.
   void UnknownExtendedCommand(const std::string& name);
@@ -124,6 +124,11 @@ class GcodeReader {
   // in its plane) is built from the last known position, with a warning.
   // `arc_axes`: a mask (1 << axis) of the axes of an arc's plane.
   void TrackKnownAxes(const std::string& command, int arc_axes);
+  // After TrackKnownAxes: a move that extrudes while an axis is still unknown (an
+  // absolute move naming X and Y only, after probing: Prusa's "G80" then "G1 X60 E9")
+  // lays its bead at the last known coordinate of that axis, with a warning (a prime in
+  // place lays none).
+  void WarnBeadAtUnknown(const std::string& command, double extruded_mm, double xy_length_mm);
   // U, V, W, C words (a tool changer's coupler, a second carriage, a rotary axis): not
   // modelled, ignored with a warning; one that moves while the line extrudes is an
   // error, since it would change the printed path.

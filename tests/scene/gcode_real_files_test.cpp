@@ -144,5 +144,25 @@ TEST(GcodeRealFiles, SkeinforgeNestedParenthesesInComments) {
   EXPECT_EQ(unclosed.warnings.size(), 1u);
 }
 
+// The intro line of Prusa's MK3 start script as an older slicer wrote it (here in
+// compas_slicer's test output): "G80" (mesh levelling: the position unknown after it),
+// then "G1 Y-3.0", "G1 X60.0 E9.0": X and Y set again, Z never. The line's bead was laid
+// at the last known Z without a word; it is now warned (once, counted), naming the
+// probing and the Z assumed. A prime in place and beads after an absolute Z are not.
+TEST(GcodeRealFiles, BeadWithAnAxisUnknownAfterProbingIsWarned) {
+  Toolpath p = ParseGcode(
+      "M83; extruder relative mode\nG28 ; home all axes without mesh bed level\nG80 ; mesh bed leveling\n"
+      "G1 Y-3.0 F1000.0 ; go outside print area\nG92 E0 ; set filament pos to 0\nG1 E2 F300\n"
+      "G1 X60.0 E9.0 F1000 ; intro line\nG1 X100 E12.5 F1000 ; intro line\nG92 E0\n"
+      "G1 X10 Y10 Z0.2 F3000\nG1 X20 Y10 E1\n",
+      "mk3.gcode");
+  ASSERT_EQ(p.warnings.size(), 2u);  // G80's probing time, and the beads
+  EXPECT_EQ(p.warnings[1].line, 7);
+  EXPECT_EQ(p.warnings[1].count, 2);
+  EXPECT_THAT(p.warnings[1].text, HasSubstr("G80 (line 3)"));
+  EXPECT_THAT(p.warnings[1].text, HasSubstr("last known Z0"));
+  EXPECT_NEAR(p.segments.back().end_m.z(), 0.2 * kMm, 1e-12);
+}
+
 }  // namespace
 }  // namespace lt
