@@ -146,8 +146,7 @@ void ProcessRun(const ImageView<T>& image, int a, int b, double t, int y, const 
   // on a bright stripe's flank is not, and is not split off: rendered and real
   // flanks carry noise spikes twice the valley beside them, which the narrow-
   // peak check would keep for the stripe's own light on the adjacent lines).
-  const auto resolved_above_base = [&](double v, double p, double q, int x) {
-    if (!(t_above_base > 0 && p > 2 * v + t_above_base && q > 2 * v + t_above_base)) return false;
+  const auto wide_peak = [&](int x) {
     int last = x;
     while (last + 1 <= b && row[last + 1] >= row[last]) ++last;
     int first = last;
@@ -155,9 +154,19 @@ void ProcessRun(const ImageView<T>& image, int a, int b, double t, int y, const 
     const double fwhm = PeakFwhm(row, n, first, last, double(row[last]), o.background);
     return fwhm >= o.min_width;  // false for NaN
   };
+  const auto resolved_above_base = [&](double v, double p, double q, int x) {
+    return t_above_base > 0 && p > 2 * v + t_above_base && q > 2 * v + t_above_base && wide_peak(x);
+  };
   double run_peak = double(row[a]);
   for (int x = a + 1; x <= b; ++x) run_peak = std::max(run_peak, double(row[x]));
   if (ShoulderOfAHigherPeak(row, n, a, b, run_peak, t, t_above_base)) return;
+  // Peaks clipped at saturation (or equally bright): two that both reach the
+  // run's top, within 1% of its height above t, are two stripes when the line
+  // between them falls a quarter of that height below it. Their true heights
+  // are unknown, so whether the valley lies below half of them cannot be
+  // read; saturated stripes a few pixels apart with glow between them were
+  // measured as one point between the two (a diffractive element's sheets).
+  const double top = run_peak - t, near_top = 0.99 * top, clipped_dip = 0.25 * top;
   int part_start = a;
   double part_floor = t;
   double cur_max = double(row[a]) - t;
@@ -169,7 +178,7 @@ void ProcessRun(const ImageView<T>& image, int a, int b, double t, int y, const 
     if (!in_valley) {
       if (val > cur_max) {
         cur_max = val;
-      } else if (val < 0.5 * cur_max) {
+      } else if (val < 0.5 * cur_max || (cur_max >= near_top && val <= cur_max - clipped_dip)) {
         in_valley = true;
         vmin = val;
         vmin_pos = x;
@@ -178,7 +187,8 @@ void ProcessRun(const ImageView<T>& image, int a, int b, double t, int y, const 
       if (val < vmin) {
         vmin = val;
         vmin_pos = x;
-      } else if (val > 2.0 * vmin && (val > 0.5 * cur_max || resolved_above_base(vmin, cur_max, val, x))) {
+      } else if ((val > 2.0 * vmin && (val > 0.5 * cur_max || resolved_above_base(vmin, cur_max, val, x))) ||
+                 (cur_max >= near_top && val >= near_top && val - vmin >= clipped_dip && wide_peak(x))) {
         // A second peak rises: split at the valley.
         const double valley_level = double(row[vmin_pos]);
         if (part_start > 0) {
