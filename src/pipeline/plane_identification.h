@@ -20,7 +20,10 @@
 // every line the numbered stripes must then be in increasing order (one sheet
 // may meet a line twice where its stripe jumps at a depth step and one piece
 // hands over to the next; pieces numbered by votes may stand reversed beside a
-// thin wall), a piece numbered by its position that breaks it keeps no plane.
+// thin wall), a piece numbered by its position that breaks it keeps no plane,
+// as does one with more other sheets' stripes beside it on a line than its
+// number leaves room for (plane_id_room.h; such lines at a numbered
+// segment's end also mark it as joined there).
 // It needs one search line that meets all N stripes, and no stripe to reach an
 // image edge.
 //
