@@ -56,6 +56,21 @@ void GcodeReader::UnknownExtendedCommand(const std::string& name) {
   ++path_.warnings[it->second].count;
 }
 
+void GcodeReader::MacroFileCall(std::string_view params) {
+  const size_t open = params.find("P\"") != std::string_view::npos ? params.find("P\"") : params.find("p\"");
+  if (open == std::string_view::npos) return;
+  const size_t close = params.find('"', open + 2);
+  const std::string call = "M98 P\"" + std::string(params.substr(open + 2, close == std::string_view::npos ? std::string_view::npos : close - open - 2)) + "\"";
+  auto [it, first] = unknown_command_warning_.emplace(call, path_.warnings.size());
+  if (first) {
+    path_.warnings.push_back(ToolpathWarning{
+        line_no_, 0,
+        call + " skipped: a macro file of the printer's (RepRapFirmware) the reader does not have; whatever it does "
+               "(homing, probing, heating, purge moves) is not in the toolpath or its times"});
+  }
+  ++path_.warnings[it->second].count;
+}
+
 void GcodeReader::TrackKnownAxes(const std::string& command, int arc_axes) {
   const char axes[3] = {'X', 'Y', 'Z'};
   std::string unknown;

@@ -38,6 +38,7 @@ bool GcodeReader::MeshCommandOnly() const {
     const double v = w.value.value_or(0);
     const bool ok = (w.letter == 'S' && w.value && v >= 1 && v <= 3 && v == std::floor(v)) ||
                     (w.letter == 'P' && w.value && (std::floor(v) == 3 || v == 5 || v == 6)) ||
+                    (w.letter == 'P' && !w.value) ||  // RepRapFirmware's height map file: S1 P"heightmap.csv"
                     std::string_view("ADLFTWCVG").find(w.letter) != std::string_view::npos;
     if (!ok) return false;
   }
@@ -321,6 +322,7 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
   std::string name(1, letter);
   name += integral ? std::to_string(n) : std::string(number);
   ++path_.skipped_commands[name];
+  if (letter == 'M' && n == 98 && integral) MacroFileCall(code.substr(pos));
   if (letter == 'T' && n >= 0) active_tool_ = n;  // the tool whose flow (M221) applies
   // The nozzle moves to the dock and, for a park or a tool change with D0 (Prusa's
   // XL: "T1 S1 L0 D0", do not return), stays there: where is the firmware's.

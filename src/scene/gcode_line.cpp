@@ -58,6 +58,25 @@ void GcodeReader::ReadWords(std::string_view code, size_t pos, bool numbers_requ
     if (!IsLetter(letter)) Fail("expected a parameter letter, got \"" + std::string(code.substr(pos)) + "\"");
     ++pos;
     size_t start = pos;
+    if (pos < code.size() && code[pos] == '"') {
+      // A quoted string: RepRapFirmware's file names ("G29 S1 P\"heightmap.csv\"", a ""
+      // inside it one quote); a word without a number.
+      for (++pos; pos < code.size(); ++pos) {
+        if (code[pos] != '"') continue;
+        if (pos + 1 < code.size() && code[pos + 1] == '"') {
+          ++pos;
+          continue;
+        }
+        break;
+      }
+      if (pos >= code.size()) Fail(std::string(1, letter) + " has a string without its closing '\"'");
+      ++pos;
+      for (const Word& other : words_) {
+        if (other.letter == letter) Fail(std::string(1, letter) + " given twice");
+      }
+      words_.push_back(Word{letter, std::nullopt});
+      continue;
+    }
     while (pos < code.size() && IsNumberChar(code[pos])) ++pos;
     std::string_view number = code.substr(start, pos - start);
     if (pos < code.size() && code[pos] == ':' && !number.empty()) {

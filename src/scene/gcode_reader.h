@@ -71,6 +71,9 @@ class GcodeReader {
   // An extended command the reader does not know (a macro of the printer's
   // configuration: PRINT_START, ...): skipped, one warning per distinct name.
   void UnknownExtendedCommand(const std::string& name);
+  // RepRapFirmware's M98 P"file.g": runs a macro file of the printer's (homing, probing,
+  // a purge): skipped, one warning per file.
+  void MacroFileCall(std::string_view params);
   std::map<std::string, size_t> unknown_command_warning_;  // name -> index in path_.warnings
 
   void Comment(std::string_view comment);

@@ -164,5 +164,28 @@ TEST(GcodeRealFiles, BeadWithAnAxisUnknownAfterProbingIsWarned) {
   EXPECT_NEAR(p.segments.back().end_m.z(), 0.2 * kMm, 1e-12);
 }
 
+// A RepRapFirmware tool changer's start.g (E3D's, as a user's configuration has it) loads
+// its height map with 'G29 S1 P"heightmap.csv"' and primes each tool with 'M98
+// P"prime.g"'. The quoted file name was "expected a parameter letter, got
+// ""heightmap.csv""": the file could not be read. A quoted string is now a word without a
+// number (G29 S1 with a file loads a map: no probing); M98 runs a macro file the reader
+// does not have, so it is warned once per file, as an unknown Klipper macro is.
+TEST(GcodeRealFiles, RepRapFirmwareFileNamesAndMacroCalls) {
+  Toolpath p = ParseGcode(
+      "M290 R0 Z0\nG10 P0 R205 S205\nM18\nT0\nM703\nT-1\nG28 ; home all axes\n"
+      "T0\nM98 P\"prime.g\"\nT1\nM98 P\"prime.g\"\nT-1\nM290 R1 Z-0.15\n"
+      "G29 S1 P\"heightmap.csv\" ; Use the Z offset Mesh Map on the SD card\n"
+      "G29 S3 P\"a \"\"b\"\".csv\"\nG1 X10 Y10 Z0.3 F3000\n",
+      "start.g");
+  EXPECT_EQ(p.skipped_commands.at("G29"), 2u);
+  ASSERT_EQ(p.warnings.size(), 1u);  // no probing warning: the map is loaded, not probed
+  EXPECT_EQ(p.warnings[0].line, 9);
+  EXPECT_EQ(p.warnings[0].count, 2);
+  EXPECT_THAT(p.warnings[0].text, HasSubstr("M98 P\"prime.g\" skipped"));
+  EXPECT_NEAR(p.segments.back().end_m.z(), (0.3 - 0.15) * kMm, 1e-12);  // the babystep holds
+  EXPECT_THAT(ErrorOf([] { ParseGcode("G29 S1 P\"heightmap.csv\n", "g.gcode"); }),
+              HasSubstr("g.gcode:1: P has a string without its closing"));
+}
+
 }  // namespace
 }  // namespace lt
