@@ -23,6 +23,8 @@ constexpr double kQuaternionTolerance = 1e-3;
 constexpr double kMatrixTolerance = 1e-4;
 constexpr double kMillimetreHint_m = 5.0;  // a translation beyond this, read as metres, is probably in mm
 constexpr double kDegToRad = M_PI / 180.0;
+// A time without a unit this large is no time in seconds (3e9 years): nanoseconds.
+constexpr double kNanosecondTimes = 1e17;
 
 // Fields separated by ';' (spreadsheets with a decimal comma), tab, ',' or
 // blanks, without the double quotes spreadsheets put around them.
@@ -177,6 +179,10 @@ PoseFile ParsePoseFile(const std::string& text, const std::string& name, const P
     if (layout->time >= 0 && out.times_s.size() + 1 == out.poses.size()) {
       // A time that is no number (a date) leaves the file without times: poses go by row.
       const auto t = ParseFiniteNumber(fields[size_t(layout->time)]);
+      if (t && out.times_s.empty() && !layout->time_unit_known && std::abs(*t) >= kNanosecondTimes) {
+        layout->time_to_s = 1e-9;  // seconds since 1970 are ~1.7e9, nanoseconds ~1.7e18 (EuRoC's #timestamp)
+        layout->form += ", times in ns";
+      }
       if (t) {
         out.times_s.push_back(*t * layout->time_to_s);
       } else {

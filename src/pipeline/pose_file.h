@@ -9,10 +9,17 @@
 //       rx ry rz             rotation vector in radians (Universal Robots)
 //       a b c                KUKA's angles in degrees, R = Rz(a) Ry(b) Rx(c)
 //       w p r                Fanuc's angles in degrees, R = Rz(r) Ry(p) Rx(w)
+//     names of several words: EuRoC's p_RS_R_x, q_RS_w; ROS's (rostopic echo -p)
+//     field.pose.position.x, field.pose.orientation.w, field.transform.rotation.w;
 //     a time: t, time, timestamp, stamp (seconds, or the unit in brackets: s,
-//     ms, us, ns), t_s, time_s, timestamp_s, t_ns, time_ns, timestamp_ns;
-//     columns named frame, index, image, file, filename or id are skipped;
-//     any other name is an error.
+//     ms, us, ns), t_s, time_s, timestamp_s, t_ns, time_ns, timestamp_ns; ROS's
+//     field.header.stamp (ns) before its %time (ns); a time without a unit
+//     >= 1e17 is in ns (EuRoC's #timestamp);
+//     columns named frame, index, image, file, filename or id are skipped, and
+//     those of other quantities (velocities, biases, covariances, twists,
+//     header.seq, frame_id; every other field of a UR RTDE log, its
+//     target_TCP_pose too); any other name is an error (it may be a second pose).
+//     OptiTrack Motive and Vicon Nexus exports (several header rows) are refused.
 //   rows of numbers without a header:
 //     7  x y z + quaternion: its order (w first or last) must be given (order)
 //     8  blank separated: TUM (timestamp tx ty tz qx qy qz qw); comma separated:

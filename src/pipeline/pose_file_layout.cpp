@@ -54,10 +54,12 @@ int AxisAfter(const std::string& name, std::initializer_list<const char*> prefix
 }
 
 // A time column's name: its unit in seconds (the name's, else `unit`'s), 0 for
-// another name, -1 for an unknown unit.
-double TimeColumn(const std::string& name, const std::string& unit) {
+// another name, -1 for an unknown unit. `known`: the name gives the unit.
+double TimeColumn(const std::string& name, const std::string& unit, bool* known) {
+  *known = true;
   for (const char* s : {"t", "time", "timestamp", "stamp"}) {
     if (name != s) continue;
+    *known = !unit.empty();
     if (unit.empty() || unit == "s") return 1.0;
     return unit == "ms" ? 1e-3 : unit == "us" ? 1e-6 : unit == "ns" ? 1e-9 : -1.0;
   }
@@ -77,16 +79,106 @@ bool Skipped(const std::string& name) {
   return false;
 }
 
+// The words of a name, split at '.', '_', '-' and blanks ("field.pose.position.x",
+// "p_RS_R_x"); rostopic's '%' before "%time" dropped.
+std::vector<std::string> Words(const std::string& name) {
+  std::vector<std::string> words(1);
+  for (char c : name) {
+    if (c == '%') continue;
+    if (c == '.' || c == '_' || c == '-' || c == ' ') {
+      if (!words.back().empty()) words.emplace_back();
+    } else {
+      words.back() += c;
+    }
+  }
+  if (words.back().empty()) words.pop_back();
+  return words;
+}
+
+// A word naming another quantity than the pose: velocities and accelerations, biases,
+// covariances and twists (ROS's Odometry), forces, currents, joints, errors, and the
+// message's bookkeeping (header.seq, frame_id). EuRoC's one-letter prefixes (v_RS_R_x,
+// b_w_RS_S_x) only as the first word: "pose_b_x" may be a second pose.
+bool OtherQuantity(const std::string& w, bool first) {
+  static const char* const kWords[] = {
+      "vel",    "velocity", "speed",  "twist", "linear",  "angular", "acc",         "accel",        "acceleration",
+      "bias",   "cov",      "force",  "torque", "wrench", "current", "voltage",     "temperature",  "temperatures",
+      "error",  "std",      "sigma",  "var",   "variance", "seq",    "header",      "frame",        "id",
+      "child",  "status",   "mode",   "joint", "qd",      "qdd"};
+  for (const char* k : kWords) {
+    if (w == k) return true;
+  }
+  if (first && (w == "v" || w == "b")) return true;
+  return w.rfind("covariance", 0) == 0;  // ROS's covariance0..35
+}
+
+bool OtherQuantity(const std::vector<std::string>& words) {
+  for (size_t i = 0; i < words.size(); ++i) {
+    if (OtherQuantity(words[i], i == 0)) return true;
+  }
+  return false;
+}
+
+enum class Kind { kNone, kTranslation, kQuaternion };
+
+Kind WordKind(const std::string& w) {
+  for (const char* k : {"p", "pos", "position", "t", "trans", "translation"}) {
+    if (w == k) return Kind::kTranslation;
+  }
+  for (const char* k : {"q", "quat", "quaternion", "orientation", "rotation"}) {
+    if (w == k) return Kind::kQuaternion;
+  }
+  return Kind::kNone;
+}
+
+// A name of several words ending in an axis, its first or second-to-last word naming a
+// position or a quaternion: EuRoC's "p_RS_R_x", "q_RS_w", ROS's "field.pose.position.x",
+// "field.transform.rotation.w". The axis (0..2, 3 for w) and the kind; kNone when a word
+// names another quantity or the two words disagree.
+Kind WordsKind(const std::vector<std::string>& words, int* axis) {
+  if (words.size() < 2 || words.back().size() != 1) return Kind::kNone;
+  const char* hit = std::strchr("xyzw", words.back()[0]);
+  if (!hit || !*hit) return Kind::kNone;
+  *axis = int(hit - "xyzw");
+  if (OtherQuantity(words)) return Kind::kNone;
+  const Kind first = WordKind(words.front()), last = WordKind(words[words.size() - 2]);
+  const Kind kind = first == Kind::kNone ? last : first;
+  if (last != Kind::kNone && last != kind) return Kind::kNone;
+  if (kind == Kind::kTranslation && *axis == 3) return Kind::kNone;
+  return kind;
+}
+
+// Multi-row exports this reader does not take, by their first field.
+const char* ExportNotRead(const std::string& first) {
+  if (first == "format version") {
+    return "an OptiTrack Motive export (take settings, then Type, Name, ID and Rotation/Position rows above "
+           "'Frame,Time,X,Y,Z,W,X,Y,Z') is not read: save the rigid body's rows under one header line naming "
+           "them, e.g. frame,time,qx,qy,qz,qw,x,y,z (with the export's length unit: x [mm] ...)";
+  }
+  if (first == "segments" || first == "trajectories") {
+    return "a Vicon Nexus export (a section name, the rate, subject and unit rows above the column names) is not "
+           "read: save the segment's rows under one header line naming them, e.g. frame,rx,ry,rz,x [mm],y [mm],z [mm]";
+  }
+  return nullptr;
+}
+
 }  // namespace
 
 // The layout a header names; nullopt when `strict` is false and a name is not known.
+// Columns of other quantities (velocities, biases, covariances, ROS's bookkeeping, or
+// any other field of a Universal Robots RTDE log) are skipped; another unknown name,
+// one that might be a competing pose, is an error.
 std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, const std::string& where, bool strict,
                                    std::optional<PoseUnits>* header_units) {
   Layout l;
   l.fields = fields.size();
   bool quat = false, abb = false, rotvec = false, kuka = false, fanuc = false;
   std::optional<std::string> t_unit;
-  std::string names;
+  std::string names, used;
+  int time_rank = -1;  // ROS: the message's header.stamp (2) before another time (1) before rosbag's %time (0)
+  bool rtde = false;   // Universal Robots' RTDE log: its other fields (joints, speeds, target pose) are skipped
+  std::vector<size_t> unknown;
+  for (std::string_view f : fields) rtde |= Lower(TrimBlanks(f)).rfind("actual_tcp_pose_", 0) == 0;
   for (size_t i = 0; i < fields.size(); ++i) {
     std::string unit;
     const std::string name = NameAndUnit(fields[i], &unit);
@@ -102,31 +194,52 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
       *slot = c;
       return true;
     };
+    if (i == 0) {
+      if (const char* why = ExportNotRead(name)) return fail(why);
+    }
     bool ok = true;
     if (Skipped(name)) continue;
-    if (const double to_s = TimeColumn(name, unit); to_s != 0) {
+    const std::vector<std::string> words = Words(name);
+    bool known = false;
+    double to_s = TimeColumn(name, unit, &known);
+    int rank = 1;
+    if (to_s == 0 && name == "%time") {  // rostopic echo -p: when rosbag recorded the message, ns
+      to_s = 1e-9, known = true, rank = 0;
+    } else if (to_s == 0 && words.size() >= 2 && words.back() == "stamp" && words[words.size() - 2] == "header") {
+      to_s = 1e-9, known = true, rank = 2;  // ROS's field.header.stamp, ns
+    }
+    if (to_s != 0) {
       if (to_s < 0) return fail("unknown time unit '" + unit + "' (s, ms, us or ns)");
-      if (l.time >= 0) return fail("a second time column");
-      l.time = c;
-      l.time_to_s = to_s;
+      if (rank == time_rank) return fail("a second time column");
+      if (rank > time_rank) {
+        time_rank = rank;
+        l.time = c;
+        l.time_to_s = to_s;
+        l.time_unit_known = known;
+      }
       continue;
     }
     const int kinds_before = int(quat) + int(abb) + int(rotvec) + int(kuka) + int(fanuc);
+    Kind kind = Kind::kNone;
+    int word_axis = -1;
     if (name.rfind("actual_tcp_pose_", 0) == 0 && name.size() == 17 && name[16] >= '0' && name[16] <= '5') {
       // Universal Robots' RTDE log: x y z in metres, then the rotation vector.
       const int k = name[16] - '0';
       ok = k < 3 ? set(&l.t[k]) : set(&l.r[k - 3]);
       rotvec |= k >= 3;
       if (k < 3 && !t_unit) t_unit = "m";
-    } else if ((a = AxisAfter(name, {"", "t", "t_", "p_", "pos_", "position_", "trans_", "translation_", "tcp_"}, "xyz")) >= 0) {
+    } else if ((a = AxisAfter(name, {"", "t", "t_", "p_", "pos_", "position_", "trans_", "translation_", "tcp_"}, "xyz")) >= 0 ||
+               (kind = WordsKind(words, &word_axis)) == Kind::kTranslation) {
+      if (a < 0) a = word_axis;
       ok = set(&l.t[a]);
       if (!unit.empty()) {
         if (unit != "m" && unit != "mm") return fail("unknown unit '" + unit + "' (m or mm)");
         if (t_unit && *t_unit != unit) return fail("unit " + unit + ", but another translation column is in " + *t_unit);
         t_unit = unit;
       }
-    } else if ((a = AxisAfter(name, {"q", "q_", "quat_", "qu_", "orientation_", "rot_q"}, "xyzw")) >= 0) {
-      ok = set(&l.r[a]);
+    } else if ((a = AxisAfter(name, {"q", "q_", "quat_", "qu_", "orientation_", "rot_q"}, "xyzw")) >= 0 ||
+               kind == Kind::kQuaternion) {
+      ok = set(&l.r[a >= 0 ? a : word_axis]);
       quat = true;
     } else if ((a = AxisAfter(name, {"q"}, "1234")) >= 0) {  // ABB: q1 q2 q3 q4 = w x y z
       ok = set(&l.r[a == 0 ? 3 : a - 1]);
@@ -141,13 +254,26 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
       ok = set(&l.r[a]);
       fanuc = true;
     } else {
-      return fail("unknown column name (expected x,y,z with qx,qy,qz,qw, q1..q4, rx,ry,rz, a,b,c or w,p,r; time and "
-                  "frame columns are skipped; docs/pipeline.md)");
+      if (!rtde && !OtherQuantity(words)) unknown.push_back(i);
+      continue;
     }
     if (int(quat) + int(abb) + int(rotvec) + int(kuka) + int(fanuc) > std::max(kinds_before, 1)) {
       return fail("more than one kind of rotation columns (a quaternion, q1..q4, rx,ry,rz, a,b,c or w,p,r)");
     }
     if (!ok) return fail("a second column for the same value");
+    used += (used.empty() ? "" : ",") + name;
+  }
+  if (!unknown.empty()) {
+    if (!strict) return std::nullopt;
+    const size_t i = unknown.front();
+    throw InputError(where, "column " + std::to_string(i + 1) + " '" + std::string(TrimBlanks(fields[i])) +
+                                "': unknown column name (expected x,y,z with qx,qy,qz,qw, q1..q4, rx,ry,rz, a,b,c or "
+                                "w,p,r; time, frame, velocity, bias and covariance columns are skipped; "
+                                "docs/pipeline.md)");
+  }
+  if (l.time >= 0) {
+    std::string unit;
+    used = NameAndUnit(fields[size_t(l.time)], &unit) + (used.empty() ? "" : ",") + used;
   }
   const int kinds = int(quat) + int(abb) + int(rotvec) + int(kuka) + int(fanuc);
   auto fail_all = [&](const std::string& why) -> std::optional<Layout> {
@@ -163,7 +289,8 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
   }
   // Fanuc's W P R are KUKA's C B A: R = Rz(r) Ry(p) Rx(w).
   l.rotation = quat || abb ? Rotation::kQuaternion : rotvec ? Rotation::kRotationVector : Rotation::kKukaAbc;
-  l.form = "CSV columns " + names;
+  const int others = int(fields.size()) - int(std::count(used.begin(), used.end(), ',')) - 1;
+  l.form = "CSV columns " + used + (others > 0 ? ", " + std::to_string(others) + " other" + (others > 1 ? "s" : "") + " skipped" : "");
   if (t_unit) *header_units = *t_unit == "mm" ? PoseUnits::kMillimetres : PoseUnits::kMetres;
   return l;
 }

@@ -23,6 +23,7 @@ struct Layout {
   int t[3] = {-1, -1, -1};
   int time = -1;            // the column of the time, -1: none
   double time_to_s = 1.0;   // its unit
+  bool time_unit_known = false;  // said by the name (or the log's format); else from the values' size
   int r[4] = {-1, -1, -1, -1};
   std::string form;
 };

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <functional>
 
 #include "core/error.h"
 
@@ -177,7 +178,7 @@ TEST(PoseFile, BadInputNamesTheLine) {
   EXPECT_THAT(ErrorOf("x;y;z;qx;qy;qz;qw\n0;0;0,5;0;0;0;1\n"),
               HasSubstr("poses.csv:2: field 3 is not a finite number: \"0,5\" (a decimal comma?"));
   EXPECT_THAT(ErrorOf("x,y,z,qx,qy,qz,qw\n0,0,0,0,0,0,2\n"), HasSubstr("poses.csv:2: the quaternion must have unit norm"));
-  EXPECT_THAT(ErrorOf("x,y,z,qx,qy,qz,qw,speed\n"), HasSubstr("poses.csv:1: column 8 'speed': unknown column name"));
+  EXPECT_THAT(ErrorOf("x,y,z,qx,qy,qz,qw,elbow\n"), HasSubstr("poses.csv:1: column 8 'elbow': unknown column name"));
   EXPECT_THAT(ErrorOf("x,y,z\n"), HasSubstr("poses.csv:1: header 'x,y,z': no rotation columns"));
   EXPECT_THAT(ErrorOf("x,y,z,qx,qy,qz,qw,a,b,c\n"), HasSubstr("more than one kind of rotation"));
   EXPECT_THAT(ErrorOf("x [in],y,z,qx,qy,qz,qw\n"), HasSubstr("unknown unit 'in'"));
@@ -185,6 +186,147 @@ TEST(PoseFile, BadInputNamesTheLine) {
   EXPECT_THAT(ErrorOf("1 0 0 0 0 1 0 0 0 0 1 0 0 0 1 1\n"), HasSubstr("poses.csv:1: the last row of a 4x4 pose must be 0 0 0 1"));
   EXPECT_THAT(ErrorOf("# nothing\n\n"), HasSubstr("poses.csv: holds no pose"));
   EXPECT_THAT(ErrorOf("x,y,z,qx,qy,qz,qw\n"), HasSubstr("poses.csv: holds no pose"));
+}
+
+// Logs as robots, trackers and ROS write them (docs/pipeline.md, "Real logs checked"),
+// two poses each: the pose columns read, the columns of other quantities skipped.
+std::string Log(const std::string& header, const std::function<std::string(const Pose&, int)>& row) {
+  std::string text = header + "\n";
+  for (int k = 0; k < 2; ++k) text += row(TestPose(k), k) + "\n";
+  return text;
+}
+
+std::string Join(const std::vector<double>& v, const std::string& sep = ",") {
+  std::string s;
+  for (size_t i = 0; i < v.size(); ++i) s += (i ? sep : "") + Num(v[i]);
+  return s;
+}
+
+TEST(PoseFile, EurocGroundTruthSkipsVelocitiesAndBiases) {
+  // mav0/state_groundtruth_estimate0/data.csv: a '#' header with units, w first, ns times.
+  const PoseFile f = ParsePoseFile(
+      Log("#timestamp, p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], q_RS_y [], q_RS_z [], "
+          "v_RS_R_x [m s^-1], v_RS_R_y [m s^-1], v_RS_R_z [m s^-1], b_w_RS_S_x [rad s^-1], b_w_RS_S_y [rad s^-1], "
+          "b_w_RS_S_z [rad s^-1], b_a_RS_S_x [m s^-2], b_a_RS_S_y [m s^-2], b_a_RS_S_z [m s^-2]",
+          [](const Pose& p, int k) {
+            const Eigen::Quaterniond q(p.linear());
+            const Eigen::Vector3d t = p.translation();
+            return std::to_string(1403715524922140000LL + 25000000LL * k) + "," +
+                   Join({t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z(), 7, 8, 9, -0.002, 0.02, 0.07, -0.01, 0.1, 0.09});
+          }),
+      "data.csv");
+  ExpectPoses(f);
+  ASSERT_EQ(f.times_s.size(), 2u);
+  EXPECT_NEAR(f.times_s[1] - f.times_s[0], 0.025, 1e-6);
+  EXPECT_NEAR(f.times_s[0], 1403715524.92214, 1e-5);
+  EXPECT_THAT(f.form, HasSubstr("9 others skipped, times in ns"));
+  // TUM-VI's: the unit in the time's name.
+  EXPECT_NEAR(ParsePoseFile("#timestamp [ns], p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], "
+                            "q_RS_y [], q_RS_z []\n1520530308189679351,0.84,-0.22,1.25,1,0,0,0\n",
+                            "room1.csv")
+                  .times_s[0],
+              1520530308.189679, 1e-5);
+  // A time column said to be in seconds stays in seconds, however large.
+  EXPECT_EQ(ParsePoseFile("t [s],x,y,z,qx,qy,qz,qw\n1e18,0,0,0,0,0,0,1\n", "p").times_s[0], 1e18);
+}
+
+TEST(PoseFile, RosTopicCsvReadsThePoseAndTheHeaderStamp) {
+  auto quaternion = [](const Pose& p) {
+    const Eigen::Quaterniond q(p.linear());
+    return Join({p.translation().x(), p.translation().y(), p.translation().z(), q.x(), q.y(), q.z(), q.w()});
+  };
+  // rostopic echo -p of a PoseStamped: %time (recorded) and header.stamp (the message's), ns; frame_id text.
+  const PoseFile stamped = ParsePoseFile(
+      Log("%time,field.header.seq,field.header.stamp,field.header.frame_id,field.pose.position.x,field.pose.position.y,"
+          "field.pose.position.z,field.pose.orientation.x,field.pose.orientation.y,field.pose.orientation.z,"
+          "field.pose.orientation.w",
+          [&](const Pose& p, int k) {
+            return std::to_string(175447000000LL + 9000000LL + k) + "," + std::to_string(5 + k) + "," +
+                   std::to_string(175447000000LL + 20000000LL * k) + ",map," + quaternion(p);
+          }),
+      "pose.csv");
+  ExpectPoses(stamped);
+  EXPECT_EQ(stamped.times_s, (std::vector<double>{175.447, 175.467}));
+  // An Odometry: covariances and the twist skipped.
+  std::string odometry = "%time,field.header.seq,field.header.stamp,field.header.frame_id,field.child_frame_id,"
+                         "field.pose.pose.position.x,field.pose.pose.position.y,field.pose.pose.position.z,"
+                         "field.pose.pose.orientation.x,field.pose.pose.orientation.y,field.pose.pose.orientation.z,"
+                         "field.pose.pose.orientation.w";
+  for (int i = 0; i < 36; ++i) odometry += ",field.pose.covariance" + std::to_string(i);
+  odometry += ",field.twist.twist.linear.x,field.twist.twist.linear.y,field.twist.twist.linear.z,"
+              "field.twist.twist.angular.x,field.twist.twist.angular.y,field.twist.twist.angular.z";
+  for (int i = 0; i < 36; ++i) odometry += ",field.twist.covariance" + std::to_string(i);
+  ExpectPoses(ParsePoseFile(Log(odometry,
+                                [&](const Pose& p, int k) {
+                                  std::string r = "1664948325587996960," + std::to_string(k) +
+                                                  ",1739641583660682927,/camera_init,/laser_odom," + quaternion(p);
+                                  for (int i = 0; i < 78; ++i) r += ",0.5";
+                                  return r;
+                                }),
+                            "odom.csv"));
+  // A tf message's first transform.
+  ExpectPoses(ParsePoseFile(
+      Log("%time,field.transforms0.header.seq,field.transforms0.header.stamp,field.transforms0.header.frame_id,"
+          "field.transforms0.child_frame_id,field.transforms0.transform.translation.x,"
+          "field.transforms0.transform.translation.y,field.transforms0.transform.translation.z,"
+          "field.transforms0.transform.rotation.x,field.transforms0.transform.rotation.y,"
+          "field.transforms0.transform.rotation.z,field.transforms0.transform.rotation.w",
+          [&](const Pose& p, int k) {
+            return "1739641583661579370,0," + std::to_string(1739641583660682927LL + k) + ",camera_init,aft_mapped," +
+                   quaternion(p);
+          }),
+      "tf.csv"));
+}
+
+TEST(PoseFile, UniversalRobotsRtdeLogReadsTheActualTcpPose) {
+  // A real RTDE record's columns (joints, currents, speeds, the commanded target pose, a repeated name).
+  std::string header = "timestamp";
+  for (const char* f : {"actual_q", "target_current", "target_current", "actual_TCP_pose", "actual_TCP_speed",
+                        "target_TCP_pose", "joint_temperatures"}) {
+    for (int i = 0; i < 6; ++i) header += std::string(",") + f + "_" + std::to_string(i);
+  }
+  header += ",actual_execution_time,robot_mode,safety_status,speed_scaling";
+  const PoseFile f = ParsePoseFile(Log(header,
+                                       [](const Pose& p, int k) {
+                                         const Eigen::AngleAxisd aa(p.linear());
+                                         const Eigen::Vector3d r = aa.axis() * aa.angle();
+                                         const Eigen::Vector3d t = p.translation();
+                                         std::vector<double> v{4156.212 + 0.008 * k};
+                                         for (int i = 0; i < 18; ++i) v.push_back(0.1 * i);
+                                         for (double x : {t.x(), t.y(), t.z(), r.x(), r.y(), r.z()}) v.push_back(x);
+                                         for (int i = 0; i < 6; ++i) v.push_back(0.01);
+                                         for (int i = 0; i < 6; ++i) v.push_back(0.3 + i);  // the target: not read
+                                         for (int i = 0; i < 6; ++i) v.push_back(25.5);
+                                         for (double x : {0.17, 7.0, 1.0, 1.0}) v.push_back(x);
+                                         return Join(v);
+                                       }),
+                                   "robot_data.csv");
+  ExpectPoses(f);
+  EXPECT_EQ(f.units, PoseUnits::kMetres);
+  EXPECT_THAT(f.form, HasSubstr("actual_tcp_pose_5, 40 others skipped"));
+}
+
+TEST(PoseFile, ColumnsThatMightBeAnotherPoseAreRefused) {
+  // A column that could be a second pose or rotation is no column to skip.
+  EXPECT_THAT(ErrorOf("x,y,z,qx,qy,qz,qw,x2\n"), HasSubstr("poses.csv:1: column 8 'x2': unknown column name"));
+  EXPECT_THAT(ErrorOf("field.pose.position.x,field.pose.position.y,field.pose.position.z,field.pose.orientation.x,"
+                      "field.pose.orientation.y,field.pose.orientation.z,field.pose.orientation.w,"
+                      "field.target.position.x\n"),
+              HasSubstr("column 8 'field.target.position.x': a second column for the same value"));
+  EXPECT_THAT(ErrorOf("#timestamp,p_RS_R_x,p_RS_R_y,p_RS_R_z,q_RS_w,q_RS_x,q_RS_y,q_RS_z,q_RB_w\n"
+                      "1,0,0,0,1,0,0,0,1\n"),
+              HasSubstr("poses.csv:2: 9 numbers per row"));  // the '#' header is not taken: no header at all
+  EXPECT_THAT(ErrorOf("time,seq,pose_b_x,x,y,z,qx,qy,qz,qw\n"), HasSubstr("column 3 'pose_b_x': unknown column name"));
+  // Two message times of the same kind.
+  EXPECT_THAT(ErrorOf("a.header.stamp,b.header.stamp,x,y,z,qx,qy,qz,qw\n"),
+              HasSubstr("column 2 'b.header.stamp': a second time column"));
+  // Multi-row exports: refused, saying what to write instead.
+  EXPECT_THAT(ErrorOf("Format Version,1.23,Take Name,S_04,Rotation Type,Quaternion,Length Units,Meters\n\n"
+                      ",Type,Rigid Body,Rigid Body,Rigid Body,Rigid Body,Rigid Body,Rigid Body,Rigid Body\n"
+                      "Frame,Time (Seconds),X,Y,Z,W,X,Y,Z\n0,0,0,0,0,1,0.1,0.2,0.3\n"),
+              HasSubstr("poses.csv:1: column 1 'Format Version': an OptiTrack Motive export"));
+  EXPECT_THAT(ErrorOf("Segments\n100\n,,Probe:Probe\nFrame,Sub Frame,RX,RY,RZ,TX,TY,TZ\n,,deg,deg,deg,mm,mm,mm\n"),
+              HasSubstr("poses.csv:1: column 1 'Segments': a Vicon Nexus export"));
 }
 
 }  // namespace
