@@ -148,6 +148,17 @@ Kind WordsKind(const std::vector<std::string>& words, int* axis) {
   return kind;
 }
 
+// KUKA RSI's actual Cartesian pose (its RIst tag: X Y Z in mm, A B C in degrees) in a
+// column name of two words, "X_RIst" or "RIst.X": 0..2 for X Y Z, 3..5 for A B C, -1
+// otherwise. Its setpoint (RSol) and the log's other signals are skipped.
+int RsiActual(const std::vector<std::string>& words) {
+  if (words.size() != 2) return -1;
+  const std::string& axis = words[0] == "rist" ? words[1] : words[1] == "rist" ? words[0] : std::string();
+  if (axis.size() != 1) return -1;
+  const char* hit = std::strchr("xyzabc", axis[0]);
+  return hit && *hit ? int(hit - "xyzabc") : -1;
+}
+
 // Multi-row exports this reader does not take, by their first field.
 const char* ExportNotRead(const std::string& first) {
   if (first == "format version") {
@@ -176,9 +187,15 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
   std::optional<std::string> t_unit;
   std::string names, used;
   int time_rank = -1;  // ROS: the message's header.stamp (2) before another time (1) before rosbag's %time (0)
-  bool rtde = false;   // Universal Robots' RTDE log: its other fields (joints, speeds, target pose) are skipped
+  // A Universal Robots RTDE log or a KUKA RSI log: their other fields (joints, speeds,
+  // the commanded pose, process signals) are skipped.
+  bool actual_log = false;
   std::vector<size_t> unknown;
-  for (std::string_view f : fields) rtde |= Lower(TrimBlanks(f)).rfind("actual_tcp_pose_", 0) == 0;
+  for (std::string_view f : fields) {
+    std::string unit;
+    const std::string name = NameAndUnit(f, &unit);
+    actual_log |= name.rfind("actual_tcp_pose_", 0) == 0 || RsiActual(Words(name)) >= 0;
+  }
   for (size_t i = 0; i < fields.size(); ++i) {
     std::string unit;
     const std::string name = NameAndUnit(fields[i], &unit);
@@ -228,6 +245,10 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
       ok = k < 3 ? set(&l.t[k]) : set(&l.r[k - 3]);
       rotvec |= k >= 3;
       if (k < 3 && !t_unit) t_unit = "m";
+    } else if (const int k = RsiActual(words); k >= 0) {
+      ok = k < 3 ? set(&l.t[k]) : set(&l.r[k - 3]);
+      kuka |= k >= 3;
+      if (k < 3 && !t_unit) t_unit = "mm";
     } else if ((a = AxisAfter(name, {"", "t", "t_", "p_", "pos_", "position_", "trans_", "translation_", "tcp_"}, "xyz")) >= 0 ||
                (kind = WordsKind(words, &word_axis)) == Kind::kTranslation) {
       if (a < 0) a = word_axis;
@@ -254,7 +275,7 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
       ok = set(&l.r[a]);
       fanuc = true;
     } else {
-      if (!rtde && !OtherQuantity(words)) unknown.push_back(i);
+      if (!actual_log && !OtherQuantity(words)) unknown.push_back(i);
       continue;
     }
     if (int(quat) + int(abb) + int(rotvec) + int(kuka) + int(fanuc) > std::max(kinds_before, 1)) {

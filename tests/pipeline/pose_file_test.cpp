@@ -306,6 +306,25 @@ TEST(PoseFile, UniversalRobotsRtdeLogReadsTheActualTcpPose) {
   EXPECT_THAT(f.form, HasSubstr("actual_tcp_pose_5, 40 others skipped"));
 }
 
+TEST(PoseFile, KukaRsiLogReadsTheActualPose) {
+  // A real RSI log's columns: RIst (actual, mm and degrees), RSol (setpoint), process signals; a date.
+  const PoseFile f = ParsePoseFile(
+      Log("Timestamp,X_RIst,Y_RIst,Z_RIst,A_RIst,B_RIst,C_RIst,X_RSol,Y_RSol,Z_RSol,A_RSol,B_RSol,C_RSol,Delay,"
+          "WeldVolt,WeldAmps,IPOC,ErrorNum,C11,i1",
+          [](const Pose& p, int) {
+            const Eigen::Vector3d zyx = p.linear().eulerAngles(2, 1, 0) * (180 / M_PI);
+            const Eigen::Vector3d t = p.translation() * 1000;
+            return "2024-09-24 14:05:15," + Join({t.x(), t.y(), t.z(), zyx[0], zyx[1], zyx[2], 1279.5, 192.2, 977.3,
+                                                  80.5, 60.3, 116.8, 0, 14417, 12320, 1210441551, 0, 0.0, 1});
+          }),
+      "robot_data.csv");
+  ExpectPoses(f);
+  EXPECT_EQ(f.units, PoseUnits::kMillimetres);
+  EXPECT_TRUE(f.times_s.empty());  // a date: the rows go by frame
+  // Its actual pose beside plain X,Y,Z columns: two translations.
+  EXPECT_THAT(ErrorOf("X,Y,Z,A,B,C,X_RIst\n"), HasSubstr("column 7 'X_RIst': a second column for the same value"));
+}
+
 TEST(PoseFile, ColumnsThatMightBeAnotherPoseAreRefused) {
   // A column that could be a second pose or rotation is no column to skip.
   EXPECT_THAT(ErrorOf("x,y,z,qx,qy,qz,qw,x2\n"), HasSubstr("poses.csv:1: column 8 'x2': unknown column name"));
