@@ -20,7 +20,7 @@ constexpr double kSpacingFactor = 3.0;
 constexpr double kSpanTolerance = 0.25;
 // Fewest lines at a segment's end that give it another rank than its majority
 // before the piece there is cut off.
-constexpr int kMinCutLines = 3;
+constexpr int kMinCutLines = 2;
 
 using Line = StripeLine;  // (position across, segment), in order across
 

@@ -82,5 +82,42 @@ TEST(PlaneIdDense, AFewPointsBeforeTheFirstStripeLeaveItNoRoom) {
   EXPECT_GE(numbered, 4 * 60);
 }
 
+// A step that moves every stripe by about a spacing, where one sheet's stripe
+// runs on across it into the next sheet's for just two lines before the step
+// (the other stripes break at it). Lines meeting all 4 sheets give the joined
+// segment its own rank on those two lines and the next rank on the 60 after
+// the step; two lines did not cut it (the minimum was 3), so its two points
+// before the step took the next sheet (multicom on the 9-sheet render at
+// 160x128, 16 spp: 3 points). They are cut off now.
+TEST(PlaneIdDense, TwoLinesAtAJoinedSegmentsEndAreCutOff) {
+  const double spacing = 10;
+  std::vector<StripePoint> pts;
+  std::vector<int> truth;
+  for (int k = 0; k < 4; ++k) {
+    if (k == 2) {
+      AddLine(&pts, &truth, k, 20 + spacing * k, 0, 56);
+      AddLine(&pts, &truth, k, 20 + spacing * k, 58, 60);  // joined to sheet 3 below the step
+    } else {
+      AddLine(&pts, &truth, k, 20 + spacing * k, 0, 60);
+    }
+    if (k == 3) {
+      AddLine(&pts, &truth, k, 20 + spacing * k - 8.5, 60, 61);
+      AddLine(&pts, &truth, k, 20 + spacing * k - 7, 61, 120);
+    } else {
+      AddLine(&pts, &truth, k, 20 + spacing * k - 7, 60, 120);
+    }
+  }
+  PlaneIdentification id = IdentifyPlanes(pts, {0, 0, 100, 120}, 4, PlaneIdOptions{});
+  ASSERT_TRUE(id.ok) << id.error;
+  EXPECT_EQ(id.method, PlaneIdMethod::kStripeOrder) << id.order_error;
+  int numbered = 0;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    if (id.points[i].plane < 0) continue;
+    ++numbered;
+    EXPECT_EQ(id.points[i].plane, truth[i]) << pts[i].u << "," << pts[i].v;
+  }
+  EXPECT_GE(numbered, 4 * 116);
+}
+
 }  // namespace
 }  // namespace lt::test
