@@ -189,13 +189,17 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
   int time_rank = -1;  // ROS: the message's header.stamp (2) before another time (1) before rosbag's %time (0)
   // A Universal Robots RTDE log or a KUKA RSI log: their other fields (joints, speeds,
   // the commanded pose, process signals) are skipped.
-  bool actual_log = false;
+  // An RTDE log's pose is its actual_TCP_pose, else (a planned path) its target_TCP_pose.
+  bool actual_log = false, rtde_actual = false;
   std::vector<size_t> unknown;
   for (std::string_view f : fields) {
     std::string unit;
     const std::string name = NameAndUnit(f, &unit);
-    actual_log |= name.rfind("actual_tcp_pose_", 0) == 0 || RsiActual(Words(name)) >= 0;
+    rtde_actual |= name.rfind("actual_tcp_pose_", 0) == 0;
+    actual_log |= name.rfind("target_tcp_pose_", 0) == 0 || RsiActual(Words(name)) >= 0;
   }
+  actual_log |= rtde_actual;
+  const std::string rtde_pose = rtde_actual ? "actual_tcp_pose_" : "target_tcp_pose_";
   for (size_t i = 0; i < fields.size(); ++i) {
     std::string unit;
     const std::string name = NameAndUnit(fields[i], &unit);
@@ -239,7 +243,7 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
     const int kinds_before = int(quat) + int(abb) + int(rotvec) + int(kuka) + int(fanuc);
     Kind kind = Kind::kNone;
     int word_axis = -1;
-    if (name.rfind("actual_tcp_pose_", 0) == 0 && name.size() == 17 && name[16] >= '0' && name[16] <= '5') {
+    if (name.rfind(rtde_pose, 0) == 0 && name.size() == 17 && name[16] >= '0' && name[16] <= '5') {
       // Universal Robots' RTDE log: x y z in metres, then the rotation vector.
       const int k = name[16] - '0';
       ok = k < 3 ? set(&l.t[k]) : set(&l.r[k - 3]);

@@ -304,6 +304,19 @@ TEST(PoseFile, UniversalRobotsRtdeLogReadsTheActualTcpPose) {
   ExpectPoses(f);
   EXPECT_EQ(f.units, PoseUnits::kMetres);
   EXPECT_THAT(f.form, HasSubstr("actual_tcp_pose_5, 40 others skipped"));
+  // A planned path in the RTDE log's form: its target_TCP_pose is the only pose.
+  std::string planned = "timestamp";
+  for (const char* c : {"target_q", "target_TCP_pose"}) {
+    for (int i = 0; i < 6; ++i) planned += std::string(" ") + c + "_" + std::to_string(i);
+  }
+  ExpectPoses(ParsePoseFile(Log(planned,
+                                [](const Pose& p, int k) {
+                                  const Eigen::AngleAxisd aa(p.linear());
+                                  const Eigen::Vector3d r = aa.axis() * aa.angle(), t = p.translation();
+                                  return Join({0.008 * k, 1, 2, 3, 4, 5, 6, t.x(), t.y(), t.z(), r.x(), r.y(), r.z()},
+                                              " ");
+                                }),
+                            "planned.csv"));
 }
 
 TEST(PoseFile, KukaRsiLogReadsTheActualPose) {
