@@ -167,6 +167,11 @@ PoseFile ParsePoseFile(const std::string& text, const std::string& name, const P
         for (int k : layout->r) used |= k == int(i);
         if (!used) continue;
         const bool decimal_comma = fields[i].find(',') != std::string_view::npos;
+        if (fields[i].empty()) {
+          throw InputError(where, "field " + std::to_string(i + 1) +
+                                      " is empty (a log with a row per message of several topics, as PlotJuggler "
+                                      "exports? export the pose's topic alone, one row per pose)");
+        }
         throw InputError(where, "field " + std::to_string(i + 1) + " is not a finite number: \"" +
                                     std::string(fields[i]) + "\"" +
                                     (decimal_comma ? " (a decimal comma? numbers need a decimal point)" : ""));

@@ -79,13 +79,13 @@ bool Skipped(const std::string& name) {
   return false;
 }
 
-// The words of a name, split at '.', '_', '-' and blanks ("field.pose.position.x",
-// "p_RS_R_x"); rostopic's '%' before "%time" dropped.
+// The words of a name, split at '.', '_', '-', '/' and blanks ("field.pose.position.x",
+// "p_RS_R_x", PlotJuggler's "/vicon/pose/position/x"); rostopic's '%' before "%time" dropped.
 std::vector<std::string> Words(const std::string& name) {
   std::vector<std::string> words(1);
   for (char c : name) {
     if (c == '%') continue;
-    if (c == '.' || c == '_' || c == '-' || c == ' ') {
+    if (c == '.' || c == '_' || c == '-' || c == ' ' || c == '/') {
       if (!words.back().empty()) words.emplace_back();
     } else {
       words.back() += c;
@@ -226,6 +226,8 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
     int rank = 1;
     if (to_s == 0 && name == "%time") {  // rostopic echo -p: when rosbag recorded the message, ns
       to_s = 1e-9, known = true, rank = 0;
+    } else if (to_s == 0 && name == "__time") {  // PlotJuggler's CSV export: seconds
+      to_s = 1.0, known = true;
     } else if (to_s == 0 && words.size() >= 2 && words.back() == "stamp" && words[words.size() - 2] == "header") {
       to_s = 1e-9, known = true, rank = 2;  // ROS's field.header.stamp, ns
     }

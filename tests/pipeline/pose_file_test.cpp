@@ -278,6 +278,24 @@ TEST(PoseFile, RosTopicCsvReadsThePoseAndTheHeaderStamp) {
       "tf.csv"));
 }
 
+TEST(PoseFile, PlotJugglerCsvReadsTopicPaths) {
+  const std::string header =
+      "__time,/vicon/pose/header/seq,/vicon/pose/pose/position/x,/vicon/pose/pose/position/y,"
+      "/vicon/pose/pose/position/z,/vicon/pose/pose/orientation/x,/vicon/pose/pose/orientation/y,"
+      "/vicon/pose/pose/orientation/z,/vicon/pose/pose/orientation/w,/odom/twist/linear/x";
+  auto row = [](const Pose& p, int k) {
+    const Eigen::Quaterniond q(p.linear());
+    const Eigen::Vector3d t = p.translation();
+    return Join({1624114603.333 + 0.01 * k, double(k), t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w(), 0.5});
+  };
+  const PoseFile f = ParsePoseFile(Log(header, row), "pj.csv");
+  ExpectPoses(f);
+  ASSERT_EQ(f.times_s.size(), 2u);
+  EXPECT_NEAR(f.times_s[1] - f.times_s[0], 0.01, 1e-6);
+  // A row of another topic leaves the pose's cells empty.
+  EXPECT_THAT(ErrorOf(header + "\n1624114603.334,,,,,,,,,1452\n"), HasSubstr("poses.csv:2: field 3 is empty"));
+}
+
 TEST(PoseFile, UniversalRobotsRtdeLogReadsTheActualTcpPose) {
   // A real RTDE record's columns (joints, currents, speeds, the commanded target pose, a repeated name).
   std::string header = "timestamp";
