@@ -79,6 +79,10 @@ Pose RowPose(const Layout& l, const std::vector<double>& v, double scale, const 
   } else if (l.rotation == Rotation::kRotationVector) {
     const Eigen::Vector3d r(v[size_t(l.r[0])], v[size_t(l.r[1])], v[size_t(l.r[2])]);
     const double angle = r.norm();
+    if (angle > 2 * M_PI + 1e-9) {  // a rotation vector's angle is at most pi (2 pi at most from any writer)
+      throw InputError(where, "a rotation vector of " + FormatNumber(angle) +
+                                  " rad (more than 2 pi): angles in degrees? rx,ry,rz are a rotation vector in radians");
+    }
     if (angle > 0) pose.linear() = Eigen::AngleAxisd(angle, r / angle).toRotationMatrix();
   } else {
     const double a = v[size_t(l.r[0])] * kDegToRad, b = v[size_t(l.r[1])] * kDegToRad, c = v[size_t(l.r[2])] * kDegToRad;

@@ -168,7 +168,9 @@ const char* ExportNotRead(const std::string& first) {
   }
   if (first == "segments" || first == "trajectories") {
     return "a Vicon Nexus export (a section name, the rate, subject and unit rows above the column names) is not "
-           "read: save the segment's rows under one header line naming them, e.g. frame,rx,ry,rz,x [mm],y [mm],z [mm]";
+           "read: save the segment's rows under one header line naming them, its rotation as a quaternion (its RX RY "
+           "RZ are angles in degrees; rx,ry,rz here are a rotation vector in radians), e.g. frame,qx,qy,qz,qw,"
+           "x [mm],y [mm],z [mm]";
   }
   return nullptr;
 }
@@ -199,6 +201,10 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
     actual_log |= name.rfind("target_tcp_pose_", 0) == 0 || RsiActual(Words(name)) >= 0;
   }
   actual_log |= rtde_actual;
+  const bool vicon_columns = std::any_of(fields.begin(), fields.end(), [](std::string_view f) {
+    std::string unit;
+    return NameAndUnit(f, &unit) == "sub frame";
+  });
   const std::string rtde_pose = rtde_actual ? "actual_tcp_pose_" : "target_tcp_pose_";
   for (size_t i = 0; i < fields.size(); ++i) {
     std::string unit;
@@ -313,6 +319,10 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
   const int needed = quat || abb ? 4 : 3;
   for (int k = 0; k < needed; ++k) {
     if (l.r[k] < 0) return fail_all("a rotation column is missing");
+  }
+  if (rotvec && vicon_columns) {
+    return fail_all("Vicon's RX RY RZ (beside its Sub Frame) are angles in degrees, not a rotation vector in radians: "
+                    "give the rotation as a quaternion (qx,qy,qz,qw)");
   }
   // Fanuc's W P R are KUKA's C B A: R = Rz(r) Ry(p) Rx(w).
   l.rotation = quat || abb ? Rotation::kQuaternion : rotvec ? Rotation::kRotationVector : Rotation::kKukaAbc;

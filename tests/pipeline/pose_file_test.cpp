@@ -377,6 +377,12 @@ TEST(PoseFile, ColumnsThatMightBeAnotherPoseAreRefused) {
               HasSubstr("poses.csv:1: column 1 'Format Version': an OptiTrack Motive export"));
   EXPECT_THAT(ErrorOf("Segments\n100\n,,Probe:Probe\nFrame,Sub Frame,RX,RY,RZ,TX,TY,TZ\n,,deg,deg,deg,mm,mm,mm\n"),
               HasSubstr("poses.csv:1: column 1 'Segments': a Vicon Nexus export"));
+  // Its rows under their own column names: RX RY RZ are degrees, no rotation vector.
+  EXPECT_THAT(ErrorOf("Frame,Sub Frame,RX,RY,RZ,TX,TY,TZ\n1,0,0.0,0.0,90.0071,1.0,2.0,3.0\n"),
+              HasSubstr("Vicon's RX RY RZ (beside its Sub Frame) are angles in degrees"));
+  // Angles in degrees given as a rotation vector.
+  EXPECT_THAT(ErrorOf("x,y,z,rx,ry,rz\n0,0,0,0,0,90\n"),
+              HasSubstr("poses.csv:2: a rotation vector of 90 rad (more than 2 pi): angles in degrees?"));
 }
 
 }  // namespace
