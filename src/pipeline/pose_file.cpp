@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "core/text_fields.h"
 #include "pipeline/pose_file_layout.h"
+#include "pipeline/pose_file_motive.h"
 
 namespace lt {
 
@@ -109,8 +110,11 @@ PoseUnits ParsePoseUnits(const std::string& text, const std::string& option) {
   throw InputError(option, "unknown units '" + text + "' (expected m or mm)");
 }
 
-PoseFile ParsePoseFile(const std::string& text, const std::string& name, const PoseFileOptions& options,
+PoseFile ParsePoseFile(const std::string& file_text, const std::string& name, const PoseFileOptions& options,
                        const std::function<void(const std::string&)>& warn) {
+  // An OptiTrack Motive export: its rows above the data read as one header line.
+  const std::optional<MotiveText> motive = MotiveAsOneHeader(file_text, name);
+  const std::string& text = motive ? motive->text : file_text;
   PoseFile out;
   std::optional<Layout> layout;
   std::optional<PoseUnits> header_units;
@@ -173,8 +177,8 @@ PoseFile ParsePoseFile(const std::string& text, const std::string& name, const P
         const bool decimal_comma = fields[i].find(',') != std::string_view::npos;
         if (fields[i].empty()) {
           throw InputError(where, "field " + std::to_string(i + 1) +
-                                      " is empty (a log with a row per message of several topics, as PlotJuggler "
-                                      "exports? export the pose's topic alone, one row per pose)");
+                                      " is empty (a frame the tracker lost, or a row of another topic in a log of several, "
+                                      "as PlotJuggler exports? give only rows holding the pose)");
         }
         throw InputError(where, "field " + std::to_string(i + 1) + " is not a finite number: \"" +
                                     std::string(fields[i]) + "\"" +
@@ -203,7 +207,7 @@ PoseFile ParsePoseFile(const std::string& text, const std::string& name, const P
     if (t > largest_m) largest_m = t, largest_line = int(line_no);
   }
   if (out.poses.empty()) throw InputError(name, "holds no pose (one row per frame expected)");
-  out.form = layout->form;
+  out.form = motive ? "OptiTrack Motive rigid body '" + motive->body + "', " + layout->form : layout->form;
   if (!options.units && !header_units && largest_m > kMillimetreHint_m && warn) {
     warn(name + ":" + std::to_string(largest_line) + ": a translation of " + FormatNumber(largest_m) +
          " m: are the poses in millimetres (as KUKA, ABB and Fanuc controllers write them)? --pose-units mm reads "

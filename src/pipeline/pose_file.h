@@ -21,7 +21,10 @@
 //     target_TCP_pose too (read when it is the only pose, a planned path), or of a KUKA RSI log read by its actual pose,
 //     X_RIst..C_RIst in mm and degrees, its setpoint RSol too); any other name
 //     is an error (it may be a second pose).
-//     OptiTrack Motive and Vicon Nexus exports (several header rows) are refused.
+//     OptiTrack Motive's CSV export (settings, Type, Name, ID, Rotation/Position
+//     rows above Frame,Time,X,Y,Z,W,X,Y,Z): its one rigid body's quaternion and
+//     position, in its length unit (pose_file_motive.h); Vicon Nexus exports
+//     (several header rows, angles in degrees) are refused.
 //   rows of numbers without a header:
 //     7  x y z + quaternion: its order (w first or last) must be given (order)
 //     8  blank separated: TUM (timestamp tx ty tz qx qy qz qw); comma separated:

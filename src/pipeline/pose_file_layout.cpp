@@ -60,7 +60,7 @@ double TimeColumn(const std::string& name, const std::string& unit, bool* known)
   for (const char* s : {"t", "time", "timestamp", "stamp"}) {
     if (name != s) continue;
     *known = !unit.empty();
-    if (unit.empty() || unit == "s") return 1.0;
+    if (unit.empty() || unit == "s" || unit == "seconds") return 1.0;
     return unit == "ms" ? 1e-3 : unit == "us" ? 1e-6 : unit == "ns" ? 1e-9 : -1.0;
   }
   for (const char* s : {"t_s", "time_s", "timestamp_s"}) {
@@ -73,7 +73,7 @@ double TimeColumn(const std::string& name, const std::string& unit, bool* known)
 }
 
 bool Skipped(const std::string& name) {
-  for (const char* s : {"frame", "index", "image", "file", "filename", "id"}) {
+  for (const char* s : {"", "frame", "index", "image", "file", "filename", "id"}) {  // "": a trailing ','s column
     if (name == s) return true;
   }
   return false;
@@ -161,11 +161,6 @@ int RsiActual(const std::vector<std::string>& words) {
 
 // Multi-row exports this reader does not take, by their first field.
 const char* ExportNotRead(const std::string& first) {
-  if (first == "format version") {
-    return "an OptiTrack Motive export (take settings, then Type, Name, ID and Rotation/Position rows above "
-           "'Frame,Time,X,Y,Z,W,X,Y,Z') is not read: save the rigid body's rows under one header line naming "
-           "them, e.g. frame,time,qx,qy,qz,qw,x,y,z (with the export's length unit: x [mm] ...)";
-  }
   if (first == "segments" || first == "trajectories") {
     return "a Vicon Nexus export (a section name, the rate, subject and unit rows above the column names) is not "
            "read: save the segment's rows under one header line naming them, its rotation as a quaternion (its RX RY "

@@ -356,6 +356,51 @@ TEST(PoseFile, KukaRsiLogReadsTheActualPose) {
   EXPECT_THAT(ErrorOf("X,Y,Z,A,B,C,X_RIst\n"), HasSubstr("column 7 'X_RIst': a second column for the same value"));
 }
 
+// An OptiTrack Motive export (format 1.23's rows): the one rigid body's columns.
+std::string Motive(const std::string& settings, const std::string& types, const std::string& names) {
+  return "Format Version,1.23,Take Name,S_04,Take Notes,,Capture Frame Rate,120.000000," + settings + "\n\n" +
+         ",Type," + types + "\n,Name," + names + "\n,ID,1,1,1,1,1,1,1,1,2,2,2\n"
+         ",,Rotation,Rotation,Rotation,Rotation,Position,Position,Position,Mean Marker Error,Position,Position,"
+         "Position\nFrame,Time (Seconds),X,Y,Z,W,X,Y,Z,,X,Y,Z,,\n";
+}
+
+TEST(PoseFile, OptiTrackMotiveExportReadsItsRigidBody) {
+  const std::string body = "Rigid Body,Rigid Body,Rigid Body,Rigid Body,Rigid Body,Rigid Body,Rigid Body,Rigid Body";
+  const std::string rows = Rows("", ",", 1000, [](const Pose& p, const Eigen::Vector3d& t, int k) {
+    const Eigen::Quaterniond q(p.linear());
+    return std::vector<double>{double(k), 0.008333 * k, q.x(), q.y(), q.z(), q.w(), t.x(), t.y(), t.z(), 0.0002,
+                               1.5, 2.5, 3.5};
+  });
+  std::string trailing;  // Motive's empty cells at the end of each row
+  for (size_t a = 0, b; (b = rows.find('\n', a)) != std::string::npos; a = b + 1) trailing += rows.substr(a, b - a) + ",,\n";
+  const std::string settings = "Rotation Type,Quaternion,Length Units,Millimeters,Coordinate Space,Global";
+  const PoseFile f = ParsePoseFile(
+      Motive(settings, body + ",Marker,Marker,Marker", "Scanner,Scanner,Scanner,Scanner,Scanner,Scanner,Scanner,"
+                                                     "Scanner,Unlabeled 1,Unlabeled 1,Unlabeled 1") + trailing,
+      "take.csv");
+  ExpectPoses(f);
+  EXPECT_EQ(f.units, PoseUnits::kMillimetres);
+  EXPECT_NEAR(f.times_s[1], 0.008333, 1e-12);
+  EXPECT_THAT(f.form, HasSubstr("OptiTrack Motive rigid body 'Scanner'"));
+  // Two rigid bodies: which is the scanner's? Euler angles, centimetres, markers only: refused.
+  EXPECT_THAT(ErrorOf(Motive(settings, body + ",Rigid Body,Rigid Body,Rigid Body",
+                             "A,A,A,A,A,A,A,A,B,B,B") + trailing),
+              HasSubstr("poses.csv:4: an OptiTrack Motive export of several rigid bodies ('A', 'B')"));
+  EXPECT_THAT(ErrorOf(Motive("Rotation Type,XYZ,Length Units,Meters", body + ",Marker,Marker,Marker",
+                             "A,A,A,A,A,A,A,A,m,m,m") + trailing),
+              HasSubstr("poses.csv:1: an OptiTrack Motive export with Rotation Type xyz"));
+  EXPECT_THAT(ErrorOf(Motive("Rotation Type,Quaternion,Length Units,Centimeters", body + ",Marker,Marker,Marker",
+                             "A,A,A,A,A,A,A,A,m,m,m") + trailing),
+              HasSubstr("export in meters or millimeters"));
+  EXPECT_THAT(ErrorOf(Motive(settings, "Marker,Marker,Marker,Marker,Marker,Marker,Marker,Marker,Marker,Marker,Marker",
+                             "m,m,m,m,m,m,m,m,m,m,m") + trailing),
+              HasSubstr("poses.csv:3: an OptiTrack Motive export without a rigid body"));
+  // A frame the tracker lost: empty cells.
+  EXPECT_THAT(ErrorOf(Motive(settings, body + ",Marker,Marker,Marker", "A,A,A,A,A,A,A,A,m,m,m") +
+                      "0,0,,,,,,,,,1,2,3,,\n"),
+              HasSubstr("poses.csv:8: field 3 is empty (a frame the tracker lost"));
+}
+
 TEST(PoseFile, ColumnsThatMightBeAnotherPoseAreRefused) {
   // A column that could be a second pose or rotation is no column to skip.
   EXPECT_THAT(ErrorOf("x,y,z,qx,qy,qz,qw,x2\n"), HasSubstr("poses.csv:1: column 8 'x2': unknown column name"));
@@ -370,11 +415,7 @@ TEST(PoseFile, ColumnsThatMightBeAnotherPoseAreRefused) {
   // Two message times of the same kind.
   EXPECT_THAT(ErrorOf("a.header.stamp,b.header.stamp,x,y,z,qx,qy,qz,qw\n"),
               HasSubstr("column 2 'b.header.stamp': a second time column"));
-  // Multi-row exports: refused, saying what to write instead.
-  EXPECT_THAT(ErrorOf("Format Version,1.23,Take Name,S_04,Rotation Type,Quaternion,Length Units,Meters\n\n"
-                      ",Type,Rigid Body,Rigid Body,Rigid Body,Rigid Body,Rigid Body,Rigid Body,Rigid Body\n"
-                      "Frame,Time (Seconds),X,Y,Z,W,X,Y,Z\n0,0,0,0,0,1,0.1,0.2,0.3\n"),
-              HasSubstr("poses.csv:1: column 1 'Format Version': an OptiTrack Motive export"));
+  // Vicon's multi-row export: refused, saying what to write instead.
   EXPECT_THAT(ErrorOf("Segments\n100\n,,Probe:Probe\nFrame,Sub Frame,RX,RY,RZ,TX,TY,TZ\n,,deg,deg,deg,mm,mm,mm\n"),
               HasSubstr("poses.csv:1: column 1 'Segments': a Vicon Nexus export"));
   // Its rows under their own column names: RX RY RZ are degrees, no rotation vector.
