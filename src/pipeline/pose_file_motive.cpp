@@ -35,6 +35,7 @@ std::optional<MotiveText> MotiveAsOneHeader(const std::string& text, const std::
     lines.push_back(l);
     pos = end + 1;
     if (lines.size() == 1 && Field(l, 0) != "format version") return std::nullopt;
+    if (Field(l, 0) == "frame" && Field(l, 1).rfind("time", 0) == 0) break;  // the column names: the data follow
   }
   if (lines.empty()) return std::nullopt;
   auto where = [&](const Line& l) { return name + ":" + std::to_string(l.number); };
