@@ -17,7 +17,8 @@
 //     >= 1e17 is in ns (EuRoC's #timestamp);
 //     columns named frame, index, image, file, filename or id are skipped, and
 //     those of other quantities (velocities, biases, covariances, twists,
-//     header.seq, frame_id; every other field of a UR RTDE log, its
+//     header.seq, frame_id; a target's name, ABB's cf1 cf4 cf6 cfx, move_type,
+//     speed, zone; every other field of a UR RTDE log, its
 //     target_TCP_pose too (read when it is the only pose, a planned path), or of a KUKA RSI log read by its actual pose,
 //     X_RIst..C_RIst in mm and degrees, its setpoint RSol too); any other name
 //     is an error (it may be a second pose).

@@ -73,7 +73,7 @@ double TimeColumn(const std::string& name, const std::string& unit, bool* known)
 }
 
 bool Skipped(const std::string& name) {
-  for (const char* s : {"", "frame", "index", "image", "file", "filename", "id"}) {  // "": a trailing ','s column
+  for (const char* s : {"", "frame", "index", "image", "file", "filename", "id", "name"}) {  // "": a trailing ','s column
     if (name == s) return true;
   }
   return false;
@@ -98,13 +98,16 @@ std::vector<std::string> Words(const std::string& name) {
 // A word naming another quantity than the pose: velocities and accelerations, biases,
 // covariances and twists (ROS's Odometry), forces, currents, joints, errors, and the
 // message's bookkeeping (header.seq, frame_id). EuRoC's one-letter prefixes (v_RS_R_x,
-// b_w_RS_S_x) only as the first word: "pose_b_x" may be a second pose.
+// b_w_RS_S_x) only as the first word: "pose_b_x" may be a second pose. Not skipped: a
+// tool, a work object or an external axis, which may change the pose's frame.
 bool OtherQuantity(const std::string& w, bool first) {
   static const char* const kWords[] = {
       "vel",    "velocity", "speed",  "twist", "linear",  "angular", "acc",         "accel",        "acceleration",
       "bias",   "cov",      "force",  "torque", "wrench", "current", "voltage",     "temperature",  "temperatures",
       "error",  "std",      "sigma",  "var",   "variance", "seq",    "header",      "frame",        "id",
-      "child",  "status",   "mode",   "joint", "qd",      "qdd"};
+      "child",  "status",   "mode",   "joint", "qd",      "qdd",
+      // ABB's robtarget beside the pose: its arm configuration, the move's instruction and zone
+      "cf1",    "cf4",      "cf6",    "cfx",   "move",    "zone"};
   for (const char* k : kWords) {
     if (w == k) return true;
   }

@@ -401,6 +401,25 @@ TEST(PoseFile, OptiTrackMotiveExportReadsItsRigidBody) {
               HasSubstr("poses.csv:8: field 3 is empty (a frame the tracker lost"));
 }
 
+TEST(PoseFile, AbbTargetsSkipTheirConfigurationAndMoveData) {
+  // Robtargets as a public RAPID converter's CSVs hold them: mm, q1..q4, robconf, the move's data.
+  auto abb = [](const Pose& p, int k) {
+    const Eigen::Quaterniond q(p.linear());
+    const Eigen::Vector3d t = p.translation() * 1000;
+    std::string target = "p";
+    target += std::to_string(k);
+    return target + "," + Join({t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z(), 0, -1, 0, 0}) +
+           ",MoveL,v500,z10";
+  };
+  PoseFileOptions mm;
+  mm.units = PoseUnits::kMillimetres;
+  ExpectPoses(ParsePoseFile(Log("name,x,y,z,q1,q2,q3,q4,cf1,cf4,cf6,cfx,move_type,speed,zone", abb), "targets.csv", mm));
+  // A tool or work object may change the frame from row to row: not skipped.
+  EXPECT_THAT(ErrorOf("x,y,z,q1,q2,q3,q4,move_type,speed,zone,tool,wobj\n"),
+              HasSubstr("column 11 'tool': unknown column name"));
+  EXPECT_THAT(ErrorOf("x,y,z,q1,q2,q3,q4,eax_a\n"), HasSubstr("column 8 'eax_a': unknown column name"));
+}
+
 TEST(PoseFile, ColumnsThatMightBeAnotherPoseAreRefused) {
   // A column that could be a second pose or rotation is no column to skip.
   EXPECT_THAT(ErrorOf("x,y,z,qx,qy,qz,qw,x2\n"), HasSubstr("poses.csv:1: column 8 'x2': unknown column name"));
