@@ -15,13 +15,14 @@
 //     ms, us, ns), t_s, time_s, timestamp_s, t_ns, time_ns, timestamp_ns; ROS's
 //     field.header.stamp (ns) before its %time (ns); a time without a unit
 //     >= 1e17 is in ns (EuRoC's #timestamp);
-//     columns named frame, index, image, file, filename or id are skipped, and
-//     those of other quantities (velocities, biases, covariances, twists,
-//     header.seq, frame_id; a target's name, ABB's cf1 cf4 cf6 cfx, move_type,
-//     speed, zone; every other field of a UR RTDE log, its
-//     target_TCP_pose too (read when it is the only pose, a planned path), or of a KUKA RSI log read by its actual pose,
-//     X_RIst..C_RIst in mm and degrees, its setpoint RSol too); any other name
-//     is an error (it may be a second pose).
+//     columns named frame, index, image, file, filename, id or name are skipped,
+//     and those of other quantities: velocities, biases, covariances, twists,
+//     ROS's header.seq and frame_id, ABB's cf1 cf4 cf6 cfx, move_type, speed,
+//     zone. In a UR RTDE log every field but actual_TCP_pose_0..5 is skipped
+//     (target_TCP_pose too, read when it is the only pose: a planned path); in a
+//     KUKA RSI log every field but its actual pose X_RIst..C_RIst (mm, degrees).
+//     Any other name is an error: it may be a second pose (x2, pose_b_x), or a
+//     tool, work object or external axis changing the pose's frame.
 //     OptiTrack Motive's CSV export (settings, Type, Name, ID, Rotation/Position
 //     rows above Frame,Time,X,Y,Z,W,X,Y,Z): its one rigid body's quaternion and
 //     position, in its length unit (pose_file_motive.h); Vicon Nexus exports
@@ -36,7 +37,8 @@
 // Units: metres, unless the options or a header say millimetres; translations
 // above 5 m are warned about as probably millimetres. Rotations must be
 // rotations (quaternion norm 1 to 1e-3, matrix orthonormal to 1e-4), then are
-// re-normalised. Errors are lt::InputError naming "FILE:LINE".
+// re-normalised; a rotation vector longer than 2 pi (degrees?) is an error.
+// Errors are lt::InputError naming "FILE:LINE".
 #pragma once
 
 #include <filesystem>
