@@ -270,20 +270,26 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
       }
     } else if ((a = AxisAfter(name, {"q", "q_", "quat_", "qu_", "orientation_", "rot_q"}, "xyzw")) >= 0 ||
                kind == Kind::kQuaternion) {
+      if (!unit.empty()) return fail("a quaternion has no unit, got '" + unit + "'");
       ok = set(&l.r[a >= 0 ? a : word_axis]);
       quat = true;
     } else if ((a = AxisAfter(name, {"q"}, "1234")) >= 0) {  // ABB: q1 q2 q3 q4 = w x y z
+      if (!unit.empty()) return fail("a quaternion has no unit, got '" + unit + "'");
       ok = set(&l.r[a == 0 ? 3 : a - 1]);
       abb = true;
     } else if ((a = AxisAfter(name, {"r"}, "xyz")) >= 0) {
+      if (!unit.empty() && unit != "rad") {
+        return fail("unit '" + unit + "': rx,ry,rz are a rotation vector in radians (rad)");
+      }
       ok = set(&l.r[a]);
       rotvec = true;
-    } else if ((a = AxisAfter(name, {""}, "abc")) >= 0) {
+    } else if ((a = AxisAfter(name, {""}, "abc")) >= 0 || (a = AxisAfter(name, {""}, "rpw")) >= 0) {
+      // KUKA's A B C, or Fanuc's W (about x), P (about y), R (about z): degrees
+      if (!unit.empty() && unit != "deg" && unit != "\xC2\xB0") {
+        return fail("unit '" + unit + "': KUKA's A,B,C and Fanuc's W,P,R are angles in degrees (deg)");
+      }
       ok = set(&l.r[a]);
-      kuka = true;
-    } else if ((a = AxisAfter(name, {""}, "rpw")) >= 0) {  // Fanuc: W about x, P about y, R about z
-      ok = set(&l.r[a]);
-      fanuc = true;
+      (name == "a" || name == "b" || name == "c" ? kuka : fanuc) = true;
     } else {
       if (!actual_log && !OtherQuantity(words)) unknown.push_back(i);
       continue;

@@ -133,6 +133,18 @@ TEST(PoseFile, BadInputNamesTheLine) {
   EXPECT_THAT(ErrorOf("x,y,z\n"), HasSubstr("poses.csv:1: header 'x,y,z': no rotation columns"));
   EXPECT_THAT(ErrorOf("x,y,z,qx,qy,qz,qw,a,b,c\n"), HasSubstr("more than one kind of rotation"));
   EXPECT_THAT(ErrorOf("x [in],y,z,qx,qy,qz,qw\n"), HasSubstr("unknown unit 'in'"));
+  // Angles in another unit than the form's: no silent factor of 57.
+  EXPECT_THAT(ErrorOf("x,y,z,rx [deg],ry [deg],rz [deg]\n"),
+              HasSubstr("column 4 'rx [deg]': unit 'deg': rx,ry,rz are a rotation vector in radians"));
+  EXPECT_THAT(ErrorOf("x,y,z,a [rad],b [rad],c [rad]\n"), HasSubstr("column 4 'a [rad]': unit 'rad': KUKA's"));
+  EXPECT_THAT(ErrorOf("x,y,z,qx [deg],qy,qz,qw\n"), HasSubstr("a quaternion has no unit, got 'deg'"));
+  ExpectPoses(ParsePoseFile(Rows("x [m],y [m],z [m],rx [rad],ry [rad],rz [rad]", ",", 1,
+                                 [](const Pose& p, const Eigen::Vector3d& t, int) {
+                                   const Eigen::AngleAxisd aa(p.linear());
+                                   const Eigen::Vector3d r = aa.axis() * aa.angle();
+                                   return std::vector<double>{t.x(), t.y(), t.z(), r.x(), r.y(), r.z()};
+                                 }),
+                            "p"));
   EXPECT_THAT(ErrorOf("1 0 0 0 0 1 0 0 0 0 2 0\n"), HasSubstr("poses.csv:1: not a rotation matrix"));
   EXPECT_THAT(ErrorOf("1 0 0 0 0 1 0 0 0 0 1 0 0 0 1 1\n"), HasSubstr("poses.csv:1: the last row of a 4x4 pose must be 0 0 0 1"));
   EXPECT_THAT(ErrorOf("# nothing\n\n"), HasSubstr("poses.csv: holds no pose"));
