@@ -222,6 +222,11 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
     if (i == 0) {
       if (const char* why = ExportNotRead(name)) return fail(why);
     }
+    if (ParseFiniteNumber(TrimBlanks(fields[i]))) {
+      return fail("a number where a column's name belongs: rows of numbers and text need a header line naming the "
+                  "columns (ros2 topic echo --csv writes none), e.g. header.stamp.sec,header.stamp.nanosec,"
+                  "header.frame_id,x,y,z,qx,qy,qz,qw");
+    }
     bool ok = true;
     if (Skipped(name)) continue;
     const std::vector<std::string> words = Words(name);

@@ -77,6 +77,14 @@ TEST(PoseFile, RosTopicCsvReadsThePoseAndTheHeaderStamp) {
                                   return r;
                                 }),
                             "odom.csv"));
+  // ros2 topic echo --csv: no header; with the header its error asks for, read by row.
+  EXPECT_THAT(ErrorOf("1700000000,123456789,map,0.3,0.1,0.5,0,0,0,1\n"),
+              HasSubstr("poses.csv:1: column 1 '1700000000': a number where a column's name belongs"));
+  ExpectPoses(ParsePoseFile(Log("header.stamp.sec,header.stamp.nanosec,header.frame_id,x,y,z,qx,qy,qz,qw",
+                                [&](const Pose& p, int k) {
+                                  return "1700000000," + std::to_string(123456789 + k) + ",map," + quaternion(p);
+                                }),
+                            "ros2.csv"));
   // A tf message's first transform.
   ExpectPoses(ParsePoseFile(
       Log("%time,field.transforms0.header.seq,field.transforms0.header.stamp,field.transforms0.header.frame_id,"
