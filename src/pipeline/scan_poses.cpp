@@ -45,6 +45,21 @@ std::optional<std::vector<Pose>> PosesAtImageTimes(const PoseFile& poses, const 
   return std::nullopt;
 }
 
+// Whether the images' names are frame numbers rather than times: all digits,
+// one of them zero-padded ("000000.png", as renderers and frame grabbers
+// number frames). A clock's time is not written with leading zeros, and read as
+// milliseconds such numbers fall within any log starting near 0.
+bool NamesAreFrameNumbers(const std::vector<RunFrame>& frames) {
+  bool padded = false;
+  for (const RunFrame& f : frames) {
+    const std::string stem = f.image.stem().string();
+    if (stem.empty() || !std::all_of(stem.begin(), stem.end(), [](char c) { return c >= '0' && c <= '9'; }))
+      return false;
+    padded = padded || (stem.size() > 1 && stem[0] == '0');
+  }
+  return padded;
+}
+
 }  // namespace
 
 std::string GivePoses(const PoseFile& poses, const std::filesystem::path& file, bool as_tool,
@@ -68,7 +83,8 @@ std::string GivePoses(const PoseFile& poses, const std::filesystem::path& file, 
     how = ", interpolated at the images' times + " + FormatNumber(*image_time_offset_s) + " s";
   } else if (poses.poses.size() != frames->size()) {
     // More (or fewer) poses than frames: a tracker's log at its own rate, matched by the images' times.
-    std::optional<std::vector<Pose>> at_times = PosesAtImageTimes(poses, file, *frames, 0.0);
+    std::optional<std::vector<Pose>> at_times;
+    if (!NamesAreFrameNumbers(*frames)) at_times = PosesAtImageTimes(poses, file, *frames, 0.0);
     if (!at_times) {
       throw InputError(file.string(), "holds " + std::to_string(poses.poses.size()) + " pose" +
                                           (poses.poses.size() == 1 ? "" : "s") + " but " + frames_source + " has " +

@@ -15,6 +15,7 @@ namespace {
 
 using namespace scan_test;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 std::string ErrorOf(const std::function<void()>& f) {
   try {
@@ -256,6 +257,28 @@ TEST(ScanFolder, PosesAreInterpolatedAtTheImagesTimes) {
   fs::copy_file(run.dir / "frames/100050000000.png", run.dir / "frames/100500000000.png");
   EXPECT_THAT(ErrorOf([&] { ScanRun(run.dir, o); }),
               HasSubstr(o.poses->string() + ": holds 5 poses but " + (run.dir / "frames").string() + " has 4 frames"));
+}
+
+// Zero-padded frame numbers ("000003.png", as renderers and frame grabbers
+// write them) are not times: read as milliseconds, 0..3 lie within a log that
+// starts at 0 s, and each frame took the pose interpolated at that many ms.
+TEST(ScanFolder, ZeroPaddedFrameNumbersAreNotTimes) {
+  SyntheticRun run = MakeRun("folder_numbers", 1);
+  fs::remove(run.dir / "manifest.jsonl");
+  for (const char* n : {"000001.png", "000002.png", "000003.png"})
+    fs::copy_file(run.dir / "frames/000000.png", run.dir / "frames" / n);
+  ScanOptions o;
+  o.poses = WritePoses(run.dir / "poses.csv", 2);  // times 0 and 0.1 s
+  EXPECT_THAT(ErrorOf([&] { ScanRun(run.dir, o); }),
+              HasSubstr(o.poses->string() + ": holds 2 poses but " + (run.dir / "frames").string() + " has 4 frames"));
+  // With the counts equal, frame k takes row k.
+  o.poses = WritePoses(run.dir / "poses.csv", 4);
+  ScanSummary s = ScanRun(run.dir, o);
+  EXPECT_THAT(s.pose_source, Not(HasSubstr("interpolated")));
+  for (int k = 0; k < 4; ++k) {
+    for (const ScanPoint& p : ReadScanCsv(run.dir / ScanCentersName(k)))
+      EXPECT_LT((*p.p_in_world - FramePose(k) * *p.p_in_cam).norm(), 1e-9) << k;
+  }
 }
 
 // --image-time-offset: a camera stamping the start of its exposure names each
