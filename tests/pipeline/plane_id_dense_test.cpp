@@ -13,6 +13,22 @@ void AddLine(std::vector<StripePoint>* pts, std::vector<int>* truth, int sheet, 
   for (int v = a; v < b; ++v) pts->push_back({u, double(v), 4, 100, -1}), truth->push_back(sheet);
 }
 
+// Every point plane identification numbered carries its true sheet, with the
+// frame read by stripe order; returns how many it numbered.
+int ExpectNumberedRight(const std::vector<StripePoint>& pts, const std::vector<int>& truth,
+                        const PlaneIdentification& id) {
+  EXPECT_TRUE(id.ok) << id.error;
+  EXPECT_EQ(id.method, PlaneIdMethod::kStripeOrder) << id.order_error;
+  if (!id.ok) return 0;
+  int numbered = 0;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    if (id.points[i].plane < 0) continue;
+    ++numbered;
+    EXPECT_EQ(id.points[i].plane, truth[i]) << pts[i].u << "," << pts[i].v;
+  }
+  return numbered;
+}
+
 // A depth step at row 60 moves every stripe by 0.8 spacing towards the first
 // sheet, so that sheet 1's stripe above it runs on (2 px across) into sheet
 // 2's below it: one segment. The other stripes break at the step; below it no
@@ -42,15 +58,7 @@ TEST(PlaneIdDense, PiecesBesideAJoinedPieceLeaveItNoRoom) {
     }
     PlaneIdOptions o;
     o.axis = axis;
-    PlaneIdentification id = IdentifyPlanes(pts, region, 4, o);
-    ASSERT_TRUE(id.ok) << id.error;
-    EXPECT_EQ(id.method, PlaneIdMethod::kStripeOrder) << id.order_error;
-    int numbered = 0;
-    for (size_t i = 0; i < pts.size(); ++i) {
-      if (id.points[i].plane < 0) continue;
-      ++numbered;
-      EXPECT_EQ(id.points[i].plane, truth[i]) << pts[i].u << "," << pts[i].v;
-    }
+    const int numbered = ExpectNumberedRight(pts, truth, IdentifyPlanes(pts, region, 4, o));
     EXPECT_GE(numbered, 4 * 60);  // every stripe above the step
   }
 }
@@ -70,15 +78,7 @@ TEST(PlaneIdDense, AFewPointsBeforeTheFirstStripeLeaveItNoRoom) {
   for (int k = 0; k < 4; ++k) AddLine(&pts, &truth, k, 20 + spacing * k, 0, 60);
   for (int k = 1; k < 4; ++k) AddLine(&pts, &truth, k, 20 + spacing * k + shift, 60, 120);
   AddLine(&pts, &truth, 0, 20 + shift, 60, 64);
-  PlaneIdentification id = IdentifyPlanes(pts, {0, 0, 100, 120}, 4, PlaneIdOptions{});
-  ASSERT_TRUE(id.ok) << id.error;
-  EXPECT_EQ(id.method, PlaneIdMethod::kStripeOrder) << id.order_error;
-  int numbered = 0;
-  for (size_t i = 0; i < pts.size(); ++i) {
-    if (id.points[i].plane < 0) continue;
-    ++numbered;
-    EXPECT_EQ(id.points[i].plane, truth[i]) << pts[i].u << "," << pts[i].v;
-  }
+  const int numbered = ExpectNumberedRight(pts, truth, IdentifyPlanes(pts, {0, 0, 100, 120}, 4, PlaneIdOptions{}));
   EXPECT_GE(numbered, 4 * 60);
 }
 
@@ -107,15 +107,7 @@ TEST(PlaneIdDense, TwoLinesAtAJoinedSegmentsEndAreCutOff) {
       AddLine(&pts, &truth, k, 20 + spacing * k - 7, 60, 120);
     }
   }
-  PlaneIdentification id = IdentifyPlanes(pts, {0, 0, 100, 120}, 4, PlaneIdOptions{});
-  ASSERT_TRUE(id.ok) << id.error;
-  EXPECT_EQ(id.method, PlaneIdMethod::kStripeOrder) << id.order_error;
-  int numbered = 0;
-  for (size_t i = 0; i < pts.size(); ++i) {
-    if (id.points[i].plane < 0) continue;
-    ++numbered;
-    EXPECT_EQ(id.points[i].plane, truth[i]) << pts[i].u << "," << pts[i].v;
-  }
+  const int numbered = ExpectNumberedRight(pts, truth, IdentifyPlanes(pts, {0, 0, 100, 120}, 4, PlaneIdOptions{}));
   EXPECT_GE(numbered, 4 * 116);
 }
 
