@@ -45,15 +45,17 @@ void GcodeReader::PositionUnknown(const std::string& command, bool probing) {
   }
 }
 
-void GcodeReader::UnknownExtendedCommand(const std::string& name) {
+void GcodeReader::WarnOncePerName(const std::string& name, const std::string& text) {
   auto [it, first] = unknown_command_warning_.emplace(name, path_.warnings.size());
-  if (first) {
-    path_.warnings.push_back(ToolpathWarning{
-        line_no_, 0,
-        name + " skipped: a command the reader does not know (a macro of the printer's configuration?); whatever it "
-               "does (homing, probing, heating, purge moves) is not in the toolpath or its times"});
-  }
+  if (first) path_.warnings.push_back(ToolpathWarning{line_no_, 0, text});
   ++path_.warnings[it->second].count;
+}
+
+void GcodeReader::UnknownExtendedCommand(const std::string& name) {
+  WarnOncePerName(name, name +
+                            " skipped: a command the reader does not know (a macro of the printer's configuration?); "
+                            "whatever it does (homing, probing, heating, purge moves) is not in the toolpath or its "
+                            "times");
 }
 
 void GcodeReader::MacroFileCall(std::string_view params) {
@@ -61,14 +63,10 @@ void GcodeReader::MacroFileCall(std::string_view params) {
   if (open == std::string_view::npos) return;
   const size_t close = params.find('"', open + 2);
   const std::string call = "M98 P\"" + std::string(params.substr(open + 2, close == std::string_view::npos ? std::string_view::npos : close - open - 2)) + "\"";
-  auto [it, first] = unknown_command_warning_.emplace(call, path_.warnings.size());
-  if (first) {
-    path_.warnings.push_back(ToolpathWarning{
-        line_no_, 0,
-        call + " skipped: a macro file of the printer's (RepRapFirmware) the reader does not have; whatever it does "
-               "(homing, probing, heating, purge moves) is not in the toolpath or its times"});
-  }
-  ++path_.warnings[it->second].count;
+  WarnOncePerName(call, call +
+                            " skipped: a macro file of the printer's (RepRapFirmware) the reader does not have; "
+                            "whatever it does (homing, probing, heating, purge moves) is not in the toolpath or its "
+                            "times");
 }
 
 void GcodeReader::TrackKnownAxes(const std::string& command, int arc_axes) {

@@ -74,6 +74,8 @@ class GcodeReader {
   // RepRapFirmware's M98 P"file.g": runs a macro file of the printer's (homing, probing,
   // a purge): skipped, one warning per file.
   void MacroFileCall(std::string_view params);
+  // One warning per distinct name (`text` the first time), counting each occurrence.
+  void WarnOncePerName(const std::string& name, const std::string& text);
   std::map<std::string, size_t> unknown_command_warning_;  // name -> index in path_.warnings
 
   void Comment(std::string_view comment);
