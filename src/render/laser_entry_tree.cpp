@@ -6,6 +6,7 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <span>
 
 #include "render/specular_albedo.h"
 
@@ -13,15 +14,18 @@ namespace lt {
 
 namespace {
 
-// The window takes each hit's angular reach with this margin, so that points a
-// little nearer the projector than the hits are still covered.
-constexpr double kWindowMargin = 1.05;
 // A new segment starts where the normal turns by more than ~25 degrees or
 // neighbouring hits are farther apart than kSegmentGap patch sizes.
 constexpr double kSegmentCos = 0.9;
 constexpr double kSegmentGap = 4.0;
 // Relative margin of the reach by which Sum prunes a node (r_max + its radius).
 constexpr double kRadiusMargin = 1e-4;
+// A node splits by its normals, not in grid order, when its normal box is
+// wider than kNormalSpread on some axis and it straddles (n . n_o < 0 for some
+// of its normals and > 0 for others, beyond kStraddleCos) for one of the
+// tree's normals, as do both halves a split in grid order would give.
+constexpr float kNormalSpread = 0.25f;
+constexpr float kStraddleCos = 0.02f;
 
 LaserEntryTree::Moment ToMoment(const Eigen::Matrix3d& m) {
   return {float(m(0, 0)), float(m(1, 1)), float(m(2, 2)), float(m(0, 1)), float(m(0, 2)), float(m(1, 2))};
@@ -32,8 +36,6 @@ Eigen::Matrix3d FromMoment(const LaserEntryTree::Moment& m) {
   out << m[0], m[3], m[4], m[3], m[1], m[5], m[4], m[5], m[2];
   return out;
 }
-
-double AngularReach(double reach, double r) { return std::asin(std::min(1.0, reach / r)); }
 
 }  // namespace
 
@@ -67,33 +69,6 @@ struct LaserEntryTree::Segment {
     *this = Segment();
   }
 };
-
-SheetWindow SheetWindowOfHits(const PointEmitter& e, int sheet, std::span<const ChiefHit> hits,
-                              std::span<const double> reach_m, double extra_m) {
-  SheetWindow w;
-  if (!e.laser) return w;
-  const LaserProjector& laser = *e.laser;
-  double lo = INFINITY, hi = -INFINITY;
-  for (const ChiefHit& h : hits) {
-    if (!h.valid || h.material >= reach_m.size()) continue;
-    if (!(reach_m[h.material] > 0)) continue;
-    const double reach = reach_m[h.material] + extra_m;
-    const Eigen::Vector3d p = e.projector_from_world * h.p_world;
-    const double r = p.norm();
-    if (!(r > 0)) continue;
-    const LaserProjector::SheetAngles a = laser.Angles(sheet, p / r);
-    const double margin = kWindowMargin * AngularReach(reach, r);
-    if (std::abs(a.psi) > LaserProjector::kDefaultCutoffSigma * laser.SheetSigma(r) + margin) continue;
-    lo = std::min(lo, a.phi - margin);
-    hi = std::max(hi, a.phi + margin);
-    w.r_far = std::max(w.r_far, r + reach);
-  }
-  const double limit = laser.FanHalfWidth();
-  if (lo <= -limit) lo = -limit, w.closed_lo = true;
-  if (hi >= limit) hi = limit, w.closed_hi = true;
-  if (hi > lo) w.phi_lo = lo, w.phi_hi = hi;
-  return w;
-}
 
 std::unique_ptr<LaserEntryTree> LaserEntryTree::Build(const EmbreeScene& scene, const PointEmitter& e, int sheet,
                                                       const SheetWindow& window, double spacing_m, uint64_t* rays) {
@@ -183,8 +158,36 @@ std::unique_ptr<LaserEntryTree> LaserEntryTree::Build(const EmbreeScene& scene, 
   if (pts.empty()) return tree;
   tree->nodes_.reserve(2 * pts.size());
   tree->moments_.reserve(2 * pts.size());
+  tree->query_normals_ = DistinctNormals(pts);
   tree->BuildNode(pts, 0, pts.size());
+  tree->query_normals_ = {};
   return tree;
+}
+
+// The segments' normals, one per cell of a 0.25 grid on each axis: the normals
+// of the points a query will most likely be made at.
+std::vector<Eigen::Vector3f> LaserEntryTree::DistinctNormals(const std::vector<Point>& pts) {
+  std::vector<std::array<long, 3>> cells;
+  std::vector<Eigen::Vector3f> out;
+  for (const Point& p : pts) {
+    const std::array<long, 3> cell = {std::lround(4 * p.n.x()), std::lround(4 * p.n.y()), std::lround(4 * p.n.z())};
+    if (std::find(cells.begin(), cells.end(), cell) != cells.end()) continue;
+    cells.push_back(cell);
+    out.push_back(p.n);
+  }
+  return out;
+}
+
+bool LaserEntryTree::Straddles(std::span<const Point> pts) const {
+  Node box;
+  box.n_lo = Eigen::Vector3f::Constant(INFINITY), box.n_hi = Eigen::Vector3f::Constant(-INFINITY);
+  for (const Point& p : pts) box.n_lo = box.n_lo.cwiseMin(p.n), box.n_hi = box.n_hi.cwiseMax(p.n);
+  for (const Eigen::Vector3f& n : query_normals_) {
+    float lo, hi;
+    CosBounds(box, n, &lo, &hi);
+    if (lo < -kStraddleCos && hi > kStraddleCos) return true;
+  }
+  return false;
 }
 
 uint32_t LaserEntryTree::BuildNode(std::vector<Point>& pts, size_t begin, size_t end) {
@@ -231,20 +234,29 @@ uint32_t LaserEntryTree::BuildNode(std::vector<Point>& pts, size_t begin, size_t
     nodes_[index] = node;
     return index;
   }
-  const size_t mid = begin + (end - begin) / 2;
+  // In grid order (halves of the segments: nearby rows of the sheet), unless
+  // the node mixes normals that face both ways from a query's and its halves
+  // would too (a printed bead's flanks, each row holding both): then at the
+  // middle of its widest normal axis, the grid order kept on either side. A
+  // node that straddles is opened by every query it is in reach of; split
+  // by position, each of the beads' nodes would, down to their segments.
+  // Depth: a normal split halves the node's widest normal axis, at most 3
+  // times each axis (from 2 down to kNormalSpread), and the grid splits halve
+  // the count (at most 22 times, kMaxPoints): within Sum's stack of 64.
+  size_t mid = begin + (end - begin) / 2;
+  int axis = 0;
+  const std::span<const Point> all(pts.data() + begin, end - begin);
+  if ((node.n_hi - node.n_lo).maxCoeff(&axis) > kNormalSpread && Straddles(all) &&
+      Straddles(all.first(mid - begin)) && Straddles(all.subspan(mid - begin))) {
+    const float cut = 0.5f * (node.n_lo[axis] + node.n_hi[axis]);
+    mid = size_t(std::stable_partition(pts.begin() + long(begin), pts.begin() + long(end),
+                                       [&](const Point& p) { return p.n[axis] < cut; }) -
+                 pts.begin());
+  }
   BuildNode(pts, begin, mid);
   node.right = BuildNode(pts, mid, end);
   nodes_[index] = node;
   return index;
-}
-
-bool LaserEntryTree::Covers(const Eigen::Vector3d& p, double r_max) const {
-  const Eigen::Vector3d q = projector_from_world_ * (p - origin_);
-  const double r = q.norm();
-  if (!(r > 0)) return false;
-  const double phi = laser_->Phi(sheet_, q / r);
-  const double m = AngularReach(r_max, r);
-  return (window_.closed_lo || phi - m >= window_.phi_lo) && (window_.closed_hi || phi + m <= window_.phi_hi);
 }
 
 // R(r) = A (t^3 + t) / (8 pi d r), t = exp(-r / (3 d)): BurleyProfile::Evaluate
@@ -290,10 +302,12 @@ void LaserEntryTree::CosBounds(const Node& node, const Eigen::Vector3f& n_o, flo
 }
 
 double LaserEntryTree::Sum(const Eigen::Vector3d& x_world, const Eigen::Vector3d& n_world, uint32_t material,
-                           const BurleyProfile& profile, double r_max, double opening_ratio) const {
+                           const BurleyProfile& profile, double r_max, double opening_ratio,
+                           int64_t* evaluated) const {
   if (nodes_.empty()) return 0.0;
   const Kernel R(profile, opening_ratio);
   const float opening2 = R.opening2;
+  const float radius2 = float(kRadiusRatio * kRadiusRatio);
   const Eigen::Vector3f x = (x_world - origin_).cast<float>();
   const Eigen::Vector3f n_o = n_world.cast<float>();
   const float r_max2 = float(r_max) * float(r_max);
@@ -316,14 +330,20 @@ double LaserEntryTree::Sum(const Eigen::Vector3d& x_world, const Eigen::Vector3d
       CosBounds(node, n_o, &cos_lo, &cos_hi);
       if (!(cos_hi < 0)) {
         // The centroid stands for an inner node only when its entry points
-        // share one material, it is small seen from x and all count; else
-        // descend (left child next, the right one stacked).
-        if (node.right != 0 && !(node.material >= 0 && node.m2 < opening2 * r2 && cos_lo >= 0)) {
+        // share one material, it is small seen from x (its second moment, and
+        // its radius: a light segment far from the centroid may lie near x,
+        // where R is steep) and all count; else descend (left child next, the
+        // right one stacked).
+        if (node.right != 0 && !(node.material >= 0 && node.m2 < opening2 * r2 &&
+                                 node.radius * node.radius < radius2 * r2 && cos_lo >= 0)) {
           stack[top++] = node.right;
           ++index;
           continue;
         }
-        if (r2 < r_max2) sum += node.w * R(node, moments_[index], d, r2);
+        if (r2 < r_max2) {
+          sum += node.w * R(node, moments_[index], d, r2);
+          if (evaluated) ++*evaluated;
+        }
       }
     }
     if (top == 0) break;
@@ -333,8 +353,9 @@ double LaserEntryTree::Sum(const Eigen::Vector3d& x_world, const Eigen::Vector3d
 }
 
 double LaserEntryTree::SumOverSegments(const Eigen::Vector3d& x_world, const Eigen::Vector3d& n_world,
-                                       uint32_t material, const BurleyProfile& profile, double r_max) const {
-  const Kernel R(profile, 0.0);
+                                       uint32_t material, const BurleyProfile& profile, double r_max,
+                                       double leaf_opening_ratio) const {
+  const Kernel R(profile, leaf_opening_ratio);
   const Eigen::Vector3f x = (x_world - origin_).cast<float>();
   const Eigen::Vector3f n_o = n_world.cast<float>();
   const float r_max2 = float(r_max) * float(r_max);

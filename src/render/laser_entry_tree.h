@@ -84,6 +84,9 @@ class LaserEntryTree {
   using Moment = std::array<float, 6>;
   static constexpr double kAcrossSigmas = 4.5;
   static constexpr double kOpeningRatio = 0.25;
+  // An inner node stands for its points only within kRadiusRatio times its
+  // distance of their bounding sphere's centre (its radius).
+  static constexpr double kRadiusRatio = 0.75;
   static constexpr double kSegmentSigmas = 1.0;
   static constexpr float kSmoothing = 1.0f;
   static constexpr size_t kMaxPoints = size_t(1) << 22;
@@ -100,14 +103,18 @@ class LaserEntryTree {
   // sum_j R(r_eff,j) W_j over the entry points on `material` within r_max of x
   // (world) whose normal, oriented toward the projector, has n_o . n >= 0.
   // `opening_ratio` 0 opens every node down to the segments (the sum the
-  // expansion approximates).
+  // expansion approximates). `evaluated`, when given, is incremented by the
+  // number of nodes and segments evaluated (the query's cost).
   double Sum(const Eigen::Vector3d& x, const Eigen::Vector3d& n_o, uint32_t material, const BurleyProfile& profile,
-             double r_max, double opening_ratio = kOpeningRatio) const;
+             double r_max, double opening_ratio = kOpeningRatio, int64_t* evaluated = nullptr) const;
   // The same sum over every segment in order, without the tree: equal to Sum
   // with opening_ratio 0 bit for bit, since the tree only skips nodes none of
-  // whose segments count (a reference for tests).
+  // whose segments count (a reference for tests). `leaf_opening_ratio`: each
+  // segment evaluated as Sum evaluates a segment at that ratio (with the second
+  // order term where it is small seen from x), so that with kOpeningRatio the
+  // difference from Sum is the error of the nodes standing for their segments.
   double SumOverSegments(const Eigen::Vector3d& x, const Eigen::Vector3d& n_o, uint32_t material,
-                         const BurleyProfile& profile, double r_max) const;
+                         const BurleyProfile& profile, double r_max, double leaf_opening_ratio = 0.0) const;
 
   size_t points() const { return points_; }
 
@@ -133,6 +140,10 @@ class LaserEntryTree {
   struct Kernel;
   static void CosBounds(const Node& node, const Eigen::Vector3f& n_o, float* cos_lo, float* cos_hi);
   uint32_t BuildNode(std::vector<Point>& pts, size_t begin, size_t end);
+  static std::vector<Eigen::Vector3f> DistinctNormals(const std::vector<Point>& pts);
+  // Whether the box of pts' normals has n . n_o both ways for some n_o of query_normals_.
+  bool Straddles(std::span<const Point> pts) const;
+  std::vector<Eigen::Vector3f> query_normals_;  // while building
 
   Eigen::Vector3d origin_;  // of the float coordinates (the projector)
   Eigen::Matrix3d projector_from_world_;

@@ -7,6 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+
 #include "render/spectrum.h"
 #include "render/specular_albedo.h"
 #include "render_test_world.h"
@@ -155,6 +158,106 @@ TEST(LaserEntryTree, SumAcrossAStepMatchesTheSumOverEverySegment) {
   const double wall_only = tree->Sum(wall.p, tilted, 0, profile, r_max, 0.0);
   EXPECT_LT(wall_only, 0.5 * with_faces);
   EXPECT_NEAR(tree->Sum(wall.p, tilted, 0, profile, r_max) / wall_only, 1.0, 0.01);
+}
+
+// Printed beads across the stripe, as a part's infill: half cylinders of
+// radius 0.3 mm (twelve flat facets, their normals 7.5 to 82.5 degrees either
+// side of the slab's) 0.5 mm apart, their axes at 45 degrees to the stripe, so
+// that each row of the sheet's grid (across the sheet, about 0.9 mm) crosses a
+// bead's flanks and holds normals facing both ways from a query on a flank.
+// Queries on every facet of two beads, on the stripe and 0.7 mm along the bead.
+struct Beads {
+  static constexpr double kRadius = 0.3e-3, kPitch = 0.5e-3;
+  static constexpr int kFacets = 12;  // 15 degrees each
+  test::World world;
+  FrameLights lights;
+  BurleyProfile profile;
+  double r_max = 0;
+  struct Query {
+    Eigen::Vector3d p, n;
+  };
+  std::vector<Query> queries;
+  std::unique_ptr<LaserEntryTree> tree;
+  // The beads' axis and the direction from one bead to the next.
+  static inline const Eigen::Vector3d kAxis = Eigen::Vector3d(1, 1, 0).normalized();
+  static inline const Eigen::Vector3d kAcross = Eigen::Vector3d(-1, 1, 0).normalized();
+  static Eigen::Vector3d Normal(double deg) {
+    const double a = deg * M_PI / 180.0;
+    return std::sin(a) * kAcross - std::cos(a) * Eigen::Vector3d::UnitZ();  // facing the camera and the laser (-z)
+  }
+  Beads() : profile([] {
+              DiffusionProfileParams pp;
+              pp.albedo = 0.8;
+              pp.mean_free_path = kMfp;
+              return pp;
+            }()) {
+    const double step = 180.0 / kFacets;
+    const double half = std::sin(0.5 * step * M_PI / 180.0) * kRadius;
+    const double apothem = std::cos(0.5 * step * M_PI / 180.0) * kRadius;
+    for (int j = -12; j <= 12; ++j) {
+      for (int k = 0; k < kFacets; ++k) {
+        const double deg = -90.0 + (k + 0.5) * step;
+        const Eigen::Vector3d n = Normal(deg), axis = j * kPitch * kAcross + Eigen::Vector3d(0, 0, kD);
+        world.Add(test::Rectangle(axis + apothem * n, kAxis, n.cross(kAxis), 0.03, half));
+        if (j == 0 || j == 1) {
+          for (double s : {0.0, 0.7e-3}) queries.push_back({axis + apothem * n + s * kAxis, n});
+        }
+      }
+    }
+    Material pla = test::Plastic(0.8f, 0.5f);
+    pla.subsurface = Subsurface{Eigen::Vector3d::Constant(kMfp), kMfp};
+    world.geometry->materials = {pla};
+    world.Build();
+    world.scene.sensor.lasers = {test::TestLaser(kBaseline, kD, kPower, 2e-3)};
+    lights = MakeFrameLights(world.scene.sensor, Pose::Identity(), 1.0, 0.0, 0.0);
+    r_max = profile.SampleRadius(0.999);
+    std::vector<ChiefHit> hits;
+    for (const Query& q : queries) {
+      ChiefHit hit;
+      hit.valid = true;
+      hit.p_world = q.p;
+      hit.normal = q.n;
+      hits.push_back(hit);
+    }
+    const std::vector<double> reach_m = {r_max};
+    const SheetWindow window = SheetWindowOfHits(lights.emitters[0], 0, hits, reach_m);
+    tree = LaserEntryTree::Build(*world.embree, lights.emitters[0], 0, window, kMfp / 8, nullptr);
+  }
+};
+
+TEST(LaserEntryTree, SumOnPrintedBeadsMatchesTheSumOverEverySegment) {
+  // The tree's sum against every segment evaluated as Sum evaluates one
+  // (SumOverSegments at the same opening ratio): the difference is the error
+  // of nodes standing for their segments, here nodes split by their normals.
+  // Within 1%, as across a step.
+  Beads beads;
+  ASSERT_TRUE(beads.tree);
+  double worst = 0;  // measured: 0.0044 (0.0055 without the radius's test)
+  for (const Beads::Query& q : beads.queries) {
+    ASSERT_TRUE(beads.tree->Covers(q.p, beads.r_max));
+    const double exact =
+        beads.tree->SumOverSegments(q.p, q.n, 0, beads.profile, beads.r_max, LaserEntryTree::kOpeningRatio);
+    ASSERT_GT(exact, 0.0);
+    worst = std::max(worst, std::abs(beads.tree->Sum(q.p, q.n, 0, beads.profile, beads.r_max) / exact - 1.0));
+    EXPECT_NEAR(beads.tree->Sum(q.p, q.n, 0, beads.profile, beads.r_max) / exact, 1.0, 0.01)
+        << q.p.transpose() * 1e3 << " mm, normal " << q.n.transpose();
+  }
+  EXPECT_LT(worst, 0.01);
+}
+
+TEST(LaserEntryTree, QueriesOnBeadFlanksEvaluateFewNodes) {
+  // Every bead holds facets facing both ways from a query on a flank: a node
+  // of neighbouring rows (the grid order) holding both straddles and is opened
+  // by every query in reach, down to its segments. The tree splits such nodes
+  // by their normals, so that its nodes face one way. Measured: 3 223
+  // segments; nodes and segments evaluated per query, mean over the queries,
+  // 146 against 480 when split in grid order only.
+  Beads beads;
+  ASSERT_TRUE(beads.tree);
+  int64_t evaluated = 0;
+  for (const Beads::Query& q : beads.queries) beads.tree->Sum(q.p, q.n, 0, beads.profile, beads.r_max, LaserEntryTree::kOpeningRatio, &evaluated);
+  const double mean = double(evaluated) / double(beads.queries.size());
+  EXPECT_LT(mean, 250.0);
 }
 
 TEST(LaserEntryTree, TreeSkipsOnlyNodesWithNoSegmentInReach) {

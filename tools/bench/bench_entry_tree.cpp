@@ -12,12 +12,14 @@
 // segment is not zero (the pixels near the stripe), with the hit's geometric
 // normal turned to the camera and the profile of the material's colour at the
 // laser's wavelength. Counters: queries, the tree's segments, ns_per_query, and
-// the accuracy the timing comes with, Sum against the sum over every segment
-// (opening ratio 0): total_rel_err, sum |Sum - exact| over sum exact, and
-// max_rel_err, the largest |Sum / exact - 1| over the queries whose exact sum is
-// at least 1% of the largest (a query at the edge of the profile's reach, where
-// a node's centroid lies within r_max and some of its segments do not, can be
-// off by more, on a sum near zero).
+// the accuracy the timing comes with, Sum against the sum over every segment,
+// each evaluated as Sum evaluates a segment (SumOverSegments at kOpeningRatio),
+// so that the difference is the error of nodes standing for their segments:
+// total_rel_err, sum |Sum - exact| over sum exact, and max_rel_err, the largest
+// |Sum / exact - 1| over the queries whose exact sum is at least 1% of the
+// largest (a query at the edge of the profile's reach, where a node's centroid
+// lies within r_max and some of its segments do not, can be off by more, on a
+// sum near zero).
 // Threads: one (the queries run serially).
 #include <benchmark/benchmark.h>
 
@@ -139,7 +141,8 @@ void RunSum(benchmark::State& state, Frame& f) {
   benchmark::DoNotOptimize(total);
   std::vector<double> exact, sum;
   for (const Query& q : f.queries) {
-    exact.push_back(f.tree->SumOverSegments(q.p, q.n, q.material, f.profiles[q.profile], f.r_max[q.material]));
+    exact.push_back(f.tree->SumOverSegments(q.p, q.n, q.material, f.profiles[q.profile], f.r_max[q.material],
+                                            LaserEntryTree::kOpeningRatio));
     sum.push_back(f.tree->Sum(q.p, q.n, q.material, f.profiles[q.profile], f.r_max[q.material]));
   }
   const double largest = *std::max_element(exact.begin(), exact.end());
