@@ -11,7 +11,8 @@
 // on a subsurface material that the cache covers and where the sum over every
 // segment is not zero (the pixels near the stripe), with the hit's geometric
 // normal turned to the camera and the profile of the material's colour at the
-// laser's wavelength. Counters: queries, the tree's segments, ns_per_query, and
+// laser's wavelength. Counters: queries, the tree's segments, ns_per_query,
+// evaluated_per_query (nodes and segments evaluated, Sum's `evaluated`), and
 // the accuracy the timing comes with, Sum against the sum over every segment,
 // each evaluated as Sum evaluates a segment (SumOverSegments at kOpeningRatio),
 // so that the difference is the error of nodes standing for their segments:
@@ -140,7 +141,10 @@ void RunSum(benchmark::State& state, Frame& f) {
   }
   benchmark::DoNotOptimize(total);
   std::vector<double> exact, sum;
+  int64_t evaluated = 0;
   for (const Query& q : f.queries) {
+    f.tree->Sum(q.p, q.n, q.material, f.profiles[q.profile], f.r_max[q.material], LaserEntryTree::kOpeningRatio,
+                &evaluated);
     exact.push_back(f.tree->SumOverSegments(q.p, q.n, q.material, f.profiles[q.profile], f.r_max[q.material],
                                             LaserEntryTree::kOpeningRatio));
     sum.push_back(f.tree->Sum(q.p, q.n, q.material, f.profiles[q.profile], f.r_max[q.material]));
@@ -153,6 +157,7 @@ void RunSum(benchmark::State& state, Frame& f) {
     if (exact[i] >= 0.01 * largest) max_err = std::max(max_err, std::abs(sum[i] / exact[i] - 1.0));
   }
   state.counters["queries"] = double(f.queries.size());
+  state.counters["evaluated_per_query"] = double(evaluated) / double(f.queries.size());
   state.counters["segments"] = double(f.tree->points());
   state.counters["ns_per_query"] = benchmark::Counter(double(f.queries.size()) * 1e-9,
                                                       benchmark::Counter::kIsIterationInvariantRate |
