@@ -251,8 +251,8 @@ StripeOrderPlanes PlanesByStripeOrder(const std::vector<StripeSegment>& segments
       for (int i : segments[s].points) all_lines[std::lround(axes.along[size_t(i)])].push_back({axes.across[size_t(i)], int(s)});
     }
     for (auto& [line, v] : all_lines) std::sort(v.begin(), v.end());
-    std::vector<std::vector<std::pair<long, int>>> without_room(segments.size());
-    AddRanksWithoutRoom(all_lines, label, n_planes, &without_room);
+    std::vector<std::vector<long>> without_room(segments.size());
+    AddLinesWithoutRoom(all_lines, label, n_planes, &without_room);
     for (int s : candidates) {
       // A segment without a number (its lines agree by less than 3/4) is
       // taken for the rank most of its lines give it.
@@ -273,8 +273,8 @@ StripeOrderPlanes PlanesByStripeOrder(const std::vector<StripeSegment>& segments
         (line < agree_lo ? before : line > agree_hi ? after : within) += 1;
       }
       if (within > 0) continue;
-      for (const auto& [line, r] : without_room[size_t(s)]) {
-        if (agree_lo <= agree_hi) before += line < agree_lo, after += line > agree_hi;
+      if (agree_lo <= agree_hi) {
+        for (const long line : without_room[size_t(s)]) before += line < agree_lo, after += line > agree_hi;
       }
       if (before >= kMinCutLines) out.cut_before[size_t(s)] = double(agree_lo);
       if (after >= kMinCutLines) out.cut_after[size_t(s)] = double(agree_hi);

@@ -32,8 +32,8 @@ bool InOrder(const StripeLine& v, const std::vector<int>& label) {
 
 }  // namespace
 
-void AddRanksWithoutRoom(const std::map<long, StripeLine>& lines, const std::vector<int>& label, int n_planes,
-                         std::vector<std::vector<std::pair<long, int>>>* ranks_of) {
+void AddLinesWithoutRoom(const std::map<long, StripeLine>& lines, const std::vector<int>& label, int n_planes,
+                         std::vector<std::vector<long>>* lines_of) {
   // The first and last sheet each piece without a number can be, by the
   // stripes beside it on its own lines.
   std::vector<int> lowest(label.size(), 0), highest(label.size(), n_planes - 1);
@@ -67,8 +67,7 @@ void AddRanksWithoutRoom(const std::map<long, StripeLine>& lines, const std::vec
         high = std::min(high, last - SheetsOn(v, k + 1, j + 1, label, lab));
       }
       if (low > high) continue;  // a blob or a stripe twice: the line does not tell
-      if (low > lab) (*ranks_of)[size_t(seg)].push_back({line, low});
-      else if (high < lab) (*ranks_of)[size_t(seg)].push_back({line, high});
+      if (low > lab || high < lab) (*lines_of)[size_t(seg)].push_back(line);
     }
   }
 }

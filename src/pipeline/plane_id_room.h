@@ -23,11 +23,11 @@ int SheetsOn(const StripeLine& v, size_t from, size_t to, const std::vector<int>
 
 // For each segment numbered in `label`, the lines of at most N stripes (whose
 // numbered stripes stand in order) on which the stripes beside it leave it no
-// room for its number, with the rank they call for: those before it are at
-// least as many sheets as its number, counting, for a piece without a number,
-// the sheets that stand before that piece on its own lines (or the other way
-// round after it). Pushed as (line, rank) onto `ranks_of`.
-void AddRanksWithoutRoom(const std::map<long, StripeLine>& lines, const std::vector<int>& label, int n_planes,
-                         std::vector<std::vector<std::pair<long, int>>>* ranks_of);
+// room for its number: those before it are more sheets than its number allows,
+// counting, for a piece without a number, the sheets that stand before that
+// piece on its own lines (or the other way round after it). Pushed onto
+// `lines_of`.
+void AddLinesWithoutRoom(const std::map<long, StripeLine>& lines, const std::vector<int>& label, int n_planes,
+                         std::vector<std::vector<long>>* lines_of);
 
 }  // namespace lt
