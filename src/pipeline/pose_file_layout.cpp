@@ -190,19 +190,17 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
   // A Universal Robots RTDE log or a KUKA RSI log: their other fields (joints, speeds,
   // the commanded pose, process signals) are skipped.
   // An RTDE log's pose is its actual_TCP_pose, else (a planned path) its target_TCP_pose.
-  bool actual_log = false, rtde_actual = false;
+  // Vicon's columns hold a "Sub Frame".
+  bool actual_log = false, rtde_actual = false, vicon_columns = false;
   std::vector<size_t> unknown;
   for (std::string_view f : fields) {
     std::string unit;
     const std::string name = NameAndUnit(f, &unit);
     rtde_actual |= name.rfind("actual_tcp_pose_", 0) == 0;
     actual_log |= name.rfind("target_tcp_pose_", 0) == 0 || RsiActual(Words(name)) >= 0;
+    vicon_columns |= name == "sub frame";
   }
   actual_log |= rtde_actual;
-  const bool vicon_columns = std::any_of(fields.begin(), fields.end(), [](std::string_view f) {
-    std::string unit;
-    return NameAndUnit(f, &unit) == "sub frame";
-  });
   const std::string rtde_pose = rtde_actual ? "actual_tcp_pose_" : "target_tcp_pose_";
   for (size_t i = 0; i < fields.size(); ++i) {
     std::string unit;

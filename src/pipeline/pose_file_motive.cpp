@@ -21,6 +21,9 @@ struct Line {
 
 std::string Field(const Line& l, size_t k) { return k < l.fields.size() ? Lower(TrimBlanks(l.fields[k])) : ""; }
 
+// The row of the column names, "Frame,Time (Seconds),X,Y,Z,...": the data follow.
+bool ColumnNames(const Line& l) { return Field(l, 0) == "frame" && Field(l, 1).rfind("time", 0) == 0; }
+
 }  // namespace
 
 std::optional<MotiveText> MotiveAsOneHeader(const std::string& text, const std::string& name) {
@@ -35,7 +38,7 @@ std::optional<MotiveText> MotiveAsOneHeader(const std::string& text, const std::
     lines.push_back(l);
     pos = end + 1;
     if (lines.size() == 1 && Field(l, 0) != "format version") return std::nullopt;
-    if (Field(l, 0) == "frame" && Field(l, 1).rfind("time", 0) == 0) break;  // the column names: the data follow
+    if (ColumnNames(l)) break;
   }
   if (lines.empty()) return std::nullopt;
   auto where = [&](const Line& l) { return name + ":" + std::to_string(l.number); };
@@ -50,11 +53,8 @@ std::optional<MotiveText> MotiveAsOneHeader(const std::string& text, const std::
   const char* unit = length.empty() || length == "meters" ? "m" : length == "millimeters" ? "mm" : nullptr;
   if (!unit) throw InputError(where(lines[0]), "an OptiTrack Motive export in " + length + ": export in meters or millimeters");
   // The rows above the data, by their labels.
-  size_t columns = 0;
-  while (columns < lines.size() && !(Field(lines[columns], 0) == "frame" && Field(lines[columns], 1).rfind("time", 0) == 0)) {
-    ++columns;
-  }
-  if (columns == lines.size() || columns < 2) {
+  const size_t columns = lines.size() - 1;  // the reading above stopped at the column names, if any
+  if (!ColumnNames(lines[columns]) || columns < 2) {
     throw InputError(where(lines[0]), "an OptiTrack Motive export without its 'Frame,Time (Seconds),X,Y,Z,...' row");
   }
   const Line *type = nullptr, *body = nullptr;
