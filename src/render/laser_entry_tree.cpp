@@ -6,6 +6,7 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <set>
 #include <span>
 
 #include "render/specular_albedo.h"
@@ -158,31 +159,31 @@ std::unique_ptr<LaserEntryTree> LaserEntryTree::Build(const EmbreeScene& scene, 
   if (pts.empty()) return tree;
   tree->nodes_.reserve(2 * pts.size());
   tree->moments_.reserve(2 * pts.size());
-  tree->query_normals_ = DistinctNormals(pts);
-  tree->BuildNode(pts, 0, pts.size());
-  tree->query_normals_ = {};
+  tree->BuildNode(pts, 0, pts.size(), DistinctNormals(pts));
   return tree;
 }
 
 // The segments' normals, one per cell of a 0.25 grid on each axis: the normals
 // of the points a query will most likely be made at.
 std::vector<Eigen::Vector3f> LaserEntryTree::DistinctNormals(const std::vector<Point>& pts) {
-  std::vector<std::array<long, 3>> cells;
+  std::set<std::array<long, 3>> cells;
   std::vector<Eigen::Vector3f> out;
   for (const Point& p : pts) {
     const std::array<long, 3> cell = {std::lround(4 * p.n.x()), std::lround(4 * p.n.y()), std::lround(4 * p.n.z())};
-    if (std::find(cells.begin(), cells.end(), cell) != cells.end()) continue;
-    cells.push_back(cell);
-    out.push_back(p.n);
+    if (cells.insert(cell).second) out.push_back(p.n);
   }
   return out;
 }
 
-bool LaserEntryTree::Straddles(std::span<const Point> pts) const {
+LaserEntryTree::Node LaserEntryTree::NormalBox(std::span<const Point> pts) {
   Node box;
   box.n_lo = Eigen::Vector3f::Constant(INFINITY), box.n_hi = Eigen::Vector3f::Constant(-INFINITY);
   for (const Point& p : pts) box.n_lo = box.n_lo.cwiseMin(p.n), box.n_hi = box.n_hi.cwiseMax(p.n);
-  for (const Eigen::Vector3f& n : query_normals_) {
+  return box;
+}
+
+bool LaserEntryTree::Straddles(const Node& box, std::span<const Eigen::Vector3f> query_normals) {
+  for (const Eigen::Vector3f& n : query_normals) {
     float lo, hi;
     CosBounds(box, n, &lo, &hi);
     if (lo < -kStraddleCos && hi > kStraddleCos) return true;
@@ -190,7 +191,8 @@ bool LaserEntryTree::Straddles(std::span<const Point> pts) const {
   return false;
 }
 
-uint32_t LaserEntryTree::BuildNode(std::vector<Point>& pts, size_t begin, size_t end) {
+uint32_t LaserEntryTree::BuildNode(std::vector<Point>& pts, size_t begin, size_t end,
+                                   std::span<const Eigen::Vector3f> query_normals) {
   const uint32_t index = uint32_t(nodes_.size());
   nodes_.emplace_back();
   moments_.emplace_back();
@@ -246,15 +248,16 @@ uint32_t LaserEntryTree::BuildNode(std::vector<Point>& pts, size_t begin, size_t
   size_t mid = begin + (end - begin) / 2;
   int axis = 0;
   const std::span<const Point> all(pts.data() + begin, end - begin);
-  if ((node.n_hi - node.n_lo).maxCoeff(&axis) > kNormalSpread && Straddles(all) &&
-      Straddles(all.first(mid - begin)) && Straddles(all.subspan(mid - begin))) {
+  if ((node.n_hi - node.n_lo).maxCoeff(&axis) > kNormalSpread && Straddles(node, query_normals) &&
+      Straddles(NormalBox(all.first(mid - begin)), query_normals) &&
+      Straddles(NormalBox(all.subspan(mid - begin)), query_normals)) {
     const float cut = 0.5f * (node.n_lo[axis] + node.n_hi[axis]);
     mid = size_t(std::stable_partition(pts.begin() + long(begin), pts.begin() + long(end),
                                        [&](const Point& p) { return p.n[axis] < cut; }) -
                  pts.begin());
   }
-  BuildNode(pts, begin, mid);
-  node.right = BuildNode(pts, mid, end);
+  BuildNode(pts, begin, mid, query_normals);
+  node.right = BuildNode(pts, mid, end, query_normals);
   nodes_[index] = node;
   return index;
 }

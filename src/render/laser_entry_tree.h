@@ -139,11 +139,13 @@ class LaserEntryTree {
   struct Segment;
   struct Kernel;
   static void CosBounds(const Node& node, const Eigen::Vector3f& n_o, float* cos_lo, float* cos_hi);
-  uint32_t BuildNode(std::vector<Point>& pts, size_t begin, size_t end);
+  // query_normals: DistinctNormals of all the points, for the normal splits.
+  uint32_t BuildNode(std::vector<Point>& pts, size_t begin, size_t end, std::span<const Eigen::Vector3f> query_normals);
   static std::vector<Eigen::Vector3f> DistinctNormals(const std::vector<Point>& pts);
-  // Whether the box of pts' normals has n . n_o both ways for some n_o of query_normals_.
-  bool Straddles(std::span<const Point> pts) const;
-  std::vector<Eigen::Vector3f> query_normals_;  // while building
+  // The box of pts' normals (n_lo, n_hi; the rest default).
+  static Node NormalBox(std::span<const Point> pts);
+  // Whether a node's box of normals has n . n_o both ways for some n_o of query_normals.
+  static bool Straddles(const Node& box, std::span<const Eigen::Vector3f> query_normals);
 
   Eigen::Vector3d origin_;  // of the float coordinates (the projector)
   Eigen::Matrix3d projector_from_world_;
