@@ -94,6 +94,14 @@ std::string Short(double v) {
   return buf;
 }
 
+// Appends a material's name, quoted, to a list of them ("a", "b").
+void AddName(std::string* names, const std::string& name) { *names += (names->empty() ? "\"" : ", \"") + name + "\""; }
+
+// "material \"a\"" or "materials \"a\", \"b\"", for a warning naming the materials in `names` (AddName).
+std::string MaterialsNamed(const std::string& names) {
+  return std::string("material") + (names.find(',') != std::string::npos ? "s " : " ") + names;
+}
+
 // Material extensions whose effect is not rendered: one warning each, naming the materials.
 constexpr const char* kIgnoredMaterialExtensions[] = {
     "KHR_materials_volume",       "KHR_materials_ior",    "KHR_materials_specular",
@@ -275,7 +283,7 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
       mat.metallic = 0;
       mat.roughness = 1;
       mat.emissive = Eigen::Vector3f::Zero();
-      unlit_names += (unlit_names.empty() ? "\"" : ", \"") + mat.name + "\"";
+      AddName(&unlit_names, mat.name);
     } else {
       scale_by_mean(gm.emissiveTexture, where + "/emissiveTexture", "emissive", true,
                     [&](const Eigen::Vector4d& mean) {
@@ -294,13 +302,11 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
       if (!it->second.IsObject()) throw InputError(t_where, "must be an object");
       const double t = UnitFactor(ExtNumber(it->second, "transmissionFactor", 0.0, t_where), t_where + "/transmissionFactor");
       mat.base_color *= float(1.0 - t * (1.0 - double(mat.metallic)));
-      std::string& names = transmissive[it->second.Has("transmissionTexture")];
-      names += (names.empty() ? "\"" : ", \"") + mat.name + "\"";
+      AddName(&transmissive[it->second.Has("transmissionTexture")], mat.name);
     }
     for (const char* name : kIgnoredMaterialExtensions) {
       if (gm.extensions.count(name) != 0) {
-        std::string& names = ignored_extensions[name];
-        names += (names.empty() ? "\"" : ", \"") + mat.name + "\"";
+        AddName(&ignored_extensions[name], mat.name);
       }
     }
 
@@ -329,17 +335,16 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
     if (names.empty()) continue;
     warnings->push_back(src.file + ": KHR_materials_transmission: transmitted light is not traced; the diffuse "
                         "share it takes is removed (base colour times 1 - transmissionFactor" +
-                        std::string(with_texture ? "; the transmission texture is ignored" : "") + "), material" +
-                        (names.find(',') != std::string::npos ? "s " : " ") + names);
+                        std::string(with_texture ? "; the transmission texture is ignored" : "") + "), " +
+                        MaterialsNamed(names));
   }
   if (!unlit_names.empty()) {
     warnings->push_back(src.file + ": KHR_materials_unlit: read as a diffuse surface of the base colour (metallic 0, "
-                        "roughness 1, no emission; the other properties are the extension's fallbacks), material" +
-                        (unlit_names.find(',') != std::string::npos ? "s " : " ") + unlit_names);
+                        "roughness 1, no emission; the other properties are the extension's fallbacks), " +
+                        MaterialsNamed(unlit_names));
   }
   for (const auto& [name, materials] : ignored_extensions) {
-    warnings->push_back(src.file + ": " + name + " ignored (not rendered), used by material" +
-                        (materials.find(',') != std::string::npos ? "s " : " ") + materials);
+    warnings->push_back(src.file + ": " + name + " ignored (not rendered), used by " + MaterialsNamed(materials));
   }
   return out;
 }
