@@ -108,9 +108,7 @@ void CheckGltfSchema(const json& root, const std::string& file) {
         c.Fail(at + "/type", "must be \"SCALAR\", \"VEC2\", \"VEC3\", \"VEC4\", \"MAT2\", \"MAT3\" or \"MAT4\", got " +
                                  type->dump());
       }
-      if (auto n = a.find("normalized"); n != a.end() && !n->is_boolean()) {
-        c.Fail(at + "/normalized", "must be true or false, got " + n->dump());
-      }
+      c.Boolean(a, at, "normalized");
       // tinygltf: "the sparse object of this accessor doesn't have values", no place.
       if (auto sparse = a.find("sparse"); sparse != a.end()) {
         const std::string sat = at + "/sparse";
