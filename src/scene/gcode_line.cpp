@@ -49,6 +49,12 @@ bool IsChecksum(std::string_view text) {
 
 void GcodeReader::ReadWords(std::string_view code, size_t pos, bool numbers_required, bool t_parameter) {
   words_.clear();
+  auto add = [&](const Word& w) {
+    for (const Word& other : words_) {
+      if (other.letter == w.letter) Fail(std::string(1, w.letter) + " given twice");
+    }
+    words_.push_back(w);
+  };
   while (pos < code.size()) {
     if (IsBlank(code[pos])) {
       ++pos;
@@ -71,10 +77,7 @@ void GcodeReader::ReadWords(std::string_view code, size_t pos, bool numbers_requ
       }
       if (pos >= code.size()) Fail(std::string(1, letter) + " has a string without its closing '\"'");
       ++pos;
-      for (const Word& other : words_) {
-        if (other.letter == letter) Fail(std::string(1, letter) + " given twice");
-      }
-      words_.push_back(Word{letter, std::nullopt});
+      add(Word{letter, std::nullopt});
       continue;
     }
     while (pos < code.size() && IsNumberChar(code[pos])) ++pos;
@@ -106,10 +109,7 @@ void GcodeReader::ReadWords(std::string_view code, size_t pos, bool numbers_requ
       return;
     }
     if (letter == 'T' && !t_parameter) Fail("one command per line: found T after the command");
-    for (const Word& other : words_) {
-      if (other.letter == letter) Fail(std::string(1, letter) + " given twice");
-    }
-    words_.push_back(w);
+    add(w);
   }
 }
 
