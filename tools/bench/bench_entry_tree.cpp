@@ -33,6 +33,7 @@
 #include "render/spectrum.h"
 #include "scene/embree_scene.h"
 #include "scene/scene_file.h"
+#include "resized_camera.h"
 
 namespace lt {
 namespace {
@@ -55,13 +56,7 @@ struct Frame {
 // part to the frame's time), traces its chief rays and builds sheet 0's cache.
 Frame MakeFrame(const std::string& path, int width, int height, int64_t frame_index) {
   SceneFile scene = LoadSceneFile(path);
-  CameraParams p = scene.sensor.camera.params();
-  const double s = double(width) / p.width;  // bin the sensor: same field of view
-  p.fx *= s, p.fy *= s;
-  p.pixel_pitch_m /= s;
-  p.cx = (width - 1) / 2.0, p.cy = (height - 1) / 2.0;
-  p.width = width, p.height = height;
-  scene.sensor.camera = Camera(p);
+  scene.sensor.camera = ResizedCamera(scene.sensor.camera, width, height);  // same field of view
   Frame f;
   auto geometry = std::make_shared<SceneGeometry>(LoadSceneGeometry(scene));
   f.embree = std::make_unique<EmbreeScene>(geometry);

@@ -28,6 +28,7 @@
 #include "render/frame_renderer.h"
 #include "scene/embree_scene.h"
 #include "scene/scene_file.h"
+#include "resized_camera.h"
 
 namespace lt {
 namespace {
@@ -44,13 +45,7 @@ struct Demo {
 
   explicit Demo(int width, int height) {
     scene = LoadSceneFile(std::string(LT_SOURCE_DIR) + "/scenes/demo/scene.json");
-    CameraParams p = scene.sensor.camera.params();
-    double s = double(width) / p.width;  // bin the sensor: same field of view, larger pixels
-    p.fx *= s, p.fy *= s;
-    p.pixel_pitch_m /= s;
-    p.cx = (width - 1) / 2.0, p.cy = (height - 1) / 2.0;
-    p.width = width, p.height = height;
-    scene.sensor.camera = Camera(p);
+    scene.sensor.camera = ResizedCamera(scene.sensor.camera, width, height);  // same field of view, larger pixels
     geometry = std::make_shared<SceneGeometry>(LoadSceneGeometry(scene));
     embree = std::make_unique<EmbreeScene>(geometry);
   }
