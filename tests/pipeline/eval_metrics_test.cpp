@@ -586,6 +586,16 @@ struct StitchedRun {
   static PointToSurface PlaneDistance(const RunFrame&) {
     return [](const Eigen::Vector3d& p) { return std::optional<double>(std::abs(kSurface.SignedDistance(p))); };
   }
+  // The run scanned with its world points placed by a pose `offset_m` (in the
+  // surface's frame, turned into the world by w) off the manifest's, and
+  // evaluated against kSurface.
+  RunMetrics EvaluateOffBy(const Eigen::Vector3d& offset_m) {
+    Pose off = Pose::Identity();
+    off.translation() = w.linear() * offset_m;
+    run.scan_world_from_cam = off * w;
+    run.Write(true, false);
+    return EvaluateRun(run.dir, {}, &PlaneDistance);
+  }
 };
 
 // The world points where scan placed them (the centres CSV's world columns) are
@@ -600,17 +610,11 @@ TEST(EvaluateRun, StitchedWorldPointsAreScoredWithThePoseTheScanUsed) {
   const Pose w = stitched.w;
   const auto plane_distance = &StitchedRun::PlaneDistance;
   // Placed with the manifest's pose: the same errors.
-  run.scan_world_from_cam = w;
-  run.Write(true, false);
-  RunMetrics m = EvaluateRun(run.dir, {}, plane_distance);
+  RunMetrics m = stitched.EvaluateOffBy(Eigen::Vector3d::Zero());
   EXPECT_EQ(m.total.stitched_point_mm.n, 60);
   EXPECT_NEAR(m.total.stitched_point_mm.max, 0.05, 1e-6);
   // Placed 0.3 mm off along the surface's normal (in the world).
-  Pose off = Pose::Identity();
-  off.translation() = 0.3e-3 * (w.linear() * kSurface.n);
-  run.scan_world_from_cam = off * w;
-  run.Write(true, false);
-  m = EvaluateRun(run.dir, {}, plane_distance);
+  m = stitched.EvaluateOffBy(0.3e-3 * kSurface.n);
   EXPECT_NEAR(m.total.point_mm.median, 0.05, 1e-6);
   EXPECT_EQ(m.total.stitched_point_mm.n, 60);
   EXPECT_NEAR(m.total.stitched_point_mm.median, 0.35, 1e-6);
@@ -639,20 +643,12 @@ TEST(EvaluateRun, StitchedWorldPointsAreScoredWithThePoseTheScanUsed) {
 TEST(EvaluateRun, StitchPoseOffsetSeesAPoseErrorAlongTheSurface) {
   StitchedRun stitched("pose_offset");
   EvalRun& run = stitched.run;
-  const Pose w = stitched.w;
   const auto plane_distance = &StitchedRun::PlaneDistance;
-  run.scan_world_from_cam = w;
-  run.Write(true, false);
-  RunMetrics m = EvaluateRun(run.dir, {}, plane_distance);
+  RunMetrics m = stitched.EvaluateOffBy(Eigen::Vector3d::Zero());
   EXPECT_EQ(m.total.pose_offset_mm.n, 60);
   EXPECT_LT(m.total.pose_offset_mm.max, 1e-6);
   // 0.4 mm off within the surface's plane.
-  const Eigen::Vector3d along = kSurface.n.unitOrthogonal();
-  Pose off = Pose::Identity();
-  off.translation() = 0.4e-3 * (w.linear() * along);
-  run.scan_world_from_cam = off * w;
-  run.Write(true, false);
-  m = EvaluateRun(run.dir, {}, plane_distance);
+  m = stitched.EvaluateOffBy(0.4e-3 * kSurface.n.unitOrthogonal());
   EXPECT_NEAR(m.total.stitched_point_mm.median, 0.05, 1e-6);  // blind to it
   EXPECT_EQ(m.total.pose_offset_mm.n, 60);
   EXPECT_NEAR(m.total.pose_offset_mm.median, 0.4, 1e-6);
