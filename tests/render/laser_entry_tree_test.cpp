@@ -19,6 +19,28 @@ namespace {
 
 constexpr double kD = 0.1, kBaseline = 0.03, kPower = 5e-3, kMfp = 0.5e-3;
 
+// A point the camera sees and the surface's normal there.
+struct Query {
+  Eigen::Vector3d p, n;
+};
+
+// The cache of the first sheet of `lights` over the window that camera hits at
+// `queries` need (material 0, the profile's reach), entry points mfp / 8 apart.
+std::unique_ptr<LaserEntryTree> TreeOver(const test::World& world, const FrameLights& lights,
+                                         const std::vector<Query>& queries, double reach, uint64_t* rays) {
+  std::vector<ChiefHit> hits;
+  for (const Query& q : queries) {
+    ChiefHit hit;
+    hit.valid = true;
+    hit.p_world = q.p;
+    hit.normal = q.n;
+    hits.push_back(hit);
+  }
+  const std::vector<double> reach_m = {reach};
+  const SheetWindow window = SheetWindowOfHits(lights.emitters[0], 0, hits, reach_m);
+  return LaserEntryTree::Build(*world.embree, lights.emitters[0], 0, window, kMfp / 8, rays);
+}
+
 struct Slab {
   test::World world;
   FrameLights lights;
@@ -38,14 +60,7 @@ struct Slab {
   }
   // The cache over the window that one camera hit at p (on the slab) needs.
   std::unique_ptr<LaserEntryTree> Tree(const Eigen::Vector3d& p, uint64_t* rays) const {
-    ChiefHit hit;
-    hit.valid = true;
-    hit.p_world = p;
-    hit.normal = -Eigen::Vector3d::UnitZ();
-    const std::vector<ChiefHit> hits = {hit};
-    const std::vector<double> reach_m = {reach};
-    const SheetWindow window = SheetWindowOfHits(lights.emitters[0], 0, hits, reach_m);
-    return LaserEntryTree::Build(*world.embree, lights.emitters[0], 0, window, kMfp / 8, rays);
+    return TreeOver(world, lights, {{p, -Eigen::Vector3d::UnitZ()}}, reach, rays);
   }
 };
 
@@ -116,9 +131,6 @@ TEST(LaserEntryTree, SumAcrossAStepMatchesTheSumOverEverySegment) {
   const double r_max = profile.SampleRadius(0.999);
   // Hits on both faces and the wall, each beside the stripe, which lies where
   // the sheet x / kBaseline + z / kD = 1 meets the surface.
-  struct Query {
-    Eigen::Vector3d p, n;
-  };
   const double x_raised = kBaseline * h / kD;
   const std::vector<Query> queries = {
       {{0.2e-3, y0 - 0.3e-3, kD}, -Eigen::Vector3d::UnitZ()},
@@ -128,18 +140,8 @@ TEST(LaserEntryTree, SumAcrossAStepMatchesTheSumOverEverySegment) {
       {{0.5 * x_raised + 0.5e-3, y0, kD - 0.2 * h}, -Eigen::Vector3d::UnitY()},
       {{1e-3, y0 - 1e-3, kD}, -Eigen::Vector3d::UnitZ()},  // 1 mm from the stripe and from the wall
   };
-  std::vector<ChiefHit> hits;
-  for (const Query& q : queries) {
-    ChiefHit hit;
-    hit.valid = true;
-    hit.p_world = q.p;
-    hit.normal = q.n;
-    hits.push_back(hit);
-  }
-  const std::vector<double> reach_m = {r_max};
-  const SheetWindow window = SheetWindowOfHits(lights.emitters[0], 0, hits, reach_m);
   uint64_t rays = 0;
-  auto tree = LaserEntryTree::Build(*world.embree, lights.emitters[0], 0, window, kMfp / 8, &rays);
+  auto tree = TreeOver(world, lights, queries, r_max, &rays);
   ASSERT_TRUE(tree);
   for (const Query& q : queries) {
     ASSERT_TRUE(tree->Covers(q.p, r_max));
@@ -173,9 +175,6 @@ struct Beads {
   FrameLights lights;
   BurleyProfile profile;
   double r_max = 0;
-  struct Query {
-    Eigen::Vector3d p, n;
-  };
   std::vector<Query> queries;
   std::unique_ptr<LaserEntryTree> tree;
   // The beads' axis and the direction from one bead to the next.
@@ -211,17 +210,7 @@ struct Beads {
     world.scene.sensor.lasers = {test::TestLaser(kBaseline, kD, kPower, 2e-3)};
     lights = MakeFrameLights(world.scene.sensor, Pose::Identity(), 1.0, 0.0, 0.0);
     r_max = profile.SampleRadius(0.999);
-    std::vector<ChiefHit> hits;
-    for (const Query& q : queries) {
-      ChiefHit hit;
-      hit.valid = true;
-      hit.p_world = q.p;
-      hit.normal = q.n;
-      hits.push_back(hit);
-    }
-    const std::vector<double> reach_m = {r_max};
-    const SheetWindow window = SheetWindowOfHits(lights.emitters[0], 0, hits, reach_m);
-    tree = LaserEntryTree::Build(*world.embree, lights.emitters[0], 0, window, kMfp / 8, nullptr);
+    tree = TreeOver(world, lights, queries, r_max, nullptr);
   }
 };
 
@@ -233,7 +222,7 @@ TEST(LaserEntryTree, SumOnPrintedBeadsMatchesTheSumOverEverySegment) {
   Beads beads;
   ASSERT_TRUE(beads.tree);
   double worst = 0;  // measured: 0.0044 (0.0055 without the radius's test)
-  for (const Beads::Query& q : beads.queries) {
+  for (const Query& q : beads.queries) {
     ASSERT_TRUE(beads.tree->Covers(q.p, beads.r_max));
     const double exact =
         beads.tree->SumOverSegments(q.p, q.n, 0, beads.profile, beads.r_max, LaserEntryTree::kOpeningRatio);
@@ -255,7 +244,7 @@ TEST(LaserEntryTree, QueriesOnBeadFlanksEvaluateFewNodes) {
   Beads beads;
   ASSERT_TRUE(beads.tree);
   int64_t evaluated = 0;
-  for (const Beads::Query& q : beads.queries) beads.tree->Sum(q.p, q.n, 0, beads.profile, beads.r_max, LaserEntryTree::kOpeningRatio, &evaluated);
+  for (const Query& q : beads.queries) beads.tree->Sum(q.p, q.n, 0, beads.profile, beads.r_max, LaserEntryTree::kOpeningRatio, &evaluated);
   const double mean = double(evaluated) / double(beads.queries.size());
   EXPECT_LT(mean, 250.0);
 }
