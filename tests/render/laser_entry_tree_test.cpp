@@ -19,6 +19,18 @@ namespace {
 
 constexpr double kD = 0.1, kBaseline = 0.03, kPower = 5e-3, kMfp = 0.5e-3;
 
+// Builds `world` (its geometry added) in subsurface plastic (mean free path
+// kMfp) under the test laser kBaseline beside the camera, aimed at depth kD;
+// the frame's lights with the camera at the origin.
+FrameLights BuildLitPlastic(test::World* world) {
+  Material pla = test::Plastic(0.8f, 0.5f);
+  pla.subsurface = Subsurface{Eigen::Vector3d::Constant(kMfp), kMfp};
+  world->geometry->materials = {pla};
+  world->Build();
+  world->scene.sensor.lasers = {test::TestLaser(kBaseline, kD, kPower, 2e-3)};
+  return MakeFrameLights(world->scene.sensor, Pose::Identity(), 1.0, 0.0, 0.0);
+}
+
 // A point the camera sees and the surface's normal there.
 struct Query {
   Eigen::Vector3d p, n;
@@ -47,12 +59,7 @@ struct Slab {
   double reach = 0;
   Slab() {
     world.Add(test::Rectangle({0, 0, kD}, Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 0.2, 0.2));
-    Material pla = test::Plastic(0.8f, 0.5f);
-    pla.subsurface = Subsurface{Eigen::Vector3d::Constant(kMfp), kMfp};
-    world.geometry->materials = {pla};
-    world.Build();
-    world.scene.sensor.lasers = {test::TestLaser(kBaseline, kD, kPower, 2e-3)};
-    lights = MakeFrameLights(world.scene.sensor, Pose::Identity(), 1.0, 0.0, 0.0);
+    lights = BuildLitPlastic(&world);
     DiffusionProfileParams p;
     p.albedo = 1.0;
     p.mean_free_path = kMfp;
@@ -118,12 +125,7 @@ TEST(LaserEntryTree, SumAcrossAStepMatchesTheSumOverEverySegment) {
   world.Add(test::Rectangle({0, y0 - 0.05, kD}, Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 0.05, 0.05));
   world.Add(test::Rectangle({0, y0 + 0.05, kD - h}, Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 0.05, 0.05));
   world.Add(test::Rectangle({0, y0, kD - 0.5 * h}, Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitZ(), 0.05, 0.5 * h));
-  Material pla = test::Plastic(0.8f, 0.5f);
-  pla.subsurface = Subsurface{Eigen::Vector3d::Constant(kMfp), kMfp};
-  world.geometry->materials = {pla};
-  world.Build();
-  world.scene.sensor.lasers = {test::TestLaser(kBaseline, kD, kPower, 2e-3)};
-  const FrameLights lights = MakeFrameLights(world.scene.sensor, Pose::Identity(), 1.0, 0.0, 0.0);
+  const FrameLights lights = BuildLitPlastic(&world);
   DiffusionProfileParams pp;
   pp.albedo = 0.8;
   pp.mean_free_path = kMfp;
@@ -203,12 +205,7 @@ struct Beads {
         }
       }
     }
-    Material pla = test::Plastic(0.8f, 0.5f);
-    pla.subsurface = Subsurface{Eigen::Vector3d::Constant(kMfp), kMfp};
-    world.geometry->materials = {pla};
-    world.Build();
-    world.scene.sensor.lasers = {test::TestLaser(kBaseline, kD, kPower, 2e-3)};
-    lights = MakeFrameLights(world.scene.sensor, Pose::Identity(), 1.0, 0.0, 0.0);
+    lights = BuildLitPlastic(&world);
     r_max = profile.SampleRadius(0.999);
     tree = TreeOver(world, lights, queries, r_max, nullptr);
   }
