@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <tuple>
 #include <sstream>
@@ -22,6 +23,24 @@
 namespace lt {
 
 namespace {
+
+// Warnings of one kind over a file's meshes: up to kListed, one line each, as
+// `one` words them; past that, one line, `many` (the count and what happened)
+// naming the first kListed places. A CAD assembly or a viewer's export with an
+// edge outline per part would otherwise print one line per part.
+constexpr size_t kListed = 3;
+void AddListed(const std::string& file, const std::vector<std::string>& places,
+               const std::function<std::string(const std::string&)>& one, const std::string& many,
+               std::vector<std::string>* warnings) {
+  if (places.size() <= kListed) {
+    for (const std::string& place : places) warnings->push_back(file + ": " + one(place));
+    return;
+  }
+  std::string list;
+  for (size_t i = 0; i < kListed; ++i) list += (i ? ", " : "") + places[i];
+  warnings->push_back(file + ": " + many + ": " + list + " and " + std::to_string(places.size() - kListed) +
+                      " more");
+}
 
 // ---------------------------------------------------------------- file access for tinygltf
 
@@ -183,6 +202,8 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
   using MeshKey = std::tuple<int, int, std::vector<double>>;
   std::map<MeshKey, long> mesh_slot;
   std::map<int, GltfSkinPose> skin_poses;
+  std::vector<std::pair<std::string, std::vector<std::string>>> skipped;  // mode -> "mesh "m" primitive i"
+  std::vector<std::string> empty_meshes;
   for (const GltfNodeUse& use : uses) {
     const MeshKey key{use.gltf_mesh, use.skin, use.morph.weights};
     auto it = mesh_slot.find(key);
@@ -197,6 +218,11 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
       Mesh mesh = ConvertGltfMesh(src, use.gltf_mesh, asset.materials, default_material, &stats, &asset.warnings,
                                   skin, &use.morph);
       asset.degenerate_triangles += stats.degenerate_triangles;
+      for (const auto& [mode, pi] : stats.skipped_primitives) {
+        auto kind = std::find_if(skipped.begin(), skipped.end(), [&](const auto& k) { return k.first == mode; });
+        if (kind == skipped.end()) kind = skipped.insert(skipped.end(), {mode, {}});
+        kind->second.push_back("mesh \"" + mesh.name + "\" primitive " + std::to_string(pi));
+      }
       long slot = -1;
       if (mesh.TriangleCount() > 0) {
         uses_default |= stats.uses_default_material;
@@ -204,12 +230,19 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
         slot = long(asset.meshes.size());
         asset.meshes.push_back(std::move(mesh));
       } else {
-        asset.warnings.push_back(file + ": mesh \"" + mesh.name + "\" has no triangles; it is skipped");
+        empty_meshes.push_back("\"" + mesh.name + "\"");
       }
       it = mesh_slot.emplace(key, slot).first;
     }
     if (it->second >= 0) asset.instances.push_back({size_t(it->second), use.transform, use.node_name});
   }
+  for (const auto& [mode, places] : skipped) {
+    const std::string what = mode + " skipped (only triangles are rendered)";
+    AddListed(file, places, [&](const std::string& place) { return place + ": " + what; },
+              what + " in " + std::to_string(places.size()) + " primitives", &asset.warnings);
+  }
+  AddListed(file, empty_meshes, [](const std::string& name) { return "mesh " + name + " has no triangles; it is skipped"; },
+            std::to_string(empty_meshes.size()) + " meshes have no triangles; they are skipped", &asset.warnings);
   if (uses_default) asset.materials.push_back(DefaultMaterial());
   asset.uses_default_material = uses_default;
   if (!model.cameras.empty() || !model.lights.empty()) {

@@ -133,8 +133,7 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Materia
     const std::string where = mesh_where + "/primitives/" + std::to_string(pi);
     if (prim.mode == TINYGLTF_MODE_POINTS || prim.mode == TINYGLTF_MODE_LINE ||
         prim.mode == TINYGLTF_MODE_LINE_LOOP || prim.mode == TINYGLTF_MODE_LINE_STRIP) {
-      warnings->push_back(src.file + ": mesh \"" + mesh.name + "\" primitive " + std::to_string(pi) + ": " +
-                          ModeName(prim.mode) + " skipped (only triangles are rendered)");
+      stats->skipped_primitives.emplace_back(ModeName(prim.mode), pi);
       continue;
     }
     if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&

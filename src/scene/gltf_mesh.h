@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "scene/gltf_accessors.h"
@@ -16,6 +17,10 @@ namespace lt {
 struct GltfMeshStats {
   size_t degenerate_triangles = 0;  // dropped
   bool uses_default_material = false;
+  // Point and line primitives skipped (only triangles are rendered), in order:
+  // the mode's name ("points", "lines", ...) and the primitive's index. The
+  // loader warns about them once per mode for the whole file.
+  std::vector<std::pair<std::string, size_t>> skipped_primitives;
 };
 
 // The pose of a skin (glTF 2.0 3.7.3): for each of its joints, the joint node's

@@ -43,5 +43,36 @@ TEST(GltfPrimitives, StripJoinsAreNotReportedAsDegenerate) {
   }
 }
 
+// An assembly whose parts each carry an outline of lines beside their triangles
+// (a web CAD viewer's export, trimesh's paths), and edge-only meshes: the skipped
+// primitives and the meshes left without triangles are one warning per kind that
+// counts them and names the first three, where each part added a line of its own
+// (300 parts: 301 warnings). Up to three still get a line each (ListsWarnings).
+TEST(GltfPrimitives, ManySkippedPrimitivesAreCountedInOneWarning) {
+  GltfBuilder b;
+  const int p = b.AddFloats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3");
+  for (int i = 0; i < 10; ++i) {
+    b.json()["meshes"].push_back({{"name", "part" + std::to_string(i)},
+                                  {"primitives", {{{"attributes", {{"POSITION", p}}}},
+                                                  {{"attributes", {{"POSITION", p}}}, {"mode", 1}}}}});
+    b.AddNode("part" + std::to_string(i), i);
+  }
+  for (int i = 0; i < 5; ++i) {
+    b.json()["meshes"].push_back(
+        {{"name", "edges" + std::to_string(i)}, {"primitives", {{{"attributes", {{"POSITION", p}}}, {"mode", 3}}}}});
+    b.AddNode("edges" + std::to_string(i), 10 + i);
+  }
+  TempDir dir;
+  b.WriteGlb(dir / "assembly.glb");
+  const GltfAsset a = LoadGltf(dir / "assembly.glb", "assembly.glb");
+  EXPECT_EQ(a.instances.size(), 10u);
+  EXPECT_THAT(a.warnings, ::testing::ElementsAre(
+      "assembly.glb: lines skipped (only triangles are rendered) in 10 primitives: mesh \"part0\" primitive 1, "
+      "mesh \"part1\" primitive 1, mesh \"part2\" primitive 1 and 7 more",
+      "assembly.glb: line strip skipped (only triangles are rendered) in 5 primitives: mesh \"edges0\" primitive 0, "
+      "mesh \"edges1\" primitive 0, mesh \"edges2\" primitive 0 and 2 more",
+      "assembly.glb: 5 meshes have no triangles; they are skipped: \"edges0\", \"edges1\", \"edges2\" and 2 more"));
+}
+
 }  // namespace
 }  // namespace lt
