@@ -24,6 +24,7 @@ void OrientationOptions::Check() const {
   if (!(std::isfinite(caster_window_m) && caster_window_m > 0)) {
     throw std::invalid_argument("caster window must be > 0");
   }
+  if (!(std::isfinite(trail_m) && trail_m > 0)) throw std::invalid_argument("trail must be > 0");
 }
 
 std::string OrientationModeName(OrientationMode mode) {
@@ -31,6 +32,7 @@ std::string OrientationModeName(OrientationMode mode) {
     case OrientationMode::kFixed: return "fixed";
     case OrientationMode::kHeading: return "heading";
     case OrientationMode::kCaster: return "caster";
+    case OrientationMode::kTrailing: return "trailing";
   }
   return "caster";
 }
@@ -39,6 +41,7 @@ OrientationMode ParseOrientationMode(const std::string& name) {
   if (name == "fixed") return OrientationMode::kFixed;
   if (name == "heading") return OrientationMode::kHeading;
   if (name == "caster") return OrientationMode::kCaster;
+  if (name == "trailing") return OrientationMode::kTrailing;
   throw std::invalid_argument("unknown orientation mode \"" + name + "\"");
 }
 
@@ -59,6 +62,7 @@ ToolpathOrientation::ToolpathOrientation(std::shared_ptr<const Toolpath> path, O
     }
   }
   total_xy_m_ = s;
+  if (options_.mode == OrientationMode::kTrailing) StartTrailingWheel();
 }
 
 size_t ToolpathOrientation::SegmentAtLength(double s_m) const {
@@ -125,6 +129,11 @@ Eigen::Vector2d ToolpathOrientation::DirectionAt(double t_s) const {
       double s = PathLengthAt(t_s);
       return CasterDirectionAt(s, SegmentAtLength(s));
     }
+    case OrientationMode::kTrailing: {
+      if (xy_segments_.empty()) return Eigen::Vector2d::UnitX();
+      double s = PathLengthAt(t_s);
+      return TrailingDirectionAt(s, SegmentAtLength(s));
+    }
   }
   return Eigen::Vector2d::UnitX();
 }
@@ -139,6 +148,7 @@ TurnRates ToolpathOrientation::ComputeTurnRates() const {
     case OrientationMode::kFixed: return TurnRates{};
     case OrientationMode::kHeading: return HeadingTurnRates();
     case OrientationMode::kCaster: return CasterTurnRates();
+    case OrientationMode::kTrailing: return TrailingTurnRates();
   }
   return TurnRates{};
 }
@@ -231,6 +241,18 @@ TurnRates ToolpathOrientation::CasterTurnRates() const {
       consider(a);
       consider(b);
       consider(s_star);
+      // A chord shrinking through zero along its own line (the path doubling back
+      // exactly on itself) turns the heading by 180 degrees at once.
+      const Eigen::Vector2d c_star = ca + (s_star - a) * d;
+      if (s_star > a && s_star < b && c_star.norm() <= 1e-9 * w && std::abs(Cross(ca, d)) <= 1e-9 * w * std::sqrt(dd)) {
+        ++r.jumps;
+        if (M_PI > r.max_jump_rad) {
+          const ToolpathSegment& h = segs[head];
+          r.max_jump_rad = M_PI;
+          r.max_jump_time_s = h.t_start_s + std::clamp((s_star - s_start_m_[head]) / h.xy_length_m, 0.0, 1.0) * h.Duration();
+          r.max_jump_line = h.line;
+        }
+      }
     } else {
       for (int k = 0; k < kArcSamples; ++k) consider(a + (b - a) * k / (kArcSamples - 1));
     }

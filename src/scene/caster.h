@@ -1,5 +1,5 @@
 // How the scanner turns about the nozzle while it follows a toolpath: a heading
-// angle in the bed plane over time, by one of three rules.
+// angle in the bed plane over time, by one of four rules.
 //
 //   fixed    the heading stays 0 (the G-code +x axis).
 //   heading  the direction of the current move (its tangent on arcs). At a corner
@@ -12,7 +12,15 @@
 //            tangent over path length is the chord from the point w behind to the
 //            nozzle divided by w, so the caster heading is the direction of that chord,
 //            computed exactly. Near the start (less than w travelled) the window is
-//            the path so far.
+//            the path so far. Where the path doubles back the chord passes through
+//            zero length and the heading swings by up to 180 degrees at once.
+//   trailing a wheel trailing the nozzle at distance w (scene/trailing_wheel.h): the
+//            heading turns towards the path's direction at rate v sin(angle off the
+//            path) / w, never faster than v / w, reversals included; it lags behind
+//            the caster on corners. A reversal leaves the wheel pointing straight
+//            back, a balance it would keep forever on a straight move; it is taken
+//            as 1 degree off (towards the side it came from), so the wheel swings
+//            round within about 5 w of path, as a real one does.
 //
 // Path length here is measured in the bed plane: moves without motion in that plane
 // (z only, extruder only, dwells) keep the heading. Travel moves count like printing
@@ -29,16 +37,17 @@
 
 namespace lt {
 
-enum class OrientationMode { kFixed, kHeading, kCaster };
+enum class OrientationMode { kFixed, kHeading, kCaster, kTrailing };
 
 struct OrientationOptions {
   OrientationMode mode = OrientationMode::kCaster;
   double caster_window_m = 0.010;  // path length behind the nozzle averaged by the caster
-  // Throws std::invalid_argument unless the window is finite and > 0.
+  double trail_m = 0.010;          // the trailing wheel's distance behind the nozzle
+  // Throws std::invalid_argument unless the window and the trail are finite and > 0.
   void Check() const;
 };
 
-// "fixed", "heading", "caster" and back (ParseOrientationMode throws
+// "fixed", "heading", "caster", "trailing" and back (ParseOrientationMode throws
 // std::invalid_argument on any other name).
 std::string OrientationModeName(OrientationMode mode);
 OrientationMode ParseOrientationMode(const std::string& name);
@@ -72,9 +81,11 @@ class ToolpathOrientation {
   Eigen::Vector2d DirectionAt(double t_s) const;
   double HeadingAt(double t_s) const;
 
-  // The turn rates along the whole path. Exact on pieces where the nozzle and the
-  // window's tail are both on straight moves (the caster's rate then peaks where
-  // the chord is shortest, a closed form); sampled at 17 points on pieces with arcs.
+  // The turn rates along the whole path. Caster: exact on pieces where the nozzle
+  // and the window's tail are both on straight moves (the rate then peaks where the
+  // chord is shortest, a closed form); sampled at 17 points on pieces with arcs.
+  // Trailing: exact on straight moves (the angle off the path shrinks monotonically);
+  // on arcs sampled at steps over which the angle turns by at most 0.05 rad.
   TurnRates ComputeTurnRates() const;
 
   // Path length in the bed plane travelled by time t, and the point in that plane at
@@ -90,15 +101,24 @@ class ToolpathOrientation {
   // The heading of the move at time t (heading mode).
   Eigen::Vector2d MoveDirectionAt(double t_s) const;
   Eigen::Vector2d CasterDirectionAt(double s_m, size_t segment) const;
+  // The trailing wheel on segment k (with motion in the bed plane) at path length s.
+  Eigen::Vector2d TrailingDirectionAt(double s_m, size_t segment) const;
+  double TrailingAngleOffPath(double s_m, size_t segment) const;
+  double CurvatureOf(size_t segment) const;
+  void StartTrailingWheel();
 
   TurnRates HeadingTurnRates() const;
   TurnRates CasterTurnRates() const;
+  TurnRates TrailingTurnRates() const;
 
   std::shared_ptr<const Toolpath> path_;
   OrientationOptions options_;
   std::vector<double> s_start_m_;   // bed-plane path length at the start of each segment
   std::vector<size_t> xy_segments_; // indices of segments with motion in the bed plane
   double total_xy_m_ = 0;
+  // Trailing mode: the wheel's half-angle vector (scene/trailing_wheel.h) at the start
+  // of each segment with motion in the bed plane.
+  std::vector<Eigen::Vector2d> wheel_start_;
 };
 
 }  // namespace lt

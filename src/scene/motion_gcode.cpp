@@ -127,8 +127,9 @@ JointVector GcodeMotion::JointsAt(double time_s) const {
 GcodeMotion ParseGcodeMotion(const json::Object& o) {
   GcodeMotion m;
   m.file = o.Get("file").ExistingFile("G-code file");
-  m.orientation.mode = ParseOrientationMode(o.Enum("orientation", "caster", {"fixed", "heading", "caster"}));
+  m.orientation.mode = ParseOrientationMode(o.Enum("orientation", "caster", {"fixed", "heading", "caster", "trailing"}));
   m.orientation.caster_window_m = o.Number("caster_window_mm", 10.0, json::Range::Positive()) * kMetresPerMm;
+  m.orientation.trail_m = o.Number("trail_mm", 10.0, json::Range::Positive()) * kMetresPerMm;
   if (auto v = o.Find("world_from_gcode")) m.world_from_gcode = ReadPose(*v);
   if (auto v = o.Find("nozzle_from_cam")) m.nozzle_from_cam = ReadPose(*v);
   m.start_time_s = o.Number("start_time_s", 0.0, json::Range::NonNegative());
@@ -144,6 +145,7 @@ nlohmann::json GcodeMotionToJson(const GcodeMotion& m) {
                    {"file", std::filesystem::absolute(m.file).lexically_normal().string()},
                    {"orientation", OrientationModeName(m.orientation.mode)},
                    {"caster_window_mm", m.orientation.caster_window_m / kMetresPerMm},
+                   {"trail_mm", m.orientation.trail_m / kMetresPerMm},
                    {"world_from_gcode", PoseToJson(m.world_from_gcode)},
                    {"nozzle_from_cam", PoseToJson(m.nozzle_from_cam)},
                    {"start_time_s", m.start_time_s}};

@@ -159,6 +159,28 @@ TEST(Caster, NoFlipAcrossTheAngleWrap) {
   EXPECT_EQ(tc.jumps, 0u);
 }
 
+TEST(Caster, ExactReversalIsAJumpOf180Degrees) {
+  // Straight back along a 30 mm line at 20 mm/s: the chord shrinks through zero on
+  // its own line w / 2 after the turn, and the caster flips from +x to -x there.
+  auto path = Path("G1 F1200 X30 Y0\nG1 X0 Y0\n");
+  const double v = 0.02, w = 0.01;
+  ToolpathOrientation caster = Orientation(path, OrientationMode::kCaster);
+  const double t_flip = 1.5 + 0.5 * w / v;
+  EXPECT_NEAR(caster.HeadingAt(t_flip - 0.01), 0.0, 1e-12);
+  EXPECT_NEAR(std::abs(caster.HeadingAt(t_flip + 0.01)), M_PI, 1e-12);
+  TurnRates r = caster.ComputeTurnRates();
+  EXPECT_EQ(r.jumps, 1u);
+  EXPECT_NEAR(r.MaxJumpDeg(), 180.0, 1e-12);
+  EXPECT_NEAR(r.max_jump_time_s, t_flip, 1e-12);
+  EXPECT_EQ(r.max_jump_line, 2);
+  // Back along a line offset by 0.1 mm it swings round continuously instead: a rate,
+  // no jump.
+  TurnRates near = Orientation(Path("G1 F1200 X30 Y0\nG1 X30 Y0.1\nG1 X0 Y0.1\n"), OrientationMode::kCaster)
+                       .ComputeTurnRates();
+  EXPECT_EQ(near.jumps, 0u);
+  EXPECT_GT(near.max_rate_rad_s, 100 * v / w);
+}
+
 TEST(Caster, MovesWithoutPlaneMotionKeepTheHeading) {
   // A z move, a retraction and a dwell between two lines: the heading holds.
   auto path = Path("G1 F600 X10 Y0\nG1 Z1\nG1 E-1\nG4 P200\nG1 X10 Y10\n");
