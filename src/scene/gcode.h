@@ -10,6 +10,10 @@
 //                   endstops: the named axes home to 0, a move tagged 28 laying nothing)
 //                   and H2 (motors without kinematics: the same move on a Cartesian
 //                   printer); E with H1-H4 is an error
+//   X.. Y.. Z..     axis words without a command (legacy Cura start scripts' "Z10"): the
+//                   last G0-G3 again (RS-274's modal motion; warned, as Marlin without
+//                   GCODE_MOTION_MODES ignores such a line); an error before any G0-G3
+//                   or after G80 on a line with other commands
 //   G2, G3          arcs clockwise / counter-clockwise in the XY plane, centre by I/J
 //                   offsets from the start, or radius R (R < 0: the arc over 180 degrees);
 //                   Z changing along the arc makes a helix; I/J with end = start is a

@@ -86,6 +86,25 @@ bool HasWord(std::string_view text, std::string_view word) {
 
 }  // namespace
 
+// Axis words without a command on their line: the last G0-G3 again, as RS-274 makes the
+// motion mode modal (LinuxCNC, Grbl, RepRapFirmware; Marlin with GCODE_MOTION_MODES).
+// Legacy Cura's start scripts hold such lines ("G0 X100 Y100" then "Z10"), which were
+// an error that stopped the read. Marlin without that option ignores the line, so what
+// the printer does depends on its firmware: warned, with the line and the count.
+void GcodeReader::ModalMotion(std::string_view code, size_t pos) {
+  const std::string command = CommandName('G', motion_mode_);
+  Warn(kModalMotion, "\"" + std::string(TrimBlanks(code.substr(pos))) + "\": axis words without a command, read as " +
+                         command + ", the last motion command (RS-274's modal motion, as Grbl and RepRapFirmware read "
+                         "it; Marlin without GCODE_MOTION_MODES ignores such a line)");
+  ++commands_on_line_;
+  ReadWords(code, pos, true);
+  if (motion_mode_ <= 1) {
+    Move(motion_mode_);
+  } else {
+    Arc(motion_mode_);
+  }
+}
+
 void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
   // An extended command (Klipper's PRINT_START, EXCLUDE_OBJECT_START NAME=...,
   // SET_PRESSURE_ADVANCE ADVANCE=...): a name of letters, digits and
@@ -119,6 +138,10 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
   char letter = Upper(code[pos]);
   // P: Prusa firmware's (Buddy: XL) "P0 S1 L2 D0", parking the tool in its dock.
   const bool park = letter == 'P' && pos + 1 < code.size() && code[pos + 1] >= '0' && code[pos + 1] <= '9';
+  if (std::string_view("XYZEFIJKR").find(letter) != std::string_view::npos && motion_mode_ >= 0) {
+    ModalMotion(code, pos);
+    return;
+  }
   if (letter != 'G' && letter != 'M' && letter != 'T' && !park) {
     Fail("expected a command (G, M or T), got \"" + std::string(code.substr(pos)) + "\"");
   }
@@ -176,9 +199,9 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
   if (letter == 'G' && integral) {
     switch (n) {
       case 0:
-      case 1: ReadWords(code, pos, true); Move(n); return;
+      case 1: motion_mode_ = n; ReadWords(code, pos, true); Move(n); return;
       case 2:
-      case 3: ReadWords(code, pos, true); Arc(n); return;
+      case 3: motion_mode_ = n; ReadWords(code, pos, true); Arc(n); return;
       case 4: ReadWords(code, pos, true); Dwell(); return;
       case 5:
         // Skipped, the nozzle's path would go on from the curve's start: refused instead.
@@ -239,6 +262,7 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
           PositionUnknown("G80");
         } else {
           ++path_.skipped_commands["G80"];
+          motion_mode_ = -1;  // RS-274's G80 cancels the motion mode: axis words alone are an error again
         }
         return;
       case 53:  // machine coordinates for the rest of the line ("G53 G1 X0 Y200")

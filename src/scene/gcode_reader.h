@@ -65,9 +65,21 @@ class GcodeReader {
 
   // An approximation of the file (Toolpath::warnings): the first of each kind keeps
   // its line and text, later ones are counted.
-  enum WarningKind { kUnclosedParen, kRelativeFromUnknown, kExtraAxes, kProbingTime, kBeadAtUnknown, kWarningKinds };
+  enum WarningKind {
+    kUnclosedParen,
+    kRelativeFromUnknown,
+    kExtraAxes,
+    kProbingTime,
+    kBeadAtUnknown,
+    kModalMotion,
+    kWarningKinds
+  };
   void Warn(WarningKind kind, const std::string& text);
-  int warning_index_[kWarningKinds] = {-1, -1, -1, -1, -1};
+  int warning_index_[kWarningKinds] = {-1, -1, -1, -1, -1, -1};
+  // A line of axis words without a command ("Z10" in a legacy Cura start script): the
+  // last motion command again (RS-274's modal motion), warned.
+  void ModalMotion(std::string_view code, size_t pos);
+  int motion_mode_ = -1;  // the last G0-G3 read (-1: none yet)
   // An extended command the reader does not know (a macro of the printer's
   // configuration: PRINT_START, ...): skipped, one warning per distinct name.
   void UnknownExtendedCommand(const std::string& name);

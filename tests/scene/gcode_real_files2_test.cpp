@@ -1,0 +1,48 @@
+// Constructs met in the second pass over real slicers' files (docs/sequences.md, "Real
+// files checked", second pass), each as a tiny excerpt in the form the file has it.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "scene/gcode.h"
+#include "test_util.h"
+
+namespace lt {
+namespace {
+
+using test::ErrorOf;
+using ::testing::HasSubstr;
+constexpr double kMm = 1e-3;
+
+// Legacy Cura (15.x, "Sliced at:") copies the user's start script, here with a line
+// of axis words alone: "G0 X100 Y100" then "Z10". It was "expected a command (G, M or T),
+// got "Z10"": the file could not be read. The motion command is modal (RS-274; Grbl and
+// RepRapFirmware read it so): Z10 is G0 Z10, warned with its line and count since Marlin
+// without GCODE_MOTION_MODES ignores such a line.
+TEST(GcodeRealFiles2, LegacyCuraAxisWordsWithoutCommandRepeatTheLastMotion) {
+  Toolpath p = ParseGcode(
+      ";Sliced at: Sun 03-07-2016 17:55:50\n;Filament used: 2.584m 20.0g\nG21\nG90\nM82\n"
+      "G28 X0 Y0  ;move X/Y to min endstops\nG0 X100 Y100\nZ10\nG28 Z0\nG1 Z15.0 F100\n"
+      ";LAYER:0\nG0 F10800 X48.217 Y22.131 Z0.300\nG1 F1800 X48.687 Y21.229 E0.01913\n"
+      "X49 Y21 E0.03\n",
+      "legacy.gcode");
+  ASSERT_GE(p.segments.size(), 3u);
+  EXPECT_NEAR(p.segments[1].end_m.z(), 10 * kMm, 1e-12);  // Z10 after G0 X100 Y100
+  EXPECT_EQ(p.segments[1].gcode, 0);
+  EXPECT_NEAR(p.segments[1].end_m.x(), 100 * kMm, 1e-12);
+  EXPECT_NEAR(p.segments.back().end_m.x(), 49 * kMm, 1e-12);  // after G1: a G1 with E
+  EXPECT_EQ(p.segments.back().gcode, 1);
+  EXPECT_NEAR(p.segments.back().extruded_m, (0.03 - 0.01913) * kMm, 1e-12);
+  ASSERT_EQ(p.warnings.size(), 1u);
+  EXPECT_EQ(p.warnings[0].line, 8);
+  EXPECT_EQ(p.warnings[0].count, 2);
+  EXPECT_THAT(p.warnings[0].text, HasSubstr("\"Z10\": axis words without a command, read as G0"));
+  // Without an earlier motion command, or after RS-274's G80 (cancel the motion mode), it is still an error.
+  EXPECT_THAT(ErrorOf([] { ParseGcode("G21\nZ10\n", "z.gcode"); }),
+              HasSubstr("z.gcode:2: expected a command (G, M or T), got \"Z10\""));
+  EXPECT_THAT(ErrorOf([] { ParseGcode("G1 X5 F600\nG17 G80 G90\nX10\n", "z.gcode"); }),
+              HasSubstr("z.gcode:3: expected a command"));
+  EXPECT_THAT(ErrorOf([] { ParseGcode("G1 X5 F600\nZ1 Q2\n", "z.gcode"); }), HasSubstr("z.gcode:2:"));
+}
+
+}  // namespace
+}  // namespace lt
