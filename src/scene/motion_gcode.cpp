@@ -164,6 +164,18 @@ nlohmann::json GcodeMotionToJson(const GcodeMotion& m) {
   return j;
 }
 
+namespace {
+
+// The filament the beads take, to set beside a slicer's "filament used" (mm).
+std::string FilamentNote(const Toolpath& path) {
+  const double beads_mm = path.BeadFilamentLength(false) * 1e3, in_layers_mm = path.BeadFilamentLength(true) * 1e3;
+  return "; filament laid in beads " + Fixed(beads_mm, 3) + " mm" +
+         (in_layers_mm != beads_mm ? " (" + Fixed(in_layers_mm, 3) + " mm within the layers)" : "") + ", net fed " +
+         Fixed(path.ExtrudedLength() * 1e3, 3) + " mm (retractions subtracted)";
+}
+
+}  // namespace
+
 std::vector<std::string> GcodeMotionNotes(const GcodeMotion& m) {
   std::vector<std::string> notes;
   const Toolpath& path = m.toolpath->path();
@@ -175,7 +187,8 @@ std::vector<std::string> GcodeMotionNotes(const GcodeMotion& m) {
                   (path.layers_from_z ? " (from the extrusion heights: no layer comments)" : "") +
                   (sequences > 1 ? " in " + std::to_string(sequences) +
                                        " objects printed one after another (the layer numbers start again at each)"
-                                 : ""));
+                                 : "") +
+                  FilamentNote(path));
   if (path.program_end_line > 0 && path.lines_after_program_end > 0) {
     notes.push_back(m.file.string() + ":" + std::to_string(path.program_end_line) + ": " + path.program_end_command +
                     " ends the program; " + std::to_string(path.lines_after_program_end) + " line" +

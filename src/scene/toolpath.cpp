@@ -51,6 +51,14 @@ double Toolpath::ExtrudedLength() const {
   return sum;
 }
 
+double Toolpath::BeadFilamentLength(bool within_layers) const {
+  double sum = 0;
+  for (const auto& s : segments) {
+    if (s.LaysBead() && (!within_layers || s.layer != ToolpathSegment::kNoLayer)) sum += s.extruded_m;
+  }
+  return sum;
+}
+
 double Toolpath::PathLength() const {
   double sum = 0;
   for (const auto& s : segments) sum += s.length_m;

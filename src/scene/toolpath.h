@@ -119,6 +119,10 @@ struct Toolpath {
   // Sums over all segments: the net filament fed in (retractions subtract, so a
   // retract and its re-prime cancel) and the distance travelled.
   double ExtrudedLength() const;
+  // The filament fed by the moves that lay beads (ToolpathSegment::LaysBead: not the
+  // retractions, primes and wipes), all of them or only those inside a layer (not a start
+  // script's purge lines before the first layer): what a slicer's "filament used" counts.
+  double BeadFilamentLength(bool within_layers) const;
   double PathLength() const;
   // Layers printed: the distinct layers among the moves that lay beads (outside any
   // layer counts as none), counted in each run of them that LayerSequences finds.

@@ -73,6 +73,9 @@ TEST(GcodeMotion, NozzleFrameAndCameraAlongTheSquare) {
   Pose end = WorldFromCamAt(heading, 100);
   EXPECT_TRUE((end.linear() * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d(-1, 0, 0), 1e-15));
   EXPECT_TRUE(MotionNotes(fixed).size() == 2u);
+  // The filament the beads take, beside what a slicer's "filament used" says.
+  EXPECT_THAT(MotionNotes(fixed)[0], HasSubstr("1 layer (from the extrusion heights: no layer comments); filament laid "
+                                               "in beads 3.000 mm, net fed 3.000 mm (retractions subtracted)"));
   EXPECT_THAT(MotionNotes(heading)[1], HasSubstr("2 instantaneous turns, the largest 90.0 deg"));
 }
 

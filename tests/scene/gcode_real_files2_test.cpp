@@ -44,5 +44,19 @@ TEST(GcodeRealFiles2, LegacyCuraAxisWordsWithoutCommandRepeatTheLastMotion) {
   EXPECT_THAT(ErrorOf([] { ParseGcode("G1 X5 F600\nZ1 Q2\n", "z.gcode"); }), HasSubstr("z.gcode:2:"));
 }
 
+// A slicer's "filament used" counts what its beads take: the toolpath's
+// BeadFilamentLength sums the moves that lay beads, all of them or those inside the
+// layers (a start script's purge line is outside: Cura's figure leaves it out,
+// PrusaSlicer's counts it); retractions, primes and wipes are no beads.
+TEST(GcodeRealFiles2, BeadFilamentIsWhatTheBeadsTake) {
+  Toolpath p = ParseGcode(
+      "M83\nG1 Z0.3 F600\nG1 X60 E9 ; purge\nG1 E-1\n;LAYER:0\nG1 X70 Y10\nG1 E1\nG1 X80 E0.5\n"
+      "G1 X90 E0.25\nG1 E-0.8\n;WIPE_START\nG1 X85 E-0.2\n;WIPE_END\nG1 Z0.5\nG1 E2 ; prime in place\n",
+      "beads.gcode");
+  EXPECT_NEAR(p.BeadFilamentLength(false), 9.75 * kMm, 1e-12);
+  EXPECT_NEAR(p.BeadFilamentLength(true), 0.75 * kMm, 1e-12);
+  EXPECT_NEAR(p.ExtrudedLength(), (9.75 - 1 + 1 - 0.8 - 0.2 + 2) * kMm, 1e-12);
+}
+
 }  // namespace
 }  // namespace lt
