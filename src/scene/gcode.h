@@ -72,7 +72,7 @@
 // z=..") start the next layer (with height h); Simplify3D's "; feature name", KISSlicer's "; 'Name Path', ..." and
 // CraftWare's ";segType:name" name the type; header "layerHeight,", "filamentDiameters,"
 // (Simplify3D), "layer_thickness_mm =", "fiber_dia_mm =" (KISSlicer), "sliceHeight ="
-// (Kiri:Moto); ";FLAVOR:UltiGCode" (Cura for Ultimaker 2): E in mm^3, held as lengths of
+// (Kiri:Moto), "Filament Diameter #1:" (ideaMaker); ";FLAVOR:UltiGCode" (Cura for Ultimaker 2): E in mm^3, held as lengths of
 // 2.85 mm filament; ";FLAVOR:Marlin(Volumetric)" (Cura's RepRap (Volumetric)): E in
 // mm^3, held as lengths of Marlin's nominal 1.75 mm filament. Comments hold
 // millimetres under G20 too. A file without any layer comment takes its layers from

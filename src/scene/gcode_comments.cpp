@@ -139,6 +139,8 @@ void GcodeReader::Comment(std::string_view comment) {
   } else if (StartsWith(c, "filament_diameter =")) {
     std::string_view list = c.substr(19);  // "1.75" or "1.75,1.75" (one per extruder)
     path_.filament_diameter_m = *CommentNumber(list.substr(0, list.find(',')), "filament_diameter") * kMetresPerMm;
+  } else if (StartsWith(c, "Filament Diameter #1:")) {  // ideaMaker: one line per extruder, #1 the first
+    path_.filament_diameter_m = *CommentNumber(c.substr(21), "Filament Diameter") * kMetresPerMm;
   } else if (StartsWith(c, "fiber_dia_mm =")) {  // KISSlicer
     path_.filament_diameter_m = *CommentNumber(c.substr(14), "fiber_dia_mm") * kMetresPerMm;
   } else if (StartsWith(c, "filamentDiameters,")) {  // Simplify3D: "1.75|1.75|..." (one per extruder)

@@ -58,5 +58,21 @@ TEST(GcodeRealFiles2, BeadFilamentIsWhatTheBeadsTake) {
   EXPECT_NEAR(p.ExtrudedLength(), (9.75 - 1 + 1 - 0.8 - 0.2 + 2) * kMm, 1e-12);
 }
 
+// ideaMaker states the filament's diameter once per extruder (";Filament Diameter #1:
+// 2.850", a real 5.1.4 file's header has 1.750 for a Raise3D Pro3), and its filament
+// compensation as "M221 T0 S90.00" before any move. The diameter was not read: the beads
+// of a 2.85 mm file took the volume of 1.75 mm filament, 0.38 times what it lays.
+TEST(GcodeRealFiles2, IdeaMakerFilamentDiameterAndCompensation) {
+  Toolpath p = ParseGcode(
+      ";Sliced by ideaMaker 5.1.4.8480, 2025-03-11 18:58:10 UTC+0100\n;Filament Diameter #1: 2.850\n"
+      ";Filament Diameter #2: 1.750\n;Filament Compensation #1: 90.000\n;Firmware: RepRapFirmware\n"
+      "M221 T0 S90.00\nM104 T0 S215.00\nT0\nM572 D0 S0.03\nG21\nG90\nM82\nG28\nG92 E0\n"
+      ";LAYER:0\n;Z:0.300\n;HEIGHT:0.300\nG1 F2400 E-0.5000\nG0 F9000 X129.762 Y125.070\nG0 F300 Z0.300\n"
+      ";TYPE:SKIRT\n;WIDTH:0.440\nG1 F1500 E0.0000\nG1 F900 X130.426 Y124.455 E0.0472\n",
+      "idea.gcode");
+  EXPECT_NEAR(p.filament_diameter_m, 2.85 * kMm, 1e-15);
+  EXPECT_NEAR(p.BeadFilamentLength(true), 0.9 * 0.0472 * kMm, 1e-15);  // M221 T0 S90 holds for tool 0
+}
+
 }  // namespace
 }  // namespace lt
