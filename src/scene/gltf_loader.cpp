@@ -29,6 +29,12 @@ namespace {
 // naming the first kListed places. A CAD assembly or a viewer's export with an
 // edge outline per part would otherwise print one line per part.
 constexpr size_t kListed = 3;
+std::string ListFirst(const std::vector<std::string>& places) {
+  std::string list;
+  for (size_t i = 0; i < std::min(kListed, places.size()); ++i) list += (i ? ", " : "") + places[i];
+  if (places.size() > kListed) list += " and " + std::to_string(places.size() - kListed) + " more";
+  return list;
+}
 void AddListed(const std::string& file, const std::vector<std::string>& places,
                const std::function<std::string(const std::string&)>& one, const std::string& many,
                std::vector<std::string>* warnings) {
@@ -36,10 +42,7 @@ void AddListed(const std::string& file, const std::vector<std::string>& places,
     for (const std::string& place : places) warnings->push_back(file + ": " + one(place));
     return;
   }
-  std::string list;
-  for (size_t i = 0; i < kListed; ++i) list += (i ? ", " : "") + places[i];
-  warnings->push_back(file + ": " + many + ": " + list + " and " + std::to_string(places.size() - kListed) +
-                      " more");
+  warnings->push_back(file + ": " + many + ": " + ListFirst(places));
 }
 
 // ---------------------------------------------------------------- file access for tinygltf
@@ -191,7 +194,8 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
 
   image_ctx.errors.resize(model.images.size());
   const GltfSource src{model, file, &image_ctx.errors};
-  asset.materials = ConvertGltfMaterials(src, &asset.warnings);
+  std::vector<bool> metallic_by_default;
+  asset.materials = ConvertGltfMaterials(src, &asset.warnings, &metallic_by_default);
   std::vector<GltfNodeUse> uses = WalkGltfScene(src, &asset.warnings);
 
   const uint32_t default_material = uint32_t(asset.materials.size());
@@ -243,6 +247,17 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
   }
   AddListed(file, empty_meshes, [](const std::string& name) { return "mesh " + name + " has no triangles; it is skipped"; },
             std::to_string(empty_meshes.size()) + " meshes have no triangles; they are skipped", &asset.warnings);
+  std::vector<bool> used(asset.materials.size(), false);
+  for (const Mesh& mesh : asset.meshes) {
+    for (uint32_t id : mesh.triangle_material) {
+      if (id < used.size()) used[id] = true;
+    }
+  }
+  std::vector<std::string> metals;
+  for (size_t i = 0; i < used.size(); ++i) {
+    if (used[i] && metallic_by_default[i]) metals.push_back("\"" + asset.materials[i].name + "\"");
+  }
+  if (!metals.empty()) asset.metallic_by_default = (metals.size() == 1 ? "material " : "materials ") + ListFirst(metals);
   if (uses_default) asset.materials.push_back(DefaultMaterial());
   asset.uses_default_material = uses_default;
   if (!model.cameras.empty() || !model.lights.empty()) {

@@ -49,6 +49,11 @@ struct GltfAsset {
   std::vector<GltfInstance> instances;
   size_t degenerate_triangles = 0;   // dropped while loading
   bool uses_default_material = false;  // some primitive has no material ("default" is last in materials)
+  // The materials some triangle uses whose metallic is glTF's default 1 for want of a
+  // metallicFactor (ConvertGltfMaterials), for a warning: `material "a"`, `materials
+  // "a", "b", "c" and 2 more`, empty if none. Metal, which their exporter hardly meant;
+  // the scene warns about them unless the object sets its material.
+  std::string metallic_by_default;
   std::vector<std::string> warnings; // each prefixed with the file name
 };
 

@@ -110,7 +110,8 @@ constexpr const char* kIgnoredMaterialExtensions[] = {
 
 }  // namespace
 
-std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<std::string>* warnings) {
+std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<std::string>* warnings,
+                                           std::vector<bool>* metallic_by_default) {
   const auto& m = src.model;
   std::vector<std::shared_ptr<const Texture>> textures(m.textures.size());
   std::vector<Material> out;
@@ -278,6 +279,12 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
                       mat.roughness = float(mat.roughness * mean[1]);
                       return text;
                     });
+    }
+    if (metallic_by_default) {
+      // tinygltf fills `values` with the pbrMetallicRoughness keys the file writes.
+      metallic_by_default->push_back(!unlit && pbr.metallicRoughnessTexture.index < 0 &&
+                                     gm.values.count("metallicFactor") == 0 &&
+                                     gm.extensions.count("KHR_materials_pbrSpecularGlossiness") == 0);
     }
     if (unlit) {
       mat.metallic = 0;

@@ -16,6 +16,12 @@ namespace lt {
 // occlusion textures) are ignored with a warning; metallic-roughness, emissive and
 // specular-glossiness textures, which are not sampled either, scale their factors
 // by their mean texel, with a warning.
-std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<std::string>* warnings);
+// metallic_by_default (optional) receives, per material, whether its metallic is
+// glTF's default 1 for want of a `metallicFactor` (and of a metallic-roughness
+// texture, KHR_materials_unlit or _pbrSpecularGlossiness, which set it): a metal,
+// which exporters that never write the factor did not mean (COLLADA2GLTF, Blender's
+// first exporter, KHR_materials_common materials).
+std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<std::string>* warnings,
+                                           std::vector<bool>* metallic_by_default = nullptr);
 
 }  // namespace lt

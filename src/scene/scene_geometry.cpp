@@ -93,6 +93,7 @@ SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
     size_t first_mesh;
     std::vector<GltfInstance> instances;
     bool uses_default_material;
+    std::string metallic_by_default;
   };
   std::map<std::filesystem::path, Loaded> loaded;
   for (size_t oi = 0; oi < scene.objects.size(); ++oi) {
@@ -106,7 +107,7 @@ SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
       GltfAsset asset = LoadGltf(obj.gltf, obj.gltf.string());
       const uint32_t material_base = uint32_t(g.materials.size());
       for (auto& m : asset.materials) g.materials.push_back(std::move(m));
-      Loaded l{g.meshes.size(), std::move(asset.instances), asset.uses_default_material};
+      Loaded l{g.meshes.size(), std::move(asset.instances), asset.uses_default_material, asset.metallic_by_default};
       for (auto& mesh : asset.meshes) {
         for (auto& id : mesh.triangle_material) id += material_base;
         g.meshes.push_back(std::move(mesh));
@@ -122,6 +123,13 @@ SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
                            " has primitives without a material, which take glTF's default: white metal of roughness 1 "
                            "(a laser line on it is a conductor's reflection, not the diffuse line on plastic); give "
                            "the object a \"material\"");
+    }
+    if (override_id < 0 && !it->second.metallic_by_default.empty()) {
+      // COLLADA2GLTF, Blender's first exporter and KHR_materials_common write no metallicFactor.
+      g.warnings.push_back("object \"" + obj.name + "\": " + obj.gltf.string() + ": no metallicFactor in " +
+                           it->second.metallic_by_default +
+                           ", which glTF then makes metal (metallic 1: a laser line on it is a conductor's reflection, "
+                           "not the diffuse line on plastic); give the object a \"material\" if the part is not metal");
     }
     for (const GltfInstance& gi : it->second.instances) {
       SceneInstance inst;
