@@ -2,6 +2,8 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <cctype>
+
 #if defined(__SANITIZE_ADDRESS__)
 #include <sanitizer/lsan_interface.h>
 #endif
@@ -138,6 +140,20 @@ void Write(const std::filesystem::path& path, const Image<T>& image, OIIO::TypeD
   });
 }
 
+// The alpha channel: the one the reader marks, else a last channel named A or
+// Alpha after grey or RGB ones (OpenImageIO 2.4's GIF reader names its fourth
+// channel A but marks channel 4, which does not exist); -1 when none.
+int AlphaChannelOf(const OIIO::ImageSpec& spec) {
+  const int n = spec.nchannels;
+  if (spec.alpha_channel >= 0 && spec.alpha_channel < n) return spec.alpha_channel;
+  if ((n == 2 || n == 4) && int(spec.channelnames.size()) == n) {
+    std::string name = spec.channelnames[size_t(n - 1)];
+    for (char& ch : name) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    if (name == "a" || name == "alpha") return n - 1;
+  }
+  return -1;
+}
+
 }  // namespace
 
 Image<float> ReadImageChannels(const std::filesystem::path& path, const std::vector<std::string>& names) {
@@ -180,7 +196,7 @@ AnyImage ReadImage(const std::filesystem::path& path, AlphaChannel alpha) {
   } else {
     image = ReadFloatRaw(*in, spec, path);
   }
-  const int a = spec.alpha_channel;
+  const int a = AlphaChannelOf(spec);
   if (alpha == AlphaChannel::kDrop && a >= 0 && a < spec.nchannels && spec.nchannels > 1) {
     std::visit([a](auto& img) { img = WithoutChannel(img, a); }, image);
   }

@@ -85,7 +85,7 @@ const Colorizer::Bright* Colorizer::Load(size_t position) {
   const std::string context = " (bright frame " + std::to_string(f.index) + ", " + f.where + ")";
   AnyImage any;
   try {
-    any = ReadImage(f.image);
+    any = ReadImage(f.image, AlphaChannel::kDrop);
   } catch (const InputError& e) {
     throw InputError(e.where(), e.message() + context);
   }

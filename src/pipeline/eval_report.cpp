@@ -58,7 +58,7 @@ std::string Stat(const ErrorStats& s, double ErrorStats::*field, int decimals) {
 // unless RGB.
 std::optional<std::string> FramePng(const RunFrame& frame) {
   try {
-    AnyImage any = ReadImage(frame.image);
+    AnyImage any = ReadImage(frame.image, AlphaChannel::kDrop);
     double full = 1;
     if (std::holds_alternative<Image<uint8_t>>(any)) full = frame.FullScale(255);
     if (std::holds_alternative<Image<uint16_t>>(any)) full = frame.FullScale(65535);

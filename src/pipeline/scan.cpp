@@ -221,7 +221,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     fs::remove(run_dir / ScanCentersName(frame.index), ec);
     AnyImage image;
     try {
-      image = ReadImage(frame.image);
+      image = ReadImage(frame.image, AlphaChannel::kDrop);  // a camera frame's alpha is coverage, not light
     } catch (const InputError& e) {
       throw InputError(e.where(), e.message() + context);
     }

@@ -24,6 +24,22 @@ double FullScale() {
   return 1.0;
 }
 
+// Whether every pixel holds the same value in all its channels (a grey image
+// stored as colour).
+template <typename T>
+bool ChannelsAreEqual(const ImageView<T>& view) {
+  const int C = view.channels;
+  for (int y = 0; y < view.height; ++y) {
+    const T* row = view.Row(y);
+    for (int x = 0; x < view.width; ++x) {
+      for (int c = 1; c < C; ++c) {
+        if (row[x * C + c] != row[x * C]) return false;
+      }
+    }
+  }
+  return true;
+}
+
 // Copies `src` transposed into `dst` (dst row i = src column i).
 template <typename T>
 void Transpose(const ImageView<T>& src, T* dst) {
@@ -263,9 +279,16 @@ void StripeExtractor::Extract(const ImageView<T>& image, std::vector<StripePoint
     throw InputError("", std::to_string(o.channel_weights.size()) + " channel weights given" + channels_of +
                              std::to_string(C) + (C == 1 ? " channel" : " channels"));
   }
+  // A grey image stored in colour channels (as many tools save monochrome frames:
+  // BMP, PPM, GIF, WebP, RGB PNG) has one brightness: its first channel. A colour
+  // image needs the laser's channel named.
+  int channel = o.channel;
   if (!bayer && C > 1 && o.channel < 0 && o.channel_weights.empty()) {
-    throw InputError("", "the image has " + std::to_string(C) +
-                             " channels: choose the laser's channel (--channel, 0-based) or give channel weights (--weights, e.g. 1,0,0 for red)");
+    if (!ChannelsAreEqual(view)) {
+      throw InputError("", "the image has " + std::to_string(C) +
+                               " channels: choose the laser's channel (--channel, 0-based) or give channel weights (--weights, e.g. 1,0,0 for red)");
+    }
+    channel = 0;
   }
   if constexpr (std::is_floating_point_v<T>) {
     for (int y = 0; y < view.height; ++y) {
@@ -312,7 +335,7 @@ void StripeExtractor::Extract(const ImageView<T>& image, std::vector<StripePoint
   } else if (C > 1) {
     auto& buf = impl_->Buffer<T>(0);
     buf.resize(size_t(W) * H);
-    const int c = o.channel;
+    const int c = channel;
     for (int y = 0; y < H; ++y) {
       const T* row = view.Row(y);
       T* out = buf.data() + size_t(y) * W;

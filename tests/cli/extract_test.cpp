@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <sstream>
 
 #include "core/image.h"
 #include "core/image_io.h"
@@ -212,6 +213,58 @@ TEST_F(ExtractCommand, AlphaChannelIsLeftOut) {
   EXPECT_EQ(w.out, ref.out);
   ExpectInputError(Quoted(dir_ / "rgba.png") + " --channel 3",
                    (dir_ / "rgba.png").string() + ": channel 3 requested but the image has 3 channels");
+}
+
+// A grey frame stored in colour channels (BMP, PPM, WebP and GIF hold no grey; many
+// tools save monochrome frames as RGB) is grey: extracted from its one brightness
+// without a channel choice. A GIF (ImageMagick 6.9's, 16x6, palette of 16 greys, a
+// stripe at u = 7.3 in rows 0-4 and row 5 transparent) reads as RGB plus an alpha
+// that OpenImageIO 2.4 names A but marks as channel 4 of 4; it is left out. Before,
+// "the image has 3 channels" and "the image has 4 channels".
+TEST_F(ExtractCommand, GreyStoredAsColourNeedsNoChannel) {
+  const Image<uint8_t> mono = StripeImage();
+  Image<uint8_t> rgb(mono.width, mono.height, 3);
+  for (int y = 0; y < mono.height; ++y)
+    for (int x = 0; x < mono.width; ++x)
+      for (int c = 0; c < 3; ++c) rgb.At(x, y, c) = mono.At(x, y);
+  WriteImage(dir_ / "mono.png", mono);
+  WriteImage(dir_ / "grey_rgb.png", rgb);
+  const CliResult ref = RunCli("extract " + Quoted(dir_ / "mono.png"));
+  ASSERT_EQ(ref.exit_code, 0) << ref.err;
+  const CliResult r = RunCli("extract " + Quoted(dir_ / "grey_rgb.png"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, ref.out);
+  // One pixel's channels differing makes it colour.
+  rgb.At(3, 4, 1) = uint8_t(rgb.At(3, 4, 1) + 1);
+  WriteImage(dir_ / "tinted.png", rgb);
+  ExpectInputError(Quoted(dir_ / "tinted.png"), (dir_ / "tinted.png").string() + ": the image has 3 channels: choose");
+
+  const unsigned char gif[] = {
+      0x47, 0x49, 0x46, 0x38, 0x39, 0x61, 0x10, 0x00, 0x06, 0x00, 0xf3, 0x00,
+      0x00, 0x00, 0x00, 0x00, 0x01, 0x01, 0x01, 0x03, 0x03, 0x03, 0x0a, 0x0a,
+      0x0a, 0x14, 0x14, 0x14, 0x2d, 0x2d, 0x2d, 0x46, 0x46, 0x46, 0x78, 0x78,
+      0x78, 0x9d, 0x9d, 0x9d, 0xcd, 0xcd, 0xcd, 0xe0, 0xe0, 0xe0, 0x00, 0x00,
+      0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+      0x00, 0x21, 0xf9, 0x04, 0x01, 0x00, 0x00, 0x0b, 0x00, 0x2c, 0x00, 0x00,
+      0x00, 0x00, 0x10, 0x00, 0x06, 0x00, 0x00, 0x04, 0x20, 0x10, 0x48, 0x40,
+      0x0c, 0x52, 0xe9, 0x94, 0x31, 0xbb, 0xa8, 0x57, 0xb6, 0x75, 0xd3, 0x67,
+      0x61, 0xda, 0x20, 0x90, 0x80, 0x19, 0xa6, 0x6c, 0x0b, 0xa2, 0xe3, 0xb4,
+      0xdc, 0x78, 0xae, 0x2f, 0x11, 0x00, 0x3b,
+  };
+  WriteBytes(dir_ / "stripe.gif", std::string(reinterpret_cast<const char*>(gif), sizeof(gif)));
+  const CliResult g = RunCli("extract " + Quoted(dir_ / "stripe.gif") + " --min-width 0");
+  ASSERT_EQ(g.exit_code, 0) << g.err;
+  std::istringstream lines(g.out);
+  std::string line;
+  std::getline(lines, line);
+  EXPECT_EQ(line, "u,v,width,strength");
+  int rows = 0;
+  while (std::getline(lines, line)) {
+    EXPECT_NEAR(std::stod(line), 7.3, 0.05) << line;  // 16 grey levels: 0.02 px of quantisation
+    EXPECT_EQ(std::stoi(line.substr(line.find(',') + 1)), rows) << line;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 5);  // the transparent row reads black
 }
 
 // A 12-bit camera's frame stored unscaled in a 16-bit PNG (values < 4096) is far

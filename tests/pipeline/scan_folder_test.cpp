@@ -139,6 +139,32 @@ TEST(ScanFolder, FramesWithAPoseFileAreStitchedInTheWorld) {
   EXPECT_EQ(ReadPly(run.dir / "cloud.ply").points.size(), size_t(s.triangulated));
 }
 
+// Frames saved with an alpha channel (grey + alpha, as some camera software and
+// image editors write PNGs) scan as the grey frames they are, as `extract` reads
+// them: the alpha is coverage, not light. Before, "the image has 2 channels".
+TEST(ScanFolder, FramesWithAnAlphaChannelScanAsGrey) {
+  SyntheticRun run = MakeCapture("folder_alpha");
+  for (const char* n : {"img1.png", "img2.png", "img10.png"}) {
+    const fs::path path = run.dir / "frames" / n;
+    const Image<uint16_t> grey = std::get<Image<uint16_t>>(ReadImage(path));
+    Image<uint16_t> with_alpha(grey.width, grey.height, 2);
+    for (int y = 0; y < grey.height; ++y) {
+      for (int x = 0; x < grey.width; ++x) {
+        with_alpha.At(x, y, 0) = grey.At(x, y, 0);
+        with_alpha.At(x, y, 1) = 65535;
+      }
+    }
+    WriteImage(path, with_alpha);
+    ASSERT_EQ(ReadImageFileSize(path).channels, 2);
+  }
+  ScanOptions o;
+  o.poses = WritePoses(run.dir / "poses.csv", 3);
+  o.bit_depth = 10;
+  ScanSummary s = ScanRun(run.dir, o);
+  EXPECT_EQ(s.laser_frames, 3);
+  ExpectWorldPoints(run, 3, Pose::Identity());
+}
+
 // With a calibration file's hand-eye pose the file gives the tool's poses:
 // world = world_from_tool · tool_from_cam · p_in_cam.
 TEST(ScanFolder, PoseFileGivesToolPosesWithAHandEyeCalibration) {
