@@ -27,22 +27,45 @@ constexpr double kDegToRad = M_PI / 180.0;
 // A time without a unit this large is no time in seconds (3e9 years): nanoseconds.
 constexpr double kNanosecondTimes = 1e17;
 
-// Fields separated by ';' (spreadsheets with a decimal comma), tab, ',' or
-// blanks, without the double quotes spreadsheets put around them.
+// Fields separated by ';' (spreadsheets with a decimal comma), tab, ',' or blanks,
+// without the double quotes spreadsheets put around them. A separator inside double
+// quotes or brackets separates nothing: PlotJuggler names a covariance's elements
+// "/odom/pose/covariance[0;1]", other writers "cov[4,4]", quoted or not.
 std::vector<std::string_view> SplitRow(std::string_view line, char* separator) {
-  std::vector<std::string_view> fields;
-  *separator = ' ';
-  for (char c : {';', '\t', ','}) {
-    if (line.find(c) != std::string_view::npos) {
-      *separator = c;
-      break;
+  // Calls f(i) for each character outside quotes and brackets.
+  auto outside = [&](auto f) {
+    bool quoted = false;
+    int depth = 0;
+    for (size_t i = 0; i < line.size(); ++i) {
+      const char c = line[i];
+      if (c == '"') quoted = !quoted;
+      if (quoted) continue;
+      if (c == '[') ++depth;
+      if (c == ']' && depth > 0) --depth;
+      if (depth == 0 && !f(i)) return;
     }
+  };
+  *separator = ' ';
+  for (char s : {';', '\t', ','}) {
+    outside([&](size_t i) { return line[i] == s ? (*separator = s, false) : true; });
+    if (*separator != ' ') break;
   }
-  fields = *separator == ' ' ? SplitBlanks(line) : SplitFields(line, *separator);
+  if (*separator == ' ') return SplitBlanks(line);
+  std::vector<std::string_view> fields;
+  size_t begin = 0;
+  outside([&](size_t i) {
+    if (line[i] == *separator) fields.push_back(TrimBlanks(line.substr(begin, i - begin))), begin = i + 1;
+    return true;
+  });
+  fields.push_back(TrimBlanks(line.substr(begin)));
   for (std::string_view& f : fields) {
     if (f.size() >= 2 && f.front() == '"' && f.back() == '"') f = TrimBlanks(f.substr(1, f.size() - 2));
   }
   return fields;
+}
+
+bool IsMatrix(Rotation r) {
+  return r == Rotation::kMatrix3x4 || r == Rotation::kMatrix4x4 || r == Rotation::kMatrixColumns;
 }
 
 bool AllNumbers(const std::vector<std::string_view>& fields) {
@@ -51,15 +74,17 @@ bool AllNumbers(const std::vector<std::string_view>& fields) {
 
 Pose RowPose(const Layout& l, const std::vector<double>& v, double scale, const std::string& where) {
   Pose pose = Pose::Identity();
-  if (l.rotation == Rotation::kMatrix3x4 || l.rotation == Rotation::kMatrix4x4) {
+  if (IsMatrix(l.rotation)) {
+    // The matrix's row-major elements: the row's first 12 or 16 numbers, or the named columns.
+    auto e = [&](int k) { return v[size_t(l.rotation == Rotation::kMatrixColumns ? l.m[k] : k)]; };
     Eigen::Matrix3d R;
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) R(i, j) = v[size_t(4 * i + j)];
-    pose.translation() = Eigen::Vector3d(v[3], v[7], v[11]) * scale;
-    if (l.rotation == Rotation::kMatrix4x4 &&
-        !(v[12] == 0 && v[13] == 0 && v[14] == 0 && v[15] == 1)) {
-      throw InputError(where, "the last row of a 4x4 pose must be 0 0 0 1, got " + FormatNumber(v[12]) + " " +
-                                  FormatNumber(v[13]) + " " + FormatNumber(v[14]) + " " + FormatNumber(v[15]));
+      for (int j = 0; j < 3; ++j) R(i, j) = e(4 * i + j);
+    pose.translation() = Eigen::Vector3d(e(3), e(7), e(11)) * scale;
+    if (l.rotation != Rotation::kMatrix3x4 && !(e(12) == 0 && e(13) == 0 && e(14) == 0 && e(15) == 1)) {
+      throw InputError(where, "the last row of a 4x4 pose must be 0 0 0 1, got " + FormatNumber(e(12)) + " " +
+                                  FormatNumber(e(13)) + " " + FormatNumber(e(14)) + " " + FormatNumber(e(15)) +
+                                  (l.rotation == Rotation::kMatrixColumns ? " (its elements are read column-major)" : ""));
     }
     const double ortho = (R * R.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
     const double det = R.determinant();
@@ -132,6 +157,12 @@ PoseFile ParsePoseFile(const std::string& file_text, const std::string& name, co
     ++line_no;
     if (line.empty()) continue;
     if (line.front() == '#') {
+      if (line.find("Image list with two lines of data per image") != std::string_view::npos) {
+        throw InputError(name + ":" + std::to_string(line_no),
+                         "COLMAP's images.txt is not read as poses: its QW QX QY QZ TX TY TZ are camera_from_world (the "
+                         "inverse of world_from_cam), two lines per image, in image id order: write world_from_cam "
+                         "per frame, in frame order, e.g. x,y,z,qx,qy,qz,qw");
+      }
       last_comment = std::string(line.substr(1));
       last_comment_line = int(line_no);
       continue;
@@ -170,9 +201,10 @@ PoseFile ParsePoseFile(const std::string& file_text, const std::string& name, co
       const auto number = ParseFiniteNumber(fields[i]);
       if (!number) {
         // Skipped columns (time, image name) may hold anything.
-        bool used = layout->rotation == Rotation::kMatrix3x4 || layout->rotation == Rotation::kMatrix4x4;
+        bool used = IsMatrix(layout->rotation) && layout->rotation != Rotation::kMatrixColumns;
         for (int k : layout->t) used |= k == int(i);
         for (int k : layout->r) used |= k == int(i);
+        for (int k : layout->m) used |= k == int(i);
         if (!used) continue;
         const bool decimal_comma = fields[i].find(',') != std::string_view::npos;
         if (fields[i].empty()) {
@@ -191,7 +223,12 @@ PoseFile ParsePoseFile(const std::string& file_text, const std::string& name, co
     out.lines.push_back(int(line_no));
     if (layout->time >= 0 && out.times_s.size() + 1 == out.poses.size()) {
       // A time that is no number (a date) leaves the file without times: poses go by row.
-      const auto t = ParseFiniteNumber(fields[size_t(layout->time)]);
+      auto t = ParseFiniteNumber(fields[size_t(layout->time)]);
+      if (t && layout->time_nanosec >= 0) {
+        // ROS's stamp in two columns: sec + nanosec * 1e-9 (a double holds 1.7e9 s to 0.24 us).
+        const auto ns = ParseFiniteNumber(fields[size_t(layout->time_nanosec)]);
+        t = ns ? std::optional<double>(*t + *ns * 1e-9) : std::nullopt;
+      }
       if (t && out.times_s.empty() && !layout->time_unit_known && std::abs(*t) >= kNanosecondTimes) {
         layout->time_to_s = 1e-9;  // seconds since 1970 are ~1.7e9, nanoseconds ~1.7e18 (EuRoC's #timestamp)
         layout->form += ", times in ns";

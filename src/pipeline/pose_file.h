@@ -13,20 +13,29 @@
 //     field.pose.position.x, field.pose.orientation.w, field.transform.rotation.w;
 //     a time: t, time, timestamp, stamp (seconds, or the unit in brackets: s,
 //     ms, us, ns), t_s, time_s, timestamp_s, t_ns, time_ns, timestamp_ns; ROS's
-//     field.header.stamp (ns) before its %time (ns); a time without a unit
-//     >= 1e17 is in ns (EuRoC's #timestamp);
+//     field.header.stamp (ns) before its %time (ns); PlotJuggler's
+//     /topic/header/stamp (s); a stamp in two columns, seconds and nanoseconds
+//     (ROS 2's header.stamp.sec + header.stamp.nanosec, ROS 1's secs + nsecs,
+//     stamp_sec + stamp_nsec), before a time of one column; a time without a
+//     unit >= 1e17 is in ns (EuRoC's #timestamp);
 //     columns named frame, index, image, file, filename, id or name are skipped,
 //     and those of other quantities: velocities, biases, covariances, twists,
 //     ROS's header.seq and frame_id, ABB's cf1 cf4 cf6 cfx, move_type, speed,
-//     zone. In a UR RTDE log every field but actual_TCP_pose_0..5 is skipped
+//     zone, PlotJuggler's roll_deg, pitch_deg, yaw_deg beside the quaternion they
+//     derive from. In a UR RTDE log every field but actual_TCP_pose_0..5 is skipped
 //     (target_TCP_pose too, read when it is the only pose: a planned path); in a
-//     KUKA RSI log every field but its actual pose X_RIst..C_RIst (mm, degrees).
+//     KUKA RSI log every field but its actual pose X_RIst..C_RIst (mm, degrees);
+//     in a Franka log every field but its O_T_EE (O_T_EE[0..15], field.O_T_EE0..15:
+//     a 4x4 matrix column-major, m; a log of its commanded pose only is refused).
 //     Any other name is an error: it may be a second pose (x2, pose_b_x), or a
 //     tool, work object or external axis changing the pose's frame.
 //     OptiTrack Motive's CSV export (settings, Type, Name, ID, Rotation/Position
 //     rows above Frame,Time,X,Y,Z,W,X,Y,Z): its one rigid body's quaternion and
 //     position, in its length unit (pose_file_motive.h); Vicon Nexus exports
-//     (several header rows, angles in degrees) are refused.
+//     (several header rows, angles in degrees), Qualisys QTM TSV exports (Euler
+//     angles of a definition the file does not give) and JSON files (nerfstudio's
+//     OpenGL camera axes) are refused. Fields may be double-quoted; a separator
+//     inside quotes or brackets ("covariance[0;1]") separates nothing.
 //   rows of numbers without a header:
 //     7  x y z + quaternion: its order (w first or last) must be given (order)
 //     8  blank separated: TUM (timestamp tx ty tz qx qy qz qw); comma separated:

@@ -9,171 +9,9 @@
 
 #include "core/error.h"
 #include "core/text_fields.h"
+#include "pipeline/pose_file_names.h"
 
 namespace lt::pose_file_detail {
-
-std::string Lower(std::string_view s) {
-  std::string out(s);
-  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return out;
-}
-
-namespace {
-
-// A column name without its unit ("x [mm]", "x (m)", "x_mm", "x_m"), lower case, and that unit.
-std::string NameAndUnit(std::string_view field, std::string* unit) {
-  std::string name = Lower(TrimBlanks(field));
-  unit->clear();
-  for (auto [open, close] : {std::pair{'[', ']'}, std::pair{'(', ')'}}) {
-    const size_t a = name.rfind(open);
-    if (a != std::string::npos && !name.empty() && name.back() == close) {
-      *unit = std::string(TrimBlanks(std::string_view(name).substr(a + 1, name.size() - a - 2)));
-      name = std::string(TrimBlanks(std::string_view(name).substr(0, a)));
-      return name;
-    }
-  }
-  for (const char* u : {"_mm", "_m"}) {
-    const std::string_view s(u);
-    if (name.size() > s.size() && name.compare(name.size() - s.size(), s.size(), s) == 0) {
-      *unit = std::string(s.substr(1));
-      return std::string(std::string_view(name).substr(0, name.size() - s.size()));
-    }
-  }
-  return name;
-}
-
-// The axis (0, 1, 2, or 3 for w) a name ends with after one of the prefixes, or -1.
-int AxisAfter(const std::string& name, std::initializer_list<const char*> prefixes, const char* axes) {
-  for (const char* p : prefixes) {
-    const std::string_view ps(p);
-    if (name.size() != ps.size() + 1 || name.compare(0, ps.size(), ps) != 0) continue;
-    const char* hit = std::strchr(axes, name.back());
-    if (hit && *hit) return int(hit - axes);
-  }
-  return -1;
-}
-
-// A time column's name: its unit in seconds (the name's, else `unit`'s), 0 for
-// another name, -1 for an unknown unit. `known`: the name gives the unit.
-double TimeColumn(const std::string& name, const std::string& unit, bool* known) {
-  *known = true;
-  for (const char* s : {"t", "time", "timestamp", "stamp"}) {
-    if (name != s) continue;
-    *known = !unit.empty();
-    if (unit.empty() || unit == "s" || unit == "seconds") return 1.0;
-    return unit == "ms" ? 1e-3 : unit == "us" ? 1e-6 : unit == "ns" ? 1e-9 : -1.0;
-  }
-  for (const char* s : {"t_s", "time_s", "timestamp_s"}) {
-    if (name == s) return 1.0;
-  }
-  for (const char* s : {"t_ns", "time_ns", "timestamp_ns"}) {
-    if (name == s) return 1e-9;
-  }
-  return 0;
-}
-
-bool Skipped(const std::string& name) {
-  for (const char* s : {"", "frame", "index", "image", "file", "filename", "id", "name"}) {  // "": a trailing ','s column
-    if (name == s) return true;
-  }
-  return false;
-}
-
-// The words of a name, split at '.', '_', '-', '/' and blanks ("field.pose.position.x",
-// "p_RS_R_x", PlotJuggler's "/vicon/pose/position/x"); rostopic's '%' before "%time" dropped.
-std::vector<std::string> Words(const std::string& name) {
-  std::vector<std::string> words(1);
-  for (char c : name) {
-    if (c == '%') continue;
-    if (c == '.' || c == '_' || c == '-' || c == ' ' || c == '/') {
-      if (!words.back().empty()) words.emplace_back();
-    } else {
-      words.back() += c;
-    }
-  }
-  if (words.back().empty()) words.pop_back();
-  return words;
-}
-
-// A word naming another quantity than the pose: velocities and accelerations, biases,
-// covariances and twists (ROS's Odometry), forces, currents, joints, errors, and the
-// message's bookkeeping (header.seq, frame_id). EuRoC's one-letter prefixes (v_RS_R_x,
-// b_w_RS_S_x) only as the first word: "pose_b_x" may be a second pose. Not skipped: a
-// tool, a work object or an external axis, which may change the pose's frame.
-bool OtherQuantity(const std::string& w, bool first) {
-  static const char* const kWords[] = {
-      "vel",    "velocity", "speed",  "twist", "linear",  "angular", "acc",         "accel",        "acceleration",
-      "bias",   "cov",      "force",  "torque", "wrench", "current", "voltage",     "temperature",  "temperatures",
-      "error",  "std",      "sigma",  "var",   "variance", "seq",    "header",      "frame",        "id",
-      "child",  "status",   "mode",   "joint", "qd",      "qdd",
-      // ABB's robtarget beside the pose: its arm configuration, the move's instruction and zone
-      "cf1",    "cf4",      "cf6",    "cfx",   "move",    "zone"};
-  for (const char* k : kWords) {
-    if (w == k) return true;
-  }
-  if (first && (w == "v" || w == "b")) return true;
-  return w.rfind("covariance", 0) == 0;  // ROS's covariance0..35
-}
-
-bool OtherQuantity(const std::vector<std::string>& words) {
-  for (size_t i = 0; i < words.size(); ++i) {
-    if (OtherQuantity(words[i], i == 0)) return true;
-  }
-  return false;
-}
-
-enum class Kind { kNone, kTranslation, kQuaternion };
-
-Kind WordKind(const std::string& w) {
-  for (const char* k : {"p", "pos", "position", "t", "trans", "translation"}) {
-    if (w == k) return Kind::kTranslation;
-  }
-  for (const char* k : {"q", "quat", "quaternion", "orientation", "rotation"}) {
-    if (w == k) return Kind::kQuaternion;
-  }
-  return Kind::kNone;
-}
-
-// A name of several words ending in an axis, its first or second-to-last word naming a
-// position or a quaternion: EuRoC's "p_RS_R_x", "q_RS_w", ROS's "field.pose.position.x",
-// "field.transform.rotation.w". The axis (0..2, 3 for w) and the kind; kNone when a word
-// names another quantity or the two words disagree.
-Kind WordsKind(const std::vector<std::string>& words, int* axis) {
-  if (words.size() < 2 || words.back().size() != 1) return Kind::kNone;
-  const char* hit = std::strchr("xyzw", words.back()[0]);
-  if (!hit || !*hit) return Kind::kNone;
-  *axis = int(hit - "xyzw");
-  if (OtherQuantity(words)) return Kind::kNone;
-  const Kind first = WordKind(words.front()), last = WordKind(words[words.size() - 2]);
-  const Kind kind = first == Kind::kNone ? last : first;
-  if (last != Kind::kNone && last != kind) return Kind::kNone;
-  if (kind == Kind::kTranslation && *axis == 3) return Kind::kNone;
-  return kind;
-}
-
-// KUKA RSI's actual Cartesian pose (its RIst tag: X Y Z in mm, A B C in degrees) in a
-// column name of two words, "X_RIst" or "RIst.X": 0..2 for X Y Z, 3..5 for A B C, -1
-// otherwise. Its setpoint (RSol) and the log's other signals are skipped.
-int RsiActual(const std::vector<std::string>& words) {
-  if (words.size() != 2) return -1;
-  const std::string& axis = words[0] == "rist" ? words[1] : words[1] == "rist" ? words[0] : std::string();
-  if (axis.size() != 1) return -1;
-  const char* hit = std::strchr("xyzabc", axis[0]);
-  return hit && *hit ? int(hit - "xyzabc") : -1;
-}
-
-// Multi-row exports this reader does not take, by their first field.
-const char* ExportNotRead(const std::string& first) {
-  if (first == "segments" || first == "trajectories") {
-    return "a Vicon Nexus export (a section name, the rate, subject and unit rows above the column names) is not "
-           "read: save the segment's rows under one header line naming them, its rotation as a quaternion (its RX RY "
-           "RZ are angles in degrees; rx,ry,rz here are a rotation vector in radians), e.g. frame,qx,qy,qz,qw,"
-           "x [mm],y [mm],z [mm]";
-  }
-  return nullptr;
-}
-
-}  // namespace
 
 // The layout a header names; nullopt when `strict` is false and a name is not known.
 // Columns of other quantities (velocities, biases, covariances, ROS's bookkeeping, or
@@ -186,21 +24,38 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
   bool quat = false, abb = false, rotvec = false, kuka = false, fanuc = false;
   std::optional<std::string> t_unit;
   std::string names, used;
-  int time_rank = -1;  // ROS: the message's header.stamp (2) before another time (1) before rosbag's %time (0)
+  // ROS: a stamp in two columns (3 in the header, 2 else), the message's header.stamp (2), before another
+  // time (1), before rosbag's %time (0).
+  int time_rank = -1;
   // A Universal Robots RTDE log or a KUKA RSI log: their other fields (joints, speeds,
   // the commanded pose, process signals) are skipped.
   // An RTDE log's pose is its actual_TCP_pose, else (a planned path) its target_TCP_pose.
   // Vicon's columns hold a "Sub Frame".
-  bool actual_log = false, rtde_actual = false, vicon_columns = false;
+  // A Franka robot's log (its O_T_EE): every other field is skipped.
+  bool actual_log = false, rtde_actual = false, vicon_columns = false, franka = false, franka_measured = false;
   std::vector<size_t> unknown;
-  for (std::string_view f : fields) {
+  std::vector<size_t> quaternion_angles;  // PlotJuggler's roll_deg.. beside the quaternion it derives them from
+  size_t franka_first = 0;
+  for (size_t i = 0; i < fields.size(); ++i) {
     std::string unit;
-    const std::string name = NameAndUnit(f, &unit);
+    const std::string name = NameAndUnit(fields[i], &unit);
     rtde_actual |= name.rfind("actual_tcp_pose_", 0) == 0;
     actual_log |= name.rfind("target_tcp_pose_", 0) == 0 || RsiActual(Words(name)) >= 0;
     vicon_columns |= name == "sub frame";
+    bool commanded = false;
+    if (FrankaPoseElement(Lower(fields[i]), &commanded) >= 0) {
+      if (!franka) franka_first = i;
+      franka = true, franka_measured |= !commanded;
+    }
   }
-  actual_log |= rtde_actual;
+  actual_log |= rtde_actual || franka;
+  // A time in two columns (ROS's stamp.sec, stamp.nanosec), by the name before its parts.
+  struct TwoColumnTime {
+    std::string prefix;
+    int sec = -1, nanosec = -1;
+  };
+  std::vector<TwoColumnTime> two_column_times;
+  int matrix_elements = 0;
   const std::string rtde_pose = rtde_actual ? "actual_tcp_pose_" : "target_tcp_pose_";
   for (size_t i = 0; i < fields.size(); ++i) {
     std::string unit;
@@ -227,7 +82,26 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
     }
     bool ok = true;
     if (Skipped(name)) continue;
+    bool commanded = false;
+    if (const int k = FrankaPoseElement(Lower(fields[i]), &commanded); k >= 0) {
+      // Column-major: element k is row k % 4, column k / 4. Its desired and commanded poses are skipped.
+      if (commanded == franka_measured) continue;
+      if (!set(&l.m[4 * (k % 4) + k / 4])) return fail("a second column for the same value");
+      ++matrix_elements;
+      if (!used.empty()) used += ',';
+      used += Lower(TrimBlanks(fields[i]));
+      continue;
+    }
     const std::vector<std::string> words = Words(name);
+    double part = 0;
+    std::string prefix;
+    if (TimePart(words, &part, &prefix)) {
+      auto it = std::find_if(two_column_times.begin(), two_column_times.end(),
+                             [&](const TwoColumnTime& t) { return t.prefix == prefix; });
+      if (it == two_column_times.end()) it = two_column_times.insert(it, TwoColumnTime{prefix});
+      if (!set(part == 1.0 ? &it->sec : &it->nanosec)) return fail("a second column for the same value");
+      continue;
+    }
     bool known = false;
     double to_s = TimeColumn(name, unit, &known);
     int rank = 1;
@@ -236,7 +110,8 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
     } else if (to_s == 0 && name == "__time") {  // PlotJuggler's CSV export: seconds
       to_s = 1.0, known = true;
     } else if (to_s == 0 && words.size() >= 2 && words.back() == "stamp" && words[words.size() - 2] == "header") {
-      to_s = 1e-9, known = true, rank = 2;  // ROS's field.header.stamp, ns
+      // ROS's header.stamp: rostopic echo -p's field.header.stamp in ns, PlotJuggler's /topic/header/stamp in s.
+      to_s = name.find('/') != std::string::npos ? 1.0 : 1e-9, known = true, rank = 2;
     }
     if (to_s != 0) {
       if (to_s < 0) return fail("unknown time unit '" + unit + "' (s, ms, us or ns)");
@@ -294,7 +169,11 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
       ok = set(&l.r[a]);
       (name == "a" || name == "b" || name == "c" ? kuka : fanuc) = true;
     } else {
-      if (!actual_log && !OtherQuantity(words)) unknown.push_back(i);
+      if (QuaternionAngles(words)) {
+        quaternion_angles.push_back(i);
+      } else if (!actual_log && !OtherQuantity(words)) {
+        unknown.push_back(i);
+      }
       continue;
     }
     if (int(quat) + int(abb) + int(rotvec) + int(kuka) + int(fanuc) > std::max(kinds_before, 1)) {
@@ -303,6 +182,8 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
     if (!ok) return fail("a second column for the same value");
     used += (used.empty() ? "" : ",") + name;
   }
+  if (!quat) unknown.insert(unknown.end(), quaternion_angles.begin(), quaternion_angles.end());  // the only rotation
+  std::sort(unknown.begin(), unknown.end());
   if (!unknown.empty()) {
     if (!strict) return std::nullopt;
     const size_t i = unknown.front();
@@ -311,15 +192,49 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
                                 "w,p,r; time, frame, velocity, bias and covariance columns are skipped; "
                                 "docs/pipeline.md)");
   }
-  if (l.time >= 0) {
-    std::string unit;
-    used = NameAndUnit(fields[size_t(l.time)], &unit) + (used.empty() ? "" : ",") + used;
-  }
-  const int kinds = int(quat) + int(abb) + int(rotvec) + int(kuka) + int(fanuc);
   auto fail_all = [&](const std::string& why) -> std::optional<Layout> {
     if (!strict) return std::nullopt;
     throw InputError(where, "header '" + names + "': " + why);
   };
+  for (const TwoColumnTime& t : two_column_times) {
+    if (t.sec < 0 || t.nanosec < 0) {
+      return fail_all("a time's " + std::string(t.sec < 0 ? "nanoseconds" : "seconds") + " without its " +
+                      (t.sec < 0 ? "seconds" : "nanoseconds") + " column (" + (t.prefix.empty() ? "secs" : t.prefix) +
+                      ": sec and nanosec, or secs and nsecs)");
+    }
+    const std::vector<std::string> words = Words(t.prefix);
+    // A message's stamp (3 in its header, else 2) before a single time column, before rosbag's %time.
+    const int rank = std::find(words.begin(), words.end(), "header") != words.end() ? 3 : 2;
+    if (rank == time_rank) return fail_all("a second time column (" + (t.prefix.empty() ? "secs" : t.prefix) + ")");
+    if (rank > time_rank) {
+      time_rank = rank;
+      l.time = t.sec, l.time_nanosec = t.nanosec, l.time_to_s = 1.0, l.time_unit_known = true;
+    }
+  }
+  if (l.time >= 0) {
+    std::string unit;
+    std::string time = NameAndUnit(fields[size_t(l.time)], &unit);
+    if (l.time_nanosec >= 0) time += ',' + NameAndUnit(fields[size_t(l.time_nanosec)], &unit);
+    used = time + (used.empty() ? "" : ",") + used;
+  }
+  if (franka) {
+    if (!franka_measured) {
+      if (!strict) return std::nullopt;
+      throw InputError(where, "column " + std::to_string(franka_first + 1) + " '" +
+                                  std::string(TrimBlanks(fields[franka_first])) +
+                                  "': a Franka log of the commanded pose only (libfranka's cmd.O_T_EE_d: the identity "
+                                  "unless the motion was commanded as Cartesian poses, and not where the robot was): "
+                                  "log the robot state's O_T_EE");
+    }
+    if (matrix_elements != 16) return fail_all("Franka's O_T_EE needs its 16 elements, got " + std::to_string(matrix_elements));
+    l.rotation = Rotation::kMatrixColumns;
+    const int others = int(fields.size()) - int(std::count(used.begin(), used.end(), ',')) - 1;
+    l.form = "CSV columns " + used + " (Franka O_T_EE, column-major)" +
+             (others > 0 ? ", " + std::to_string(others) + " others skipped" : "");
+    *header_units = PoseUnits::kMetres;
+    return l;
+  }
+  const int kinds = int(quat) + int(abb) + int(rotvec) + int(kuka) + int(fanuc);
   if (kinds != 1) return fail_all(kinds == 0 ? "no rotation columns (qx,qy,qz,qw, q1..q4, rx,ry,rz, a,b,c or w,p,r)"
                                              : "more than one kind of rotation columns");
   if (l.t[0] < 0 || l.t[1] < 0 || l.t[2] < 0) return fail_all("needs the translation columns x, y and z");

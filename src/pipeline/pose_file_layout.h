@@ -9,11 +9,13 @@
 #include <vector>
 
 #include "pipeline/pose_file.h"
+#include "pipeline/pose_file_names.h"
 
 namespace lt::pose_file_detail {
 
 // What a rotation's columns hold.
-enum class Rotation { kQuaternion, kRotationVector, kKukaAbc, kMatrix3x4, kMatrix4x4 };
+// kMatrixColumns: a 4x4 matrix in named columns, Layout::m.
+enum class Rotation { kQuaternion, kRotationVector, kKukaAbc, kMatrix3x4, kMatrix4x4, kMatrixColumns };
 
 // Where each value of a row is: columns of x y z, and of the rotation's values
 // (quaternion: x y z w; rotation vector: x y z; KUKA: a b c).
@@ -22,13 +24,13 @@ struct Layout {
   size_t fields = 0;
   int t[3] = {-1, -1, -1};
   int time = -1;            // the column of the time, -1: none
+  int time_nanosec = -1;    // the column of its nanoseconds, when written in two (ROS's stamp.sec, stamp.nanosec)
   double time_to_s = 1.0;   // its unit
   bool time_unit_known = false;  // said by the name (or the log's format); else from the values' size
   int r[4] = {-1, -1, -1, -1};
+  int m[16] = {-1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1};  // kMatrixColumns: row-major element's column
   std::string form;
 };
-
-std::string Lower(std::string_view s);
 
 // The layout a header names; nullopt when `strict` is false and a name is not known.
 std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, const std::string& where, bool strict,
