@@ -11,23 +11,12 @@
 #include <cmath>
 #include <sstream>
 
-#include "scene/gcode.h"
+#include "orientation_test_util.h"
 
 namespace lt {
 namespace {
 
-constexpr double kMm = 1e-3;
-
-std::shared_ptr<const Toolpath> Path(const std::string& gcode) {
-  return std::make_shared<const Toolpath>(ParseGcode(gcode, "test.gcode"));
-}
-
-ToolpathOrientation Orientation(std::shared_ptr<const Toolpath> path, OrientationMode mode, double window_mm = 10) {
-  OrientationOptions o;
-  o.mode = mode;
-  o.caster_window_m = window_mm * kMm;
-  return ToolpathOrientation(std::move(path), o);
-}
+using namespace orientation_test;
 
 // A 40 mm square at 20 mm/s, sharp corners.
 const char* kSharpSquare = "G1 F1200 X40 Y0\nG1 X40 Y40\nG1 X0 Y40\nG1 X0 Y0\n";

@@ -8,8 +8,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "orientation_test_util.h"
 #include "scene/caster.h"
-#include "scene/gcode.h"
 #include "scene/motion.h"
 #include "scene/motion_gcode.h"
 #include "scene/trailing_wheel.h"
@@ -18,19 +18,7 @@
 namespace lt {
 namespace {
 
-constexpr double kMm = 1e-3;
-
-std::shared_ptr<const Toolpath> Path(const std::string& gcode) {
-  return std::make_shared<const Toolpath>(ParseGcode(gcode, "test.gcode"));
-}
-
-ToolpathOrientation Orientation(std::shared_ptr<const Toolpath> path, OrientationMode mode, double mm = 10) {
-  OrientationOptions o;
-  o.mode = mode;
-  o.caster_window_m = mm * kMm;
-  o.trail_m = mm * kMm;
-  return ToolpathOrientation(std::move(path), o);
-}
+using namespace orientation_test;
 
 // Classical RK4 on d psi / ds = -sin(psi) / w - kappa, 2e4 steps of at most 2.5 um
 // (h / w <= 2.5e-4: local error ~(h / w)^5, far below the 1e-9 asked).
