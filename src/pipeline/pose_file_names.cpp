@@ -15,7 +15,6 @@ std::string Lower(std::string_view s) {
   return out;
 }
 
-// A column name without its unit ("x [mm]", "x (m)", "x_mm", "x_m"), lower case, and that unit.
 std::string NameAndUnit(std::string_view field, std::string* unit) {
   std::string name = Lower(TrimBlanks(field));
   unit->clear();
@@ -37,7 +36,6 @@ std::string NameAndUnit(std::string_view field, std::string* unit) {
   return name;
 }
 
-// The axis (0, 1, 2, or 3 for w) a name ends with after one of the prefixes, or -1.
 int AxisAfter(const std::string& name, std::initializer_list<const char*> prefixes, const char* axes) {
   for (const char* p : prefixes) {
     const std::string_view ps(p);
@@ -48,8 +46,6 @@ int AxisAfter(const std::string& name, std::initializer_list<const char*> prefix
   return -1;
 }
 
-// A time column's name: its unit in seconds (the name's, else `unit`'s), 0 for
-// another name, -1 for an unknown unit. `known`: the name gives the unit.
 double TimeColumn(const std::string& name, const std::string& unit, bool* known) {
   *known = true;
   for (const char* s : {"t", "time", "timestamp", "stamp"}) {
@@ -74,8 +70,6 @@ bool Skipped(const std::string& name) {
   return false;
 }
 
-// The words of a name, split at '.', '_', '-', '/' and blanks ("field.pose.position.x",
-// "p_RS_R_x", PlotJuggler's "/vicon/pose/position/x"); rostopic's '%' before "%time" dropped.
 std::vector<std::string> Words(const std::string& name) {
   std::vector<std::string> words(1);
   for (char c : name) {
@@ -90,13 +84,13 @@ std::vector<std::string> Words(const std::string& name) {
   return words;
 }
 
+namespace {
+
 // A word naming another quantity than the pose: velocities and accelerations, biases,
 // covariances and twists (ROS's Odometry), forces, currents, joints, errors, and the
 // message's bookkeeping (header.seq, frame_id). EuRoC's one-letter prefixes (v_RS_R_x,
 // b_w_RS_S_x) only as the first word: "pose_b_x" may be a second pose. Not skipped: a
 // tool, a work object or an external axis, which may change the pose's frame.
-namespace {
-
 bool OtherQuantity(const std::string& w, bool first) {
   static const char* const kWords[] = {
       "vel",    "velocity", "speed",  "twist", "linear",  "angular", "acc",         "accel",        "acceleration",
@@ -132,10 +126,6 @@ bool OtherQuantity(const std::vector<std::string>& words) {
   return false;
 }
 
-// A name of several words ending in an axis, its first or second-to-last word naming a
-// position or a quaternion: EuRoC's "p_RS_R_x", "q_RS_w", ROS's "field.pose.position.x",
-// "field.transform.rotation.w". The axis (0..2, 3 for w) and the kind; kNone when a word
-// names another quantity or the two words disagree.
 Kind WordsKind(const std::vector<std::string>& words, int* axis) {
   if (words.size() < 2 || words.back().size() != 1) return Kind::kNone;
   const char* hit = std::strchr("xyzw", words.back()[0]);
@@ -220,7 +210,6 @@ bool QuaternionAngles(const std::vector<std::string>& words) {
   return false;
 }
 
-// Multi-row exports this reader does not take, by their first field.
 const char* ExportNotRead(const std::string& first) {
   if (first == "segments" || first == "trajectories") {
     return "a Vicon Nexus export (a section name, the rate, subject and unit rows above the column names) is not "
