@@ -51,8 +51,8 @@ struct GltfAsset {
   bool uses_default_material = false;  // some primitive has no material ("default" is last in materials)
   // The materials some triangle uses whose metallic is glTF's default 1 for want of a
   // metallicFactor (ConvertGltfMaterials), for a warning: `material "a"`, `materials
-  // "a", "b", "c" and 2 more`, empty if none. Metal, which their exporter hardly meant;
-  // the scene warns about them unless the object sets its material.
+  // "a", "b", "c" and 2 more`, empty if none. They are metal, meant or
+  // not; the scene warns about them unless the object sets its material.
   std::string metallic_by_default;
   std::vector<std::string> warnings; // each prefixed with the file name
 };

@@ -18,9 +18,10 @@ namespace lt {
 // by their mean texel, with a warning.
 // metallic_by_default (optional) receives, per material, whether its metallic is
 // glTF's default 1 for want of a `metallicFactor` (and of a metallic-roughness
-// texture, KHR_materials_unlit or _pbrSpecularGlossiness, which set it): a metal,
-// which exporters that never write the factor did not mean (COLLADA2GLTF, Blender's
-// first exporter, KHR_materials_common materials).
+// texture, KHR_materials_unlit or _pbrSpecularGlossiness, which set it): a metal.
+// COLLADA2GLTF writes no factor for its Phong materials, nor do KHR_materials_common
+// materials; other exporters leave out factors equal to glTF's defaults. Whether or not
+// a metal was meant, a scanner sees a conductor's reflection there.
 std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<std::string>* warnings,
                                            std::vector<bool>* metallic_by_default = nullptr);
 

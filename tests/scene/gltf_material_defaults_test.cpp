@@ -1,9 +1,10 @@
 // Materials that lean on glTF's defaults: a pbrMetallicRoughness without
-// metallicFactor is metallic 1 (glTF 2.0 5.22), which exporters that never write
-// the factor did not mean: COLLADA2GLTF (the Khronos Box, BoxInterleaved), Blender's
-// first exporter (MultiUVTest), KHR_materials_common materials (trimesh's
-// TestScene). Such a part rendered as metal, its laser line a conductor's
-// reflection (BoxInterleaved: 2 true centres, none measured), with no warning.
+// metallicFactor is metallic 1 (glTF 2.0 5.22). COLLADA2GLTF writes no factor for
+// its Phong materials (the Khronos Box, BoxInterleaved), nor do KHR_materials_common
+// materials (trimesh's TestScene); Blender's first exporter left it out too
+// (MultiUVTest, OrientationTest). Such a part rendered as metal, its laser line a
+// conductor's reflection (BoxInterleaved: 2 true centres, none measured), with no
+// warning.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
