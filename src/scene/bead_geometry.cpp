@@ -204,7 +204,7 @@ Mesh BeadMeshUpTo(const Toolpath& path, double t_s, const BeadOptions& options, 
       ++st.skipped;
       continue;
     }
-    const double volume = filament_area * seg.extruded_m * f;
+    const double volume = filament_area * seg.laid_m * f;
     const int n = seg.arc ? std::max(1, int(std::ceil(std::abs(seg.sweep_rad) * f / kMaxChordAngleRad))) : 1;
     ++st.beads;
     for (int j = 0; j < n; ++j) {

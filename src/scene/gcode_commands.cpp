@@ -347,7 +347,10 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
   name += integral ? std::to_string(n) : std::string(number);
   ++path_.skipped_commands[name];
   if (letter == 'M' && n == 98 && integral) MacroFileCall(code.substr(pos));
-  if (letter == 'T' && n >= 0) active_tool_ = n;  // the tool whose flow (M221) applies
+  if (letter == 'T' && n >= 0 && n != active_tool_) {
+    active_tool_ = n;    // the tool whose flow (M221) applies
+    retracted_mm_ = 0;  // the new tool's filament: loaded to its nozzle by the firmware or the tool changer
+  }
   // The nozzle moves to the dock and, for a park or a tool change with D0 (Prusa's
   // XL: "T1 S1 L0 D0", do not return), stays there: where is the firmware's.
   if (park || (letter == 'T' && HasWord(code.substr(pos), "D0"))) PositionUnknown(name, false);

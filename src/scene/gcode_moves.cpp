@@ -117,6 +117,14 @@ void GcodeReader::AddSegment(int gcode, const Eigen::Vector3d& end_mm, double ex
     s.start_m = pos_mm_ * kMetresPerMm;
     s.end_m = end_mm * kMetresPerMm;
     s.extruded_m = extruded_mm * kMetresPerMm;
+    // A feed first makes up what was drawn back; the rest leaves the nozzle.
+    if (extruded_mm < 0) {
+      retracted_mm_ -= extruded_mm;
+    } else {
+      const double made_up_mm = std::min(extruded_mm, retracted_mm_);
+      retracted_mm_ -= made_up_mm;
+      s.laid_m = (extruded_mm - made_up_mm) * kMetresPerMm;
+    }
     s.feed_m_s = feed_mm_s * kMetresPerMm;
     s.t_start_s = t_s_;
     s.t_end_s = t_s_ + duration;

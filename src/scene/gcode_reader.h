@@ -216,6 +216,7 @@ class GcodeReader {
   double speed_factor_ = 1, saved_speed_factor_ = 1;  // M220 (and its B backup)
   std::map<int, double> flow_factor_;                 // M221 per tool (absent: 100 %)
   int active_tool_ = 0;                               // the last T n
+  double retracted_mm_ = 0;  // filament drawn back since the nozzle last laid plastic (ToolpathSegment::laid_m)
   double unit_mm_ = 1;    // 25.4 under G20
   bool xyz_relative_ = false;
   enum class EMode { kNone, kAbsolute, kRelative } e_mode_ = EMode::kNone;  // the last M82/M83

@@ -54,7 +54,7 @@ double Toolpath::ExtrudedLength() const {
 double Toolpath::BeadFilamentLength(bool within_layers) const {
   double sum = 0;
   for (const auto& s : segments) {
-    if (s.LaysBead() && (!within_layers || s.layer != ToolpathSegment::kNoLayer)) sum += s.extruded_m;
+    if (s.LaysBead() && (!within_layers || s.layer != ToolpathSegment::kNoLayer)) sum += s.laid_m;
   }
   return sum;
 }

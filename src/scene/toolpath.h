@@ -25,6 +25,12 @@ struct ToolpathSegment {
   Eigen::Vector3d start_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d end_m = Eigen::Vector3d::Zero();
   double extruded_m = 0;  // filament length fed in (negative: retraction)
+  // Of a feed (extruded_m > 0), what leaves the nozzle: the feed first makes up the
+  // filament drawn back since the nozzle last laid plastic (retractions, wipes; reset
+  // at a tool change), as the filament must refill the nozzle before plastic comes out.
+  // A prime in place makes up its retraction; a multi-material unload's cooling moves
+  // (+5 mm with the filament 94 mm up the tube) lay nothing. 0 for no feed.
+  double laid_m = 0;
   double feed_m_s = 0;    // the feed rate the move ran at (0 for a dwell)
   double t_start_s = 0;
   double t_end_s = 0;
@@ -58,8 +64,9 @@ struct ToolpathSegment {
 
   double Duration() const { return t_end_s - t_start_s; }
   bool Extrudes() const { return extruded_m > 0; }
-  // Extrudes while moving across the bed: lays a bead (not a prime in place, not a Z move).
-  bool LaysBead() const { return extruded_m > 0 && xy_length_m > 0; }
+  // Lays plastic while moving across the bed: a bead (not a prime in place, not a Z move,
+  // not a feed that only makes up an earlier retraction).
+  bool LaysBead() const { return laid_m > 0 && xy_length_m > 0; }
   // The point at parameter u in [0, 1] (linear in path length for lines and arcs of
   // constant radius; u = 0 is start_m, u = 1 is end_m).
   Eigen::Vector3d PointAt(double u) const;
@@ -119,9 +126,10 @@ struct Toolpath {
   // Sums over all segments: the net filament fed in (retractions subtract, so a
   // retract and its re-prime cancel) and the distance travelled.
   double ExtrudedLength() const;
-  // The filament fed by the moves that lay beads (ToolpathSegment::LaysBead: not the
-  // retractions, primes and wipes), all of them or only those inside a layer (not a start
-  // script's purge lines before the first layer): what a slicer's "filament used" counts.
+  // The filament the beads take (ToolpathSegment::laid_m of the moves that LaysBead: not
+  // the retractions, primes and wipes), all of them or only those inside a layer (not a
+  // start script's purge lines before the first layer): what a slicer's "filament used"
+  // counts.
   double BeadFilamentLength(bool within_layers) const;
   double PathLength() const;
   // Layers printed: the distinct layers among the moves that lay beads (outside any

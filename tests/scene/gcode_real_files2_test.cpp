@@ -74,5 +74,33 @@ TEST(GcodeRealFiles2, IdeaMakerFilamentDiameterAndCompensation) {
   EXPECT_NEAR(p.BeadFilamentLength(true), 0.9 * 0.0472 * kMm, 1e-15);  // M221 T0 S90 holds for tool 0
 }
 
+// PrusaSlicer's multi-material tool change (a real excerpt, as the Material-Switching-Unit
+// project's post-processor keeps it): the old filament is rammed onto the wipe tower, drawn
+// 94 mm up the tube, and its tip is shaped by cooling moves that feed 5 mm and draw it back
+// while the nozzle crosses the tower; nothing leaves the nozzle then. Each +5 mm move was a
+// bead (4 x 5 mm of filament laid on the tower, the excerpt's beads 28.55 mm where 8.55 mm
+// come out). A feed now first makes up the filament drawn back since the nozzle last laid
+// plastic; a tool change loads the new filament to the nozzle.
+TEST(GcodeRealFiles2, MultiMaterialCoolingMovesLayNothing) {
+  Toolpath p = ParseGcode(
+      "M83\nG1 Z0.2 F600\n; CP TOOLCHANGE UNLOAD\n;WIDTH:0.6\nG1  X219.250 Y189.250  \nM900 K0\nG1 F3554\n"
+      "G1  X204.441  E0.686\nG1  X189.182  E0.7068\n;WIDTH:0.5\nG1 E-15 F6000\nG1 E-55.3 F5400\n"
+      "G1 E-15.8 F2700\nG1 E-7.9 F1620\nM104 S205\nG1  Y186.850 \nG1  X219.250  E5 F1302\n"
+      "G1  X169.918  E-5 F1404\nG1  X219.250  E5 F1505\nG1  X169.918  E-5 F1607\nG1 E2 F2000\n"
+      "G1  Y186.900  F2400\nG4 S0\nT1\nG1 X200 E1 F1200\n"
+      // An ordinary retraction, wipe and prime in place: the bead after it lays all it feeds.
+      "G1 E-0.56 F2400\nG1 X199 E-0.24\nG1 E0.8\nG1 X190 E0.5\n"
+      // A retraction that is not made up (Bambu's start script ends with G1 E-2): the next feed refills the nozzle.
+      "G1 E-2\nG1 X180 E0.5\nG1 X170 E2\n",
+      "mmu.gcode");
+  EXPECT_NEAR(p.BeadFilamentLength(false), (0.686 + 0.7068 + 1 + 0.5 + 0.5) * kMm, 1e-12);
+  int cooling_beads = 0;
+  for (const ToolpathSegment& s : p.segments) cooling_beads += s.line >= 17 && s.line <= 20 && s.LaysBead();
+  EXPECT_EQ(cooling_beads, 0);
+  EXPECT_NEAR(p.segments.back().laid_m, 0.5 * kMm, 1e-12);  // 2 fed, 1.5 of them refill the nozzle
+  EXPECT_NEAR(p.segments.back().extruded_m, 2 * kMm, 1e-12);
+  EXPECT_NEAR(p.ExtrudedLength(), (0.686 + 0.7068 - 94 + 2 + 1 - 0.8 + 0.8 + 0.5 - 2 + 0.5 + 2) * kMm, 1e-12);
+}
+
 }  // namespace
 }  // namespace lt
