@@ -16,7 +16,8 @@
 //     field.header.stamp (ns) before its %time (ns); PlotJuggler's
 //     /topic/header/stamp (s); a stamp in two columns, seconds and nanoseconds
 //     (ROS 2's header.stamp.sec + header.stamp.nanosec, ROS 1's secs + nsecs,
-//     stamp_sec + stamp_nsec), before a time of one column; a time without a
+//     stamp_sec + stamp_nsec; one part of a stamp alone is an error, time_sec or
+//     timestamp_nsec alone a time), before a time of one column; a time without a
 //     unit >= 1e17 is in ns (EuRoC's #timestamp);
 //     columns named frame, index, image, file, filename, id or name are skipped,
 //     and those of other quantities: velocities, biases, covariances, twists,

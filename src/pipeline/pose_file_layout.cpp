@@ -197,18 +197,23 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
     throw InputError(where, "header '" + names + "': " + why);
   };
   for (const TwoColumnTime& t : two_column_times) {
-    if (t.sec < 0 || t.nanosec < 0) {
+    const std::vector<std::string> words = Words(t.prefix);
+    const bool stamp = words.empty() || words.back() == "stamp";  // a ROS stamp's parts: both needed
+    if ((t.sec < 0 || t.nanosec < 0) && stamp) {
       return fail_all("a time's " + std::string(t.sec < 0 ? "nanoseconds" : "seconds") + " without its " +
                       (t.sec < 0 ? "seconds" : "nanoseconds") + " column (" + (t.prefix.empty() ? "secs" : t.prefix) +
                       ": sec and nanosec, or secs and nsecs)");
     }
-    const std::vector<std::string> words = Words(t.prefix);
-    // A message's stamp (3 in its header, else 2) before a single time column, before rosbag's %time.
-    const int rank = std::find(words.begin(), words.end(), "header") != words.end() ? 3 : 2;
+    // A message's stamp (3 in its header, else 2) before a single time column ("time_sec",
+    // "timestamp_nsec" alone: 1), before rosbag's %time.
+    const int rank = t.sec < 0 || t.nanosec < 0                                   ? 1
+                     : std::find(words.begin(), words.end(), "header") != words.end() ? 3
+                                                                                    : 2;
     if (rank == time_rank) return fail_all("a second time column (" + (t.prefix.empty() ? "secs" : t.prefix) + ")");
     if (rank > time_rank) {
       time_rank = rank;
-      l.time = t.sec, l.time_nanosec = t.nanosec, l.time_to_s = 1.0, l.time_unit_known = true;
+      l.time = t.sec >= 0 ? t.sec : t.nanosec, l.time_nanosec = t.sec >= 0 ? t.nanosec : -1;
+      l.time_to_s = t.sec >= 0 ? 1.0 : 1e-9, l.time_unit_known = true;
     }
   }
   if (l.time >= 0) {

@@ -51,9 +51,11 @@ TEST(PoseFile, RosStampInSecondsAndNanosecondsIsOneTime) {
     ASSERT_EQ(g.times_s.size(), 2u) << header;
     EXPECT_NEAR(g.times_s[1], 1624114603.005, 3e-7) << header;
   }
-  // One part without the other is no time.
+  // One part of a stamp without the other is no time; "time_sec" or "timestamp_nsec" alone is one.
   EXPECT_THAT(ErrorOf("header.stamp.sec,x,y,z,qx,qy,qz,qw\n"),
               HasSubstr("a time's seconds without its nanoseconds column (header.stamp"));
+  EXPECT_EQ(ParsePoseFile("time_sec,x,y,z,qx,qy,qz,qw\n12.5,0,0,0,0,0,0,1\n", "p").times_s[0], 12.5);
+  EXPECT_EQ(ParsePoseFile("timestamp_nsec,x,y,z,qx,qy,qz,qw\n12500000000,0,0,0,0,0,0,1\n", "p").times_s[0], 12.5);
 }
 
 TEST(PoseFile, PlotJugglerStampIsInSecondsAndCovarianceNamesDoNotSplit) {
