@@ -14,7 +14,7 @@
 //     a time: t, time, timestamp, stamp (seconds, or the unit in brackets: s,
 //     ms, us, ns), t_s, time_s, timestamp_s, t_ns, time_ns, timestamp_ns; ROS's
 //     field.header.stamp (ns) before its %time (ns); PlotJuggler's
-//     /topic/header/stamp (s); a stamp in two columns, seconds and nanoseconds
+//     /topic/header/stamp (s, or ns from 1e17); a stamp in two columns, seconds and nanoseconds
 //     (ROS 2's header.stamp.sec + header.stamp.nanosec, ROS 1's secs + nsecs,
 //     stamp_sec + stamp_nsec; one part of a stamp alone is an error, time_sec or
 //     timestamp_nsec alone a time), before a time of one column; a time without a

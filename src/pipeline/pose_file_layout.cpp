@@ -110,8 +110,10 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
     } else if (to_s == 0 && name == "__time") {  // PlotJuggler's CSV export: seconds
       to_s = 1.0, known = true;
     } else if (to_s == 0 && words.size() >= 2 && words.back() == "stamp" && words[words.size() - 2] == "header") {
-      // ROS's header.stamp: rostopic echo -p's field.header.stamp in ns, PlotJuggler's /topic/header/stamp in s.
-      to_s = name.find('/') != std::string::npos ? 1.0 : 1e-9, known = true, rank = 2;
+      // ROS's header.stamp: rostopic echo -p's field.header.stamp in ns; a topic path's /topic/header/stamp
+      // in s as PlotJuggler writes it, or in ns as other bag-to-CSV tools do: by its size (ns from 1e17).
+      const bool path = name.find('/') != std::string::npos;
+      to_s = path ? 1.0 : 1e-9, known = !path, rank = 2;
     }
     if (to_s != 0) {
       if (to_s < 0) return fail("unknown time unit '" + unit + "' (s, ms, us or ns)");

@@ -97,6 +97,13 @@ TEST(PoseFile, PlotJugglerStampIsInSecondsAndCovarianceNamesDoNotSplit) {
   ASSERT_EQ(f.times_s.size(), 2u);
   EXPECT_NEAR(f.times_s[0], 1624114603.25, 1e-6);  // the header's stamp, in seconds
   EXPECT_THAT(f.form, HasSubstr("23 others skipped"));
+  // Other bag-to-CSV tools write the topic path's stamp in ns (ros1_msg_to_csv's README): read by its size.
+  EXPECT_NEAR(ParsePoseFile("/header/frame_id,/header/stamp,/pose/position/x,/pose/position/y,/pose/position/z,"
+                            "/pose/orientation/x,/pose/orientation/y,/pose/orientation/z,/pose/orientation/w\n"
+                            "base_link,1628123456789012345,0,0,0,0,0,0,1\n",
+                            "p")
+                  .times_s[0],
+              1628123456.789012, 1e-5);
   // rostopic echo -p's field.header.stamp stays in ns.
   EXPECT_NEAR(ParsePoseFile("field.header.stamp,x,y,z,qx,qy,qz,qw\n1624114603250000000,0,0,0,0,0,0,1\n", "p")
                   .times_s[0],
