@@ -160,8 +160,9 @@ PoseFile ParsePoseFile(const std::string& file_text, const std::string& name, co
       if (line.find("Image list with two lines of data per image") != std::string_view::npos) {
         throw InputError(name + ":" + std::to_string(line_no),
                          "COLMAP's images.txt is not read as poses: its QW QX QY QZ TX TY TZ are camera_from_world (the "
-                         "inverse of world_from_cam), two lines per image, in image id order: write world_from_cam "
-                         "per frame, in frame order, e.g. x,y,z,qx,qy,qz,qw");
+                         "inverse of world_from_cam), in the reconstruction's own scale (not metres unless scaled), two "
+                         "lines per image, in image id order: write world_from_cam in metres per frame, in frame order, "
+                         "e.g. x,y,z,qx,qy,qz,qw");
       }
       last_comment = std::string(line.substr(1));
       last_comment_line = int(line_no);
