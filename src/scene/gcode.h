@@ -84,7 +84,8 @@
 // a message's or file name's (M23, M117, ...; unless only a checksum follows '*');
 // a parameter may be a quoted string (RepRapFirmware's G29 S1 P"heightmap.csv": a word
 // without a number); M98 P"file.g" (a RepRapFirmware macro file) is skipped and warned
-// once per file; letters may be lower case; G5 (Bezier) is an error. A UTF-8
+// once per file; letters may be lower case; G5 (Bezier) is an error, a bare G5 (Anycubic's
+// power-loss resume) is skipped. A UTF-8
 // byte order mark, LF, CR LF and lone CR line ends (mixed too) and "%" lines (RS-274's
 // program marks) are accepted.
 //

@@ -204,7 +204,14 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
       case 3: motion_mode_ = n; ReadWords(code, pos, true); Arc(n); return;
       case 4: ReadWords(code, pos, true); Dwell(); return;
       case 5:
-        // Skipped, the nozzle's path would go on from the curve's start: refused instead.
+        // Alone, it moves nothing: Anycubic's firmware enables its resume after a power
+        // loss so (Cura's start script for the i3 Mega ends with a bare "G5"). Skipped.
+        ReadWords(code, pos, false);
+        if (words_.empty()) {
+          ++path_.skipped_commands["G5"];
+          return;
+        }
+        // A Bezier move skipped, the nozzle's path would go on from the curve's start: refused instead.
         Fail("G5 (Marlin's cubic Bezier move) is not supported: its path would be missing; write the curve as "
              "G1 or G2/G3 moves");
       case 10:

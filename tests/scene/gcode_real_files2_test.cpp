@@ -102,5 +102,23 @@ TEST(GcodeRealFiles2, MultiMaterialCoolingMovesLayNothing) {
   EXPECT_NEAR(p.ExtrudedLength(), (0.686 + 0.7068 - 94 + 2 + 1 - 0.8 + 0.8 + 0.5 - 2 + 0.5 + 2) * kMm, 1e-12);
 }
 
+// Cura's start script for the Anycubic i3 Mega ends with a bare "G5" (a real file's:
+// "M117 Printing... / G5"), with which Anycubic's firmware enables its resume after a
+// power loss. It was refused as Marlin's Bezier move ("G5 ... is not supported"), so no
+// file for that printer could be read; alone, G5 moves nothing and is skipped. A G5 with
+// control points is still refused (GcodeDialects).
+TEST(GcodeRealFiles2, AnycubicBareG5IsSkipped) {
+  Toolpath p = ParseGcode(
+      ";FLAVOR:Marlin\n;Generated with Cura_SteamEngine main\nM82 ;absolute extrusion mode\nG21 ;metric values\n"
+      "G28 X0 Y0 ;move X/Y to min endstops\nG28 Z0 ;move Z to min endstops\nG1 Z15.0 F100\nG92 E0\n"
+      "G1 F200 E3 ;extrude 3mm of feed stock\nG92 E0\nG1 F100\nG0 Y20 F100\nM117 Printing...\nG5\n"
+      "G92 E0\nG1 F2400 E-6\n;LAYER_COUNT:1\n;LAYER:0\nG0 X10 Y20 Z0.2\nG1 F2400 E0\nG1 F1200 X30 E1\n",
+      "i3mega.gcode");
+  EXPECT_EQ(p.skipped_commands.at("G5"), 1u);
+  EXPECT_NEAR(p.BeadFilamentLength(true), 1 * kMm, 1e-12);
+  EXPECT_THAT(ErrorOf([] { ParseGcode("G1 F600\nG5 I0 J3 P0 Q-3 X2 Y2\n", "b.gcode"); }),
+              HasSubstr("b.gcode:2: G5 (Marlin's cubic Bezier move) is not supported"));
+}
+
 }  // namespace
 }  // namespace lt
