@@ -167,6 +167,9 @@ GltfContainer ParseGltfContainer(const std::vector<unsigned char>& bytes, const 
   }
   c.json_text.assign(bytes.begin() + 20, bytes.begin() + static_cast<ptrdiff_t>(20 + json_length));
   c.total_length = length;
+  c.has_bin = has_bin;
+  c.bin_offset = size_t(end) + 8;
+  c.bin_length = size_t(bin_length);
   // Chunks after the first two: of unknown types, glTF has them ignored; a second
   // BIN chunk is not glTF (buffer 0 is the first BIN chunk, and no buffer can name
   // another), so its bytes are not read: say so.
@@ -183,8 +186,7 @@ GltfContainer ParseGltfContainer(const std::vector<unsigned char>& bytes, const 
   }
   if (json_length % 4 != 0 || bin_length % 4 != 0) {
     // Each chunk is where its length says; only the padding glTF asks for is missing.
-    const size_t bin_start = size_t(end) + 8;
-    c.aligned = AlignedGlb(c.json_text, has_bin ? bytes.data() + bin_start : nullptr, size_t(bin_length), has_bin);
+    c.aligned = AlignedGlb(c.json_text, has_bin ? bytes.data() + c.bin_offset : nullptr, c.bin_length, has_bin);
     c.total_length = c.aligned.size();
     c.warning = "the GLB's chunks are not padded to 4 bytes as glTF asks (JSON chunk of " +
                 std::to_string(json_length) + " bytes" +
@@ -196,6 +198,16 @@ GltfContainer ParseGltfContainer(const std::vector<unsigned char>& bytes, const 
                  " (" + extra_bins + ") ignored: a GLB holds one BIN chunk (buffer 0); only the first is read";
   }
   return c;
+}
+
+void ReplaceGltfJson(GltfContainer* c, const std::vector<unsigned char>& bytes, std::string json) {
+  c->json_text = std::move(json);
+  if (!c->binary) {
+    c->total_length = c->json_text.size();
+    return;
+  }
+  c->aligned = AlignedGlb(c->json_text, c->has_bin ? bytes.data() + c->bin_offset : nullptr, c->bin_length, c->has_bin);
+  c->total_length = c->aligned.size();
 }
 
 }  // namespace lt

@@ -22,6 +22,9 @@ struct GltfContainer {
   // What the loader warns about (without the file name): the padding above, and
   // BIN chunks after the first (ignored); parts joined by "; ".
   std::string warning;
+  // Where the BIN chunk's data is in the file's bytes (.glb with a BIN chunk).
+  bool has_bin = false;
+  size_t bin_offset = 0, bin_length = 0;
 };
 
 // Reads a whole file; an lt::InputError naming `file` and the path looked for on failure.
@@ -31,6 +34,11 @@ std::vector<unsigned char> ReadFileBytes(const std::filesystem::path& path, cons
 // "glTF" magic). Throws lt::InputError for a truncated or inconsistent container;
 // chunks not padded to 4 bytes are read as their lengths say (`aligned`).
 GltfContainer ParseGltfContainer(const std::vector<unsigned char>& bytes, const std::string& file);
+
+// Makes `json` the container's JSON (a .gltf's text, or a .glb's JSON chunk, the GLB
+// rebuilt in `aligned` around the BIN chunk of `bytes`, the file it was parsed from):
+// CheckGltfJson's rewrite of integers written as decimals, for tinygltf.
+void ReplaceGltfJson(GltfContainer* c, const std::vector<unsigned char>& bytes, std::string json);
 
 // Cuts every data: URI quoted in a message to its first `keep` characters plus
 // "..." (a message must not carry megabytes of base64).

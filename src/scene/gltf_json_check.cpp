@@ -1,6 +1,7 @@
 #include "scene/gltf_json_check.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cctype>
 #include <cstdio>
 #include <cstring>
@@ -24,6 +25,56 @@ namespace lt {
 namespace {
 
 constexpr size_t kMaxJsonDepth = 256;        // nested arrays and objects
+
+// ---------------------------------------------------------------- integers written as decimals
+
+// The properties glTF 2.0 and the extensions read here define as integers (indices
+// of other objects, counts, offsets, enums), besides the elements of `children`,
+// `nodes` and `joints` and the values of `attributes` and of each morph target.
+bool IsIntegerKey(const std::string& key) {
+  static const std::set<std::string> kKeys = {
+      "buffer", "bufferView", "byteOffset", "byteLength", "byteStride", "target", "count", "componentType",
+      "mode", "indices", "material", "mesh", "skin", "camera", "node", "scene", "sampler", "source", "index",
+      "texCoord", "input", "output", "skeleton", "inverseBindMatrices", "magFilter", "minFilter", "wrapS",
+      "wrapT", "light"};
+  return kKeys.count(key) != 0;
+}
+bool IsIntegerListKey(const std::string& key) { return key == "children" || key == "nodes" || key == "joints"; }
+
+// A decimal with a zero fractional part that a double holds exactly.
+bool IsIntegralDecimal(const nlohmann::json& v) {
+  if (!v.is_number_float()) return false;
+  const double d = v.get<double>();
+  return std::isfinite(d) && std::floor(d) == d && std::fabs(d) <= 9007199254740992.0;
+}
+
+// Calls `at` on every value of `j` in an integer position (above), outermost first.
+template <typename Json, typename Visit>
+void ForEachIntegerPosition(Json& j, const Visit& at) {
+  if (j.is_array()) {
+    for (auto& e : j) ForEachIntegerPosition(e, at);
+    return;
+  }
+  if (!j.is_object()) return;
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    auto& v = it.value();
+    if (IsIntegerKey(it.key())) at(v);
+    if (IsIntegerListKey(it.key()) && v.is_array()) {
+      for (auto& e : v) at(e);
+    }
+    if (it.key() == "attributes" && v.is_object()) {
+      for (auto& e : v) at(e);
+    }
+    if (it.key() == "targets" && v.is_array()) {
+      for (auto& target : v) {
+        if (target.is_object()) {
+          for (auto& e : target) at(e);
+        }
+      }
+    }
+    ForEachIntegerPosition(v, at);
+  }
+}
 
 // Number of bytes a base64 payload decodes to; fails on a character outside the
 // base64 alphabet, padding before the end, or a length no encoder produces.
@@ -169,10 +220,21 @@ bool MatrixPlacesAsTrs(const nlohmann::json& node) {
 }  // namespace
 
 void CheckGltfJson(const GltfContainer& container, const std::string& file, const std::filesystem::path& base_dir,
-                   GltfExternalFiles* external) {
+                   GltfExternalFiles* external, std::string* rewritten) {
   CheckJsonDepth(container.json_text, file);
   json::Document doc = json::Document::Parse(container.json_text, file, base_dir);
-  const nlohmann::json& root = doc.Root().raw();
+  // Integers written as decimals (most files have none: no copy then).
+  bool decimals = false;
+  ForEachIntegerPosition(doc.Root().raw(), [&](const nlohmann::json& v) { decimals |= IsIntegralDecimal(v); });
+  nlohmann::json as_integers;
+  if (decimals) {
+    as_integers = doc.Root().raw();
+    ForEachIntegerPosition(as_integers, [](nlohmann::json& v) {
+      if (IsIntegralDecimal(v)) v = static_cast<int64_t>(v.get<double>());
+    });
+    if (rewritten) *rewritten = as_integers.dump();
+  }
+  const nlohmann::json& root = decimals ? as_integers : doc.Root().raw();
   if (!root.is_object()) throw InputError(file, "invalid glTF: the top level must be a JSON object");
   auto asset = root.find("asset");
   if (asset == root.end() || !asset->is_object()) throw InputError(file + ": /asset", "missing required object");

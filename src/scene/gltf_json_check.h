@@ -25,8 +25,12 @@ struct GltfExternalFiles {
 };
 
 // Checks the JSON before the full parse (see above). base_dir is the folder of the
-// file; `external` (optional) receives what the external files are.
+// file; `external` (optional) receives what the external files are. glTF 2.0 ("JSON
+// encoding") lets an integer property be written as a decimal with a zero
+// fractional part or with an exponent ("count": 24.0, "bufferView": 1e0), which
+// tinygltf refuses: such values are read as the integers they are, and `rewritten`
+// (optional) receives the JSON with them written as integers (empty when none).
 void CheckGltfJson(const GltfContainer& container, const std::string& file, const std::filesystem::path& base_dir,
-                   GltfExternalFiles* external = nullptr);
+                   GltfExternalFiles* external = nullptr, std::string* rewritten = nullptr);
 
 }  // namespace lt

@@ -165,7 +165,9 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
   GltfContainer container = ParseGltfContainer(bytes, file);
   const std::filesystem::path base = abs.parent_path();
   GltfExternalFiles external;
-  CheckGltfJson(container, file, base, &external);
+  std::string rewritten;
+  CheckGltfJson(container, file, base, &external, &rewritten);
+  if (!rewritten.empty()) ReplaceGltfJson(&container, bytes, std::move(rewritten));
 
   GltfAsset asset;
   asset.path = path;
@@ -183,8 +185,8 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
     ok = loader.LoadBinaryFromMemory(&model, &err, &warn, glb.data(), unsigned(container.total_length),
                                      base.string());
   } else {
-    ok = loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
-                                    unsigned(bytes.size()), base.string());
+    ok = loader.LoadASCIIFromString(&model, &err, &warn, container.json_text.data(),
+                                    unsigned(container.json_text.size()), base.string());
   }
   if (!ok) throw InputError(file, "invalid glTF: " + Trim(ShortenDataUris(err.empty() ? "parse failed" : err)));
   if (!container.warning.empty()) asset.warnings.push_back(file + ": " + container.warning);

@@ -53,8 +53,8 @@ TEST(GltfSchema, ErrorsNameTheirPointer) {
             "\"MAT4\", got \"VEC5\"");
   EXPECT_EQ(GlbError([](nlohmann::json& j) { j["accessors"][0]["count"] = "4"; }),
             "bad.glb: /accessors/0/count: must be an integer, got \"4\"");
-  EXPECT_EQ(GlbError([](nlohmann::json& j) { j["accessors"][0]["count"] = 4.0; }),
-            "bad.glb: /accessors/0/count: must be an integer, got 4.0");
+  EXPECT_EQ(GlbError([](nlohmann::json& j) { j["accessors"][0]["count"] = 4.25; }),
+            "bad.glb: /accessors/0/count: must be an integer, got 4.25");  // 4.0 is read (below)
   EXPECT_EQ(GlbError([](nlohmann::json& j) { j["accessors"] = {{"a", 1}}; }), "bad.glb: /accessors: must be an array");
 }
 
@@ -137,6 +137,41 @@ TEST(GltfSchema, SparseAndJointsErrorsSayWhatIsWrong) {
             "bad.glb: /accessors/" + std::to_string(attributes["JOINTS_0"].get<int>()) +
                 ": JOINTS_0 must be unsigned bytes or shorts (componentType 5121 or 5123) without \"normalized\" "
                 "(glTF 3.7.3.1), got componentType 5125");
+}
+
+// glTF 2.0, "JSON encoding": an integer property MAY be written as a decimal with a
+// zero fractional part or with an exponent. Writers whose numbers are all doubles
+// (Python code dividing byte counts, JavaScript) write "count": 4.0; cesium-native
+// and the glTF validator's schema read them, tinygltf refused them and so did the
+// loader ("/accessors/0/count: must be an integer, got 4.0"). Every integer of a
+// square with a child node is written as a decimal here, as .glb and as .gltf.
+TEST(GltfSchema, IntegersWrittenAsDecimalsAreRead) {
+  GltfBuilder b = test::SquareBuilder();
+  b.AddNode("child", 0, {2, 0, 0}, false);
+  b.json()["nodes"][0]["children"] = {1};
+  std::function<void(nlohmann::json&)> as_decimals = [&](nlohmann::json& j) {
+    if (j.is_number_integer() || j.is_number_unsigned()) j = j.get<double>();
+    if (j.is_structured()) {
+      for (auto& e : j) as_decimals(e);
+    }
+  };
+  as_decimals(b.json());
+  ASSERT_TRUE(b.json()["accessors"][0]["count"].is_number_float());
+  TempDir dir;
+  b.WriteGlb(dir / "decimals.glb");
+  b.WriteGltf(dir / "decimals.gltf", true);
+  for (const char* name : {"decimals.glb", "decimals.gltf"}) {
+    const GltfAsset a = LoadGltf(dir / name, name);
+    ASSERT_EQ(a.meshes.size(), 1u) << name;
+    EXPECT_EQ(a.meshes[0].TriangleCount(), 2u) << name;
+    ASSERT_EQ(a.instances.size(), 2u) << name;
+    EXPECT_TRUE(a.instances[1].file_from_mesh.translation().isApprox(Eigen::Vector3d(2, 0, 0))) << name;
+  }
+  // A fractional part is still an error, in a list too.
+  EXPECT_EQ(GlbError([](nlohmann::json& j) { j["accessors"][0]["count"] = 4.5; }),
+            "bad.glb: /accessors/0/count: must be an integer, got 4.5");
+  EXPECT_EQ(GlbError([](nlohmann::json& j) { j["nodes"][0]["children"] = {0.0, 1.5}; }),
+            "bad.glb: /nodes/0/children/1: must be a node index (an integer), got 1.5");
 }
 
 }  // namespace
