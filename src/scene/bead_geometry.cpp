@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -135,11 +136,60 @@ void Mitre(const Piece& p, const Piece& q, Eigen::Vector3d& across, double& scal
   scale = 1.0 / across.dot(s0);
 }
 
+// Where nothing gives a rising bead its height (no stated height, no header layer
+// height, no level: a spiral or non-planar path from its first move, as FullControl and
+// robot slicers write them), the bead lies on the turn below it: the highest earlier
+// such bead passing within kRadiusM of its start in the bed plane and at least
+// kAwayM of beads back along the path (not the same turn's), else the bed (z 0).
+class TurnsBelow {
+ public:
+  // The height of seg's bead above the turn below; records the bead for those above.
+  double HeightOf(const ToolpathSegment& seg) {
+    const Eigen::Vector3d p = seg.start_m;
+    double below = 0;
+    const auto [cx, cy] = Cell(p);
+    for (long long i = cx - 1; i <= cx + 1; ++i) {
+      for (long long j = cy - 1; j <= cy + 1; ++j) {
+        auto it = cells_.find({i, j});
+        if (it == cells_.end()) continue;
+        for (const Sample& q : it->second) {
+          if (length_m_ - q.along_m >= kAwayM && q.p.z() < p.z() - kLevelTolM &&
+              std::hypot(q.p.x() - p.x(), q.p.y() - p.y()) <= kRadiusM) {
+            below = std::max(below, q.p.z());
+          }
+        }
+      }
+    }
+    const int n = std::max(1, int(std::ceil(seg.xy_length_m / kStepM)));
+    for (int k = 0; k <= n; ++k) {
+      const Eigen::Vector3d q = seg.PointAt(double(k) / n);
+      cells_[Cell(q)].push_back({q, length_m_ + seg.xy_length_m * k / n});
+    }
+    length_m_ += seg.xy_length_m;
+    return p.z() - below;
+  }
+
+ private:
+  static constexpr double kRadiusM = 0.5e-3;  // about a bead's width: the turn below, not a neighbour line
+  static constexpr double kAwayM = 4 * kRadiusM;
+  static constexpr double kStepM = 0.25e-3;
+  struct Sample {
+    Eigen::Vector3d p;
+    double along_m;  // bead length recorded before it
+  };
+  static std::pair<long long, long long> Cell(const Eigen::Vector3d& q) {
+    return {(long long)std::floor(q.x() / kRadiusM), (long long)std::floor(q.y() / kRadiusM)};
+  }
+  std::map<std::pair<long long, long long>, std::vector<Sample>> cells_;
+  double length_m_ = 0;
+};
+
 // The heights at which the path has extruded flat (level) beads, and the height of
 // the last such level above the one below it.
 struct Levels {
   std::set<double> z;
   double last_step = 0;
+  TurnsBelow turns;
 };
 
 double LayerHeight(const Toolpath& path, const ToolpathSegment& seg, const BeadOptions& o, Levels& levels) {
@@ -153,7 +203,10 @@ double LayerHeight(const Toolpath& path, const ToolpathSegment& seg, const BeadO
   if (level) levels.z.insert(z);
   if (o.layer_height_m > 0) return o.layer_height_m;
   if (seg.height_m > 0) return seg.height_m;
-  if (rising) return path.header_layer_height_m > 0 ? path.header_layer_height_m : levels.last_step;
+  if (rising) {
+    if (path.header_layer_height_m > 0) return path.header_layer_height_m;
+    return levels.last_step > 0 ? levels.last_step : levels.turns.HeightOf(seg);
+  }
   auto below = levels.z.lower_bound(z - kLevelTolM);
   double base = below == levels.z.begin() ? 0.0 : *std::prev(below);
   if (z - base > kLevelTolM) {

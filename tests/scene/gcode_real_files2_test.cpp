@@ -3,6 +3,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <sstream>
+
+#include "scene/bead_geometry.h"
 #include "scene/gcode.h"
 #include "test_util.h"
 
@@ -118,6 +122,34 @@ TEST(GcodeRealFiles2, AnycubicBareG5IsSkipped) {
   EXPECT_NEAR(p.BeadFilamentLength(true), 1 * kMm, 1e-12);
   EXPECT_THAT(ErrorOf([] { ParseGcode("G1 F600\nG5 I0 J3 P0 Q-3 X2 Y2\n", "b.gcode"); }),
               HasSubstr("b.gcode:2: G5 (Marlin's cubic Bezier move) is not supported"));
+}
+
+// FullControl (and robot slicers) write spirals and non-planar paths whose Z rises on
+// every move, without layer comments or a layer height: a real ripple vase's spiral
+// ("G1 F250 X51.5594 Y25.0114 Z0.291564 E0.418934" on) stands on its primer line, but a
+// design that spirals from its first move had no height for any bead: every bead was
+// skipped and the printed part was empty, silently. A rising bead with no height known
+// now lies on the turn below it (the highest earlier bead within half a millimetre in the
+// bed plane, not the same turn's), the first turn on the bed.
+TEST(GcodeRealFiles2, SpiralFromTheFirstMoveStandsOnTheTurnBelow) {
+  std::ostringstream g;
+  g << ";GCode created with FullControl\nM83 ; relative extrusion\nG0 F8000 X60 Y50 Z0.3\n";
+  const double pitch_mm = 0.3;
+  double z = 0.3;
+  for (int i = 1; i <= 120; ++i) {  // three turns of 40 moves around (50, 50), radius 10 mm
+    const double a = i * 2 * M_PI / 40;
+    z += pitch_mm / 40;
+    g << "G1 F1200 X" << 50 + 10 * std::cos(a) << " Y" << 50 + 10 * std::sin(a) << " Z" << z << " E0.05\n";
+  }
+  Toolpath p = ParseGcode(g.str(), "spiral.gcode");
+  const std::vector<double> h = BeadLayerHeights(p);
+  ASSERT_EQ(h.size(), p.segments.size());
+  EXPECT_NEAR(h[1], 0.3 * kMm, 1e-9);                  // the first turn stands on the bed
+  for (size_t k = 45; k < h.size(); ++k) EXPECT_NEAR(h[k], pitch_mm * kMm, 0.01 * pitch_mm * kMm);
+  BeadStats stats;
+  BeadMeshUpTo(p, p.Duration(), {}, &stats);
+  EXPECT_EQ(stats.skipped, 0u);
+  EXPECT_EQ(stats.beads, 120u);
 }
 
 }  // namespace
