@@ -92,10 +92,12 @@ bool HasWord(std::string_view text, std::string_view word) {
 // an error that stopped the read. Marlin without that option ignores the line, so what
 // the printer does depends on its firmware: warned, with the line and the count.
 void GcodeReader::ModalMotion(std::string_view code, size_t pos) {
-  const std::string command = CommandName('G', motion_mode_);
-  Warn(kModalMotion, "\"" + std::string(TrimBlanks(code.substr(pos))) + "\": axis words without a command, read as " +
-                         command + ", the last motion command (RS-274's modal motion, as Grbl and RepRapFirmware read "
-                         "it; Marlin without GCODE_MOTION_MODES ignores such a line)");
+  std::string text(1, '"');  // appended: GCC 12 warns falsely on "\"" + std::string
+  text.append(TrimBlanks(code.substr(pos)));
+  text += "\": axis words without a command, read as " + CommandName('G', motion_mode_) +
+          ", the last motion command (RS-274's modal motion, as Grbl and RepRapFirmware read it; Marlin without "
+          "GCODE_MOTION_MODES ignores such a line)";
+  Warn(kModalMotion, text);
   ++commands_on_line_;
   ReadWords(code, pos, true);
   if (motion_mode_ <= 1) {
