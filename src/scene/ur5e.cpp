@@ -1,9 +1,11 @@
 #include "scene/ur5e.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 namespace lt {
@@ -181,12 +183,18 @@ std::string JointPathProblem::Describe() const {
     case Kind::kPositionLimit:
       return std::string("every solution puts a joint outside its limits (") + Ur5eJointName(joint) + " at " +
              Deg(value) + " deg, limit " + Deg(limit) + " deg)";
-    case Kind::kSpeedLimit:
-      if (!std::isfinite(value)) {
-        return std::string(Ur5eJointName(joint)) + " turns " + Deg(std::abs(delta_rad)) +
-               " deg in no time, limit " + Deg(limit) + " deg/s";
+    case Kind::kSpeedLimit: {
+      std::string text = !std::isfinite(value)
+                             ? std::string(Ur5eJointName(joint)) + " turns " + Deg(std::abs(delta_rad)) +
+                                   " deg in no time, limit " + Deg(limit) + " deg/s"
+                             : std::string(Ur5eJointName(joint)) + " needs " + Deg(value) + " deg/s, limit " +
+                                   Deg(limit) + " deg/s";
+      if (wound_joint >= 0) {
+        text += "; the arm changes configuration: " + std::string(Ur5eJointName(wound_joint)) + " would reach " +
+                Deg(wound_value) + " deg, past its limit " + Deg(wound_limit) + " deg";
       }
-      return std::string(Ur5eJointName(joint)) + " needs " + Deg(value) + " deg/s, limit " + Deg(limit) + " deg/s";
+      return text;
+    }
   }
   return "";
 }
@@ -224,6 +232,25 @@ JointPath SolveJointPath(const std::vector<RobotWaypoint>& waypoints, const Join
     }
     if (i > 0) {
       const double dt = waypoints[i].t_s - waypoints[i - 1].t_s;
+      // Set at the step's first violation: whether a position limit forced it.
+      std::optional<std::array<double, 3>> wound;
+      bool wound_checked = false;
+      auto wound_by_limit = [&]() {
+        if (wound_checked) return wound;
+        wound_checked = true;
+        Ur5eLimits open = limits;
+        open.position_min_rad.setConstant(-1e9);
+        open.position_max_rad.setConstant(1e9);
+        const JointVector free = *Ur5eNearestSolution(waypoints[i].base_from_flange, previous, open);
+        for (int j = 0; j < 6; ++j) {
+          if (free[j] < limits.position_min_rad[j] || free[j] > limits.position_max_rad[j]) {
+            const double lim = free[j] < limits.position_min_rad[j] ? limits.position_min_rad[j] : limits.position_max_rad[j];
+            wound = std::array<double, 3>{double(j), free[j], lim};
+            break;
+          }
+        }
+        return wound;
+      };
       for (int j = 0; j < 6; ++j) {
         const double delta = (*q)[j] - previous[j];
         if (delta == 0) continue;
@@ -237,6 +264,11 @@ JointPath SolveJointPath(const std::vector<RobotWaypoint>& waypoints, const Join
           problem.value = speed;
           problem.limit = limits.speed_max_rad_s[j];
           problem.delta_rad = delta;
+          if (auto w = wound_by_limit()) {
+            problem.wound_joint = int((*w)[0]);
+            problem.wound_value = (*w)[1];
+            problem.wound_limit = (*w)[2];
+          }
           if (!path.first_speed_violation) path.first_speed_violation = problem;
           const double ratio = speed / limits.speed_max_rad_s[j];
           if (ratio > worst_ratio) {

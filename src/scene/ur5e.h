@@ -64,7 +64,14 @@ struct JointPathProblem {
   double value = 0;     // kPositionLimit: the joint angle (rad); kSpeedLimit: the speed needed (rad/s, inf for no time)
   double limit = 0;     // the limit it breaks
   double delta_rad = 0; // kSpeedLimit: the joint's change between the two waypoints
-  // "joint 4 (wrist 1) needs 312 deg/s, limit 180 deg/s"
+  // kSpeedLimit where the step changes the arm's configuration because the nearest
+  // solution would put a joint past its position limit (a joint wound up by a path
+  // that turns the tool one way): that joint, its angle there and the limit; -1 when not.
+  int wound_joint = -1;
+  double wound_value = 0;
+  double wound_limit = 0;
+  // "wrist 3 needs 312 deg/s, limit 180 deg/s", and for a wound joint "; the arm
+  // changes configuration: wrist 3 would reach -362 deg, past its limit -360 deg"
   std::string Describe() const;
 };
 

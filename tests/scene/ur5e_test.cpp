@@ -155,6 +155,13 @@ TEST(Ur5e, WindingPastTheJointRangeIsReportedNotClipped) {
   ASSERT_GE(path.speed_violations, 1u);
   size_t k = path.first_speed_violation->waypoint;
   EXPECT_GT(std::abs(path.q[k - 1][5]), 2 * M_PI - 2.0 / 150);  // wrist 3 was at its limit
+  // The report says why: the nearest solution would take wrist 3 past its limit.
+  const JointPathProblem& flip = *path.first_speed_violation;
+  EXPECT_EQ(flip.wound_joint, 5);
+  EXPECT_GT(std::abs(flip.wound_value), 2 * M_PI);
+  EXPECT_EQ(std::abs(flip.wound_limit), 2 * M_PI);
+  EXPECT_THAT(flip.Describe(), HasSubstr("; the arm changes configuration: wrist 3 would reach"));
+  EXPECT_THAT(flip.Describe(), HasSubstr("deg, past its limit " + std::string(flip.wound_limit < 0 ? "-" : "") + "360 deg"));
   for (size_t i = 1; i < k; ++i) EXPECT_LT((path.q[i] - path.q[i - 1]).cwiseAbs().maxCoeff(), 0.05) << i;
   for (const auto& q : path.q) EXPECT_LE(q.cwiseAbs().maxCoeff(), 2 * M_PI);
 }
@@ -207,7 +214,8 @@ TEST(Ur5e, ProblemsAreReportedAtTheirWaypoint) {
   EXPECT_EQ(too_fast.first_speed_violation->waypoint, 1u);
   EXPECT_EQ(too_fast.first_speed_violation->joint, 5);
   EXPECT_NEAR(too_fast.first_speed_violation->value, (M_PI / 2) / 0.1, 1e-9);
-  EXPECT_THAT(too_fast.first_speed_violation->Describe(), HasSubstr("wrist 3 needs 900 deg/s, limit 180 deg/s"));
+  EXPECT_EQ(too_fast.first_speed_violation->Describe(), "wrist 3 needs 900 deg/s, limit 180 deg/s");
+  EXPECT_EQ(too_fast.first_speed_violation->wound_joint, -1);  // a fast turn, no limit involved
   ASSERT_TRUE(too_fast.worst_speed_violation);
   EXPECT_EQ(too_fast.worst_speed_violation->waypoint, 2u);
   EXPECT_THAT(too_fast.worst_speed_violation->Describe(), HasSubstr("wrist 3 turns 45 deg in no time"));
