@@ -1,7 +1,6 @@
 #include "scene/ur5e.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -199,6 +198,33 @@ std::string JointPathProblem::Describe() const {
   return "";
 }
 
+namespace {
+
+// A joint past its position limit: which, its angle and the limit.
+struct BrokenLimit {
+  int joint = -1;
+  double value = 0, limit = 0;
+};
+
+// The first joint that the nearest solution without position limits puts past a limit,
+// if any: what keeps the arm from the nearest solution.
+std::optional<BrokenLimit> LimitOfNearest(const Pose& base_from_flange, const JointVector& previous,
+                                          const Ur5eLimits& limits) {
+  Ur5eLimits open = limits;
+  open.position_min_rad.setConstant(-1e9);
+  open.position_max_rad.setConstant(1e9);
+  const std::optional<JointVector> free = Ur5eNearestSolution(base_from_flange, previous, open);
+  if (!free) return std::nullopt;
+  for (int j = 0; j < 6; ++j) {
+    const double v = (*free)[j];
+    if (v < limits.position_min_rad[j]) return BrokenLimit{j, v, limits.position_min_rad[j]};
+    if (v > limits.position_max_rad[j]) return BrokenLimit{j, v, limits.position_max_rad[j]};
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 JointPath SolveJointPath(const std::vector<RobotWaypoint>& waypoints, const JointVector& start,
                          const Ur5eLimits& limits) {
   limits.Check();
@@ -212,19 +238,11 @@ JointPath SolveJointPath(const std::vector<RobotWaypoint>& waypoints, const Join
       JointPathProblem problem;
       problem.waypoint = i;
       if (limits_violated) {
-        // Report the joint of the nearest unconstrained solution that breaks a limit.
-        Ur5eLimits open = limits;
-        open.position_min_rad.setConstant(-1e9);
-        open.position_max_rad.setConstant(1e9);
-        JointVector free = *Ur5eNearestSolution(waypoints[i].base_from_flange, previous, open);
         problem.kind = JointPathProblem::Kind::kPositionLimit;
-        for (int j = 0; j < 6; ++j) {
-          if (free[j] < limits.position_min_rad[j] || free[j] > limits.position_max_rad[j]) {
-            problem.joint = j;
-            problem.value = free[j];
-            problem.limit = free[j] < limits.position_min_rad[j] ? limits.position_min_rad[j] : limits.position_max_rad[j];
-            break;
-          }
+        if (auto broken = LimitOfNearest(waypoints[i].base_from_flange, previous, limits)) {
+          problem.joint = broken->joint;
+          problem.value = broken->value;
+          problem.limit = broken->limit;
         }
       }
       path.failure = problem;
@@ -232,25 +250,8 @@ JointPath SolveJointPath(const std::vector<RobotWaypoint>& waypoints, const Join
     }
     if (i > 0) {
       const double dt = waypoints[i].t_s - waypoints[i - 1].t_s;
-      // Set at the step's first violation: whether a position limit forced it.
-      std::optional<std::array<double, 3>> wound;
-      bool wound_checked = false;
-      auto wound_by_limit = [&]() {
-        if (wound_checked) return wound;
-        wound_checked = true;
-        Ur5eLimits open = limits;
-        open.position_min_rad.setConstant(-1e9);
-        open.position_max_rad.setConstant(1e9);
-        const JointVector free = *Ur5eNearestSolution(waypoints[i].base_from_flange, previous, open);
-        for (int j = 0; j < 6; ++j) {
-          if (free[j] < limits.position_min_rad[j] || free[j] > limits.position_max_rad[j]) {
-            const double lim = free[j] < limits.position_min_rad[j] ? limits.position_min_rad[j] : limits.position_max_rad[j];
-            wound = std::array<double, 3>{double(j), free[j], lim};
-            break;
-          }
-        }
-        return wound;
-      };
+      // Whether a position limit forced the step (solved once, at its first violation).
+      std::optional<std::optional<BrokenLimit>> wound;
       for (int j = 0; j < 6; ++j) {
         const double delta = (*q)[j] - previous[j];
         if (delta == 0) continue;
@@ -264,10 +265,11 @@ JointPath SolveJointPath(const std::vector<RobotWaypoint>& waypoints, const Join
           problem.value = speed;
           problem.limit = limits.speed_max_rad_s[j];
           problem.delta_rad = delta;
-          if (auto w = wound_by_limit()) {
-            problem.wound_joint = int((*w)[0]);
-            problem.wound_value = (*w)[1];
-            problem.wound_limit = (*w)[2];
+          if (!wound) wound = LimitOfNearest(waypoints[i].base_from_flange, previous, limits);
+          if (*wound) {
+            problem.wound_joint = (*wound)->joint;
+            problem.wound_value = (*wound)->value;
+            problem.wound_limit = (*wound)->limit;
           }
           if (!path.first_speed_violation) path.first_speed_violation = problem;
           const double ratio = speed / limits.speed_max_rad_s[j];
