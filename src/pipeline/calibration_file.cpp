@@ -6,7 +6,9 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "pipeline/camera_file_formats.h"
 #include "pipeline/opencv_yaml.h"
+#include "pipeline/yaml_tree.h"
 #include "sensor/param_error.h"
 
 namespace lt {
@@ -50,67 +52,27 @@ CalibratedCamera ReadCamera(const OpenCvYaml& y) {
     throw InputError(y.Where(*k), "camera_matrix must be 3x3, got " + std::to_string(m.rows) + "x" +
                                       std::to_string(m.cols));
   }
-  c.fx = m.At(0, 0);
-  c.fy = m.At(1, 1);
-  c.cx = m.At(0, 2);
-  c.cy = m.At(1, 2);
-  if (!(c.fx > 0 && c.fy > 0)) {
-    throw InputError(y.Where(*k), "camera_matrix: fx and fy must be > 0, got " + FormatNumber(c.fx) + " and " +
-                                      FormatNumber(c.fy));
-  }
-  if (std::abs(m.At(0, 1)) > 1e-9 * c.fx) {
-    throw InputError(y.Where(*k), "camera_matrix: skew (row 0, column 1) is not supported, got " +
-                                      FormatNumber(m.At(0, 1)));
-  }
-  if (m.At(1, 0) != 0 || m.At(2, 0) != 0 || m.At(2, 1) != 0 || m.At(2, 2) != 1) {
-    throw InputError(y.Where(*k), "camera_matrix must have the form [fx 0 cx; 0 fy cy; 0 0 1]");
-  }
-  std::string model = "brown_conrady";
-  if (const YamlEntry* dm = y.Find("distortion_model")) {
-    model = y.String(*dm);
-    // plumb_bob / equidistant: the names ROS camera_info files use.
-    if (model == "plumb_bob") model = "brown_conrady";
-    if (model == "equidistant") model = "fisheye";
-    if (model != "brown_conrady" && model != "fisheye") {
-      throw InputError(y.Where(*dm), "distortion_model must be brown_conrady or fisheye, got '" + model + "'");
-    }
-  }
+  SetCameraMatrix(m.data, y.Where(*k), "camera_matrix", &c);
+  const YamlEntry* dm = y.Find("distortion_model");
+  std::string model = dm ? y.String(*dm) : "brown_conrady";
   // OpenCV's camera calibration sample says which model its coefficients
   // belong to by `fisheye_model: 0 | 1` (cv::fisheye's k1..k4 are 4 values,
   // as are Brown-Conrady's k1 k2 p1 p2).
   if (const YamlEntry* fm = y.Find("fisheye_model")) {
-    const std::string by_flag = y.Integer(*fm, 0, 1) == 1 ? "fisheye" : "brown_conrady";
-    const YamlEntry* dm = y.Find("distortion_model");
-    if (dm && model != by_flag) {
-      throw InputError(y.Where(*fm), "fisheye_model " + fm->scalar + " contradicts distortion_model " +
-                                         y.String(*dm) + " (line " + std::to_string(dm->line) + ")");
+    const bool fisheye = y.Integer(*fm, 0, 1) == 1;
+    const bool model_fisheye = model == "fisheye" || model == "equidistant";
+    if (dm && fisheye != model_fisheye) {
+      throw InputError(y.Where(*fm), "fisheye_model " + fm->scalar + " contradicts distortion_model " + model +
+                                         " (line " + std::to_string(dm->line) + ")");
     }
-    model = by_flag;
+    if (!dm) model = fisheye ? "fisheye" : "brown_conrady";
   }
   const YamlEntry* dc = y.Find("distortion_coefficients");
-  if (!dc) {
-    if (model == "fisheye") {
-      throw InputError(y.file(), "distortion_model fisheye needs distortion_coefficients (k1 k2 k3 k4)");
-    }
-    return c;  // no distortion
+  if (!dc && (model == "fisheye" || model == "equidistant")) {
+    throw InputError(y.file(), "distortion_model fisheye needs distortion_coefficients (k1 k2 k3 k4)");
   }
-  std::vector<double> d = VectorValues(y, *dc);
-  if (model == "fisheye") {
-    if (d.size() != 4) {
-      throw InputError(y.Where(*dc), "fisheye distortion_coefficients must have 4 values (k1 k2 k3 k4), got " +
-                                         std::to_string(d.size()));
-    }
-    c.distortion = DistortionModel::kFisheye;
-    c.fisheye = {d[0], d[1], d[2], d[3]};  // all zero is still the fisheye projection (θ_d = θ)
-    return c;
-  }
-  const OpenCvDistCoeffsProblem problem = BrownConradyFromOpenCv(d, &c.brown_conrady);
-  if (!problem.ok()) {
-    throw InputError(y.Where(*dc), "distortion_coefficients" +
-                                       (problem.element < 0 ? std::string(" ") : " element " + std::to_string(problem.element + 1) + ": ") +
-                                       problem.problem);
-  }
-  c.distortion = c.brown_conrady.IsZero() ? DistortionModel::kNone : DistortionModel::kBrownConrady;
+  SetDistortion(model, dc ? VectorValues(y, *dc) : std::vector<double>{}, dm ? y.Where(*dm) : y.file(),
+                dc ? y.Where(*dc) : y.file(), "distortion_coefficients", &c);
   return c;
 }
 
@@ -197,7 +159,31 @@ Camera CalibrationFile::MakeCamera(const CameraParams& base, const std::string& 
 }
 
 CalibrationFile ReadCalibrationFile(const std::filesystem::path& path) {
-  OpenCvYaml y = OpenCvYaml::Read(path);
+  const std::string text = OpenCvYaml::ReadText(path);
+  const std::string file = path.string();
+  // The camera files of other tools (ROS, Kalibr, camodocal) are YAML that
+  // OpenCV's subset does not cover (nested maps, no %YAML:1.0): recognised by
+  // their keys in the YAML tree.
+  const size_t first = text.find_first_not_of(" \t\r\n");
+  const bool opencv_header = first != std::string::npos && text.compare(first, 6, "%YAML:") == 0;
+  if (!IsOpenCvXmlText(text)) {
+    std::optional<YamlNode> root;
+    try {
+      root = ParseYamlTree(text, file);
+    } catch (const InputError& e) {
+      // OpenCV's own files read with its subset (whose errors are the precise ones).
+      if (!opencv_header) {
+        throw InputError(e.where(), e.message() + " (expected a calibration file: OpenCV FileStorage YAML or XML, or "
+                                                  "the camera file of ROS (camera_info), Kalibr (camchain) or camodocal)");
+      }
+    }
+    CalibrationFile other;
+    if (root && ReadOtherCameraFile(*root, file, &other)) {
+      other.MakeCamera(CameraParams{}, file);  // a distortion that folds inside the image
+      return other;
+    }
+  }
+  OpenCvYaml y = OpenCvYaml::Parse(text, file);
   CalibrationFile c;
   for (const auto& e : y.entries()) {
     if (!KnownKeys().count(e.key)) c.ignored_keys.push_back(e.key);
@@ -218,6 +204,20 @@ CalibrationFile ReadCalibrationFile(const std::filesystem::path& path) {
     }
     c.depth_range = DepthRange{y.Number(*near) / 1e3, y.Number(*far) / 1e3};
     c.depth_range->Check(y.Where(*far));
+  }
+  if (!c.camera && c.laser_planes.empty() && !c.tool_from_cam && !c.depth_range) {
+    // OpenCV's stereo_calib sample writes both cameras (M1 D1 M2 D2, or K1 D1 K2 D2) without their image size.
+    const bool stereo = (y.Find("M1") || y.Find("K1")) && (y.Find("M2") || y.Find("K2"));
+    if (stereo) {
+      throw InputError(file, "an OpenCV stereo calibration (M1 D1 M2 D2 or K1 D1 K2 D2, without the image size): "
+                             "lasertwin reads one camera: write its matrix as camera_matrix and its coefficients as "
+                             "distortion_coefficients, with image_width and image_height");
+    }
+    std::string keys;
+    for (const auto& e : y.entries()) keys += (keys.empty() ? "" : ", ") + e.key;
+    throw InputError(file, "holds nothing lasertwin reads: no camera (camera_matrix, image_width, image_height), "
+                           "laser_planes, tool_from_cam or depth_min_mm/depth_max_mm" +
+                               (keys.empty() ? std::string() : " (its keys: " + keys + ")"));
   }
   return c;
 }

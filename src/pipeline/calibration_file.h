@@ -63,6 +63,9 @@ struct CalibrationFile {
   std::optional<Pose> tool_from_cam;
   std::optional<DepthRange> depth_range;  // depth_min_mm, depth_max_mm
   std::vector<std::string> ignored_keys;  // read only
+  // Read only: what the reader could not honour fully ("file: line: ..."),
+  // for the caller to print (a ROS rectification that is not the identity).
+  std::vector<std::string> warnings;
 
   // Builds the camera (base supplies the non-geometric parameters). Throws
   // lt::InputError naming `file` when the distortion folds inside the image.
@@ -71,6 +74,10 @@ struct CalibrationFile {
 
 // Reads a calibration file; errors are lt::InputError naming "file:line".
 // Plane normals are normalised (n and d divided by |n|) unless already unit to 1e-12.
+// Besides OpenCV's FileStorage YAML and XML, the camera files of ROS
+// (camera_info), Kalibr (camchain) and camodocal are read for their camera
+// (pipeline/camera_file_formats.h). A file from which nothing is read (no
+// camera, laser_planes, tool_from_cam or working range) is an error.
 CalibrationFile ReadCalibrationFile(const std::filesystem::path& path);
 // The form a calibration file of this name is written in: .xml is XML, .yaml
 // and .yml are YAML (any case). Throws lt::InputError naming the path for any

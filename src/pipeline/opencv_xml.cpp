@@ -201,9 +201,10 @@ std::vector<YamlEntry> ParseOpenCvXml(const std::string& text, const std::string
         }
         *out = int(v);
       }
-      m.dt = Trim(parts["dt"]->text);
-      if (m.dt.size() != 1 || std::string("dfiuswc").find(m.dt[0]) == std::string::npos) {
-        parser.Fail(parts["dt"]->line, "dt must be one channel of d, f, i, u, s, w or c, got '" + m.dt + "'");
+      const std::string dt = Trim(parts["dt"]->text);
+      if (!ParseMatrixDt(dt, &m)) {
+        parser.Fail(parts["dt"]->line,
+                    "dt must be d, f, i, u, s, w or c, with an optional channel count of 1 to 4 (2f), got '" + dt + "'");
       }
       std::istringstream values(parts["data"]->text);
       for (std::string tok; values >> tok;) {
@@ -215,11 +216,14 @@ std::vector<YamlEntry> ParseOpenCvXml(const std::string& text, const std::string
         }
         m.data.push_back(v);
       }
-      const size_t expected = size_t(m.rows) * size_t(m.cols);
+      const size_t expected = size_t(m.rows) * size_t(m.cols) * size_t(m.channels);
       if (m.data.size() != expected) {
         parser.Fail(parts["data"]->line, "matrix '" + e.key + "' is " + std::to_string(m.rows) + "x" +
-                                             std::to_string(m.cols) + " and needs " + std::to_string(expected) +
-                                             " values, got " + std::to_string(m.data.size()));
+                                             std::to_string(m.cols) +
+                                             (m.channels > 1 ? " of " + std::to_string(m.channels) + " channels"
+                                                             : std::string()) +
+                                             " and needs " + std::to_string(expected) + " values, got " +
+                                             std::to_string(m.data.size()));
       }
     } else if (type != el.attributes.end() || !el.children.empty()) {
       e.kind = YamlEntry::Kind::kOther;  // another type, a sequence or a map: skipped

@@ -80,7 +80,9 @@ class Parser {
   std::vector<YamlEntry> Run() {
     if (lines_.empty() || lines_[0].text.rfind("%YAML", 0) != 0) {
       Fail(lines_.empty() ? 1 : lines_[0].no,
-           "not an OpenCV FileStorage YAML file: the first line must be %YAML:1.0 (the XML form starts with <?xml)");
+           "not an OpenCV FileStorage YAML file: the first line must be %YAML:1.0 (the XML form starts with <?xml); "
+           "nor the camera file of ROS (camera_matrix: {rows, cols, data}), Kalibr (cam0: {intrinsics, ...}) or "
+           "camodocal (model_type)");
     }
     std::vector<YamlEntry> entries;
     std::set<std::string> seen;
@@ -185,12 +187,9 @@ class Parser {
         integer(&m.cols);
         has_cols = true;
       } else if (key == "dt") {
-        m.dt = StripComment(rest);
-        if (m.dt.size() >= 2 && (m.dt.front() == '"' || m.dt.front() == '\'') && m.dt.back() == m.dt.front()) {
-          m.dt = m.dt.substr(1, m.dt.size() - 2);
-        }
-        if (m.dt.size() != 1 || std::string("dfiuswc").find(m.dt[0]) == std::string::npos) {
-          Fail(l.no, "dt must be one channel of d, f, i, u, s, w or c, got '" + m.dt + "'");
+        const std::string dt = StripComment(rest);
+        if (!ParseMatrixDt(dt, &m)) {
+          Fail(l.no, "dt must be d, f, i, u, s, w or c, with an optional channel count of 1 to 4 (2f), got '" + dt + "'");
         }
         has_dt = true;
       } else if (key == "data") {
@@ -222,9 +221,10 @@ class Parser {
         m.data.push_back(v);
       }
     }
-    const size_t expected = size_t(m.rows) * size_t(m.cols);
+    const size_t expected = size_t(m.rows) * size_t(m.cols) * size_t(m.channels);
     if (m.data.size() != expected) {
       Fail(data_line, "matrix '" + e->key + "' is " + std::to_string(m.rows) + "x" + std::to_string(m.cols) +
+                          (m.channels > 1 ? " of " + std::to_string(m.channels) + " channels" : std::string()) +
                           " and needs " + std::to_string(expected) + " values, got " + std::to_string(m.data.size()));
     }
   }
@@ -235,12 +235,16 @@ class Parser {
 
 }  // namespace
 
+bool IsOpenCvXmlText(const std::string& text) {
+  const size_t first = text.find_first_not_of(" \t\r\n");
+  const bool bom = text.rfind("\xEF\xBB\xBF", 0) == 0;
+  return (first != std::string::npos && text[first] == '<') || (bom && text.size() > 3 && text[3] == '<');
+}
+
 OpenCvYaml OpenCvYaml::Parse(const std::string& text, const std::string& file) {
   OpenCvYaml y;
   y.file_ = file;
-  const size_t first = text.find_first_not_of(" \t\r\n");
-  const bool bom = text.rfind("\xEF\xBB\xBF", 0) == 0;
-  if ((first != std::string::npos && text[first] == '<') || (bom && text.size() > 3 && text[3] == '<')) {
+  if (IsOpenCvXmlText(text)) {
     y.entries_ = ParseOpenCvXml(text, file);
   } else {
     y.entries_ = Parser(text, file).Run();
@@ -248,15 +252,17 @@ OpenCvYaml OpenCvYaml::Parse(const std::string& text, const std::string& file) {
   return y;
 }
 
-OpenCvYaml OpenCvYaml::Read(const std::filesystem::path& path) {
+std::string OpenCvYaml::ReadText(const std::filesystem::path& path) {
   if (std::filesystem::is_directory(path)) throw InputError(path.string(), "is a folder, not a calibration file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string(), "cannot open file");
   std::stringstream ss;
   ss << in.rdbuf();
   if (in.bad()) throw InputError(path.string(), "cannot read file");
-  return Parse(ss.str(), path.string());
+  return ss.str();
 }
+
+OpenCvYaml OpenCvYaml::Read(const std::filesystem::path& path) { return Parse(ReadText(path), path.string()); }
 
 const YamlEntry* OpenCvYaml::Find(const std::string& key) const {
   for (const auto& e : entries_) {
@@ -292,7 +298,27 @@ std::string OpenCvYaml::String(const YamlEntry& e) const {
 
 const YamlMatrix& OpenCvYaml::Matrix(const YamlEntry& e) const {
   if (e.kind != YamlEntry::Kind::kMatrix) throw InputError(Where(e), e.key + " must be an !!opencv-matrix");
+  if (e.matrix.channels != 1) {
+    throw InputError(Where(e), e.key + " must have one channel (dt d), got " + std::to_string(e.matrix.channels) +
+                                   " (dt " + std::to_string(e.matrix.channels) + e.matrix.dt + ")");
+  }
   return e.matrix;
+}
+
+bool ParseMatrixDt(std::string dt, YamlMatrix* m) {
+  dt = Trim(dt);
+  if (dt.size() >= 2 && (dt.front() == '"' || dt.front() == '\'') && dt.back() == dt.front()) {
+    dt = dt.substr(1, dt.size() - 2);
+  }
+  int channels = 1;
+  if (dt.size() == 2 && dt[0] >= '1' && dt[0] <= '4') {
+    channels = dt[0] - '0';
+    dt = dt.substr(1);
+  }
+  if (dt.size() != 1 || std::string("dfiuswc").find(dt[0]) == std::string::npos) return false;
+  m->dt = dt;
+  m->channels = channels;
+  return true;
 }
 
 std::string FormatYamlReal(double v) {

@@ -6,7 +6,8 @@
 //   key: !!opencv-matrix             a matrix, with the indented block
 //      rows: R                       R >= 1
 //      cols: C                       C >= 1
-//      dt: d                         one channel: d, f (floating), i, u, s, w, c (integer)
+//      dt: d                         d, f (floating), i, u, s, w, c (integer), with an optional
+//                                    channel count ("2f": 2 values per element; the sample's image points)
 //      data: [ v0, v1, ... ]         R x C values, row-major; may span lines
 //
 // Comments (#) and blank lines are skipped. Other top-level values (nested
@@ -30,8 +31,9 @@ namespace lt {
 
 struct YamlMatrix {
   int rows = 0, cols = 0;
-  std::string dt = "d";
-  std::vector<double> data;  // row-major, finite
+  int channels = 1;          // dt "2f": 2 (OpenCV's sample writes its image points so)
+  std::string dt = "d";      // the element type without the channel count
+  std::vector<double> data;  // row-major, channels interleaved, finite
   double At(int r, int c) const { return data[size_t(r) * size_t(cols) + size_t(c)]; }
 };
 
@@ -50,6 +52,8 @@ class OpenCvYaml {
   // Parses text; `file` names it in errors.
   static OpenCvYaml Parse(const std::string& text, const std::string& file);
   static OpenCvYaml Read(const std::filesystem::path& path);  // errors name the path
+  // The whole text of a file (lt::InputError naming the path when it cannot be read).
+  static std::string ReadText(const std::filesystem::path& path);
 
   const std::string& file() const { return file_; }
   const std::vector<YamlEntry>& entries() const { return entries_; }
@@ -69,6 +73,11 @@ class OpenCvYaml {
   std::vector<YamlEntry> entries_;
 };
 
+// Whether a text is the XML form (starts with '<', after blanks or a BOM).
+bool IsOpenCvXmlText(const std::string& text);
+// Parses a matrix's dt ("d", "f", "2f", quoted or not) into m->dt and
+// m->channels; false when it is not one of OpenCV's (1 to 4 channels of d f i u s w c).
+bool ParseMatrixDt(std::string dt, YamlMatrix* m);
 // The entries of an OpenCV FileStorage XML text (OpenCvYaml::Parse calls it for
 // a text that starts with '<').
 std::vector<YamlEntry> ParseOpenCvXml(const std::string& text, const std::string& file);

@@ -398,8 +398,11 @@ TEST(CalibrationFile, BadFilesNameTheFileAndLine) {
        "data value 1 is not a finite number: '.Nan'"},
       {head + "laser_planes: !!opencv-matrix\n   rows: 1\n   cols: 4\n   dt: d\n   data: [ 0., 0., 0., 1. ]\n", ":3",
        "plane 0 has a zero normal"},
-      {head + "laser_planes: !!opencv-matrix\n   rows: 1\n   cols: 4\n   dt: 3d\n   data: [ 0., 0., 1., 1. ]\n", ":6",
-       "dt must be one channel"},
+      {head + "laser_planes: !!opencv-matrix\n   rows: 1\n   cols: 4\n   dt: 5d\n   data: [ 0., 0., 1., 1. ]\n", ":6",
+       "dt must be d, f, i, u, s, w or c, with an optional channel count"},
+      // Several channels read (OpenCV's sample writes its image points as "2f"), but not where one is needed.
+      {head + "laser_planes: !!opencv-matrix\n   rows: 1\n   cols: 2\n   dt: 2d\n   data: [ 0., 0., 1., 1. ]\n", ":3",
+       "laser_planes must have one channel (dt d), got 2 (dt 2d)"},
       {head + "laser_planes: !!opencv-matrix\n   rows: 1\n   cols: 4\n   type: d\n   data: [ 0., 0., 1., 1. ]\n", ":6",
        "unknown matrix key 'type'"},
       {head + "laser_planes: !!opencv-matrix\n   rows: 1\n   cols: 4\n   dt: d\n   data: [ 0., 0., 1., 1.\n", ":7",
@@ -422,7 +425,7 @@ TEST(CalibrationFile, BadFilesNameTheFileAndLine) {
       {head + cam + k + "distortion_coefficients: !!opencv-matrix\n   rows: 1\n   cols: 6\n   dt: d\n"
                         "   data: [ 0., 0., 0., 0., 0., 0. ]\n",
        ":10", "distortion_coefficients must have 4, 5, 8, 12 or 14 elements"},
-      {head + cam + k + "distortion_model: rational\n", ":10", "distortion_model must be brown_conrady or fisheye"},
+      {head + cam + k + "distortion_model: rational\n", ":10", "distortion_model must be brown_conrady (plumb_bob, rational_polynomial, radtan) or fisheye"},
       {head + cam + k + "distortion_coefficients: !!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n"
                         "   data: [ -3., 0., 0., 0., 0. ]\n",
        "", "distortion"},  // folds inside the image

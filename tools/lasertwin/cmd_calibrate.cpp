@@ -1,7 +1,9 @@
 // `lasertwin calibrate camera|laser|hand-eye RUN_DIR --out calib.yaml
-// [--calib IN.yaml] [--board FILE | --rows R --cols C --square-mm S]`:
+// [--calib IN.yaml] [--board FILE | --rows R --cols C --square-mm S]
+// [--shutter P] [--poses FILE ...] [--bit-depth N]`:
 // calibrates one part of the scanner from a calibration session's run folder
-// (pipeline/calib_session.h), or the camera from a folder of photographs
+// or a capture without a manifest read as scan reads it (pipeline/calib_session.h),
+// or the camera from a folder of photographs
 // (pipeline/calib_camera_images.h), and writes the calibration file (OpenCV
 // YAML, or OpenCV XML for an --out ending in .xml; pipeline/calibration_file.h)
 // with that part added to IN.yaml's. Prints the result with its uncertainty,
@@ -10,6 +12,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "core/error.h"
 #include "pipeline/calib_camera_images.h"
@@ -19,6 +22,7 @@
 #include "pipeline/run_folder_reader.h"
 #include "pipeline/triangulation.h"
 #include "tools/lasertwin/command.h"
+#include "tools/lasertwin/pose_file_args.h"
 
 namespace lt::cli {
 namespace {
@@ -37,6 +41,9 @@ struct CalibrateArgs {
   bool fix_k3 = false;
   int planes = 0;
   bool quiet = false;
+  std::string shutter = "recorded";
+  PoseFileArgs pose_args;  // the tool's poses
+  int bit_depth = 0;
 };
 
 std::string Fmt(const char* format, double a, double b = 0, double c = 0, double d = 0) {
@@ -59,6 +66,10 @@ CheckerboardSpec Board(const CalibrateArgs& a) {
     b.Check();
     return b;
   }
+  if (a.board.empty() && !std::filesystem::exists(std::filesystem::path(a.run_dir) / "scene.json")) {
+    throw InputError(a.run_dir, "no scene.json to find the session's checkerboard.json in: give the board with "
+                                "--board FILE or --rows, --cols and --square-mm (inner corners)");
+  }
   return ReadCheckerboardFile(a.board.empty() ? FindSessionBoardFile(a.run_dir) : std::filesystem::path(a.board));
 }
 
@@ -70,7 +81,40 @@ CalibrationFile InputFile(const CalibrateArgs& a) {
   if (a.calib.empty()) return {};
   CalibrationFile f = ReadCalibrationFile(a.calib);
   for (const auto& k : f.ignored_keys) Warn(a.calib + ": key " + k + " is not kept in the output");
+  for (const auto& w : f.warnings) Warn(w);
   return f;
+}
+
+// The session's frames as scan reads them; a folder without a rig takes
+// --calib's camera (and its laser planes) when `with_camera`.
+SessionRun Session(const CalibrateArgs& a, const CalibrationFile& in, bool with_camera) {
+  SessionCaptureOptions o;
+  o.shutter = ParseShutterPattern(a.shutter, "--shutter");
+  o.pose_file = a.pose_args.Parse();
+  if (!a.pose_args.poses.empty()) o.poses = a.pose_args.poses;
+  o.bit_depth = a.bit_depth;
+  if (with_camera && in.camera) {
+    o.camera = in.MakeCamera(CameraParams{}, a.calib);
+    o.planes_in_cam = in.laser_planes;
+    o.camera_source = a.calib;
+  }
+  SessionRun run = ReadSessionRun(a.run_dir, o, Warn);
+  if (with_camera && !run.has_camera) {
+    throw InputError(a.run_dir, "no rig.json or scene.json, so no camera: give the calibrated camera with --calib "
+                                "FILE (from `lasertwin calibrate camera`, or OpenCV's YAML)");
+  }
+  if (!a.quiet && run.from_listing) {
+    std::cerr << "frames: the " << run.frames.size() << " image files of " << run.source.string()
+              << " in file name order (no manifest.jsonl), " << a.shutter << "\n";
+  }
+  if (!a.quiet && !run.pose_source.empty()) std::cerr << "poses: " << run.pose_source << "\n";
+  return run;
+}
+
+// The refusal's hint when the shutter pattern may be the wrong way round.
+std::string Hint(const SessionRun& run, const std::vector<SessionView>& views) {
+  const std::string h = ShutterHint(run, views);
+  return h.empty() ? h : "; " + h;
 }
 
 // The camera for the laser and hand-eye steps: --calib's, else the run's true one.
@@ -111,7 +155,9 @@ void CameraStep(const CalibrateArgs& a, CalibrationFile* file) {
   o.Check();  // before the images are read
   std::string counts;                // "N of M views"
   CameraCalibrationResult c;
-  const bool photos = !IsRunFolder(a.run_dir);
+  // A folder without a manifest whose bright frames --shutter names is a capture.
+  const bool photos = !IsRunFolder(a.run_dir) && a.shutter == "recorded";
+  std::optional<SessionRun> run;
   if (photos) {
     if (a.board.empty() && a.rows <= 0 && a.cols <= 0 && a.square_mm <= 0) {
       throw InputError(a.run_dir, "a folder of photographs (no manifest.jsonl): give the board with --rows, --cols "
@@ -126,10 +172,12 @@ void CameraStep(const CalibrateArgs& a, CalibrationFile* file) {
     c = r.calibration;
   } else {
     const CheckerboardSpec board = Board(a);
-    const SessionCameraResult r = CalibrateSessionCamera(a.run_dir, board, o);
+    run = Session(a, {}, false);
+    const SessionCameraResult r = CalibrateSessionCamera(*run, board, o);
     PrintSkipped(r.views);
     counts = std::to_string(r.used.size()) + " of " + std::to_string(r.views.size()) + " views";
     c = r.calibration;
+    if (!c.ok) c.reason += Hint(*run, r.views);
   }
   if (!c.ok) throw InputError(a.run_dir, "camera calibration refused (" + counts + " with the board): " + c.reason);
   if (!c.note.empty()) std::cerr << "lasertwin: note: " << c.note << "\n";
@@ -139,7 +187,7 @@ void CameraStep(const CalibrateArgs& a, CalibrationFile* file) {
   const std::string field = Fmt("  valid within the field the boards observed: corners up to %.1f deg from the "
                                 "axis, %.0f px from the principal point; beyond, the distortion is extrapolated\n",
                                 c.observed_field_rad / kDeg, c.observed_radius * c.camera.fx);
-  if (photos) {
+  if (photos || !run->rig_in_run) {
     std::cout << "camera from " << counts << ", " << c.camera.width << "x" << c.camera.height
               << ": reprojection RMS " << Fmt("%.4f", c.rms_px) << " px\n" << field;
     std::cout << "  param        recovered        std\n";
@@ -150,7 +198,7 @@ void CameraStep(const CalibrateArgs& a, CalibrationFile* file) {
     }
     return;
   }
-  const RunRig rig = ReadRunRig(a.run_dir);
+  const RunRig& rig = run->rig;
   const CameraParams& t = rig.camera.params();
   std::vector<double> truth = {t.fx, t.fy, t.cx, t.cy};
   if (o.model == DistortionModel::kBrownConrady) {
@@ -180,11 +228,12 @@ void CameraStep(const CalibrateArgs& a, CalibrationFile* file) {
 
 void LaserStep(const CalibrateArgs& a, CalibrationFile* file) {
   const CheckerboardSpec board = Board(a);
-  const RunRig rig = ReadRunRig(a.run_dir);
+  const SessionRun run = Session(a, *file, true);
+  const RunRig& rig = run.rig;
   const Camera camera = StepCamera(a, *file, rig);
   SessionLaserOptions o;
   o.planes = a.planes;
-  const SessionLaserResult r = CalibrateSessionLaser(a.run_dir, board, camera, o);
+  const SessionLaserResult r = CalibrateSessionLaser(run, board, camera, o);
   if (r.mosaic_mean) {
     Warn(r.channel_weights_source + ": colour frames are extracted on the mean of R, G and B, not on the channels "
          "that see the laser");
@@ -206,7 +255,7 @@ void LaserStep(const CalibrateArgs& a, CalibrationFile* file) {
   }
   if (!refused.empty()) {
     throw InputError(a.run_dir, "laser plane calibration refused (" + std::to_string(used) + " views with a stripe on "
-                                "the board): " + refused);
+                                "the board): " + refused + Hint(run, r.views));
   }
   // Plane k of the fit is the k-th stripe in image order; the file numbers the
   // rig's planes (sheets of laser 0 first), in the nominal rig's image order.
@@ -224,7 +273,7 @@ void LaserStep(const CalibrateArgs& a, CalibrationFile* file) {
               << Fmt("), d = %.4f mm; %.0f of %.0f points inliers, RMS %.2f um", f.plane.d * 1e3, double(f.inliers), double(f.points),
                      f.residual_rms_m * 1e6)
               << Fmt("; std: normal %.4f deg, offset %.4f mm\n", f.normal_std_rad / kDeg, f.offset_std_m * 1e3);
-    if (rig.planes_in_cam.size() == r.fits.size()) {
+    if (run.rig_in_run && rig.planes_in_cam.size() == r.fits.size()) {
       const PlaneError e = ComparePlanes(f.plane, rig.planes_in_cam[size_t(order[k])]);
       std::cout << "           against the true plane: normal " << Fmt("%.4f", e.normal_angle_rad / kDeg)
                 << " deg, offset " << Fmt("%.4f", e.offset_m * 1e3) << " mm\n";
@@ -233,15 +282,20 @@ void LaserStep(const CalibrateArgs& a, CalibrationFile* file) {
 }
 
 void HandEyeStep(const CalibrateArgs& a, CalibrationFile* file) {
+  if (!IsRunFolder(a.run_dir) && a.pose_args.poses.empty()) {
+    throw InputError(a.run_dir, "a capture without manifest.jsonl has no robot poses: give the tool's poses "
+                                "(world_from_tool) with --poses FILE");
+  }
   const CheckerboardSpec board = Board(a);
-  const RunRig rig = ReadRunRig(a.run_dir);
-  const Camera camera = StepCamera(a, *file, rig);
-  const SessionHandEyeResult r = CalibrateSessionHandEye(a.run_dir, board, camera);
+  const SessionRun run = Session(a, *file, true);
+  const Camera camera = StepCamera(a, *file, run.rig);
+  const SessionHandEyeResult r = CalibrateSessionHandEye(run, board, camera);
   for (const auto& n : r.notes) Warn(n);
   const HandEyeResult& h = r.hand_eye;
   if (!h.ok) {
     throw InputError(a.run_dir, "hand-eye calibration refused (" + std::to_string(r.used.size()) + " of " +
-                                    std::to_string(r.views.size()) + " views usable): " + h.reason);
+                                    std::to_string(r.views.size()) + " views usable): " + h.reason +
+                                    Hint(run, r.views));
   }
   file->tool_from_cam = MakeCalibrationFile(nullptr, nullptr, &h).tool_from_cam;
   if (a.quiet) return;
@@ -252,6 +306,7 @@ void HandEyeStep(const CalibrateArgs& a, CalibrationFile* file) {
             << "  std: rotation " << Fmt("%.4f", h.rotation_std_rad / kDeg) << " deg, translation "
             << Fmt("%.4f", h.translation_std_m * 1e3) << " mm; reprojection RMS " << Fmt("%.4f", h.reprojection_rms_px)
             << " px, variance factor " << Fmt("%.3f", h.variance_factor) << "\n";
+  if (!std::filesystem::exists(std::filesystem::path(a.run_dir) / "scene.json")) return;
   const SessionTruth truth = ReadSessionTruth(a.run_dir);
   if (truth.tool_from_cam) {
     const PoseError e = ComparePoses(h.tool_from_cam, *truth.tool_from_cam);
@@ -265,6 +320,9 @@ void Run(const CalibrateArgs& a) {
   CalibrationFileFormat(a.out);  // an unknown extension is refused before the work
   CalibrationFile file = InputFile(a);
   file.ignored_keys.clear();
+  if (!a.pose_args.poses.empty() && a.step != "hand-eye") {
+    Warn("--poses: the " + a.step + " step uses no robot poses");
+  }
   if (a.step == "camera") {
     CameraStep(a, &file);
   } else if (a.step == "laser") {
@@ -284,8 +342,9 @@ void Add(CLI::App& app) {
       ->required()
       ->check(CLI::IsMember({"camera", "laser", "hand-eye"}));
   cmd->add_option("RUN_DIR", args->run_dir,
-                  "Run folder of a calibration session (bright/dim frame pairs); camera: or a folder of photographs "
-                  "of the board (every image file, no manifest.jsonl; give the board)")
+                  "Run folder of a calibration session (bright/dim frame pairs), or a capture without manifest.jsonl "
+                  "(images in file name order, directly in it or in its frames/; --shutter says which are bright); "
+                  "camera without --shutter: a folder of photographs of the board (every image file; give the board)")
       ->required();
   cmd->add_option("--out", args->out, "Calibration file to write: OpenCV YAML (.yaml, .yml) or OpenCV XML (.xml)")
       ->required();
@@ -299,6 +358,22 @@ void Add(CLI::App& app) {
   cmd->add_option("--model", args->model, "camera: brown_conrady | fisheye | none")->capture_default_str();
   cmd->add_flag("--fix-k3", args->fix_k3, "camera: hold k3 at 0");
   cmd->add_option("--planes", args->planes, "laser: number of laser sheets (default: the run's rig)");
+  cmd->add_option("--shutter", args->shutter,
+                  "recorded | alternate | alternate-bright-first: which frames are bright (the board) and which dim "
+                  "(the laser): the manifest's shutter keys, or alternate frames, the first a dim one or a bright one")
+      ->capture_default_str();
+  cmd->add_option("--poses", args->pose_args.poses,
+                  "hand-eye: the robot tool's poses (world_from_tool), one per frame in frame order, one per bright "
+                  "frame, or with times matched to images named by their time (the forms of scan --poses, "
+                  "docs/pipeline.md); replace the manifest's");
+  cmd->add_option("--pose-units", args->pose_args.units, "m | mm: the pose file's translations (default: its header's, else m)");
+  cmd->add_option("--pose-order", args->pose_args.order,
+                  "xyzw | wxyz: the quaternion order of a pose file without a header (TUM's is xyzw)");
+  cmd->add_option("--image-time-offset", args->pose_args.image_time_offset,
+                  "Seconds added to each image name's time before its pose is interpolated; matches every frame by time");
+  cmd->add_option("--bit-depth", args->bit_depth,
+                  "The image sensor's ADC bits (1..16): a 16-bit image of a 12-bit camera reads up to 4095 (default: "
+                  "the manifest's bit_depth, rig.json's)");
   cmd->add_flag("--quiet", args->quiet, "Print nothing but warnings");
   cmd->callback([args] { Run(*args); });
 }

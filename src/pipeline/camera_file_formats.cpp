@@ -1,0 +1,368 @@
+#include "pipeline/camera_file_formats.h"
+
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+
+#include "core/error.h"
+
+namespace lt {
+
+namespace {
+
+// Node access with errors at the node's line.
+class Reader {
+ public:
+  Reader(std::string file, CalibrationFile* out) : file_(std::move(file)), out_(out) {}
+
+  std::string Where(const YamlNode& n) const { return file_ + ":" + std::to_string(n.line); }
+  [[noreturn]] void Fail(const YamlNode& n, const std::string& message) const {
+    throw InputError(Where(n), message);
+  }
+  [[noreturn]] void Fail(const std::string& message) const { throw InputError(file_, message); }
+
+  double Number(const YamlNode& n, const std::string& name) const {
+    double v = 0;
+    if (n.kind == YamlNode::Kind::kScalar && !n.quoted && !n.scalar.empty()) {
+      char* end = nullptr;
+      v = std::strtod(n.scalar.c_str(), &end);
+      if (*end == '\0' && std::isfinite(v)) return v;
+    }
+    Fail(n, name + " must be a finite number" + (n.kind == YamlNode::Kind::kScalar ? ", got '" + n.scalar + "'" : ""));
+  }
+  int Integer(const YamlNode& n, const std::string& name, long lo, long hi) const {
+    if (n.kind == YamlNode::Kind::kScalar && !n.quoted && !n.scalar.empty()) {
+      char* end = nullptr;
+      const long v = std::strtol(n.scalar.c_str(), &end, 10);
+      if (*end == '\0' && v >= lo && v <= hi) return int(v);
+    }
+    Fail(n, name + " must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]" +
+                (n.kind == YamlNode::Kind::kScalar ? ", got '" + n.scalar + "'" : ""));
+  }
+  std::string String(const YamlNode& n, const std::string& name) const {
+    if (n.kind != YamlNode::Kind::kScalar) Fail(n, name + " must be a string");
+    return n.scalar;
+  }
+  std::vector<double> Numbers(const YamlNode& n, const std::string& name) const {
+    if (n.kind == YamlNode::Kind::kNull) return {};
+    if (n.kind != YamlNode::Kind::kSeq) Fail(n, name + " must be a sequence of numbers [a, b, ...]");
+    std::vector<double> v;
+    for (const YamlNode& e : n.seq) v.push_back(Number(e, name + " value " + std::to_string(v.size())));
+    return v;
+  }
+  const YamlNode& Required(const YamlNode& map, const std::string& key, const std::string& what) const {
+    const YamlNode* n = map.Find(key);
+    if (!n) Fail(map, what + " needs '" + key + "'");
+    return *n;
+  }
+  // A ROS matrix {rows, cols, data}: its values, rows x cols of them.
+  std::vector<double> Matrix(const YamlNode& n, const std::string& name, int rows, int cols) const {
+    if (n.kind != YamlNode::Kind::kMap) Fail(n, name + " must be a matrix {rows, cols, data}");
+    const int r = Integer(Required(n, "rows", name), name + ": rows", 0, 1000);
+    const int c = Integer(Required(n, "cols", name), name + ": cols", 0, 1000);
+    for (const auto& [key, value] : n.map) {
+      if (key != "rows" && key != "cols" && key != "data" && key != "dt") Fail(value, name + ": unknown key '" + key + "'");
+    }
+    std::vector<double> d = Numbers(Required(n, "data", name), name + ": data");
+    if (d.size() != size_t(r) * size_t(c)) {
+      Fail(n, name + " is " + std::to_string(r) + "x" + std::to_string(c) + " and needs " + std::to_string(r * c) +
+                  " values, got " + std::to_string(d.size()));
+    }
+    if ((rows > 0 && r != rows) || (cols > 0 && c != cols)) {
+      Fail(n, name + " must be " + std::to_string(rows) + "x" + std::to_string(cols) + ", got " + std::to_string(r) +
+                  "x" + std::to_string(c));
+    }
+    return d;
+  }
+  void Ignore(const std::string& key) const { out_->ignored_keys.push_back(key); }
+
+  // A rectification that is not the identity: a stereo pair's.
+  void CheckRectification(const std::vector<double>& r, const YamlNode& n, const std::string& name) const {
+    if (r.empty()) return;
+    const double id[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    double diff = 0;
+    for (int k = 0; k < 9 && k < int(r.size()); ++k) diff = std::max(diff, std::abs(r[size_t(k)] - id[k]));
+    if (diff > 1e-9) {
+      out_->warnings.push_back(Where(n) + ": " + name +
+           " is not the identity (a stereo pair's rectification): the camera matrix and distortion are read for "
+           "the raw images, in the unrectified camera's frame; the rectified projection is not used");
+    }
+  }
+
+  const std::string& file() const { return file_; }
+
+ private:
+  std::string file_;
+  CalibrationFile* out_;
+};
+
+bool IsCameraKey(const std::string& key) {
+  if (key.size() < 4 || key.rfind("cam", 0) != 0) return false;
+  for (size_t i = 3; i < key.size(); ++i) {
+    if (!std::isdigit(static_cast<unsigned char>(key[i]))) return false;
+  }
+  return true;
+}
+
+// ROS camera_info as camera_calibration_parsers write it.
+void ReadRosFile(const Reader& r, const YamlNode& root, CalibrationFile* out) {
+  CalibratedCamera c;
+  c.width = r.Integer(r.Required(root, "image_width", "a ROS camera_info file"), "image_width", 1, 1 << 16);
+  c.height = r.Integer(r.Required(root, "image_height", "a ROS camera_info file"), "image_height", 1, 1 << 16);
+  const YamlNode& k = *root.Find("camera_matrix");
+  SetCameraMatrix(r.Matrix(k, "camera_matrix", 3, 3), r.Where(k), "camera_matrix", &c);
+  // Older files have no distortion_model: ROS then takes plumb_bob.
+  const YamlNode* model = root.Find("distortion_model");
+  const YamlNode* d = root.Find("distortion_coefficients");
+  std::vector<double> coeffs;
+  if (d) coeffs = r.Matrix(*d, "distortion_coefficients", 0, 0);
+  SetDistortion(model ? r.String(*model, "distortion_model") : "plumb_bob", coeffs,
+                model ? r.Where(*model) : r.file(), d ? r.Where(*d) : r.file(), "distortion_coefficients", &c);
+  for (const auto& [key, value] : root.map) {
+    if (key == "image_width" || key == "image_height" || key == "camera_matrix" || key == "distortion_model" ||
+        key == "distortion_coefficients") {
+      continue;
+    }
+    if (key == "rectification_matrix") r.CheckRectification(r.Matrix(value, key, 3, 3), value, key);
+    r.Ignore(key);
+  }
+  out->camera = c;
+}
+
+// A sensor_msgs/CameraInfo message as `rostopic echo` (K, D, ...) or
+// `ros2 topic echo` (k, d, ...) print it.
+void ReadRosMessage(const Reader& r, const YamlNode& root, CalibrationFile* out) {
+  auto find = [&](const char* upper, const char* lower) {
+    const YamlNode* n = root.Find(upper);
+    return n ? n : root.Find(lower);
+  };
+  const std::string what = "a ROS CameraInfo message";
+  CalibratedCamera c;
+  c.width = r.Integer(r.Required(root, "width", what), "width", 1, 1 << 16);
+  c.height = r.Integer(r.Required(root, "height", what), "height", 1, 1 << 16);
+  const YamlNode& k = *find("K", "k");
+  const std::vector<double> kv = r.Numbers(k, "K");
+  if (kv.size() != 9) r.Fail(k, "K must have 9 values (3x3, row-major), got " + std::to_string(kv.size()));
+  if (kv[0] == 0) r.Fail(k, "K is zero: the camera is not calibrated (ROS leaves K zero for an uncalibrated camera)");
+  SetCameraMatrix(kv, r.Where(k), "K", &c);
+  const YamlNode* model = root.Find("distortion_model");
+  const YamlNode* d = find("D", "d");
+  SetDistortion(model ? r.String(*model, "distortion_model") : "plumb_bob", d ? r.Numbers(*d, "D") : std::vector<double>{},
+                model ? r.Where(*model) : r.file(), d ? r.Where(*d) : r.file(), "D", &c);
+  for (const char* b : {"binning_x", "binning_y"}) {
+    if (const YamlNode* n = root.Find(b)) {
+      if (r.Integer(*n, b, 0, 1 << 16) > 1) {
+        r.Fail(*n, std::string(b) + " is " + n->scalar +
+                       ": K is for the unbinned image; lasertwin reads the camera of the images it is given");
+      }
+    }
+  }
+  if (const YamlNode* roi = root.Find("roi")) {
+    for (const char* key : {"x_offset", "y_offset", "width", "height"}) {
+      const YamlNode* n = roi->Find(key);
+      if (n && r.Integer(*n, std::string("roi ") + key, 0, 1 << 16) != 0) {
+        r.Fail(*n, std::string("roi ") + key + " is " + n->scalar +
+                       ": the images are a region of the sensor, K is for the full image");
+      }
+    }
+  }
+  for (const auto& [key, value] : root.map) {
+    if (key == "R" || key == "r") r.CheckRectification(r.Numbers(value, "R"), value, "R");
+    if (key != "width" && key != "height" && key != "K" && key != "k" && key != "D" && key != "d" &&
+        key != "distortion_model") {
+      r.Ignore(key);
+    }
+  }
+  out->camera = c;
+}
+
+void ReadKalibr(const Reader& r, const YamlNode& root, CalibrationFile* out) {
+  std::vector<std::string> cams;
+  for (const auto& [key, value] : root.map) {
+    if (IsCameraKey(key)) cams.push_back(key);
+  }
+  if (cams.size() > 1) {
+    std::string names;
+    for (const auto& n : cams) names += (names.empty() ? "" : ", ") + n;
+    r.Fail("a Kalibr camera chain with " + std::to_string(cams.size()) + " cameras (" + names +
+           "): lasertwin reads one camera; keep the scanner camera's block alone in a file of its own (as cam0)");
+  }
+  const std::string name = cams[0];
+  const YamlNode& cam = *root.Find(name);
+  if (cam.kind != YamlNode::Kind::kMap) r.Fail(cam, name + " must be a map");
+  const std::string what = "Kalibr's " + name;
+  if (const YamlNode* m = cam.Find("camera_model")) {
+    const std::string model = r.String(*m, name + ".camera_model");
+    if (model != "pinhole") {
+      r.Fail(*m, name + ".camera_model is '" + model +
+                     "': lasertwin's cameras are pinhole (with radtan or equidistant distortion); " + model +
+                     " is another projection");
+    }
+  }
+  CalibratedCamera c;
+  const YamlNode& res = r.Required(cam, "resolution", what);
+  const std::vector<double> wh = r.Numbers(res, name + ".resolution");
+  if (wh.size() != 2) r.Fail(res, name + ".resolution must be [width, height]");
+  c.width = r.Integer(res.seq[0], name + ".resolution width", 1, 1 << 16);
+  c.height = r.Integer(res.seq[1], name + ".resolution height", 1, 1 << 16);
+  const YamlNode& in = r.Required(cam, "intrinsics", what);
+  const std::vector<double> f = r.Numbers(in, name + ".intrinsics");
+  if (f.size() != 4) {
+    r.Fail(in, name + ".intrinsics must be [fu, fv, pu, pv] for a pinhole camera, got " + std::to_string(f.size()) +
+                   " values");
+  }
+  SetCameraMatrix({f[0], 0, f[2], 0, f[1], f[3], 0, 0, 1}, r.Where(in), name + ".intrinsics", &c);
+  const YamlNode* model = cam.Find("distortion_model");
+  const YamlNode* d = cam.Find("distortion_coeffs");
+  std::string m = model ? r.String(*model, name + ".distortion_model") : "none";
+  const std::vector<double> coeffs = d ? r.Numbers(*d, name + ".distortion_coeffs") : std::vector<double>{};
+  if (m == "radtan" && coeffs.size() != 4) {
+    r.Fail(d ? *d : cam, name + ".distortion_coeffs: radtan has 4 (k1 k2 r1 r2), got " + std::to_string(coeffs.size()));
+  }
+  if (m == "fov" || m == "brown_conrady" || m == "plumb_bob" || m == "rational_polynomial" || m == "fisheye") {
+    r.Fail(*model, name + ".distortion_model '" + m + "': Kalibr's are radtan, equidistant and none; lasertwin reads "
+                          "radtan and equidistant");
+  }
+  SetDistortion(m, coeffs, model ? r.Where(*model) : r.file(), d ? r.Where(*d) : r.file(), name + ".distortion_coeffs",
+                &c);
+  for (const auto& [key, value] : cam.map) {
+    if (key != "camera_model" && key != "resolution" && key != "intrinsics" && key != "distortion_model" &&
+        key != "distortion_coeffs") {
+      r.Ignore(name + "." + key);
+    }
+  }
+  for (const auto& [key, value] : root.map) {
+    if (key != name) r.Ignore(key);
+  }
+  out->camera = c;
+}
+
+// camodocal's camera (VINS-Mono, VINS-Fusion).
+void ReadCamodocal(const Reader& r, const YamlNode& root, CalibrationFile* out) {
+  const YamlNode& mt = *root.Find("model_type");
+  const std::string model = r.String(mt, "model_type");
+  if (model != "PINHOLE" && model != "KANNALA_BRANDT") {
+    r.Fail(mt, "model_type " + model + " (camodocal): lasertwin reads PINHOLE and KANNALA_BRANDT cameras; " + model +
+                   " is another projection");
+  }
+  const std::string what = "camodocal's " + model + " camera";
+  CalibratedCamera c;
+  c.width = r.Integer(r.Required(root, "image_width", what), "image_width", 1, 1 << 16);
+  c.height = r.Integer(r.Required(root, "image_height", what), "image_height", 1, 1 << 16);
+  const YamlNode& p = r.Required(root, "projection_parameters", what);
+  const YamlNode* dp = root.Find("distortion_parameters");
+  auto value = [&](const YamlNode& map, const char* key, const std::string& group) {
+    return r.Number(r.Required(map, key, group), group + "." + key);
+  };
+  if (model == "PINHOLE") {
+    SetCameraMatrix({value(p, "fx", "projection_parameters"), 0, value(p, "cx", "projection_parameters"), 0,
+                     value(p, "fy", "projection_parameters"), value(p, "cy", "projection_parameters"), 0, 0, 1},
+                    r.Where(p), "projection_parameters", &c);
+    if (!dp) r.Fail(root, what + " needs 'distortion_parameters' (k1 k2 p1 p2)");
+    SetDistortion("radtan",
+                  {value(*dp, "k1", "distortion_parameters"), value(*dp, "k2", "distortion_parameters"),
+                   value(*dp, "p1", "distortion_parameters"), value(*dp, "p2", "distortion_parameters")},
+                  r.Where(mt), r.Where(*dp), "distortion_parameters", &c);
+  } else {
+    // camodocal's EquidistantCamera reads k2..k5 (OpenCV's fisheye k1..k4) and
+    // mu mv u0 v0 (fx fy cx cy) from projection_parameters; k's elsewhere are not read by it.
+    if (!p.Find("k2") && dp && dp->Find("k2")) {
+      r.Fail(*dp, "KANNALA_BRANDT: k2..k5 are under distortion_parameters, where camodocal does not read them "
+                  "(it reads them from projection_parameters, as zero here): move them to projection_parameters");
+    }
+    SetCameraMatrix({value(p, "mu", "projection_parameters"), 0, value(p, "u0", "projection_parameters"), 0,
+                     value(p, "mv", "projection_parameters"), value(p, "v0", "projection_parameters"), 0, 0, 1},
+                    r.Where(p), "projection_parameters", &c);
+    SetDistortion("equidistant",
+                  {value(p, "k2", "projection_parameters"), value(p, "k3", "projection_parameters"),
+                   value(p, "k4", "projection_parameters"), value(p, "k5", "projection_parameters")},
+                  r.Where(mt), r.Where(p), "projection_parameters", &c);
+  }
+  for (const auto& [key, v] : root.map) {
+    if (key != "model_type" && key != "image_width" && key != "image_height" && key != "projection_parameters" &&
+        key != "distortion_parameters") {
+      r.Ignore(key);
+    }
+  }
+  out->camera = c;
+}
+
+}  // namespace
+
+void SetCameraMatrix(const std::vector<double>& k, const std::string& where, const std::string& name,
+                     CalibratedCamera* c) {
+  c->fx = k[0];
+  c->fy = k[4];
+  c->cx = k[2];
+  c->cy = k[5];
+  if (!(c->fx > 0 && c->fy > 0)) {
+    throw InputError(where, name + ": fx and fy must be > 0, got " + FormatNumber(c->fx) + " and " + FormatNumber(c->fy));
+  }
+  if (std::abs(k[1]) > 1e-9 * c->fx) {
+    throw InputError(where, name + ": skew (row 0, column 1) is not supported, got " + FormatNumber(k[1]));
+  }
+  if (k[3] != 0 || k[6] != 0 || k[7] != 0 || k[8] != 1) {
+    throw InputError(where, name + " must have the form [fx 0 cx; 0 fy cy; 0 0 1]");
+  }
+}
+
+void SetDistortion(const std::string& model, const std::vector<double>& d, const std::string& where_model,
+                   const std::string& where_coeffs, const std::string& coeffs_name, CalibratedCamera* c) {
+  if (model == "fisheye" || model == "equidistant") {
+    if (d.size() != 4) {
+      throw InputError(where_coeffs, "fisheye " + coeffs_name + " must have 4 values (k1 k2 k3 k4), got " +
+                                         std::to_string(d.size()));
+    }
+    c->distortion = DistortionModel::kFisheye;
+    c->fisheye = {d[0], d[1], d[2], d[3]};  // all zero is still the fisheye projection (θ_d = θ)
+    return;
+  }
+  if (model == "none") {
+    for (double v : d) {
+      if (v != 0) throw InputError(where_coeffs, coeffs_name + ": distortion_model none with nonzero coefficients");
+    }
+    c->distortion = DistortionModel::kNone;
+    return;
+  }
+  if (model != "brown_conrady" && model != "plumb_bob" && model != "rational_polynomial" && model != "radtan") {
+    throw InputError(where_model, "distortion_model must be brown_conrady (plumb_bob, rational_polynomial, radtan) or "
+                                  "fisheye (equidistant), got '" + model + "'");
+  }
+  c->distortion = DistortionModel::kNone;
+  if (d.empty()) return;  // no distortion
+  const OpenCvDistCoeffsProblem problem = BrownConradyFromOpenCv(d, &c->brown_conrady);
+  if (!problem.ok()) {
+    throw InputError(where_coeffs, coeffs_name +
+                                       (problem.element < 0 ? std::string(" ")
+                                                            : " element " + std::to_string(problem.element + 1) + ": ") +
+                                       problem.problem);
+  }
+  c->distortion = c->brown_conrady.IsZero() ? DistortionModel::kNone : DistortionModel::kBrownConrady;
+}
+
+bool ReadOtherCameraFile(const YamlNode& root, const std::string& file, CalibrationFile* out) {
+  if (root.kind != YamlNode::Kind::kMap) return false;
+  CalibrationFile f;
+  const Reader r(file, &f);
+  const YamlNode* k = root.Find("camera_matrix");
+  bool kalibr = false;
+  for (const auto& [key, value] : root.map) {
+    kalibr = kalibr || (IsCameraKey(key) && value.kind == YamlNode::Kind::kMap &&
+                        (value.Find("intrinsics") || value.Find("camera_model")));
+  }
+  if (root.Find("model_type")) {
+    ReadCamodocal(r, root, &f);
+  } else if (kalibr) {
+    ReadKalibr(r, root, &f);
+  } else if (k && k->kind == YamlNode::Kind::kMap && k->tag.empty()) {
+    ReadRosFile(r, root, &f);
+  } else if ((root.Find("K") || root.Find("k")) && (root.Find("width") || root.Find("height"))) {
+    ReadRosMessage(r, root, &f);
+  } else {
+    return false;
+  }
+  *out = std::move(f);
+  return true;
+}
+
+}  // namespace lt
