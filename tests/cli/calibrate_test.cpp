@@ -210,6 +210,64 @@ TEST(CalibrateCli, RenderedSessionCalibratesEndToEnd) {
 
 // A board half hidden in one view: the view is skipped with the detector's
 // reason and the other five calibrate.
+// The laser step starts from a camera calibrated by another tool: the run's
+// camera written as a ROS camera_info file (a stereo rectification, warned
+// about) and as a Kalibr camchain gives the plane the same camera gives in
+// OpenCV's form, bit for bit, and the output keeps that camera. (Before:
+// both refused, "the first line must be %YAML:1.0".)
+TEST(CalibrateCli, LaserStepFromRosAndKalibrCameraFiles) {
+  const Session& s = RenderedSession();
+  ASSERT_TRUE(s.ok);
+  const fs::path dir = NewTestFolder("calibrate_other_formats");
+  const RunRig rig = ReadRunRig(s.run);
+  // The run's intrinsics with a small distortion of its own, the same in every file.
+  CalibrationFile opencv;
+  opencv.camera = CalibratedCamera::From(rig.camera);
+  opencv.camera->distortion = DistortionModel::kBrownConrady;
+  opencv.camera->brown_conrady = {-0.01, 0.002, 0.0005, -0.0003, 0};
+  const CalibratedCamera& c = *opencv.camera;
+  const BrownConradyCoeffs b = c.brown_conrady;
+  WriteCalibrationFile(dir / "camera.yml", opencv);
+  auto n = [](double v) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    return std::string(buf);
+  };
+  std::ofstream(dir / "ost.yaml") << "image_width: " << c.width << "\nimage_height: " << c.height
+                                  << "\ncamera_name: scanner\ncamera_matrix:\n  rows: 3\n  cols: 3\n  data: [" << n(c.fx)
+                                  << ", 0, " << n(c.cx) << ", 0, " << n(c.fy) << ", " << n(c.cy)
+                                  << ", 0, 0, 1]\ndistortion_model: plumb_bob\ndistortion_coefficients:\n  rows: 1\n"
+                                  << "  cols: 5\n  data: [" << n(b.k1) << ", " << n(b.k2) << ", " << n(b.p1) << ", "
+                                  << n(b.p2) << ", " << n(b.k3) << "]\nrectification_matrix:\n  rows: 3\n  cols: 3\n"
+                                  << "  data: [0.9998, -0.02, 0, 0.02, 0.9998, 0, 0, 0, 1]\n";
+  std::ofstream(dir / "camchain.yaml") << "cam0:\n  camera_model: pinhole\n  intrinsics: [" << n(c.fx) << ", " << n(c.fy)
+                                       << ", " << n(c.cx) << ", " << n(c.cy) << "]\n  distortion_model: radtan\n"
+                                       << "  distortion_coeffs: [" << n(b.k1) << ", " << n(b.k2) << ", " << n(b.p1)
+                                       << ", " << n(b.p2) << "]\n  resolution: [" << c.width << ", " << c.height << "]\n";
+  std::vector<CalibrationFile> out;
+  for (const char* in : {"camera.yml", "ost.yaml", "camchain.yaml"}) {
+    const fs::path result = dir / (std::string("laser_from_") + in + ".yml");
+    const CliResult r = RunCli("calibrate laser " + Quoted(s.run) + " --calib " + Quoted(dir / in) + " --out " +
+                               Quoted(result) + " --quiet");
+    ASSERT_EQ(r.exit_code, 0) << in << "\n" << r.err;
+    EXPECT_THAT(r.err, ::testing::Not(HasSubstr("using the run's true camera"))) << in;
+    if (std::string(in) == "ost.yaml") {
+      EXPECT_THAT(r.err, HasSubstr((dir / "ost.yaml").string() + ":13: rectification_matrix is not the identity"));
+    }
+    out.push_back(ReadCalibrationFile(result));
+  }
+  ASSERT_EQ(out.size(), 3u);
+  for (const CalibrationFile& f : out) {
+    ASSERT_TRUE(f.camera);
+    EXPECT_EQ(f.camera->fx, c.fx);
+    EXPECT_EQ(f.camera->cy, c.cy);
+    EXPECT_EQ(f.camera->brown_conrady.p1, b.p1);
+    ASSERT_EQ(f.laser_planes.size(), 1u);
+    EXPECT_EQ(f.laser_planes[0].n, out[0].laser_planes[0].n);
+    EXPECT_EQ(f.laser_planes[0].d, out[0].laser_planes[0].d);
+  }
+}
+
 TEST(CalibrateCli, PartlyVisibleBoardIsSkipped) {
   ASSERT_TRUE(RenderedSession().ok);
   const fs::path run = EditedRun("calibrate_partial", 12);
