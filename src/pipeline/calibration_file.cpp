@@ -167,6 +167,11 @@ CalibrationFile ReadCalibrationFile(const std::filesystem::path& path) {
   const size_t first = text.find_first_not_of(" \t\r\n");
   const bool opencv_header = first != std::string::npos && text.compare(first, 6, "%YAML:") == 0;
   if (!IsOpenCvXmlText(text)) {
+    CalibrationFile other;
+    if (ReadColmapCameras(text, file, &other)) {
+      other.MakeCamera(CameraParams{}, file);
+      return other;
+    }
     std::optional<YamlNode> root;
     try {
       root = ParseYamlTree(text, file);
@@ -177,7 +182,6 @@ CalibrationFile ReadCalibrationFile(const std::filesystem::path& path) {
                                                   "the camera file of ROS (camera_info), Kalibr (camchain) or camodocal)");
       }
     }
-    CalibrationFile other;
     if (root && ReadOtherCameraFile(*root, file, &other)) {
       other.MakeCamera(CameraParams{}, file);  // a distortion that folds inside the image
       return other;

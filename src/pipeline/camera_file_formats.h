@@ -14,8 +14,12 @@
 //   camodocal (VINS-Mono, VINS-Fusion) YAML: model_type PINHOLE |
 //     KANNALA_BRANDT, image_width, image_height, distortion_parameters,
 //     projection_parameters
+//   COLMAP cameras.txt (one camera): SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL,
+//     RADIAL, OPENCV, FULL_OPENCV (k4..k6 0), OPENCV_FISHEYE
 //
-// All put pixel (0,0)'s centre at (0,0), as OpenCV and lasertwin do. What
+// All but COLMAP put pixel (0,0)'s centre at (0,0), as OpenCV and lasertwin
+// do; COLMAP puts it at (0.5, 0.5), so its principal point is moved by half
+// a pixel (cx - 0.5, cy - 0.5). What
 // cannot be honoured (another model, a term lasertwin does not model,
 // several cameras, binning) is an error naming file:line; a rectification
 // that is not the identity is a warning (K and D are read for the raw image).
@@ -47,5 +51,10 @@ void SetDistortion(const std::string& model, const std::vector<double>& d, const
 // camera into *out (camera, ignored_keys, warnings) and returns true; false
 // when it is none of them (then nothing is changed).
 bool ReadOtherCameraFile(const YamlNode& root, const std::string& file, CalibrationFile* out);
+
+// When `text` is a COLMAP cameras.txt (its lines, but for # comments,
+// "CAMERA_ID MODEL WIDTH HEIGHT PARAMS..."), reads its camera into *out and
+// returns true; false otherwise. Several cameras are an error.
+bool ReadColmapCameras(const std::string& text, const std::string& file, CalibrationFile* out);
 
 }  // namespace lt

@@ -401,11 +401,42 @@ TEST(CalibrationFileFormats, StereoAndEmptyFilesAreRefused) {
             (std::pair<std::string, std::string>{
                 "", "holds nothing lasertwin reads: no camera (camera_matrix, image_width, image_height), laser_planes, "
                     "tool_from_cam or depth_min_mm/depth_max_mm (its keys: board_width, square_size)"}));
-  // Not YAML at all (COLMAP's cameras.txt): the YAML error, naming what is read.
-  const auto colmap = ErrorOf("cameras.txt", "# Camera list with one line of data per camera:\n1 PINHOLE 640 480 500 500 320 240\n");
-  EXPECT_EQ(colmap.first, ":2");
-  EXPECT_THAT(colmap.second, HasSubstr("expected a calibration file: OpenCV FileStorage YAML or XML, or the camera file of "
-                                       "ROS (camera_info), Kalibr (camchain) or camodocal"));
+  // Not YAML at all (OcamCalib's calib_results.txt): the YAML error, naming what is read.
+  const auto ocam = ErrorOf("calib_results.txt",
+                            "#polynomial coefficients for the DIRECT mapping function\n\n"
+                            "5 -2.716972e+02 0.000000e+00 -2.741744e-06 1.840940e-06 -8.024838e-10 \n");
+  EXPECT_EQ(ocam.first, ":3");
+  EXPECT_THAT(ocam.second, HasSubstr("expected a calibration file: OpenCV FileStorage YAML or XML, or the camera file of "
+                                     "ROS (camera_info), Kalibr (camchain) or camodocal"));
+}
+
+// COLMAP's cameras.txt: one camera, its principal point moved by half a pixel
+// (COLMAP puts pixel (0,0)'s centre at (0.5, 0.5)). (Before: refused, "the
+// first line must be %YAML:1.0".)
+TEST(CalibrationFileFormats, ColmapCameras) {
+  const std::string head = "# Camera list with one line of data per camera:\n#   CAMERA_ID, MODEL, WIDTH, HEIGHT, PARAMS[]\n";
+  CalibrationFile s = ReadCalibrationFile(TempFile("cameras.txt", head + "1 SIMPLE_RADIAL 800 1200 2468.36 400 600 -0.0556541\n"));
+  ASSERT_TRUE(s.camera);
+  EXPECT_EQ(std::vector<double>({double(s.camera->width), double(s.camera->height), s.camera->fx, s.camera->fy,
+                                 s.camera->cx, s.camera->cy, s.camera->brown_conrady.k1}),
+            std::vector<double>({800, 1200, 2468.36, 2468.36, 399.5, 599.5, -0.0556541}));
+  CalibrationFile o = ReadCalibrationFile(
+      TempFile("opencv.txt", head + "3 OPENCV 640 480 500.5 501 320.25 240.75 -0.2 0.05 0.001 -0.002\n"));
+  ASSERT_TRUE(o.camera);
+  EXPECT_EQ(std::vector<double>({o.camera->fx, o.camera->fy, o.camera->cx, o.camera->cy, o.camera->brown_conrady.p2}),
+            std::vector<double>({500.5, 501, 319.75, 240.25, -0.002}));
+  CalibrationFile f = ReadCalibrationFile(
+      TempFile("fisheye.txt", head + "1 OPENCV_FISHEYE 640 480 300 300 320 240 0.1 -0.01 0.001 -0.0001\n"));
+  ASSERT_TRUE(f.camera);
+  EXPECT_EQ(f.camera->distortion, DistortionModel::kFisheye);
+  EXPECT_EQ(f.camera->fisheye.k4, -0.0001);
+  using Err = std::pair<std::string, std::string>;
+  EXPECT_EQ(ErrorOf("several.txt", head + "1 SIMPLE_PINHOLE 1080 1920 1889.86 540 960\n2 SIMPLE_PINHOLE 1080 1920 1820.24 540 960\n"),
+            (Err{"", "COLMAP cameras.txt with 2 cameras: lasertwin reads one camera; keep the scanner camera's line "
+                     "alone in the file"}));
+  EXPECT_EQ(ErrorOf("fov.txt", head + "1 FOV 640 480 500 500 320 240 0.9\n").first, ":3");
+  EXPECT_EQ(ErrorOf("count.txt", head + "1 PINHOLE 640 480 500 500 320\n"),
+            (Err{":3", "COLMAP PINHOLE has 4 parameters, got 3"}));
 }
 
 }  // namespace
