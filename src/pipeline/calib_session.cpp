@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 #include <type_traits>
 
 #include "core/error.h"
@@ -11,7 +12,9 @@
 #include "core/json_reader.h"
 #include "pipeline/calib_board_turns.h"
 #include "pipeline/frame_extraction.h"
+#include "core/text_fields.h"
 #include "pipeline/run_folder_reader.h"
+#include "pipeline/scan_poses.h"
 #include "pipeline/stripe_extractor.h"
 #include "pipeline/triangulation.h"
 
@@ -41,11 +44,40 @@ fs::path ScenePath(const fs::path& run_dir) {
   return p;
 }
 
-AnyImage ReadFrameImage(const RunFrame& frame) {
+// A frame's image, of the run camera's size.
+AnyImage ReadFrameImage(const SessionRun& run, const RunFrame& frame) {
+  AnyImage image;
   try {
-    return ReadImage(frame.image);
+    image = ReadImage(frame.image);
   } catch (const InputError& e) {
     throw InputError(e.where(), e.message() + " (frame " + std::to_string(frame.index) + ", " + frame.where + ")");
+  }
+  CheckFrameImageSize(image, frame, run.rig.camera, run.rig.source.string());
+  return image;
+}
+
+// The tool poses of a pose file: one per frame (or matched by the images'
+// times), as scan gives them, or one per bright frame.
+std::string GiveToolPoses(const SessionCaptureOptions& o, const std::function<void(const std::string&)>& warn,
+                          SessionRun* r) {
+  const PoseFile poses = ReadPoseFile(*o.poses, o.pose_file, warn);
+  std::vector<size_t> bright;
+  for (size_t k = 0; k < r->frames.size(); ++k) {
+    if (!r->frames[k].IsLaserFrame()) bright.push_back(k);
+  }
+  if (!o.pose_file.image_time_offset_s && !bright.empty() && poses.poses.size() != r->frames.size() &&
+      poses.poses.size() == bright.size()) {
+    std::vector<RunFrame> views;
+    for (size_t k : bright) views.push_back(r->frames[k]);
+    const std::string source = GivePoses(poses, *o.poses, true, &views, r->source.string() + "'s bright frames");
+    for (size_t i = 0; i < bright.size(); ++i) r->frames[bright[i]].world_from_tool = views[i].world_from_tool;
+    return source + ", one per bright frame";
+  }
+  try {
+    return GivePoses(poses, *o.poses, true, &r->frames, r->source.string(), o.pose_file.image_time_offset_s);
+  } catch (const InputError& e) {
+    if (e.where() != o.poses->string() || o.pose_file.image_time_offset_s || bright.empty()) throw;
+    throw InputError(e.where(), e.message() + "; or one per bright frame: " + std::to_string(bright.size()));
   }
 }
 
@@ -175,12 +207,65 @@ SessionTruth ReadSessionTruth(const fs::path& run_dir) {
   return t;
 }
 
-std::vector<SessionView> ReadSessionViews(const fs::path& run_dir, const CheckerboardSpec& board,
+void SessionCaptureOptions::Check() const {
+  if (bit_depth < 0 || bit_depth > 16) throw InputError("--bit-depth", "must be 1..16, got " + std::to_string(bit_depth));
+  if (pose_file.image_time_offset_s && !poses) {
+    throw InputError("--image-time-offset", "describes a pose file: give it with --poses");
+  }
+}
+
+SessionRun ReadSessionRun(const fs::path& dir, const SessionCaptureOptions& o,
+                          const std::function<void(const std::string&)>& warn) {
+  o.Check();
+  SessionRun r;
+  r.dir = dir;
+  r.shutter = o.shutter;
+  ScanFrames listed = ReadScanFrames(dir);
+  if (listed.frames.empty()) throw InputError(listed.source.string(), "holds no frame (expected one JSON object per line)");
+  r.frames = std::move(listed.frames);
+  r.source = listed.source;
+  r.from_listing = listed.from_listing;
+  ApplyShutterPattern(o.shutter, &r.frames);
+  if (HasRunRig(dir)) {
+    r.rig = ReadRunRig(dir);
+    r.rig_in_run = r.has_camera = true;
+  } else if (o.camera) {
+    r.rig.camera = *o.camera;
+    r.rig.planes_in_cam = o.planes_in_cam;
+    r.rig.source = o.camera_source;
+    r.has_camera = true;
+  } else {
+    // No camera: the frames need only one size (the camera step finds the camera).
+    const fs::path& first = r.frames.front().image;
+    const ImageFileSize size = r.from_listing ? ImageFileSize{listed.width, listed.height} : ReadImageFileSize(first);
+    CameraParams p;
+    p.width = size.width, p.height = size.height;
+    r.rig.camera = Camera(p);
+    r.rig.source = first.string() + ", the first frame,";
+  }
+  listed.CheckSize(r.rig.camera.width(), r.rig.camera.height(), r.rig.source.string());
+  r.width = r.rig.camera.width(), r.height = r.rig.camera.height();
+  // As scan: --bit-depth is the sensor's; a frame without bit_depth has it.
+  if (o.bit_depth > 0) r.rig.bit_depth = o.bit_depth;
+  for (RunFrame& f : r.frames) {
+    if (f.bit_depth <= 0) f.bit_depth = r.rig.bit_depth;
+  }
+  if (o.poses) r.pose_source = GiveToolPoses(o, warn, &r);
+  return r;
+}
+
+std::string ShutterHint(const SessionRun& run, const std::vector<SessionView>& views) {
+  if (std::any_of(views.begin(), views.end(), [](const SessionView& v) { return v.detection.ok; })) return "";
+  if (run.shutter == ShutterPattern::kRecorded) return "";
+  return std::string("no bright frame shows the board: are the frames the other way round (--shutter ") +
+         (run.shutter == ShutterPattern::kAlternateLaserFirst ? "alternate-bright-first" : "alternate") + ")?";
+}
+
+std::vector<SessionView> ReadSessionViews(const SessionRun& run, const CheckerboardSpec& board,
                                           const CornerDetectionOptions& corners) {
   board.Check();
   corners.Check();
-  const std::vector<RunFrame> frames = ReadRunManifest(run_dir);
-  const RunRig rig = ReadRunRig(run_dir);
+  const std::vector<RunFrame>& frames = run.frames;
   std::vector<SessionView> views;
   for (size_t i = 0; i < frames.size(); ++i) {
     const RunFrame& f = frames[i];
@@ -190,32 +275,32 @@ std::vector<SessionView> ReadSessionViews(const fs::path& run_dir, const Checker
     if (i + 1 < frames.size() && frames[i + 1].IsLaserFrame()) v.dim_frame = frames[i + 1].index;
     v.world_from_tool = f.world_from_tool;
     v.world_from_cam = f.world_from_cam;
-    const AnyImage image = ReadFrameImage(f);
-    CheckFrameImageSize(image, f, rig.camera, rig.source.string());
-    v.detection = DetectCheckerboard(image, board, corners);
+    v.detection = DetectCheckerboard(ReadFrameImage(run, f), board, corners);
     views.push_back(std::move(v));
   }
   if (views.empty()) {
-    throw InputError((run_dir / "manifest.jsonl").string(),
-                     "the run has no bright frames (frames without laser light) to find the board in");
+    throw InputError(run.source.string(),
+                     run.from_listing ? "no manifest.jsonl: every frame is a laser frame unless the shutter pattern "
+                                        "(--shutter alternate-bright-first or alternate) says which frames are "
+                                        "bright (the board) and which dim (the laser)"
+                                      : "the run has no bright frames (frames without laser light) to find the board in");
   }
   return views;
 }
 
-SessionCameraResult CalibrateSessionCamera(const fs::path& run_dir, const CheckerboardSpec& board,
+SessionCameraResult CalibrateSessionCamera(const SessionRun& run, const CheckerboardSpec& board,
                                            const CameraCalibrationOptions& options,
                                            const CornerDetectionOptions& corners) {
   options.Check();
   SessionCameraResult r;
-  r.views = ReadSessionViews(run_dir, board, corners);
+  r.views = ReadSessionViews(run, board, corners);
   std::vector<CalibrationView> views;
   for (size_t v = 0; v < r.views.size(); ++v) {
     if (!r.views[v].detection.ok) continue;
     views.push_back(ViewOfDetection(board, r.views[v].detection));
     r.used.push_back(int(v));
   }
-  const RunRig rig = ReadRunRig(run_dir);
-  r.calibration = CalibrateCamera(views, rig.camera.width(), rig.camera.height(), options);
+  r.calibration = CalibrateCamera(views, run.width, run.height, options);
   return r;
 }
 
@@ -236,18 +321,28 @@ void SessionLaserOptions::Check() const {
   corners.Check();
 }
 
-SessionLaserResult CalibrateSessionLaser(const fs::path& run_dir, const CheckerboardSpec& board, const Camera& camera,
+SessionLaserResult CalibrateSessionLaser(const SessionRun& run, const CheckerboardSpec& board, const Camera& camera,
                                          const SessionLaserOptions& options) {
   options.Check();
   SessionLaserResult r;
-  const RunRig rig = ReadRunRig(run_dir);
+  const RunRig& rig = run.rig;
   r.planes = options.planes > 0 ? options.planes : int(rig.planes_in_cam.size());
-  if (r.planes < 1) throw InputError(rig.source.string(), "the rig has no laser: give the number of planes");
+  if (r.planes < 1) {
+    throw InputError(run.rig_in_run ? rig.source.string() : run.dir.string(),
+                     run.rig_in_run ? "the rig has no laser: give the number of planes"
+                                    : "no rig.json, and no laser planes in the calibration: give the number of planes");
+  }
   r.axis = options.axis ? *options.axis : rig.planes_in_cam.empty() ? SearchAxis::kRows : StripeAxis(rig.planes_in_cam);
+  // Without planes (a capture whose camera came alone), the first dim frame
+  // read chooses the axis: the one along which it finds more stripe points (a
+  // stripe across the rows, searched along the columns, gives a point per
+  // column; searched along the rows, only the few rows its width covers).
+  bool axis_known = options.axis || !rig.planes_in_cam.empty();
+  r.axis_from_frame = -1;
   const LaserChannelWeights matched = MatchedChannelWeights(rig);
-  r.views = ReadSessionViews(run_dir, board, options.corners);
-  std::map<int, RunFrame> frames;
-  for (const RunFrame& f : ReadRunManifest(run_dir)) frames.emplace(f.index, f);
+  r.views = ReadSessionViews(run, board, options.corners);
+  std::map<int, const RunFrame*> frames;
+  for (const RunFrame& f : run.frames) frames.emplace(f.index, &f);
 
   const double inset = options.edge_inset_squares * board.square_m;
   const double margin = board.margin_squares * board.square_m;
@@ -270,25 +365,37 @@ SessionLaserResult CalibrateSessionLaser(const fs::path& run_dir, const Checkerb
       r.laser_views.push_back(lv);
       continue;
     }
-    const RunFrame& dim = frames.at(sv.dim_frame);
-    const AnyImage image = ReadFrameImage(dim);
-    CheckFrameImageSize(image, dim, rig.camera, rig.source.string());
-    ExtractionOptions given = options.extraction;
-    given.axis = r.axis;
-    // As in scan: a mosaic demosaiced, a colour frame on the laser's channels.
-    const FrameExtraction fx = RunFrameExtraction(given, dim, image, rig, matched);
+    const RunFrame& dim = *frames.at(sv.dim_frame);
+    const AnyImage image = ReadFrameImage(run, dim);
+    std::unique_ptr<StripeExtractor> chosen;
+    std::vector<StripePoint> points;
+    FrameExtraction fx;
+    for (const SearchAxis axis : {r.axis, r.axis == SearchAxis::kRows ? SearchAxis::kCols : SearchAxis::kRows}) {
+      ExtractionOptions given = options.extraction;
+      given.axis = axis;
+      // As in scan: a mosaic demosaiced, a colour frame on the laser's channels.
+      FrameExtraction this_fx = RunFrameExtraction(given, dim, image, rig, matched);
+      auto extractor = std::make_unique<StripeExtractor>(this_fx.options);
+      std::vector<StripePoint> found;
+      try {
+        found = extractor->Extract(image);
+      } catch (const InputError& e) {
+        throw InputError(dim.image.string(), e.message());
+      }
+      if (!chosen || found.size() > points.size()) {
+        chosen = std::move(extractor), points = std::move(found), fx = std::move(this_fx);
+        if (!axis_known) r.axis = axis;
+      }
+      if (axis_known) break;
+    }
+    if (!axis_known) r.axis_from_frame = dim.index;
+    axis_known = true;
+    const StripeExtractor& extractor = *chosen;
     const ExtractionOptions& eo = fx.options;
     if (fx.matched_weights) r.channel_weights_source = matched.Describe();
     if (fx.mosaic_mean) {
       r.channel_weights_source = matched.missing;
       r.mosaic_mean = true;
-    }
-    StripeExtractor extractor(eo);
-    std::vector<StripePoint> points;
-    try {
-      points = extractor.Extract(image);
-    } catch (const InputError& e) {
-      throw InputError(dim.image.string(), e.message());
     }
     lv.stripe_points = int(points.size());
     if (r.planes == 1) {
@@ -337,18 +444,19 @@ SessionLaserResult CalibrateSessionLaser(const fs::path& run_dir, const Checkerb
   return r;
 }
 
-SessionHandEyeResult CalibrateSessionHandEye(const fs::path& run_dir, const CheckerboardSpec& board,
+SessionHandEyeResult CalibrateSessionHandEye(const SessionRun& run, const CheckerboardSpec& board,
                                              const Camera& camera, const HandEyeOptions& options,
                                              const CornerDetectionOptions& corners) {
   options.Check();
   SessionHandEyeResult r;
-  r.views = ReadSessionViews(run_dir, board, corners);
+  r.views = ReadSessionViews(run, board, corners);
   std::vector<HandEyeObservation> observations;
   for (size_t v = 0; v < r.views.size(); ++v) {
     const SessionView& sv = r.views[v];
     const std::string frame = "frame " + std::to_string(sv.bright_frame) + ": ";
     if (!sv.world_from_tool) {
-      r.notes.push_back(frame + "no robot tool pose (manifest key world_from_tool)");
+      r.notes.push_back(frame + (run.from_listing ? "no robot tool pose (no manifest: give the tool's poses in a pose file)"
+                                                  : "no robot tool pose (manifest key world_from_tool)"));
       continue;
     }
     if (!sv.detection.ok) {

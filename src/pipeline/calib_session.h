@@ -18,9 +18,17 @@
 // A view whose board is not detected is skipped (and listed with the
 // detector's reason); the estimators refuse, with their reasons, when too few
 // or degenerate views remain.
+//
+// The frames come from the run's manifest, or, for a real capture without one
+// (a folder of images, in it or in its frames/, in name order), from the
+// folder's listing, as `scan` reads them (pipeline/capture_folder.h): the
+// shutter pattern says which frames are bright, a pose file (`scan --poses`,
+// pipeline/scan_poses.h) gives the tool poses, and without rig.json or
+// scene.json the camera is a calibration file's.
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -32,8 +40,11 @@
 #include "pipeline/calib_hand_eye.h"
 #include "pipeline/calib_laser_plane.h"
 #include "pipeline/calib_target_pose.h"
+#include "pipeline/capture_folder.h"
 #include "pipeline/extraction_options.h"
 #include "pipeline/plane_identification.h"
+#include "pipeline/pose_file.h"
+#include "pipeline/run_folder_reader.h"
 #include "sensor/camera.h"
 
 namespace lt {
@@ -56,20 +67,66 @@ struct SessionTruth {
 };
 SessionTruth ReadSessionTruth(const std::filesystem::path& run_dir);
 
+// How a session's frames are read: the options `scan` reads a capture with.
+struct SessionCaptureOptions {
+  // Which frames are bright (the board) and which dim (the laser); a capture
+  // without a manifest needs an alternating pattern (every frame would be a
+  // laser frame).
+  ShutterPattern shutter = ShutterPattern::kRecorded;
+  // The robot tool's poses (world_from_tool), replacing the manifest's: one per
+  // frame in frame order, or poses with times matched to images named by their
+  // time (GivePoses), or one per bright frame (a robot program logging the
+  // pose it stopped at for each view).
+  std::optional<std::filesystem::path> poses;
+  PoseFileOptions pose_file;
+  int bit_depth = 0;  // the sensor's ADC bits (1..16); 0: the manifest's, rig.json's
+  // The camera of a folder without rig.json or scene.json (a calibration
+  // file's); its laser planes say how many sheets there are.
+  std::optional<Camera> camera;
+  std::vector<Plane> planes_in_cam;
+  std::string camera_source;  // the file the camera came from, for messages
+
+  void Check() const;  // throws lt::InputError naming the option
+};
+
+// A session's frames and scanner, read once.
+struct SessionRun {
+  std::filesystem::path dir;
+  std::vector<RunFrame> frames;   // in index order, shutter pattern applied, tool poses given
+  std::filesystem::path source;   // DIR/manifest.jsonl, or the folder of the images
+  bool from_listing = false;      // no manifest: the folder's images in name order
+  RunRig rig;                     // rig.json's or scene.json's; else the options' camera (rig.source: its file)
+  bool rig_in_run = false;        // the rig is the run's own (its ground truth may be compared with)
+  bool has_camera = false;        // rig.camera holds a camera (always with rig_in_run)
+  int width = 0, height = 0;      // the frames' size
+  std::string pose_source;        // what gave the tool poses: "" for the manifest's
+  ShutterPattern shutter = ShutterPattern::kRecorded;
+};
+
+// Throws lt::InputError naming the file and place: an unreadable manifest or
+// folder, a pose file that does not match the frames, a camera of another size
+// than the images.
+SessionRun ReadSessionRun(const std::filesystem::path& dir, const SessionCaptureOptions& options = {},
+                          const std::function<void(const std::string&)>& warn = {});
+
 // One pose of the board: its bright frame and the dim frame that follows it.
 struct SessionView {
-  int bright_frame = -1;  // manifest index
+  int bright_frame = -1;  // frame index (the manifest's, or the position in the folder's name order)
   int dim_frame = -1;     // -1: none follows
   CornerDetection detection;
   std::optional<Pose> world_from_tool;  // of the bright frame
   std::optional<Pose> world_from_cam;   // of the bright frame (a rendered run's truth)
 };
 
+// When no bright frame shows the board and an alternating shutter pattern chose
+// the bright frames: the hint that the pattern may be the other way round; else "".
+std::string ShutterHint(const SessionRun& run, const std::vector<SessionView>& views);
+
 // The views of a run: every frame without laser light starts one; a laser
 // frame right after it is its dim frame. Corners are detected on the bright
 // frames. Throws lt::InputError for an unreadable run or image, or a run
 // without bright frames.
-std::vector<SessionView> ReadSessionViews(const std::filesystem::path& run_dir, const CheckerboardSpec& board,
+std::vector<SessionView> ReadSessionViews(const SessionRun& run, const CheckerboardSpec& board,
                                           const CornerDetectionOptions& corners = {});
 
 struct SessionCameraResult {
@@ -77,14 +134,16 @@ struct SessionCameraResult {
   std::vector<int> used;  // indices into views of the calibrated views, in the calibration's order
   CameraCalibrationResult calibration;
 };
-SessionCameraResult CalibrateSessionCamera(const std::filesystem::path& run_dir, const CheckerboardSpec& board,
+SessionCameraResult CalibrateSessionCamera(const SessionRun& run, const CheckerboardSpec& board,
                                            const CameraCalibrationOptions& options = {},
                                            const CornerDetectionOptions& corners = {});
 
 struct SessionLaserOptions {
   // Threshold kAuto: 10% of the frame's full scale (its bit depth), as `scan`.
   ExtractionOptions extraction;
-  std::optional<SearchAxis> axis;  // unset: from the run rig's nominal planes (StripeAxis)
+  // Unset: from the run rig's nominal planes (StripeAxis); without planes, the
+  // axis finding more stripe points on the first dim frame read.
+  std::optional<SearchAxis> axis;
   int planes = 0;                  // laser sheets; 0: as many as the run's rig has
   PlaneIdOptions plane_id;  // the stripe's connected pieces (link_distance, min_segment_points)
   // Several sheets: a piece of stripe joins a line when its points lie within
@@ -114,6 +173,7 @@ struct SessionLaserResult {
   std::vector<LaserPlaneFit> fits;  // plane k = k-th stripe in image order
   int planes = 0;
   SearchAxis axis = SearchAxis::kRows;
+  int axis_from_frame = -1;  // the dim frame that chose the axis; -1: the options' or the planes'
   // Colour frames: the channels the stripe was extracted from (as scan's
   // channel_weights_source); empty for mono frames or given channels.
   // mosaic_mean: a mosaic extracted on the mean of R, G, B (the rig gives no
@@ -121,8 +181,8 @@ struct SessionLaserResult {
   std::string channel_weights_source;
   bool mosaic_mean = false;
 };
-SessionLaserResult CalibrateSessionLaser(const std::filesystem::path& run_dir, const CheckerboardSpec& board,
-                                         const Camera& camera, const SessionLaserOptions& options = {});
+SessionLaserResult CalibrateSessionLaser(const SessionRun& run, const CheckerboardSpec& board, const Camera& camera,
+                                         const SessionLaserOptions& options = {});
 
 // Multi-line stripes on the flat target: each sheet's stripe is one straight
 // line across the board (up to lens distortion), broken into pieces where it
@@ -145,7 +205,7 @@ struct SessionHandEyeResult {
   std::vector<std::string> notes;  // skipped views and why
   HandEyeResult hand_eye;
 };
-SessionHandEyeResult CalibrateSessionHandEye(const std::filesystem::path& run_dir, const CheckerboardSpec& board,
+SessionHandEyeResult CalibrateSessionHandEye(const SessionRun& run, const CheckerboardSpec& board,
                                              const Camera& camera, const HandEyeOptions& options = {},
                                              const CornerDetectionOptions& corners = {});
 

@@ -334,6 +334,138 @@ TEST(CalibrateCli, AFolderOfPhotographs) {
   EXPECT_FALSE(fs::exists(dir / "x.yaml"));
 }
 
+// The session's frames as a real capture records them: frames/ only (no
+// manifest.jsonl, rig.json or scene.json), and the robot's log of the tool
+// poses beside it, one per frame, in mm with a header (from the manifest's
+// world_from_tool); `every` keeps every every-th pose (2: one per bright frame),
+// `count` at most that many.
+fs::path CaptureOfSession(const std::string& name, fs::path* poses, size_t every = 1, size_t count = 1000) {
+  const Session& s = RenderedSession();
+  const fs::path dir = NewTestFolder(name);
+  fs::create_directories(dir / "capture/frames");
+  fs::copy(s.run / "frames", dir / "capture/frames", fs::copy_options::recursive);
+  *poses = dir / "robot_poses.csv";
+  std::ofstream out(*poses);
+  out << "x_mm,y_mm,z_mm,qw,qx,qy,qz\n";
+  std::stringstream in(ReadFile(s.run / "manifest.jsonl"));
+  std::string line;
+  for (size_t i = 0; std::getline(in, line) && i < every * count; ++i) {
+    if (i % every != 0) continue;
+    const nlohmann::json tool = nlohmann::json::parse(line).at("world_from_tool");
+    char row[256];
+    const auto& t = tool.at("translation_m");
+    const auto& q = tool.at("rotation_quat_wxyz");
+    std::snprintf(row, sizeof row, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", 1e3 * double(t[0]),
+                  1e3 * double(t[1]), 1e3 * double(t[2]), double(q[0]), double(q[1]), double(q[2]), double(q[3]));
+    out << row;
+  }
+  return dir / "capture";
+}
+
+// The session recorded as a real capture (no manifest, no rig): the laser
+// plane and hand-eye pose from it, with --shutter, --poses, --bit-depth and the
+// camera from --calib, equal those from the run. Before, `calibrate` read only
+// a run with a manifest ("manifest.jsonl: run manifest not found").
+TEST(CalibrateCli, ACaptureWithoutManifestCalibratesAsTheRun) {
+  const Session& s = RenderedSession();
+  ASSERT_TRUE(s.ok);
+  fs::path poses, view_poses;
+  const fs::path capture = CaptureOfSession("calibrate_capture", &poses);
+  CaptureOfSession("calibrate_capture_views", &view_poses, 2);
+  const fs::path dir = capture.parent_path();
+  const std::string board = " --board " + Quoted(s.dir / "session/checkerboard.json");
+  const std::string shutter = " --shutter alternate-bright-first --bit-depth 10";
+  const CliResult cam = RunCli("calibrate camera " + Quoted(s.run) + " --fix-k3 --quiet --out " + Quoted(dir / "cam.yaml"));
+  ASSERT_EQ(cam.exit_code, 0) << cam.err;
+  const std::vector<CliResult> laser = RunMany({
+      "calibrate laser " + Quoted(s.run) + " --calib " + Quoted(dir / "cam.yaml") + " --out " + Quoted(dir / "run.yaml"),
+      "calibrate laser " + Quoted(capture) + shutter + board + " --planes 1 --calib " + Quoted(dir / "cam.yaml") +
+          " --out " + Quoted(dir / "capture.yaml"),
+      "calibrate camera " + Quoted(capture) + shutter + board + " --fix-k3 --out " + Quoted(dir / "cam_capture.yaml"),
+  });
+  for (const CliResult& r : laser) ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(laser[1].err, HasSubstr("frames: the 12 image files of"));
+  // No rig: the stripe's axis from the frames (the rows' search gave another plane, 0.008 deg off).
+  EXPECT_THAT(laser[1].err, HasSubstr("stripes searched along the columns"));
+  EXPECT_THAT(laser[2].out, HasSubstr("camera from 6 of 6 views, 320x256"));
+  const CalibrationFile run_laser = ReadCalibrationFile(dir / "run.yaml");
+  const CalibrationFile capture_laser = ReadCalibrationFile(dir / "capture.yaml");
+  ASSERT_EQ(capture_laser.laser_planes.size(), 1u);
+  // The same frames, extraction and fit: the same numbers.
+  EXPECT_EQ(capture_laser.laser_planes[0].n, run_laser.laser_planes[0].n);
+  EXPECT_EQ(capture_laser.laser_planes[0].d, run_laser.laser_planes[0].d);
+  EXPECT_EQ(ReadCalibrationFile(dir / "cam_capture.yaml").camera->fx, ReadCalibrationFile(dir / "cam.yaml").camera->fx);
+
+  const std::vector<CliResult> he = RunMany({
+      "calibrate hand-eye " + Quoted(s.run) + " --calib " + Quoted(dir / "run.yaml") + " --out " + Quoted(dir / "he_run.yaml"),
+      "calibrate hand-eye " + Quoted(capture) + shutter + board + " --poses " + Quoted(poses) + " --calib " +
+          Quoted(dir / "run.yaml") + " --out " + Quoted(dir / "he_capture.yaml"),
+      // The robot's log of one pose per view (per bright frame).
+      "calibrate hand-eye " + Quoted(capture) + shutter + board + " --poses " + Quoted(view_poses) + " --calib " +
+          Quoted(dir / "run.yaml") + " --out " + Quoted(dir / "he_views.yaml"),
+  });
+  for (const CliResult& r : he) ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(he[1].err, HasSubstr("poses: world_from_tool from " + poses.string() + " (CSV columns x,y,z,qw,qx,qy,qz, mm)"));
+  EXPECT_THAT(he[2].err, HasSubstr(", one per bright frame"));
+  const Pose x = *ReadCalibrationFile(dir / "he_run.yaml").tool_from_cam;
+  for (const char* name : {"he_capture.yaml", "he_views.yaml"}) {
+    const CalibrationFile f = ReadCalibrationFile(dir / name);
+    ASSERT_TRUE(f.tool_from_cam) << name;
+    // The tool poses went through millimetres in 17 digits: equal to 1e-9.
+    const PoseError e = ComparePoses(*f.tool_from_cam, x);
+    EXPECT_LT(e.rotation_rad, 1e-9) << name;
+    EXPECT_LT(e.translation_m, 1e-9) << name;
+    EXPECT_EQ(f.laser_planes.size(), 1u) << name;  // --calib's parts kept
+  }
+}
+
+// A capture's refusals: each clear, before or after the work, and no file written.
+TEST(CalibrateCli, CaptureRefusalsAreClear) {
+  ASSERT_TRUE(RenderedSession().ok);
+  fs::path poses, five;
+  const fs::path capture = CaptureOfSession("calibrate_capture_refusals", &poses);
+  CaptureOfSession("calibrate_capture_five", &five, 1, 5);
+  const fs::path dir = capture.parent_path();
+  const fs::path out = dir / "out.yaml";
+  const std::string board = " --board " + Quoted(RenderedSession().dir / "session/checkerboard.json");
+  const std::string shutter = " --shutter alternate-bright-first";
+  {
+    const CliResult r = RunCli("calibrate camera " + Quoted(RenderedSession().run) + " --fix-k3 --quiet --out " +
+                               Quoted(dir / "cam.yaml"));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  const std::string calib = " --calib " + Quoted(dir / "cam.yaml");
+  const std::vector<CliResult> r = RunMany({
+      "calibrate laser " + Quoted(capture) + shutter + board + " --planes 1 --out " + Quoted(out),
+      "calibrate laser " + Quoted(capture) + shutter + calib + " --planes 1 --out " + Quoted(out),
+      "calibrate hand-eye " + Quoted(capture) + shutter + board + calib + " --poses " + Quoted(five) + " --out " + Quoted(out),
+      "calibrate hand-eye " + Quoted(capture) + " --shutter alternate" + board + calib + " --poses " + Quoted(poses) +
+          " --out " + Quoted(out),
+      "calibrate hand-eye " + Quoted(capture) + shutter + board + calib + " --out " + Quoted(out),
+      "calibrate laser " + Quoted(capture) + board + calib + " --planes 1 --out " + Quoted(out),
+      "calibrate laser " + Quoted(capture) + shutter + board + calib + " --out " + Quoted(out),
+      "calibrate camera " + Quoted(capture) + " --shutter alternate" + board + " --out " + Quoted(out),
+      "calibrate laser " + Quoted(capture) + shutter + board + calib + " --planes 1 --bit-depth 17 --out " + Quoted(out),
+      "calibrate laser " + Quoted(capture) + shutter + board + calib + " --planes 1 --pose-units mm --out " + Quoted(out),
+  });
+  for (size_t i = 0; i < r.size(); ++i) EXPECT_EQ(r[i].exit_code, 2) << i << ": " << r[i].out << r[i].err;
+  EXPECT_THAT(r[0].err, HasSubstr("no rig.json or scene.json, so no camera: give the calibrated camera with --calib"));
+  EXPECT_THAT(r[1].err, HasSubstr("no scene.json to find the session's checkerboard.json in: give the board with --board"));
+  EXPECT_THAT(r[2].err, HasSubstr("robot_poses.csv: holds 5 poses but " + (capture / "frames").string() +
+                                  " has 12 frames (one pose per frame"));
+  EXPECT_THAT(r[2].err, HasSubstr("; or one per bright frame: 6"));
+  for (size_t i : {3, 7}) {
+    EXPECT_THAT(r[i].err, HasSubstr("no bright frame shows the board: are the frames the other way round (--shutter "
+                                    "alternate-bright-first)?")) << i;
+  }
+  EXPECT_THAT(r[4].err, HasSubstr("a capture without manifest.jsonl has no robot poses: give the tool's poses"));
+  EXPECT_THAT(r[5].err, HasSubstr("no manifest.jsonl: every frame is a laser frame unless the shutter pattern"));
+  EXPECT_THAT(r[6].err, HasSubstr("holds no laser planes: give the number of laser sheets with --planes N"));
+  EXPECT_THAT(r[8].err, HasSubstr("--bit-depth: must be 1..16, got 17"));
+  EXPECT_THAT(r[9].err, HasSubstr("--pose-units: describes a pose file: give it with --poses"));
+  EXPECT_FALSE(fs::exists(out));
+}
+
 TEST(CalibrateCli, RefusalsAreClearAndWriteNothing) {
   ASSERT_TRUE(RenderedSession().ok);
   const fs::path two = EditedRun("calibrate_two_views", 4);  // two bright/dim pairs

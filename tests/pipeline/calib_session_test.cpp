@@ -176,7 +176,7 @@ TEST(CalibSessionRun, HandEyeWithASymmetricBoard) {
   board.cols = 9;
   const auto run = session_run::WriteRun(board, "lt_calib_run_symmetric_");
   const Camera cam(Camera640Params({-0.18, 0.09, 0, 0, 0}));  // the run's camera
-  const SessionHandEyeResult he = CalibrateSessionHandEye(run, board, cam);
+  const SessionHandEyeResult he = CalibrateSessionHandEye(ReadSessionRun(run), board, cam);
   ASSERT_TRUE(he.hand_eye.ok) << he.hand_eye.reason;
   EXPECT_EQ(he.used.size(), 6u);
   const PoseError e = ComparePoses(he.hand_eye.tool_from_cam, session_run::ToolFromCam());
@@ -225,7 +225,7 @@ TEST(CalibSessionRun, BoardFramesAreAlignedByTheRobotsMotion) {
 TEST(CalibSessionRun, CameraAndHandEyeFromARecordedSession) {
   const auto run = session_run::WriteRun();
   const CheckerboardSpec board = Board();
-  const SessionCameraResult cam = CalibrateSessionCamera(run, board);
+  const SessionCameraResult cam = CalibrateSessionCamera(ReadSessionRun(run), board);
   ASSERT_EQ(cam.views.size(), 6u);
   EXPECT_EQ(cam.views[0].dim_frame, 1);
   ASSERT_TRUE(cam.calibration.ok) << cam.calibration.reason;
@@ -236,7 +236,7 @@ TEST(CalibSessionRun, CameraAndHandEyeFromARecordedSession) {
   EXPECT_NEAR(cam.calibration.camera.cy, 236.8, 2);
   const Camera calibrated(cam.calibration.camera);
 
-  const SessionHandEyeResult he = CalibrateSessionHandEye(run, board, calibrated);
+  const SessionHandEyeResult he = CalibrateSessionHandEye(ReadSessionRun(run), board, calibrated);
   ASSERT_TRUE(he.hand_eye.ok) << he.hand_eye.reason;
   const PoseError e = ComparePoses(he.hand_eye.tool_from_cam, session_run::ToolFromCam());
   EXPECT_LT(e.rotation_rad, 0.05 * session_run::kDeg);
@@ -244,10 +244,10 @@ TEST(CalibSessionRun, CameraAndHandEyeFromARecordedSession) {
 
   // No laser in the rig: the number of planes must be given; then the dark
   // laser frames give no stripe and the fit is refused, with reasons.
-  EXPECT_THROW(CalibrateSessionLaser(run, board, calibrated), InputError);
+  EXPECT_THROW(CalibrateSessionLaser(ReadSessionRun(run), board, calibrated), InputError);
   SessionLaserOptions o;
   o.planes = 1;
-  const SessionLaserResult laser = CalibrateSessionLaser(run, board, calibrated, o);
+  const SessionLaserResult laser = CalibrateSessionLaser(ReadSessionRun(run), board, calibrated, o);
   ASSERT_EQ(laser.laser_views.size(), 6u);
   for (const SessionLaserView& v : laser.laser_views) {
     EXPECT_FALSE(v.used);
@@ -262,9 +262,9 @@ TEST(CalibSessionRun, CameraAndHandEyeFromARecordedSession) {
     WriteImage(run / frame, Image<uint16_t>(320, 240, 1));
     try {
       if (std::string(frame) == "frames/4.png") {
-        CalibrateSessionCamera(run, board);
+        CalibrateSessionCamera(ReadSessionRun(run), board);
       } else {
-        CalibrateSessionLaser(run, board, calibrated, o);
+        CalibrateSessionLaser(ReadSessionRun(run), board, calibrated, o);
       }
       ADD_FAILURE() << frame << " of another size was taken";
     } catch (const InputError& e) {

@@ -44,6 +44,7 @@ struct CalibrateArgs {
   std::string shutter = "recorded";
   PoseFileArgs pose_args;  // the tool's poses
   int bit_depth = 0;
+  std::string axis;  // laser: rows | cols; empty: from the planes, else the frames
 };
 
 std::string Fmt(const char* format, double a, double b = 0, double c = 0, double d = 0) {
@@ -230,10 +231,21 @@ void LaserStep(const CalibrateArgs& a, CalibrationFile* file) {
   const CheckerboardSpec board = Board(a);
   const SessionRun run = Session(a, *file, true);
   const RunRig& rig = run.rig;
+  if (!run.rig_in_run && rig.planes_in_cam.empty() && a.planes <= 0) {
+    throw InputError(a.run_dir, "no rig.json, and " + a.calib + " holds no laser planes: give the number of laser "
+                                "sheets with --planes N");
+  }
   const Camera camera = StepCamera(a, *file, rig);
   SessionLaserOptions o;
   o.planes = a.planes;
+  if (!a.axis.empty()) o.axis = ParseAxis(a.axis, "--axis");
   const SessionLaserResult r = CalibrateSessionLaser(run, board, camera, o);
+  if (r.axis_from_frame >= 0 && !a.quiet) {
+    const bool cols = r.axis == SearchAxis::kCols;
+    std::cerr << "stripes searched along the " << (cols ? "columns" : "rows") << " (more stripe points than along the "
+              << (cols ? "rows" : "columns") << " on frame " << r.axis_from_frame
+              << "; no laser planes known, --axis sets it)\n";
+  }
   if (r.mosaic_mean) {
     Warn(r.channel_weights_source + ": colour frames are extracted on the mean of R, G and B, not on the channels "
          "that see the laser");
@@ -374,6 +386,9 @@ void Add(CLI::App& app) {
   cmd->add_option("--bit-depth", args->bit_depth,
                   "The image sensor's ADC bits (1..16): a 16-bit image of a 12-bit camera reads up to 4095 (default: "
                   "the manifest's bit_depth, rig.json's)");
+  cmd->add_option("--axis", args->axis,
+                  "laser: rows | cols, the stripe search (default: from the laser planes of the rig or --calib, else "
+                  "the axis finding more stripe points on the first dim frame)");
   cmd->add_flag("--quiet", args->quiet, "Print nothing but warnings");
   cmd->callback([args] { Run(*args); });
 }

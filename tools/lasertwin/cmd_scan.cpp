@@ -18,6 +18,7 @@
 #include "pipeline/scan.h"
 #include "pipeline/stripe_extractor.h"
 #include "tools/lasertwin/command.h"
+#include "tools/lasertwin/pose_file_args.h"
 
 namespace lt::cli {
 namespace {
@@ -32,10 +33,7 @@ struct ScanArgs {
   std::string frames;
   std::string background;  // empty: the black level
   std::string bayer;       // empty: the rig's color_filter
-  std::string poses;
-  std::string pose_units;  // empty: the header's, else m
-  std::string pose_order;  // empty: the header's (headerless 7/8-number rows need it)
-  std::string image_time_offset;  // seconds; empty: match by time only when the counts differ
+  PoseFileArgs pose_args;  // --poses, --pose-units, --pose-order, --image-time-offset
   std::string depth_range;  // MIN_MM:MAX_MM
   std::string shutter = "recorded";
   bool quiet = false;
@@ -55,21 +53,9 @@ void Run(ScanArgs& a) {
   if (!a.calib.empty()) o.calibration = a.calib;
   if (!a.depth_range.empty()) o.depth_range = ParseDepthRange(a.depth_range, "--depth-range");
   if (!a.bayer.empty()) o.color_filter = ParseBayerPattern(a.bayer, "--bayer");
-  if (!a.poses.empty()) o.poses = a.poses;
-  for (const auto& [option, value] : {std::pair<const char*, const std::string*>{"--pose-units", &a.pose_units},
-                                      {"--pose-order", &a.pose_order},
-                                      {"--image-time-offset", &a.image_time_offset}}) {
-    if (a.poses.empty() && !value->empty()) throw InputError(option, "describes a pose file: give it with --poses");
-  }
-  if (!a.image_time_offset.empty()) {
-    o.pose_file.image_time_offset_s = ParseFiniteNumber(a.image_time_offset);
-    if (!o.pose_file.image_time_offset_s) {
-      throw InputError("--image-time-offset", "'" + a.image_time_offset + "' is not a number of seconds");
-    }
-  }
+  if (!a.pose_args.poses.empty()) o.poses = a.pose_args.poses;
+  o.pose_file = a.pose_args.Parse();
   o.shutter = ParseShutterPattern(a.shutter, "--shutter");
-  if (!a.pose_units.empty()) o.pose_file.units = ParsePoseUnits(a.pose_units, "--pose-units");
-  if (!a.pose_order.empty()) o.pose_file.order = ParseQuaternionOrder(a.pose_order, "--pose-order");
   if (!a.frames.empty()) {
     const FrameRange r = FrameRange::Parse(a.frames);
     o.frames_begin = r.begin, o.frames_end = r.EndOrMinusOne();
@@ -160,13 +146,13 @@ void Add(CLI::App& app) {
                   "run's world_from_tool) replace the run's ground truth");
   cmd->add_option("--axis", args->axis, "rows | cols (default: the manifest's gt_axis, else from the laser planes)");
   cmd->add_option("--frames", args->frames, "Frames to scan: A:B (A inclusive, B exclusive), A:, :B or N");
-  cmd->add_option("--poses", args->poses,
+  cmd->add_option("--poses", args->pose_args.poses,
                   "Pose file, one pose per frame in frame order, or with times matched to images named by their time "
                   "(CSV with a header, TUM, 7-number, 3x4 or 4x4 rows; docs/pipeline.md): the tool's poses with --calib's tool_from_cam, else the camera's (world_from_cam)");
-  cmd->add_option("--pose-units", args->pose_units, "m | mm: the pose file's translations (default: its header's, else m)");
-  cmd->add_option("--pose-order", args->pose_order,
+  cmd->add_option("--pose-units", args->pose_args.units, "m | mm: the pose file's translations (default: its header's, else m)");
+  cmd->add_option("--pose-order", args->pose_args.order,
                   "xyzw | wxyz: the quaternion order of a pose file without a header (TUM's is xyzw)");
-  cmd->add_option("--image-time-offset", args->image_time_offset,
+  cmd->add_option("--image-time-offset", args->pose_args.image_time_offset,
                   "Seconds added to each image name's time before its pose is interpolated (a camera stamping the "
                   "start of its exposure: half the exposure; a camera clock behind the robot's: the lag); matches "
                   "every frame by time");
