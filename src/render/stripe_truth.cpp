@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -40,6 +41,11 @@ constexpr double kDiscontinuityPx = 1e-4;
 // A bracket's ends whose normals differ by less than this lie on one plane
 // where each is on the other's tangent plane.
 constexpr double kSamePlaneDegrees = 1.0;
+// Facets whose normals differ by more than this (radians) meet at a crease
+// where the sheet may cross the surface twice between two samples.
+constexpr double kCreaseRad = 1e-4;
+// Casts spent per interval looking for such a pair of crossings.
+constexpr int kPairCasts = 64;
 
 class LineScanner {
  public:
@@ -160,6 +166,39 @@ class LineScanner {
       }
     }
     return Break{lo, on, s1, b};
+  }
+
+  // Between samples a (at s0) and b (at s1) on one surface, with the sheet's
+  // signed distance of one sign at both, the sheet may still cross the surface
+  // twice: where the stripe turns back across the scan line (the top of an
+  // arc) or crosses two facets on either side of a crease. On a facet the
+  // distance is monotonic along the line (a ratio of linear functions for a
+  // pinhole; distortion bends it negligibly within a pixel), so such a pair
+  // straddles a crease: the interval is bisected toward every crease (normals
+  // apart) until a sample lies between the pair, down to kDiscontinuityPx
+  // (a pair closer than that is a tangency). Returns the two brackets of the
+  // pair (sign changes) when found.
+  struct Bracket {
+    double s0;
+    Sample a;
+    double s1;
+    Sample b;
+  };
+  bool FindPair(int line, const WorldSheet& ws, double s0, const Sample& a, double s1, const Sample& b, int& budget,
+                std::vector<Bracket>& out) const {
+    static const double kCosCrease = std::cos(kCreaseRad);
+    if (budget <= 0 || std::abs(s1 - s0) <= kDiscontinuityPx || a.normal.dot(b.normal) >= kCosCrease) return false;
+    const double s = 0.5 * (s0 + s1);
+    const Sample m = Cast(line, s);
+    --budget;
+    if (!m.valid || !OnSurfaceOf(a, m) || !OnSurfaceOf(b, m)) return false;
+    const double ga = ws.plane_world.SignedDistance(a.p_world), gm = ws.plane_world.SignedDistance(m.p_world);
+    if (gm == 0.0 || (gm > 0) != (ga > 0)) {
+      out.push_back({s0, a, s, m});
+      out.push_back({s, m, s1, b});
+      return true;
+    }
+    return FindPair(line, ws, s0, a, s, m, budget, out) || FindPair(line, ws, s, m, s1, b, budget, out);
   }
 
   bool Lit(const WorldSheet& ws, const Sample& p) const {
@@ -283,13 +322,31 @@ std::vector<StripeCenter> ComputeStripeCenters(const EmbreeScene& scene, const C
       return pieces.emplace(i, std::move(breaks)).first->second;
     };
     for (const WorldSheet& ws : sheets) {
-      // The crossing between samples a (at s0) and b (at s1) of one surface, if any.
-      auto add_root = [&](double s0, const Sample& a, double s1, const Sample& b) {
+      // Whether the sheet may cross x's surface within what one pixel sees there.
+      auto within_a_pixel = [&](const Sample& x) {
+        if (!x.valid) return false;
+        const Eigen::Vector3d view = (x.p_world - world_from_cam.translation()).normalized();
+        const double cos_view = std::max(std::abs(x.normal.dot(view)), 0.05);
+        return std::abs(ws.plane_world.SignedDistance(x.p_world)) < 2 * scanner.Footprint(x.depth) / cos_view;
+      };
+      // The crossing between samples a (at s0) and b (at s1) of one surface, if
+      // any; with no sign change between them, near the sheet, the pair of
+      // crossings that may lie between them.
+      std::function<void(double, const Sample&, double, const Sample&)> add_root = [&](double s0, const Sample& a,
+                                                                                      double s1, const Sample& b) {
         if (!a.valid || !b.valid) return;
         double ga = ws.plane_world.SignedDistance(a.p_world), gb = ws.plane_world.SignedDistance(b.p_world);
         // A root exactly on a sample belongs to the interval that starts there.
         bool crossing = (ga > 0 && gb < 0) || (ga < 0 && gb > 0) || ga == 0.0;
-        if (!crossing) return;
+        if (!crossing) {
+          std::vector<LineScanner::Bracket> pair;
+          int budget = kPairCasts;
+          if (gb != 0.0 && (within_a_pixel(a) || within_a_pixel(b)) &&
+              scanner.FindPair(line, ws, s0, a, s1, b, budget, pair)) {
+            for (const LineScanner::Bracket& br : pair) add_root(br.s0, br.a, br.s1, br.b);
+          }
+          return;
+        }
         auto root = scanner.Refine(line, ws, s0, a, s1, b);
         if (!root || !scanner.Lit(ws, root->second)) return;
         Eigen::Vector2d px = scanner.Pixel(line, root->first);
@@ -313,12 +370,6 @@ std::vector<StripeCenter> ComputeStripeCenters(const EmbreeScene& scene, const C
         // crossing b's surface after it. A silhouette (a hit beside a miss) is
         // near by the same measure on its one surface: the sky beyond it has
         // none to cross.
-        auto within_a_pixel = [&](const Sample& x) {
-          if (!x.valid) return false;
-          const Eigen::Vector3d view = (x.p_world - world_from_cam.translation()).normalized();
-          const double cos_view = std::max(std::abs(x.normal.dot(view)), 0.05);
-          return std::abs(ws.plane_world.SignedDistance(x.p_world)) < 2 * scanner.Footprint(x.depth) / cos_view;
-        };
         const bool near = within_a_pixel(a) || within_a_pixel(b);
         if (!near || !scanner.MayBreak(a, b)) {
           add_root(pos[i], a, pos[i + 1], b);

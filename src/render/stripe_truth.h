@@ -16,7 +16,12 @@
 // by more than a pixel's footprint, or a hit beside a miss) near a sheet, the
 // line is bisected to each break and every surface is searched up to it: the
 // sheet may cross a surface between its last pixel centre and its edge, or two
-// surfaces within one pixel, without a sign change between the centres. A root counts as lit when the
+// surfaces within one pixel, without a sign change between the centres. Between
+// neighbouring samples on one surface near a sheet with no sign change, the
+// line is bisected toward every crease (facet normals apart) until a sample
+// falls between a pair of crossings there, if any (a stripe turning back
+// across the line, or crossing two facets, within one pixel); pairs closer
+// than 1e-4 px are taken for a tangency. A root counts as lit when the
 // surface faces both the camera and the projector, the segment to the projector
 // is unoccluded, and the fan profile there is at least `fan_threshold` of its
 // value on the sheet's central ray at the same distance.
