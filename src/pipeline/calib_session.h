@@ -19,16 +19,11 @@
 // detector's reason); the estimators refuse, with their reasons, when too few
 // or degenerate views remain.
 //
-// The frames come from the run's manifest, or, for a real capture without one
-// (a folder of images, in it or in its frames/, in name order), from the
-// folder's listing, as `scan` reads them (pipeline/capture_folder.h): the
-// shutter pattern says which frames are bright, a pose file (`scan --poses`,
-// pipeline/scan_poses.h) gives the tool poses, and without rig.json or
-// scene.json the camera is a calibration file's.
+// The frames come from the run's manifest or, for a real capture without one,
+// the folder's listing (pipeline/calib_session_run.h).
 #pragma once
 
 #include <filesystem>
-#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,12 +34,10 @@
 #include "pipeline/calib_corners.h"
 #include "pipeline/calib_hand_eye.h"
 #include "pipeline/calib_laser_plane.h"
+#include "pipeline/calib_session_run.h"
 #include "pipeline/calib_target_pose.h"
-#include "pipeline/capture_folder.h"
 #include "pipeline/extraction_options.h"
 #include "pipeline/plane_identification.h"
-#include "pipeline/pose_file.h"
-#include "pipeline/run_folder_reader.h"
 #include "sensor/camera.h"
 
 namespace lt {
@@ -66,48 +59,6 @@ struct SessionTruth {
   std::optional<Pose> tool_from_cam;
 };
 SessionTruth ReadSessionTruth(const std::filesystem::path& run_dir);
-
-// How a session's frames are read: the options `scan` reads a capture with.
-struct SessionCaptureOptions {
-  // Which frames are bright (the board) and which dim (the laser); a capture
-  // without a manifest needs an alternating pattern (every frame would be a
-  // laser frame).
-  ShutterPattern shutter = ShutterPattern::kRecorded;
-  // The robot tool's poses (world_from_tool), replacing the manifest's: one per
-  // frame in frame order, or poses with times matched to images named by their
-  // time (GivePoses), or one per bright frame (a robot program logging the
-  // pose it stopped at for each view).
-  std::optional<std::filesystem::path> poses;
-  PoseFileOptions pose_file;
-  int bit_depth = 0;  // the sensor's ADC bits (1..16); 0: the manifest's, rig.json's
-  // The camera of a folder without rig.json or scene.json (a calibration
-  // file's); its laser planes say how many sheets there are.
-  std::optional<Camera> camera;
-  std::vector<Plane> planes_in_cam;
-  std::string camera_source;  // the file the camera came from, for messages
-
-  void Check() const;  // throws lt::InputError naming the option
-};
-
-// A session's frames and scanner, read once.
-struct SessionRun {
-  std::filesystem::path dir;
-  std::vector<RunFrame> frames;   // in index order, shutter pattern applied, tool poses given
-  std::filesystem::path source;   // DIR/manifest.jsonl, or the folder of the images
-  bool from_listing = false;      // no manifest: the folder's images in name order
-  RunRig rig;                     // rig.json's or scene.json's; else the options' camera (rig.source: its file)
-  bool rig_in_run = false;        // the rig is the run's own (its ground truth may be compared with)
-  bool has_camera = false;        // rig.camera holds a camera (always with rig_in_run)
-  int width = 0, height = 0;      // the frames' size
-  std::string pose_source;        // what gave the tool poses: "" for the manifest's
-  ShutterPattern shutter = ShutterPattern::kRecorded;
-};
-
-// Throws lt::InputError naming the file and place: an unreadable manifest or
-// folder, a pose file that does not match the frames, a camera of another size
-// than the images.
-SessionRun ReadSessionRun(const std::filesystem::path& dir, const SessionCaptureOptions& options = {},
-                          const std::function<void(const std::string&)>& warn = {});
 
 // One pose of the board: its bright frame and the dim frame that follows it.
 struct SessionView {

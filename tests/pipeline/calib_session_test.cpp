@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <unistd.h>
 
 #include "core/error.h"
@@ -272,6 +273,72 @@ TEST(CalibSessionRun, CameraAndHandEyeFromARecordedSession) {
       EXPECT_NE(std::string(e.what()).find("the image is 320x240 but the camera"), std::string::npos) << e.what();
     }
     WriteImage(run / frame, original);
+  }
+  std::filesystem::remove_all(run);
+}
+
+// The recorded session as a real capture: its frames alone (no manifest, no
+// scene.json) and a pose file of the tool poses, one per view, in m. Read with
+// the alternating shutter, the bit depth and a given camera, as scan reads a
+// capture, it gives the same hand-eye pose as the run.
+TEST(CalibSessionRun, ACaptureWithoutManifestIsTheRun) {
+  const auto run = session_run::WriteRun(Board(), "lt_calib_capture_");
+  const Camera cam(Camera640Params({-0.18, 0.09, 0, 0, 0}));
+  const SessionHandEyeResult from_run = CalibrateSessionHandEye(ReadSessionRun(run), Board(), cam);
+  ASSERT_TRUE(from_run.hand_eye.ok) << from_run.hand_eye.reason;
+  std::ofstream poses(run / "tool.csv");
+  poses << "x,y,z,qx,qy,qz,qw\n" << std::setprecision(17);
+  std::vector<Pose> tools;
+  for (const RunFrame& f : ReadRunManifest(run)) {
+    if (!f.world_from_tool) continue;
+    tools.push_back(*f.world_from_tool);
+    const Eigen::Quaterniond q(f.world_from_tool->linear());
+    const Eigen::Vector3d t = f.world_from_tool->translation();
+    poses << t.x() << "," << t.y() << "," << t.z() << "," << q.x() << "," << q.y() << "," << q.z() << "," << q.w() << "\n";
+  }
+  poses.close();
+  std::filesystem::remove(run / "manifest.jsonl");
+  std::filesystem::remove(run / "scene.json");
+
+  SessionCaptureOptions o;
+  o.shutter = ShutterPattern::kAlternateBrightFirst;
+  o.poses = run / "tool.csv";
+  o.bit_depth = 10;
+  {
+    const SessionRun c = ReadSessionRun(run, o);  // no camera: only the images' size
+    EXPECT_TRUE(c.from_listing);
+    EXPECT_FALSE(c.has_camera);
+    EXPECT_EQ(c.width, 640);
+    ASSERT_EQ(c.frames.size(), 12u);
+    EXPECT_FALSE(c.frames[4].IsLaserFrame());
+    EXPECT_TRUE(c.frames[5].IsLaserFrame());
+    EXPECT_EQ(c.frames[5].bit_depth, 10);
+    ASSERT_TRUE(c.frames[4].world_from_tool);  // the third view's pose
+    EXPECT_LT((c.frames[4].world_from_tool->matrix() - tools[2].matrix()).norm(), 1e-12);
+    EXPECT_NE(c.pose_source.find(", one per bright frame"), std::string::npos) << c.pose_source;
+  }
+  o.camera = cam;
+  o.camera_source = "cam.yaml";
+  const SessionRun c = ReadSessionRun(run, o);
+  EXPECT_TRUE(c.has_camera);
+  EXPECT_FALSE(c.rig_in_run);
+  const SessionHandEyeResult from_capture = CalibrateSessionHandEye(c, Board(), cam);
+  ASSERT_TRUE(from_capture.hand_eye.ok) << from_capture.hand_eye.reason;
+  EXPECT_EQ(from_capture.used, from_run.used);
+  const PoseError e = ComparePoses(from_capture.hand_eye.tool_from_cam, from_run.hand_eye.tool_from_cam);
+  EXPECT_LT(e.rotation_rad, 1e-9);
+  EXPECT_LT(e.translation_m, 1e-9);
+
+  // A camera of another size than the images is named with the first image.
+  CameraParams small = cam.params();
+  small.width = 320, small.height = 240;
+  o.camera = Camera(small);
+  try {
+    ReadSessionRun(run, o);
+    ADD_FAILURE() << "a 320x240 camera was taken for 640x480 images";
+  } catch (const InputError& err) {
+    EXPECT_NE(std::string(err.what()).find("0.png: the image is 640x480 but the camera (cam.yaml) is 320x240"),
+              std::string::npos) << err.what();
   }
   std::filesystem::remove_all(run);
 }
