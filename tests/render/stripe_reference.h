@@ -3,8 +3,8 @@
 // segments where each sheet's plane cuts each triangle (exact, per triangle, in
 // double); each segment is projected through the camera model (Camera::Project,
 // with its distortion) and, for every image row, the points where the projected
-// segment crosses the row are found by bisection on the segment's parameter
-// (distortion bends the projected segment). A crossing is kept when its point is
+// segment crosses the row (or column) are found by bisection on the segment's
+// parameter (distortion bends the projected segment). A crossing is kept when its point is
 // the first surface seen from the camera (nothing on the segment camera -> point),
 // faces camera and projector alike and nothing lies on the segment point ->
 // projector, and lies inside the fan (the sheet's intensity there at least 1% of
@@ -100,8 +100,14 @@ struct RefDropped {
   int shadow = 0;  // another surface lies between it and the projector
 };
 
+// The crossings of every image row (ScanAxis::kRows: RefCrossing::u is the
+// column) or column (kCols: u is the row); keys (row or column, plane).
 inline RefStripe ReferenceStripe(const World& world, const Camera& cam, const std::vector<LaserProjector>& lasers,
-                                 const Pose& world_from_cam, RefDropped* dropped = nullptr) {
+                                 const Pose& world_from_cam, RefDropped* dropped = nullptr,
+                                 ScanAxis axis = ScanAxis::kRows) {
+  const int line_index = axis == ScanAxis::kRows ? 1 : 0;  // pixel coordinate fixed along a scan line
+  const int lines = axis == ScanAxis::kRows ? cam.height() : cam.width();
+  const int length = axis == ScanAxis::kRows ? cam.width() : cam.height();
   RefDropped ignored;
   RefDropped& drop = dropped ? *dropped : ignored;
   const std::vector<RefTriangle> tris = WorldTriangles(world);
@@ -135,7 +141,7 @@ inline RefStripe ReferenceStripe(const World& world, const Camera& cam, const st
         auto row_of = [&](double t) -> std::optional<double> {
           auto px = cam.Project(cam_from_world * (a + t * (b - a)));
           if (!px) return std::nullopt;
-          return px->y();
+          return (*px)[line_index];
         };
         const int pieces = 16;
         for (int i = 0; i < pieces; ++i) {
@@ -143,7 +149,7 @@ inline RefStripe ReferenceStripe(const World& world, const Camera& cam, const st
           auto v0 = row_of(t0), v1 = row_of(t1);
           if (!v0 || !v1) continue;
           const double lo = std::min(*v0, *v1), hi = std::max(*v0, *v1);
-          for (int row = std::max(0, int(std::ceil(lo))); row <= std::min(cam.height() - 1, int(std::floor(hi)));
+          for (int row = std::max(0, int(std::ceil(lo))); row <= std::min(lines - 1, int(std::floor(hi)));
                ++row) {
             if (row == hi && hi != lo) continue;  // half-open: a shared end belongs to one piece
             double ta = t0, tb = t1, fa = *v0 - row;
@@ -161,15 +167,15 @@ inline RefStripe ReferenceStripe(const World& world, const Camera& cam, const st
             auto px = cam.Project(cam_from_world * x);
             if (!px) continue;
             RefCrossing c;
-            c.u = px->x();
+            c.u = (*px)[1 - line_index];
             c.p_world = x;
             // Duplicates: a crossing at an edge shared by two triangles.
             auto& list = out[{row, plane}];
             bool seen = false;
             for (const RefCrossing& o : list) seen = seen || (o.p_world - x).norm() < 1e-9;
             if (seen) continue;
-            if (c.u < -0.5 - 1e-3 || c.u > cam.width() - 0.5 + 1e-3) continue;
-            c.ambiguous = c.u < -0.5 + 1e-3 || c.u > cam.width() - 0.5 - 1e-3;
+            if (c.u < -0.5 - 1e-3 || c.u > length - 0.5 + 1e-3) continue;
+            c.ambiguous = c.u < -0.5 + 1e-3 || c.u > length - 0.5 - 1e-3;
             const double fc = tri.n.dot((cam_o - x).normalized()), fl = tri.n.dot((laser_o - x).normalized());
             if (fc == 0.0 || fl == 0.0 || (fc > 0) != (fl > 0)) {
               ++drop.facing;
@@ -218,7 +224,7 @@ struct RefComparison {
   int missed = 0;
   int extra = 0;      // centres with no reference crossing (ambiguous or not) within the tolerance
   double max_du = 0;  // over the found ones
-  std::vector<std::string> missed_where, extra_where;  // "row v plane p u ..." (first few)
+  std::vector<std::string> missed_where, extra_where;  // "line v plane p u ..." (first few)
   // Missed crossings that share the interval between two pixel centres with
   // another crossing of the same sheet on the same surface side (no sign change
   // of the signed distance between the centres).
@@ -228,10 +234,16 @@ struct RefComparison {
 };
 
 inline RefComparison CompareWithReference(const RefStripe& ref, const std::vector<StripeCenter>& centers,
-                                          double tol_px) {
+                                          double tol_px, ScanAxis axis = ScanAxis::kRows) {
   RefComparison r;
   std::map<std::pair<int, int>, std::vector<double>> got;
-  for (const StripeCenter& c : centers) got[{int(std::lround(c.v)), c.plane}].push_back(c.u);
+  for (const StripeCenter& c : centers) {
+    if (axis == ScanAxis::kRows) {
+      got[{int(std::lround(c.v)), c.plane}].push_back(c.u);
+    } else {
+      got[{int(std::lround(c.u)), c.plane}].push_back(c.v);
+    }
+  }
   for (const auto& [key, list] : ref) {
     const auto it = got.find(key);
     r.rows_with_two += std::count_if(list.begin(), list.end(), [](const RefCrossing& c) { return !c.ambiguous; }) >= 2;
@@ -259,7 +271,7 @@ inline RefComparison CompareWithReference(const RefStripe& ref, const std::vecto
         }
       }
       if (r.missed_where.size() < 8) {
-        r.missed_where.push_back("row " + std::to_string(key.first) + " plane " + std::to_string(key.second) +
+        r.missed_where.push_back("line " + std::to_string(key.first) + " plane " + std::to_string(key.second) +
                                  " u " + std::to_string(c.u));
       }
     }
@@ -274,7 +286,7 @@ inline RefComparison CompareWithReference(const RefStripe& ref, const std::vecto
       if (best <= tol_px) continue;
       ++r.extra;
       if (r.extra_where.size() < 8) {
-        r.extra_where.push_back("row " + std::to_string(key.first) + " plane " + std::to_string(key.second) +
+        r.extra_where.push_back("line " + std::to_string(key.first) + " plane " + std::to_string(key.second) +
                                 " u " + std::to_string(u));
       }
     }

@@ -113,6 +113,17 @@ struct Case {
   double laser_y = 0;  // the projector's offset along camera y (m)
 };
 
+// The rig turned a quarter turn about the optical axis: the projector 3 cm
+// along camera y, its sheet spanning camera x (stripes along the rows, scanned
+// by columns).
+LaserProjector QuarterTurned(const LaserProjector& laser) {
+  LaserParams p = laser.params();
+  Pose turn = Pose::Identity();
+  turn.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  p.cam_from_projector = turn * p.cam_from_projector;
+  return LaserProjector(p);
+}
+
 // test::TestLaser moved along camera y by `y`.
 LaserProjector Shifted(const LaserProjector& laser, double y) {
   LaserParams p = laser.params();
@@ -123,15 +134,19 @@ LaserProjector Shifted(const LaserProjector& laser, double y) {
 // Runs one case with each camera and rig; prints and checks the comparison.
 // Returns the comparison of the last run for case-specific checks.
 test::RefComparison Check(const Case& c, const Camera& cam, const std::vector<LaserProjector>& lasers,
-                          const std::string& cam_name, const Pose& world_from_cam = Pose::Identity()) {
+                          const std::string& cam_name, const Pose& world_from_cam = Pose::Identity(),
+                          const Pose& turn = Pose::Identity()) {
   World world;
-  c.build(world);  // in the camera frame, placed in the world as the camera is
-  for (SceneInstance& inst : world.geometry->instances) inst.world_from_mesh = world_from_cam * inst.world_from_mesh;
+  c.build(world);  // in the camera frame (turned with the rig), placed in the world as the camera is
+  for (SceneInstance& inst : world.geometry->instances) {
+    inst.world_from_mesh = world_from_cam * turn * inst.world_from_mesh;
+  }
   world.Build();
-  const auto centers = ComputeStripeCenters(*world.embree, cam, lasers, world_from_cam, ScanAxis::kRows);
+  const ScanAxis axis = ChooseScanAxis(lasers);
+  const auto centers = ComputeStripeCenters(*world.embree, cam, lasers, world_from_cam, axis);
   test::RefDropped dropped;
-  const test::RefStripe ref = test::ReferenceStripe(world, cam, lasers, world_from_cam, &dropped);
-  test::RefComparison r = test::CompareWithReference(ref, centers, kTolPx);
+  const test::RefStripe ref = test::ReferenceStripe(world, cam, lasers, world_from_cam, &dropped, axis);
+  test::RefComparison r = test::CompareWithReference(ref, centers, kTolPx, axis);
   r.dropped = dropped;
   std::printf("%-20s %-8s planes %d: reference %4d (ambiguous %2d, rows with two %3d; left out: facing away %4d, "
               "hidden %3d, shadowed %3d) found %4d missed %2d (paired %2d) extra %2d max|du| %.1e px\n",
@@ -241,6 +256,18 @@ TEST_P(StripeTruthCurved, EveryReferenceCrossingFoundAndNoOther) {
     EXPECT_EQ(r.extra, 0) << c.name << " " << run.name;
     EXPECT_LT(r.max_du, kTolPx) << c.name << " " << run.name;
   }
+  // And with the rig and the scene turned a quarter turn about the optical
+  // axis (Brown-Conrady camera): the stripes run along the rows and are
+  // scanned by columns.
+  Pose turn = Pose::Identity();
+  turn.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const std::vector<LaserProjector> turned = {QuarterTurned(one[0])};
+  ASSERT_EQ(ChooseScanAxis(turned), ScanAxis::kCols);
+  const test::RefComparison t = Check(c, runs[1].cam, turned, "cols", Pose::Identity(), turn);
+  EXPECT_GT(t.reference, 20) << c.name << " cols";
+  EXPECT_EQ(t.missed, 0) << c.name << " cols";
+  EXPECT_EQ(t.extra, 0) << c.name << " cols";
+  EXPECT_LT(t.max_du, kTolPx) << c.name << " cols";
   const test::RefComparison r = Check(c, runs[0].cam, one, "posed", posed);
   // What the cases are for: the arcs turning back, the valleys.
   if (c.name.rfind("sphere", 0) == 0) {
