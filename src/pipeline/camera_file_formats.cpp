@@ -356,7 +356,10 @@ bool ReadOtherCameraFile(const YamlNode& root, const std::string& file, Calibrat
     ReadKalibr(r, root, &f);
   } else if (k && k->kind == YamlNode::Kind::kMap && k->tag.empty()) {
     ReadRosFile(r, root, &f);
-  } else if ((root.Find("K") || root.Find("k")) && (root.Find("width") || root.Find("height"))) {
+  } else if ((root.Find("width") || root.Find("height")) &&
+             ((root.Find("K") && root.Find("K")->kind == YamlNode::Kind::kSeq) ||
+              (root.Find("k") && root.Find("k")->kind == YamlNode::Kind::kSeq))) {
+    // (An OpenCV file's K: !!opencv-matrix is not a message's K.)
     ReadRosMessage(r, root, &f);
   } else {
     return false;

@@ -228,6 +228,11 @@ roi:
   std::string binned = ros1;
   binned.replace(binned.find("binning_x: 0"), 12, "binning_x: 2");
   EXPECT_EQ(ErrorOf("binned.yaml", binned).first, ":14");
+  // An OpenCV file with keys of the same names is not taken for a message.
+  EXPECT_THAT(ErrorOf("opencv_k.yml", "%YAML:1.0\nwidth: 640\nheight: 480\nK: !!opencv-matrix\n   rows: 3\n   cols: 3\n"
+                                      "   dt: d\n   data: [ 500., 0., 320., 0., 500., 240., 0., 0., 1. ]\n")
+                  .second,
+              HasSubstr("holds nothing lasertwin reads"));
 }
 
 // Kalibr's camchain (camchain-imucam) with one camera; radtan and
