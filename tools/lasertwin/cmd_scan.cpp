@@ -142,8 +142,8 @@ void Add(CLI::App& app) {
   cmd->add_option("--method", args->method,
                   "max | com | multicom | steger (default: com, multicom for several laser planes)");
   cmd->add_option("--calib", args->calib,
-                  "Calibration file (OpenCV YAML): its laser planes (and camera, and hand-eye pose tool_from_cam with the "
-                  "run's world_from_tool) replace the run's ground truth");
+                  "Calibration file (OpenCV YAML or XML, as lasertwin calibrate writes): its laser planes (and camera, "
+                  "and hand-eye pose tool_from_cam with the run's world_from_tool) replace the run's ground truth");
   cmd->add_option("--axis", args->axis, "rows | cols (default: the manifest's gt_axis, else from the laser planes)");
   cmd->add_option("--frames", args->frames, "Frames to scan: A:B (A inclusive, B exclusive), A:, :B or N");
   cmd->add_option("--poses", args->pose_args.poses,
