@@ -379,12 +379,14 @@ TEST(CalibrateCli, ACaptureWithoutManifestCalibratesAsTheRun) {
   ASSERT_EQ(cam.exit_code, 0) << cam.err;
   const std::vector<CliResult> laser = RunMany({
       "calibrate laser " + Quoted(s.run) + " --calib " + Quoted(dir / "cam.yaml") + " --out " + Quoted(dir / "run.yaml"),
+      // Poses are the hand-eye step's: the laser step warns and reads no file.
       "calibrate laser " + Quoted(capture) + shutter + board + " --planes 1 --calib " + Quoted(dir / "cam.yaml") +
-          " --out " + Quoted(dir / "capture.yaml"),
+          " --poses " + Quoted(dir / "no_such_poses.csv") + " --out " + Quoted(dir / "capture.yaml"),
       "calibrate camera " + Quoted(capture) + shutter + board + " --fix-k3 --out " + Quoted(dir / "cam_capture.yaml"),
   });
   for (const CliResult& r : laser) ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(laser[1].err, HasSubstr("frames: the 12 image files of"));
+  EXPECT_THAT(laser[1].err, HasSubstr("warning: --poses: the laser step uses no robot poses"));
   // No rig: the stripe's axis from the frames (the rows' search gave another plane, 0.008 deg off).
   EXPECT_THAT(laser[1].err, HasSubstr("stripes searched along the columns"));
   EXPECT_THAT(laser[2].out, HasSubstr("camera from 6 of 6 views, 320x256"));

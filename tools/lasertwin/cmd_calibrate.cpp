@@ -92,7 +92,7 @@ SessionRun Session(const CalibrateArgs& a, const CalibrationFile& in, bool with_
   SessionCaptureOptions o;
   o.shutter = ParseShutterPattern(a.shutter, "--shutter");
   o.pose_file = a.pose_args.Parse();
-  if (!a.pose_args.poses.empty()) o.poses = a.pose_args.poses;
+  if (!a.pose_args.poses.empty() && a.step == "hand-eye") o.poses = a.pose_args.poses;  // the others warn
   o.bit_depth = a.bit_depth;
   if (with_camera && in.camera) {
     o.camera = in.MakeCamera(CameraParams{}, a.calib);
