@@ -349,7 +349,7 @@ void Run(const CalibrateArgs& a) {
 void Add(CLI::App& app) {
   auto args = std::make_shared<CalibrateArgs>();
   auto* cmd = app.add_subcommand("calibrate",
-                                 "Calibrate the camera, laser planes or hand-eye pose from a calibration session run");
+                                 "Calibrate the camera, laser planes or hand-eye pose from a calibration session run or capture");
   cmd->add_option("STEP", args->step, "camera | laser | hand-eye")
       ->required()
       ->check(CLI::IsMember({"camera", "laser", "hand-eye"}));
@@ -361,7 +361,8 @@ void Add(CLI::App& app) {
   cmd->add_option("--out", args->out, "Calibration file to write: OpenCV YAML (.yaml, .yml) or OpenCV XML (.xml)")
       ->required();
   cmd->add_option("--calib", args->calib,
-                  "Calibration file to start from (its camera is used by the laser and hand-eye steps)");
+                  "Calibration file to start from (its camera is used by the laser and hand-eye steps; a folder "
+                  "without rig.json needs it)");
   cmd->add_option("--board", args->board,
                   "Board layout (JSON: rows, cols, square_mm); default: checkerboard.json of the session");
   cmd->add_option("--rows", args->rows, "Inner corners down a column (instead of --board)");
@@ -369,7 +370,7 @@ void Add(CLI::App& app) {
   cmd->add_option("--square-mm", args->square_mm, "Square size (mm)");
   cmd->add_option("--model", args->model, "camera: brown_conrady | fisheye | none")->capture_default_str();
   cmd->add_flag("--fix-k3", args->fix_k3, "camera: hold k3 at 0");
-  cmd->add_option("--planes", args->planes, "laser: number of laser sheets (default: the run's rig)");
+  cmd->add_option("--planes", args->planes, "laser: number of laser sheets (default: the run's rig, else --calib's laser planes)");
   cmd->add_option("--shutter", args->shutter,
                   "recorded | alternate | alternate-bright-first: which frames are bright (the board) and which dim "
                   "(the laser): the manifest's shutter keys, or alternate frames, the first a dim one or a bright one")
