@@ -228,6 +228,11 @@ TEST(CalibrateCli, LaserStepFromRosAndKalibrCameraFiles) {
   const CalibratedCamera& c = *opencv.camera;
   const BrownConradyCoeffs b = c.brown_conrady;
   WriteCalibrationFile(dir / "camera.yml", opencv);
+  {
+    // Keys of another program's own (a VINS config holds dozens): one warning names them.
+    std::ofstream extra(dir / "camera.yml", std::ios::app);
+    for (int k = 0; k < 10; ++k) extra << "extra_" << k << ": 1\n";
+  }
   auto n = [](double v) {
     char buf[40];
     std::snprintf(buf, sizeof buf, "%.17g", v);
@@ -251,6 +256,11 @@ TEST(CalibrateCli, LaserStepFromRosAndKalibrCameraFiles) {
                                Quoted(result) + " --quiet");
     ASSERT_EQ(r.exit_code, 0) << in << "\n" << r.err;
     EXPECT_THAT(r.err, ::testing::Not(HasSubstr("using the run's true camera"))) << in;
+    if (std::string(in) == "camera.yml") {
+      EXPECT_THAT(r.err, HasSubstr((dir / in).string() + ": 10 keys (extra_0, extra_1, extra_2, extra_3, extra_4, "
+                                                          "extra_5, extra_6, extra_7 and 2 more) are not kept in the output"));
+      EXPECT_EQ(r.err.find("not kept"), r.err.rfind("not kept")) << r.err;  // one line
+    }
     if (std::string(in) == "ost.yaml") {
       EXPECT_THAT(r.err, HasSubstr((dir / "ost.yaml").string() + ":13: rectification_matrix is not the identity"));
     }

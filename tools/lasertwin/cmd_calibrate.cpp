@@ -77,11 +77,18 @@ CheckerboardSpec Board(const CalibrateArgs& a) {
 // A run folder has a manifest; any other folder is one of photographs.
 bool IsRunFolder(const std::string& dir) { return std::filesystem::exists(std::filesystem::path(dir) / "manifest.jsonl"); }
 
-
 CalibrationFile InputFile(const CalibrateArgs& a) {
   if (a.calib.empty()) return {};
   CalibrationFile f = ReadCalibrationFile(a.calib);
-  for (const auto& k : f.ignored_keys) Warn(a.calib + ": key " + k + " is not kept in the output");
+  if (!f.ignored_keys.empty()) {
+    // One line, however many: another tool's file (a VINS config) can hold dozens.
+    const size_t n = f.ignored_keys.size(), shown = std::min<size_t>(n, 8);
+    std::string keys;
+    for (size_t i = 0; i < shown; ++i) keys += (i ? ", " : "") + f.ignored_keys[i];
+    if (n > shown) keys += " and " + std::to_string(n - shown) + " more";
+    Warn(a.calib + ": " + (n == 1 ? "key " + keys + " is" : std::to_string(n) + " keys (" + keys + ") are") +
+         " not kept in the output");
+  }
   for (const auto& w : f.warnings) Warn(w);
   return f;
 }
