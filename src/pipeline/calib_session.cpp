@@ -264,6 +264,10 @@ SessionLaserResult CalibrateSessionLaser(const SessionRun& run, const Checkerboa
   // stripe across the rows, searched along the columns, gives a point per
   // column; searched along the rows, only the few rows its width covers).
   bool axis_known = options.axis || !rig.planes_in_cam.empty();
+  ExtractionOptions extraction = options.extraction;
+  if (options.method_from_planes && r.planes > 1 && FindsOneStripePerLine(extraction.method)) {
+    extraction.method = ExtractionMethod::kMultiCom;
+  }
   r.axis_from_frame = -1;
   const LaserChannelWeights matched = MatchedChannelWeights(rig);
   r.views = ReadSessionViews(run, board, options.corners);
@@ -297,7 +301,7 @@ SessionLaserResult CalibrateSessionLaser(const SessionRun& run, const Checkerboa
     std::vector<StripePoint> points;
     FrameExtraction fx;
     for (const SearchAxis axis : {r.axis, r.axis == SearchAxis::kRows ? SearchAxis::kCols : SearchAxis::kRows}) {
-      ExtractionOptions given = options.extraction;
+      ExtractionOptions given = extraction;
       given.axis = axis;
       // As in scan: a mosaic demosaiced, a colour frame on the laser's channels.
       FrameExtraction this_fx = RunFrameExtraction(given, dim, image, rig, matched);

@@ -90,8 +90,13 @@ SessionCameraResult CalibrateSessionCamera(const SessionRun& run, const Checkerb
                                            const CornerDetectionOptions& corners = {});
 
 struct SessionLaserOptions {
-  // Threshold kAuto: 10% of the frame's full scale (its bit depth), as `scan`.
-  ExtractionOptions extraction;
+  // As `scan` (pipeline/frame_extraction.h): threshold kAuto, 10% of the
+  // frame's full scale (its bit depth); background kAuto, the image sensor's
+  // black level (rig.json's; 0 without a rig).
+  ExtractionOptions extraction = AutoLevels();
+  // The method was not chosen: with several sheets multicom (com and max find
+  // one stripe per search line), else extraction.method; as scan's.
+  bool method_from_planes = false;
   // Unset: from the run rig's nominal planes (StripeAxis); without planes, the
   // axis finding more stripe points on the first dim frame read.
   std::optional<SearchAxis> axis;
@@ -107,6 +112,11 @@ struct SessionLaserOptions {
   CornerDetectionOptions corners;
 
   void Check() const;  // throws lt::InputError naming the option
+  static ExtractionOptions AutoLevels() {
+    ExtractionOptions e;
+    e.background = ExtractionOptions::kAuto;
+    return e;
+  }
 };
 
 struct SessionLaserView {

@@ -75,8 +75,9 @@ SessionRun ReadSessionRun(const fs::path& dir, const SessionCaptureOptions& o,
   }
   listed.CheckSize(r.rig.camera.width(), r.rig.camera.height(), r.rig.source.string());
   r.width = r.rig.camera.width(), r.height = r.rig.camera.height();
-  // As scan: --bit-depth is the sensor's; a frame without bit_depth has it.
+  // As scan: --bit-depth is the sensor's (a frame without bit_depth has it), --bayer its mosaic.
   if (o.bit_depth > 0) r.rig.bit_depth = o.bit_depth;
+  if (o.color_filter) r.rig.color_filter = *o.color_filter;
   for (RunFrame& f : r.frames) {
     if (f.bit_depth <= 0) f.bit_depth = r.rig.bit_depth;
   }

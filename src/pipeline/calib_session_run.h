@@ -34,6 +34,9 @@ struct SessionCaptureOptions {
   std::optional<std::filesystem::path> poses;
   PoseFileOptions pose_file;
   int bit_depth = 0;  // the sensor's ADC bits (1..16); 0: the manifest's, rig.json's
+  // The raw frames' colour filter mosaic (`--bayer`), as scan's: replaces
+  // rig.json's color_filter (a folder without a rig is mono without it).
+  std::optional<ColorFilter> color_filter;
   // The camera of a folder without rig.json or scene.json (a calibration
   // file's); its laser planes say how many sheets there are.
   std::optional<Camera> camera;

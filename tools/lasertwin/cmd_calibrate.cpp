@@ -20,8 +20,10 @@
 #include "pipeline/calib_session.h"
 #include "pipeline/calibration_file.h"
 #include "pipeline/run_folder_reader.h"
+#include "pipeline/stripe_extractor.h"
 #include "pipeline/triangulation.h"
 #include "tools/lasertwin/command.h"
+#include "tools/lasertwin/extraction_args.h"
 #include "tools/lasertwin/pose_file_args.h"
 
 namespace lt::cli {
@@ -45,6 +47,7 @@ struct CalibrateArgs {
   PoseFileArgs pose_args;  // the tool's poses
   int bit_depth = 0;
   std::string axis;  // laser: rows | cols; empty: from the planes, else the frames
+  ExtractionArgs extraction;  // laser: the dim frames' extraction, as scan's
 };
 
 std::string Fmt(const char* format, double a, double b = 0, double c = 0, double d = 0) {
@@ -95,8 +98,10 @@ CalibrationFile InputFile(const CalibrateArgs& a) {
 
 // The session's frames as scan reads them; a folder without a rig takes
 // --calib's camera (and its laser planes) when `with_camera`.
-SessionRun Session(const CalibrateArgs& a, const CalibrationFile& in, bool with_camera) {
+SessionRun Session(const CalibrateArgs& a, const CalibrationFile& in, bool with_camera,
+                   std::optional<ColorFilter> color_filter = std::nullopt) {
   SessionCaptureOptions o;
+  o.color_filter = color_filter;
   o.shutter = ParseShutterPattern(a.shutter, "--shutter");
   o.pose_file = a.pose_args.Parse();
   if (!a.pose_args.poses.empty() && a.step == "hand-eye") o.poses = a.pose_args.poses;  // the others warn
@@ -235,17 +240,23 @@ void CameraStep(const CalibrateArgs& a, CalibrationFile* file) {
 }
 
 void LaserStep(const CalibrateArgs& a, CalibrationFile* file) {
+  // The dim frames are extracted as scan extracts a run's laser frames.
+  const ParsedExtraction x = a.extraction.Parse();
+  SessionLaserOptions o;
+  o.extraction = x.extraction;
+  o.method_from_planes = x.method_from_planes;
+  o.plane_id = x.plane_id;
+  o.planes = a.planes;
+  if (!a.axis.empty()) o.axis = ParseAxis(a.axis, "--axis");
+  o.Check();  // before the images are read
   const CheckerboardSpec board = Board(a);
-  const SessionRun run = Session(a, *file, true);
+  const SessionRun run = Session(a, *file, true, x.color_filter);
   const RunRig& rig = run.rig;
   if (!run.rig_in_run && rig.planes_in_cam.empty() && a.planes <= 0) {
     throw InputError(a.run_dir, "no rig.json, and " + a.calib + " holds no laser planes: give the number of laser "
                                 "sheets with --planes N");
   }
   const Camera camera = StepCamera(a, *file, rig);
-  SessionLaserOptions o;
-  o.planes = a.planes;
-  if (!a.axis.empty()) o.axis = ParseAxis(a.axis, "--axis");
   const SessionLaserResult r = CalibrateSessionLaser(run, board, camera, o);
   if (r.axis_from_frame >= 0 && !a.quiet) {
     const bool cols = r.axis == SearchAxis::kCols;
@@ -259,11 +270,15 @@ void LaserStep(const CalibrateArgs& a, CalibrationFile* file) {
   } else if (!r.channel_weights_source.empty() && !a.quiet) {
     std::cerr << "colour frames extracted on " << r.channel_weights_source << "\n";
   }
-  int used = 0;
+  int used = 0, extracted = 0, stripe_points = 0;
   for (const SessionLaserView& v : r.laser_views) {
     used += v.used;
+    extracted += v.pose.ok;  // its dim frame was extracted
+    stripe_points += v.stripe_points;
     if (!v.note.empty()) Warn("view " + std::to_string(v.view) + ": " + v.note);
   }
+  // As scan says it: no dim frame gave a stripe point.
+  if (extracted > 0 && stripe_points == 0) std::cerr << "lasertwin: note: " << NoStripePointsNote(o.extraction) << "\n";
   std::string refused;
   for (const LaserPlaneFit& f : r.fits) {
     if (!f.ok) refused += (refused.empty() ? "" : "; ") + ("plane " + std::to_string(f.plane_id) + ": " + f.reason);
@@ -342,6 +357,10 @@ void Run(const CalibrateArgs& a) {
   if (!a.pose_args.poses.empty() && a.step != "hand-eye") {
     Warn("--poses: the " + a.step + " step uses no robot poses");
   }
+  const std::string extraction = a.extraction.Given();
+  if (!extraction.empty() && a.step != "laser") {
+    Warn(extraction + ": the " + a.step + " step extracts no laser stripe (the laser step's options)");
+  }
   if (a.step == "camera") {
     CameraStep(a, &file);
   } else if (a.step == "laser") {
@@ -397,6 +416,8 @@ void Add(CLI::App& app) {
   cmd->add_option("--axis", args->axis,
                   "laser: rows | cols, the stripe search (default: from the laser planes of the rig or --calib, else "
                   "the axis finding more stripe points on the first dim frame)");
+  // laser: the dim frames' stripe extraction, with scan's options and defaults.
+  args->extraction.Declare(cmd);
   cmd->add_flag("--quiet", args->quiet, "Print nothing but warnings");
   cmd->callback([args] { Run(*args); });
 }

@@ -14,10 +14,10 @@
 #include "core/error.h"
 #include "core/frame_range.h"
 #include "core/text_fields.h"
-#include "pipeline/demosaic.h"
 #include "pipeline/scan.h"
 #include "pipeline/stripe_extractor.h"
 #include "tools/lasertwin/command.h"
+#include "tools/lasertwin/extraction_args.h"
 #include "tools/lasertwin/pose_file_args.h"
 
 namespace lt::cli {
@@ -25,14 +25,10 @@ namespace {
 
 struct ScanArgs {
   std::string run_dir;
-  std::string method;  // empty: com, or multicom for several laser planes
+  ExtractionArgs extraction;  // --method, --threshold, ..., --bayer, --roi; plane identification
   std::string axis;
-  std::string roi;
-  std::string weights;
   std::string calib;
   std::string frames;
-  std::string background;  // empty: the black level
-  std::string bayer;       // empty: the rig's color_filter
   PoseFileArgs pose_args;  // --poses, --pose-units, --pose-order, --image-time-offset
   std::string depth_range;  // MIN_MM:MAX_MM
   std::string shutter = "recorded";
@@ -42,17 +38,14 @@ struct ScanArgs {
 
 void Run(ScanArgs& a) {
   ScanOptions& o = a.options;
-  o.method_from_planes = a.method.empty();
-  o.extraction.method = ParseMethod(a.method.empty() ? "com" : a.method, "--method");
+  const ParsedExtraction x = a.extraction.Parse();
+  o.extraction = x.extraction;
+  o.method_from_planes = x.method_from_planes;
+  o.color_filter = x.color_filter;
+  o.plane_id = x.plane_id;
   if (!a.axis.empty()) o.axis = ParseAxis(a.axis, "--axis");
-  if (!a.background.empty()) {
-    ParseBackground(a.background, "--background", &o.extraction.background, &o.extraction.background_mode);
-  }
-  if (!a.roi.empty()) o.extraction.roi = ParseRoi(a.roi, "--roi");
-  if (!a.weights.empty()) o.extraction.channel_weights = ParseNumberList(a.weights, "--weights");
   if (!a.calib.empty()) o.calibration = a.calib;
   if (!a.depth_range.empty()) o.depth_range = ParseDepthRange(a.depth_range, "--depth-range");
-  if (!a.bayer.empty()) o.color_filter = ParseBayerPattern(a.bayer, "--bayer");
   if (!a.pose_args.poses.empty()) o.poses = a.pose_args.poses;
   o.pose_file = a.pose_args.Parse();
   o.shutter = ParseShutterPattern(a.shutter, "--shutter");
@@ -139,8 +132,6 @@ void Add(CLI::App& app) {
                   "Run folder (from lasertwin render, or a capture with the same layout), or a folder of images "
                   "without manifest.jsonl (frames in file name order, directly in it or in its frames/)")
       ->required();
-  cmd->add_option("--method", args->method,
-                  "max | com | multicom | steger (default: com, multicom for several laser planes)");
   cmd->add_option("--calib", args->calib,
                   "Calibration file (OpenCV YAML or XML, as lasertwin calibrate writes): its laser planes (and camera, "
                   "and hand-eye pose tool_from_cam with the run's world_from_tool) replace the run's ground truth");
@@ -164,42 +155,7 @@ void Add(CLI::App& app) {
   cmd->add_option("--bit-depth", args->options.bit_depth,
                   "The image sensor's ADC bits (1..16): a 16-bit image of a 12-bit camera reads up to 4095 (default: "
                   "the manifest's bit_depth, rig.json's)");
-  cmd->add_option("--roi", args->roi, "Search only in X,Y,W,H (pixels)");
-  auto& e = args->options.extraction;
-  cmd->add_option("--threshold", e.threshold,
-                  "Minimum stripe peak in image DN (default: 10% of the frame's full scale, 2^bit_depth - 1, times the sum "
-                  "of the positive channel weights)")
-      ->check(FiniteNumber());
-  cmd->add_option("--high-threshold", e.high_threshold, "steger: high hysteresis threshold, which each chain must reach somewhere (default: the threshold)")
-      ->check(FiniteNumber());
-  cmd->add_option("--background", args->background,
-                  "Level subtracted before centroid and width (default: black level), or 'local': per peak, a line "
-                  "through the levels just outside its window (ambient light; max, com, multicom)");
-  cmd->add_option("--window", e.window, "com: half window in pixels (0: from the peak width)")->capture_default_str();
-  cmd->add_option("--min-width", e.min_width, "Peaks narrower (FWHM, pixels) must continue on the adjacent search lines to count (hot pixels do not); 0: no check")->capture_default_str();
-  cmd->add_option("--max-width", e.max_width, "Maximum peak FWHM in pixels (0: none)")->capture_default_str();
-  cmd->add_option("--width", e.expected_width,
-                  "steger: expected stripe FWHM in pixels (default: measured on each frame, from the FWHM of "
-                  "each search line's brightest peak, docs/extraction.md)")
-      ->check(FiniteNumber());
-  cmd->add_option("--sigma", e.sigma, "steger: filter sigma in pixels (0: from --width)")->capture_default_str();
-  cmd->add_option("--max-angle-deg", e.max_angle_deg, "steger: largest stripe angle from the search normal")
-      ->capture_default_str();
-  cmd->add_option("--channel", e.channel,
-                  "Colour images: channel holding the laser (0-based; default: the R, G, B weights matched to the "
-                  "rig's laser wavelengths and quantum efficiency)");
-  cmd->add_option("--weights", args->weights, "Colour images: channel weights, e.g. 1,0,0");
-  cmd->add_option("--bayer", args->bayer,
-                  "The raw frames' mosaic: rggb | bggr | grbg | gbrg | none (default: rig.json's color_filter; none "
-                  "without a rig)");
-  cmd->add_option("--threads", e.threads, "Worker threads (0: all)")->capture_default_str();
-  auto& id = args->options.plane_id;
-  cmd->add_option("--link-distance", id.link_distance, "Plane identification: max step across between lines (px)")
-      ->capture_default_str();
-  cmd->add_option("--edge-margin", id.edge_margin, "Plane identification: edge connectivity distance (px)")
-      ->capture_default_str();
-  cmd->add_option("--min-segment-points", id.min_segment_points, "Plane identification: smaller segments are noise")
-      ->capture_default_str();
+  args->extraction.Declare(cmd);
   cmd->add_option("--depth-range", args->depth_range,
                   "Plane identification: the scanner's working range MIN_MM:MAX_MM (camera z), e.g. 60:120: with "
                   "several sheets, stripes are numbered by the sheets' order at these depths only, and points outside "
