@@ -322,6 +322,13 @@ TEST(CalibSessionRun, ACaptureWithoutManifestIsTheRun) {
   const SessionRun c = ReadSessionRun(run, o);
   EXPECT_TRUE(c.has_camera);
   EXPECT_FALSE(c.rig_in_run);
+  // --bayer: the sensor's mosaic, as scan's (without it and a rig, mono).
+  EXPECT_EQ(c.rig.color_filter, ColorFilter::kMono);
+  {
+    SessionCaptureOptions bayer = o;
+    bayer.color_filter = ColorFilter::kRGGB;
+    EXPECT_EQ(ReadSessionRun(run, bayer).rig.color_filter, ColorFilter::kRGGB);
+  }
   const SessionHandEyeResult from_capture = CalibrateSessionHandEye(c, Board(), cam);
   ASSERT_TRUE(from_capture.hand_eye.ok) << from_capture.hand_eye.reason;
   EXPECT_EQ(from_capture.used, from_run.used);
