@@ -11,8 +11,18 @@
 #include "pipeline/calib_checkerboard.h"
 #include "pipeline/calib_corners.h"
 #include "pipeline/image_folder.h"
+#include "sensor/image_sensor.h"
 
 namespace lt {
+
+// The image the corner detector reads of a camera image. A one-channel image of
+// a colour sensor (`filter` not kMono) is its raw Bayer mosaic, whose 2x2
+// filter pattern is a fine checker on every square (a red board reads dark
+// behind the green filters): it is demosaiced bilinearly as scan's extraction
+// does (pipeline/demosaic.h) and taken as the mean of R, G and B, a float
+// image in the mosaic's units. Any other image comes back as it is (the
+// detector averages the channels of a colour one).
+AnyImage CornerDetectionImage(AnyImage image, ColorFilter filter);
 
 struct PhotoView {
   std::filesystem::path image;
@@ -23,6 +33,7 @@ struct PhotoCameraResult {
   int width = 0, height = 0;  // of every image
   std::vector<PhotoView> views;
   std::vector<int> used;  // indices into views of the calibrated views, in the calibration's order
+  int one_channel = 0;    // images of one channel (grey, or the mosaic of `color_filter`)
   CameraCalibrationResult calibration;
 };
 
@@ -30,9 +41,12 @@ struct PhotoCameraResult {
 // where it was found whole. Throws lt::InputError naming the file for an
 // unreadable image, and for an image whose size differs from the first
 // one's (both sizes in the message): the intrinsics belong to one image size.
+// `color_filter` (`--bayer`): the one-channel images are that colour sensor's
+// raw mosaics (CornerDetectionImage); kMono: they are grey.
 PhotoCameraResult CalibrateCameraFromImages(const std::vector<std::filesystem::path>& images,
                                             const CheckerboardSpec& board,
                                             const CameraCalibrationOptions& options = {},
-                                            const CornerDetectionOptions& corners = {});
+                                            const CornerDetectionOptions& corners = {},
+                                            ColorFilter color_filter = ColorFilter::kMono);
 
 }  // namespace lt

@@ -11,6 +11,7 @@
 #include "core/image_io.h"
 #include "core/json_reader.h"
 #include "pipeline/calib_board_turns.h"
+#include "pipeline/calib_camera_images.h"
 #include "pipeline/frame_extraction.h"
 #include "pipeline/run_folder_reader.h"
 #include "pipeline/stripe_extractor.h"
@@ -201,7 +202,8 @@ std::vector<SessionView> ReadSessionViews(const SessionRun& run, const Checkerbo
     if (i + 1 < frames.size() && frames[i + 1].IsLaserFrame()) v.dim_frame = frames[i + 1].index;
     v.world_from_tool = f.world_from_tool;
     v.world_from_cam = f.world_from_cam;
-    v.detection = DetectCheckerboard(ReadFrameImage(run, f), board, corners);
+    // A colour sensor's raw mosaic is demosaiced to grey first.
+    v.detection = DetectCheckerboard(CornerDetectionImage(ReadFrameImage(run, f), run.rig.color_filter), board, corners);
     views.push_back(std::move(v));
   }
   if (views.empty()) {

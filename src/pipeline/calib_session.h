@@ -75,7 +75,8 @@ std::string ShutterHint(const SessionRun& run, const std::vector<SessionView>& v
 
 // The views of a run: every frame without laser light starts one; a laser
 // frame right after it is its dim frame. Corners are detected on the bright
-// frames. Throws lt::InputError for an unreadable run or image, or a run
+// frames (a colour sensor's mosaic, run.rig.color_filter, through
+// CornerDetectionImage, pipeline/calib_camera_images.h). Throws lt::InputError for an unreadable run or image, or a run
 // without bright frames.
 std::vector<SessionView> ReadSessionViews(const SessionRun& run, const CheckerboardSpec& board,
                                           const CornerDetectionOptions& corners = {});
