@@ -96,12 +96,30 @@ CalibrationFile InputFile(const CalibrateArgs& a) {
   return f;
 }
 
+// --bayer: the raw frames' mosaic, for every step (the corners of the bright
+// frames, the laser step's stripes); unset: rig.json's color_filter.
+std::optional<ColorFilter> Bayer(const CalibrateArgs& a) {
+  if (a.extraction.bayer.empty()) return std::nullopt;
+  return ParseBayerPattern(a.extraction.bayer, "--bayer");
+}
+
+// What a capture without rig.json is taken for, as scan says it: "the image
+// sensor's black level 0 (--background sets it), mono (--bayer sets a
+// mosaic)" (or "the image sensor is mono ..."), each part left out when its
+// option is given (the black level by the laser step only, the one that uses
+// it); "" when nothing is assumed.
+std::string NoRigSensor(const CalibrateArgs& a) {
+  std::string s;
+  if (a.step == "laser" && a.extraction.background.empty()) s = "the image sensor's black level 0 (--background sets it)";
+  if (a.extraction.bayer.empty()) s += (s.empty() ? "the image sensor is " : ", ") + std::string("mono (--bayer sets a mosaic)");
+  return s;
+}
+
 // The session's frames as scan reads them; a folder without a rig takes
 // --calib's camera (and its laser planes) when `with_camera`.
-SessionRun Session(const CalibrateArgs& a, const CalibrationFile& in, bool with_camera,
-                   std::optional<ColorFilter> color_filter = std::nullopt) {
+SessionRun Session(const CalibrateArgs& a, const CalibrationFile& in, bool with_camera) {
   SessionCaptureOptions o;
-  o.color_filter = color_filter;
+  o.color_filter = Bayer(a);
   o.shutter = ParseShutterPattern(a.shutter, "--shutter");
   o.pose_file = a.pose_args.Parse();
   if (!a.pose_args.poses.empty() && a.step == "hand-eye") o.poses = a.pose_args.poses;  // the others warn
@@ -115,6 +133,11 @@ SessionRun Session(const CalibrateArgs& a, const CalibrationFile& in, bool with_
   if (with_camera && !run.has_camera) {
     throw InputError(a.run_dir, "no rig.json or scene.json, so no camera: give the calibrated camera with --calib "
                                 "FILE (from `lasertwin calibrate camera`, or OpenCV's YAML)");
+  }
+  if (!run.rig_in_run) {
+    const std::string sensor = NoRigSensor(a);
+    const std::string camera = run.has_camera ? "the camera is " + run.rig.source.string() + "'s" : "";
+    if (!sensor.empty()) Warn(a.run_dir + " holds no rig.json: " + camera + (camera.empty() ? "" : ", ") + sensor);
   }
   if (!a.quiet && run.from_listing) {
     std::cerr << "frames: the " << run.frames.size() << " image files of " << run.source.string()
@@ -177,7 +200,12 @@ void CameraStep(const CalibrateArgs& a, CalibrationFile* file) {
                                   "and --square-mm (inner corners) or --board FILE");
     }
     const CheckerboardSpec board = Board(a);
-    const PhotoCameraResult r = CalibrateCameraFromImages(ListImageFiles(a.run_dir), board, o);
+    const PhotoCameraResult r = CalibrateCameraFromImages(ListImageFiles(a.run_dir), board, o, {},
+                                                          Bayer(a).value_or(ColorFilter::kMono));
+    if (r.one_channel > 0 && a.extraction.bayer.empty()) {
+      Warn(a.run_dir + ": " + std::to_string(r.one_channel) + " one-channel image(s) taken as a mono sensor's (--bayer "
+           "sets a mosaic)");
+    }
     for (const PhotoView& v : r.views) {
       if (!v.detection.ok) Warn(v.image.string() + ": " + v.detection.reason);
     }
@@ -250,7 +278,7 @@ void LaserStep(const CalibrateArgs& a, CalibrationFile* file) {
   if (!a.axis.empty()) o.axis = ParseAxis(a.axis, "--axis");
   o.Check();  // before the images are read
   const CheckerboardSpec board = Board(a);
-  const SessionRun run = Session(a, *file, true, x.color_filter);
+  const SessionRun run = Session(a, *file, true);
   const RunRig& rig = run.rig;
   if (!run.rig_in_run && rig.planes_in_cam.empty() && a.planes <= 0) {
     throw InputError(a.run_dir, "no rig.json, and " + a.calib + " holds no laser planes: give the number of laser "
@@ -357,7 +385,8 @@ void Run(const CalibrateArgs& a) {
   if (!a.pose_args.poses.empty() && a.step != "hand-eye") {
     Warn("--poses: the " + a.step + " step uses no robot poses");
   }
-  const std::string extraction = a.extraction.Given();
+  // --bayer is every step's (the bright frames' mosaic).
+  const std::string extraction = a.extraction.Given("--bayer");
   if (!extraction.empty() && a.step != "laser") {
     Warn(extraction + ": the " + a.step + " step extracts no laser stripe (the laser step's options)");
   }

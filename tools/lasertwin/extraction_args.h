@@ -104,11 +104,12 @@ struct ExtractionArgs {
     return p;
   }
 
-  // The options given on the command line ("--threshold, --bayer"), "" for none.
-  std::string Given() const {
+  // The options given on the command line ("--threshold, --bayer"), "" for
+  // none; `except`: one to leave out.
+  std::string Given(const std::string& except = "") const {
     std::string names;
     for (const CLI::Option* o : declared) {
-      if (o->count() > 0) names += (names.empty() ? "" : ", ") + o->get_name();
+      if (o->count() > 0 && o->get_name() != except) names += (names.empty() ? "" : ", ") + o->get_name();
     }
     return names;
   }
