@@ -42,12 +42,13 @@ AnyImage CornerDetectionImage(AnyImage image, ColorFilter filter) {
           for (int x = 0; x < W; ++x) of[FilterChannel(filter, x, y)].push_back(float(raw.At(x, y)));
         }
         double lo[3] = {0, 0, 0}, gain[3] = {1, 1, 1};
-        for (int c = 0; c < 3; ++c) lo[c] = Quantile(&of[c], 0.01);
-        const double range_g = Quantile(&of[1], 0.99) - lo[1];
-        for (int c : {0, 2}) {
-          const double range = Quantile(&of[c], 0.99) - lo[c];
-          if (range > 0 && range_g > 0) gain[c] = range_g / range;
-          else lo[c] = lo[1];  // a flat colour: only aligned to G's level
+        if (!of[0].empty() && !of[1].empty() && !of[2].empty()) {  // else a view of 1 px across: as it is
+          for (int c = 0; c < 3; ++c) lo[c] = Quantile(&of[c], 0.01);
+          const double range_g = Quantile(&of[1], 0.99) - lo[1];
+          for (int c : {0, 2}) {
+            const double range = Quantile(&of[c], 0.99) - lo[c];
+            if (range > 0 && range_g > 0) gain[c] = range_g / range;  // else flat: only moved to G's level
+          }
         }
         Image<float> balanced(W, H, 1);
         for (int y = 0; y < H; ++y) {

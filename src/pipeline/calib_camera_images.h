@@ -18,10 +18,11 @@ namespace lt {
 // The image the corner detector reads of a camera image. A one-channel image of
 // a colour sensor (`filter` not kMono) is its raw Bayer mosaic, whose 2x2
 // filter pattern is a fine checker on every square (a red board reads dark
-// behind the green filters): it is demosaiced bilinearly as scan's extraction
-// does (pipeline/demosaic.h) and taken as the mean of R, G and B, a float
-// image in the mosaic's units. Any other image comes back as it is (the
-// detector averages the channels of a colour one).
+// behind the green filters): it is white-balanced (each colour's 1st and 99th
+// percentiles mapped onto G's), demosaiced bilinearly as scan's extraction
+// does (pipeline/demosaic.h) and taken as the mean of R, G and B: a float
+// image in G's units. Any other image comes back as it is (the detector
+// averages the channels of a colour one).
 AnyImage CornerDetectionImage(AnyImage image, ColorFilter filter);
 
 struct PhotoView {

@@ -7,6 +7,8 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <utility>
+#include <variant>
 #include <unistd.h>
 
 #include "core/image_io.h"
@@ -109,6 +111,31 @@ TEST(CalibBayer, ColourSensorsBoardIsReadDemosaiced) {
     ASSERT_TRUE(photos.calibration.ok) << photos.calibration.reason;
     std::filesystem::remove_all(dir);
   }
+}
+
+// The detector's image of a mosaic is the mosaic's size, for any size (a
+// 1-pixel-wide image lacks a colour: no white balance, no out-of-range read);
+// a grey image, or colour one, or any image read as mono, comes back as it is.
+TEST(CalibBayer, CornerImageOfAnySize) {
+  for (const auto& [w, h] : {std::pair{1, 1}, std::pair{1, 5}, std::pair{5, 1}, std::pair{2, 2}, std::pair{7, 3}}) {
+    Image<uint8_t> m(w, h, 1);
+    for (size_t i = 0; i < m.pixels.size(); ++i) m.pixels[i] = uint8_t(10 + 7 * i);
+    const AnyImage g = CornerDetectionImage(m, ColorFilter::kGBRG);
+    ASSERT_TRUE(std::holds_alternative<Image<float>>(g));
+    const Image<float>& f = std::get<Image<float>>(g);
+    EXPECT_EQ(f.width, w);
+    EXPECT_EQ(f.height, h);
+    EXPECT_EQ(f.channels, 1);
+  }
+  const Image<uint16_t> grey(4, 4, 1, 100), rgb(4, 4, 3, 100);
+  EXPECT_TRUE(std::holds_alternative<Image<uint16_t>>(CornerDetectionImage(grey, ColorFilter::kMono)));
+  EXPECT_TRUE(std::holds_alternative<Image<uint16_t>>(CornerDetectionImage(rgb, ColorFilter::kRGGB)));
+  // A flat mosaic of one hue is one grey level: G's.
+  Image<uint16_t> flat(6, 6, 1);
+  for (int y = 0; y < 6; ++y)
+    for (int x = 0; x < 6; ++x) flat.At(x, y) = uint16_t(FilterChannel(ColorFilter::kRGGB, x, y) == 1 ? 400 : 200);
+  const AnyImage balanced = CornerDetectionImage(flat, ColorFilter::kRGGB);
+  for (float v : std::get<Image<float>>(balanced).pixels) EXPECT_FLOAT_EQ(v, 400.f);
 }
 
 }  // namespace
