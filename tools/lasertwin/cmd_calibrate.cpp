@@ -430,15 +430,10 @@ void Add(CLI::App& app) {
                   "recorded | alternate | alternate-bright-first: which frames are bright (the board) and which dim "
                   "(the laser): the manifest's shutter keys, or alternate frames, the first a dim one or a bright one")
       ->capture_default_str();
-  cmd->add_option("--poses", args->pose_args.poses,
-                  "hand-eye: the robot tool's poses (world_from_tool), one per frame in frame order, one per bright "
-                  "frame, or with times matched to images named by their time (the forms of scan --poses, "
-                  "docs/pipeline.md); replace the manifest's");
-  cmd->add_option("--pose-units", args->pose_args.units, "m | mm: the pose file's translations (default: its header's, else m)");
-  cmd->add_option("--pose-order", args->pose_args.order,
-                  "xyzw | wxyz: the quaternion order of a pose file without a header (TUM's is xyzw)");
-  cmd->add_option("--image-time-offset", args->pose_args.image_time_offset,
-                  "Seconds added to each image name's time before its pose is interpolated; matches every frame by time");
+  args->pose_args.Declare(cmd,
+                          "hand-eye: the robot tool's poses (world_from_tool), one per frame in frame order, one per "
+                          "bright frame, or with times matched to images named by their time (the forms of scan "
+                          "--poses, docs/pipeline.md); replace the manifest's");
   cmd->add_option("--bit-depth", args->bit_depth,
                   "The image sensor's ADC bits (1..16): a 16-bit image of a 12-bit camera reads up to 4095 (default: "
                   "the manifest's bit_depth, rig.json's)");

@@ -137,16 +137,10 @@ void Add(CLI::App& app) {
                   "and hand-eye pose tool_from_cam with the run's world_from_tool) replace the run's ground truth");
   cmd->add_option("--axis", args->axis, "rows | cols (default: the manifest's gt_axis, else from the laser planes)");
   cmd->add_option("--frames", args->frames, "Frames to scan: A:B (A inclusive, B exclusive), A:, :B or N");
-  cmd->add_option("--poses", args->pose_args.poses,
-                  "Pose file, one pose per frame in frame order, or with times matched to images named by their time "
-                  "(CSV with a header, TUM, 7-number, 3x4 or 4x4 rows; docs/pipeline.md): the tool's poses with --calib's tool_from_cam, else the camera's (world_from_cam)");
-  cmd->add_option("--pose-units", args->pose_args.units, "m | mm: the pose file's translations (default: its header's, else m)");
-  cmd->add_option("--pose-order", args->pose_args.order,
-                  "xyzw | wxyz: the quaternion order of a pose file without a header (TUM's is xyzw)");
-  cmd->add_option("--image-time-offset", args->pose_args.image_time_offset,
-                  "Seconds added to each image name's time before its pose is interpolated (a camera stamping the "
-                  "start of its exposure: half the exposure; a camera clock behind the robot's: the lag); matches "
-                  "every frame by time");
+  args->pose_args.Declare(cmd,
+                          "Pose file, one pose per frame in frame order, or with times matched to images named by "
+                          "their time (CSV with a header, TUM, 7-number, 3x4 or 4x4 rows; docs/pipeline.md): the tool's poses "
+                          "with --calib's tool_from_cam, else the camera's (world_from_cam)");
   cmd->add_option("--shutter", args->shutter,
                   "recorded | alternate | alternate-bright-first: which frames the laser lit: the manifest's shutter "
                   "keys (none, or no manifest: every frame), or alternate frames, the first a laser (dim) frame or a "

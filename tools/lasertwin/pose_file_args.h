@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/text_fields.h"
 #include "pipeline/pose_file.h"
+#include "tools/lasertwin/command.h"
 
 namespace lt::cli {
 
@@ -16,6 +17,19 @@ struct PoseFileArgs {
   std::string units;              // --pose-units; empty: the header's, else m
   std::string order;              // --pose-order; empty: the header's (headerless 7/8-number rows need it)
   std::string image_time_offset;  // --image-time-offset, seconds; empty: match by time only when the counts differ
+
+  // Declares --poses (described by `poses_help`, what the command takes the poses
+  // for) and the options that describe the file.
+  void Declare(CLI::App* cmd, const std::string& poses_help) {
+    cmd->add_option("--poses", poses, poses_help);
+    cmd->add_option("--pose-units", units, "m | mm: the pose file's translations (default: its header's, else m)");
+    cmd->add_option("--pose-order", order,
+                    "xyzw | wxyz: the quaternion order of a pose file without a header (TUM's is xyzw)");
+    cmd->add_option("--image-time-offset", image_time_offset,
+                    "Seconds added to each image name's time before its pose is interpolated (a camera stamping the "
+                    "start of its exposure: half the exposure; a camera clock behind the robot's: the lag); matches "
+                    "every frame by time");
+  }
 
   // Throws lt::InputError naming the option: one given without --poses, or a bad value.
   PoseFileOptions Parse() const {
