@@ -73,7 +73,8 @@ void DemosaicBilinear(const ImageView<T>& mosaic, ColorFilter filter, int phase_
             // colour, and the kernel stays symmetric.
             xx = xx < 0 ? -xx : xx >= W ? 2 * (W - 1) - xx : xx;
             yy = yy < 0 ? -yy : yy >= H ? 2 * (H - 1) - yy : yy;
-            if (xx < 0 || yy < 0) continue;  // a 1-pixel-wide view has no mirror
+            // A 1-pixel-wide view has no mirror (-1 -> 1 lies outside it too).
+            if (xx < 0 || yy < 0 || xx >= W || yy >= H) continue;
           }
           sum += double(mosaic.Row(yy)[xx]);
           ++n;

@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "core/error.h"
 #include "pipeline/stripe_extractor.h"
@@ -72,6 +74,32 @@ TEST(Demosaic, LinearImageIsExactAndCropsKeepThePhase) {
       for (int x = 1; x < crop.width - 1; ++x)
         for (int c = 0; c < 3; ++c) EXPECT_EQ(crop.At(x, y, c), back.At(x + 3, y + 5, c));
   }
+}
+
+// A view one pixel wide or high has no mirror across its border: its colours come
+// from the neighbours it has, else the pixel's own value, and nothing outside it is
+// read (before, the mirror of -1 was 1, past a 1-pixel view: ASan's heap overflow).
+TEST(Demosaic, OnePixelWideViewsReadOnlyThemselves) {
+  for (const auto& [w, h] : {std::pair{1, 1}, std::pair{1, 4}, std::pair{4, 1}}) {
+    Image<float> m(w, h, 1);
+    for (size_t i = 0; i < m.pixels.size(); ++i) m.pixels[i] = float(10 * (i + 1));
+    const Image<float> rgb = DemosaicBilinear(m.View(), ColorFilter::kRGGB);
+    ASSERT_EQ(rgb.pixels.size(), size_t(3 * w * h));
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        // Each channel is the pixel's own value or a mean of its neighbours in the view.
+        const float lo = *std::min_element(m.pixels.begin(), m.pixels.end());
+        const float hi = *std::max_element(m.pixels.begin(), m.pixels.end());
+        for (int c = 0; c < 3; ++c) {
+          EXPECT_GE(rgb.At(x, y, c), lo) << w << "x" << h << " " << x << "," << y << " c" << c;
+          EXPECT_LE(rgb.At(x, y, c), hi) << w << "x" << h << " " << x << "," << y << " c" << c;
+        }
+      }
+    }
+  }
+  Image<float> one(1, 1, 1, 42.0f);
+  const Image<float> rgb = DemosaicBilinear(one.View(), ColorFilter::kGBRG);
+  for (int c = 0; c < 3; ++c) EXPECT_EQ(rgb.At(0, 0, c), 42.0f);
 }
 
 TEST(Demosaic, ParsesPatternNames) {
