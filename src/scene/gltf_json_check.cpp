@@ -244,9 +244,12 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
                      "glTF version must be 2.x, got " + (version == asset->end() ? std::string("none") : version->dump()));
   }
   CheckGltfSchema(root, file);
-  static const std::set<std::string> kSupported = {"KHR_materials_emissive_strength", "KHR_mesh_quantization",
-                                                     "KHR_texture_transform", "EXT_mesh_gpu_instancing",
-                                                     "KHR_materials_pbrSpecularGlossiness", "KHR_materials_unlit"};
+  // Read, converted, or (lights) ignored by design and warned about: the scene
+  // file sets the sensor and the lights, so a file needing its lights loads.
+  static const std::set<std::string> kSupported = {
+      "KHR_materials_emissive_strength", "KHR_mesh_quantization",         "KHR_texture_transform",
+      "EXT_mesh_gpu_instancing",         "KHR_materials_pbrSpecularGlossiness", "KHR_materials_unlit",
+      "KHR_materials_transmission",      "KHR_lights_punctual"};
   if (auto req = root.find("extensionsRequired"); req != root.end() && req->is_array()) {
     for (size_t i = 0; i < req->size(); ++i) {
       const auto& e = (*req)[i];

@@ -1,0 +1,61 @@
+// Features of real exporters' files found in the third pass over real files
+// (docs/scene-format.md, "Real files checked, third pass"): extensions a file
+// requires that change nothing this loader reads.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "scene/gltf_loader.h"
+#include "test_util.h"
+
+namespace lt {
+namespace {
+
+using test::TempDir;
+using ::testing::HasSubstr;
+
+std::string AllWarnings(const GltfAsset& a) {
+  std::string s;
+  for (const auto& w : a.warnings) s += w + "\n";
+  return s;
+}
+
+// The Khronos DirectionalLight sample (Blender I/O 1.7.33 + manual edit) requires
+// KHR_lights_punctual. Lights are ignored by design (the scene file sets the
+// lights), so requiring them changes nothing here: the file was refused
+// ('required extension "KHR_lights_punctual" is not supported') and now loads
+// with the warning that counts the lights.
+TEST(GltfExporters3, RequiredPunctualLightsAreIgnoredAsLightsAre) {
+  TempDir dir;
+  GltfBuilder b = test::SquareBuilder();
+  b.json()["extensions"]["KHR_lights_punctual"]["lights"] = {
+      {{"type", "directional"}, {"color", {0.9, 0.8, 0.1}}, {"intensity", 1}, {"name", "Sun"}}};
+  b.AddNode("Sun_Orientation", -1);
+  b.json()["nodes"][1]["extensions"]["KHR_lights_punctual"] = {{"light", 0}};
+  b.json()["extensionsUsed"] = {"KHR_lights_punctual"};
+  b.json()["extensionsRequired"] = {"KHR_lights_punctual"};
+  b.WriteGltf(dir / "lit.gltf", true);
+  GltfAsset a = LoadGltf(dir / "lit.gltf", "lit.gltf");
+  ASSERT_EQ(a.instances.size(), 1u);
+  EXPECT_EQ(a.meshes[0].indices.size(), 6u);
+  EXPECT_THAT(AllWarnings(a), HasSubstr("lit.gltf: 1 KHR_lights_punctual light ignored (the scene file sets the "
+                                        "sensor and the lights)"));
+}
+
+// KHR_materials_transmission is read (its diffuse share removed,
+// gltf_exporters_test.cpp); a file requiring it was refused all the same.
+TEST(GltfExporters3, RequiredTransmissionIsRead) {
+  TempDir dir;
+  GltfBuilder b = test::SquareBuilder();
+  b.json()["meshes"][0]["primitives"][0]["material"] = b.AddMaterial("clear", {0.8, 0.4, 0.2, 1}, 0, 0.1);
+  b.json()["materials"][0]["extensions"]["KHR_materials_transmission"] = {{"transmissionFactor", 1.0}};
+  b.json()["extensionsUsed"] = {"KHR_materials_transmission"};
+  b.json()["extensionsRequired"] = {"KHR_materials_transmission"};
+  b.WriteGltf(dir / "clear.gltf", true);
+  GltfAsset a = LoadGltf(dir / "clear.gltf", "clear.gltf");
+  ASSERT_EQ(a.materials.size(), 1u);
+  EXPECT_EQ(a.materials[0].base_color, Eigen::Vector3f::Zero());
+  EXPECT_THAT(AllWarnings(a), HasSubstr("KHR_materials_transmission: transmitted light is not traced"));
+}
+
+}  // namespace
+}  // namespace lt
