@@ -1,5 +1,6 @@
 #include "core/text_fields.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -50,6 +51,13 @@ std::vector<std::string_view> SplitFields(std::string_view text, char separator)
     fields.push_back(TrimBlanks(text.substr(start, pos - start)));
     start = pos + 1;
   }
+}
+
+std::string ListFirst(const std::vector<std::string>& items, size_t shown) {
+  std::string list;
+  for (size_t i = 0; i < std::min(shown, items.size()); ++i) list += (i ? ", " : "") + items[i];
+  if (items.size() > shown) list += " and " + std::to_string(items.size() - shown) + " more";
+  return list;
 }
 
 std::string SizeText(int width, int height) { return std::to_string(width) + "x" + std::to_string(height); }

@@ -13,6 +13,7 @@
 
 #include "core/error.h"
 #include "core/json_reader.h"
+#include "core/text_fields.h"
 #include "scene/gltf_container.h"
 #include "scene/gltf_json_check.h"
 #include "scene/gltf_materials.h"
@@ -29,12 +30,6 @@ namespace {
 // naming the first kListed places. A CAD assembly or a viewer's export with an
 // edge outline per part would otherwise print one line per part.
 constexpr size_t kListed = 3;
-std::string ListFirst(const std::vector<std::string>& places) {
-  std::string list;
-  for (size_t i = 0; i < std::min(kListed, places.size()); ++i) list += (i ? ", " : "") + places[i];
-  if (places.size() > kListed) list += " and " + std::to_string(places.size() - kListed) + " more";
-  return list;
-}
 void AddListed(const std::string& file, const std::vector<std::string>& places,
                const std::function<std::string(const std::string&)>& one, const std::string& many,
                std::vector<std::string>* warnings) {
@@ -42,7 +37,7 @@ void AddListed(const std::string& file, const std::vector<std::string>& places,
     for (const std::string& place : places) warnings->push_back(file + ": " + one(place));
     return;
   }
-  warnings->push_back(file + ": " + many + ": " + ListFirst(places));
+  warnings->push_back(file + ": " + many + ": " + ListFirst(places, kListed));
 }
 
 // ---------------------------------------------------------------- file access for tinygltf
@@ -259,7 +254,7 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
   for (size_t i = 0; i < used.size(); ++i) {
     if (used[i] && metallic_by_default[i]) metals.push_back("\"" + asset.materials[i].name + "\"");
   }
-  if (!metals.empty()) asset.metallic_by_default = (metals.size() == 1 ? "material " : "materials ") + ListFirst(metals);
+  if (!metals.empty()) asset.metallic_by_default = (metals.size() == 1 ? "material " : "materials ") + ListFirst(metals, kListed);
   if (uses_default) asset.materials.push_back(DefaultMaterial());
   asset.uses_default_material = uses_default;
   if (!model.cameras.empty() || !model.lights.empty()) {
