@@ -250,6 +250,16 @@ bool HasRunRig(const fs::path& run_dir) {
   return fs::exists(run_dir / "rig.json") || fs::exists(run_dir / "scene.json");
 }
 
+std::string NoRigWarning(const std::string& run_dir, const NoRigAssumptions& a) {
+  std::string sensor;
+  if (a.black_level_zero) sensor = "the image sensor's black level 0 (--background sets it)";
+  if (a.mono) sensor += sensor.empty() ? "the image sensor is mono (--bayer sets a mosaic)" : ", mono (--bayer sets a mosaic)";
+  if (!a.bit_depth.empty()) sensor += (sensor.empty() ? "the image sensor's bit depth " : ", its bit depth ") + a.bit_depth;
+  if (sensor.empty() && a.camera_source.empty()) return "";
+  const std::string camera = a.camera_source.empty() ? "" : "the camera is " + a.camera_source + "'s";
+  return run_dir + " holds no rig.json: " + camera + (camera.empty() || sensor.empty() ? "" : ", ") + sensor;
+}
+
 ExtractionLevels FrameExtractionLevels(double threshold, double background, const RunFrame& frame, int rig_bit_depth,
                                        double rig_black_level_dn, double type_full_scale) {
   ExtractionLevels l;

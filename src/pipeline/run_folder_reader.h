@@ -153,4 +153,16 @@ RunRig ReadRunRig(const std::filesystem::path& run_dir);
 // Whether the run folder holds rig.json or scene.json (what ReadRunRig reads).
 bool HasRunRig(const std::filesystem::path& run_dir);
 
+// What a folder without rig.json is taken for, as scan and calibrate both warn
+// it: "DIR holds no rig.json: the camera is FILE's, the image sensor's black
+// level 0 (--background sets it), mono (--bayer sets a mosaic), its bit depth
+// HOW", each part left out where nothing is assumed; "" when nothing is.
+struct NoRigAssumptions {
+  std::string camera_source;  // the file the camera is taken from; "" none
+  bool black_level_zero = false;
+  bool mono = false;
+  std::string bit_depth;  // where the bit depth comes from; "" not said
+};
+std::string NoRigWarning(const std::string& run_dir, const NoRigAssumptions& a);
+
 }  // namespace lt

@@ -134,10 +134,14 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
   } else {
     rig.camera = cal_file->MakeCamera(CameraParams{}, options.calibration->string());
     rig.source = *options.calibration;
-    warn(run_dir.string() + " holds no rig.json: the camera is " + rig.source.string() +
-         "'s, the image sensor's black level 0 (--background sets it)" +
-         (options.color_filter ? std::string() : ", mono (--bayer sets a mosaic)") +
-         ", its bit depth " + (options.bit_depth > 0 ? "--bit-depth's" : listed.from_listing ? "the image's (--bit-depth sets it)" : "the manifest's bit_depth or the image's"));
+    NoRigAssumptions assumed;
+    assumed.camera_source = rig.source.string();
+    assumed.black_level_zero = std::isnan(options.extraction.background);
+    assumed.mono = !options.color_filter;
+    assumed.bit_depth = options.bit_depth > 0     ? "--bit-depth's"
+                        : listed.from_listing     ? "the image's (--bit-depth sets it)"
+                                                  : "the manifest's bit_depth or the image's";
+    warn(NoRigWarning(run_dir.string(), assumed));
   }
   if (options.color_filter) rig.color_filter = *options.color_filter;
   if (options.bit_depth > 0) rig.bit_depth = options.bit_depth;

@@ -212,5 +212,26 @@ TEST(RunFolderReader, BadRigJson) {
   }
 }
 
+TEST(RunFolderReader, NoRigWarningSaysOnlyWhatIsAssumed) {
+  NoRigAssumptions a;
+  EXPECT_EQ(NoRigWarning("cap", a), "");
+  a.mono = true;
+  EXPECT_EQ(NoRigWarning("cap", a), "cap holds no rig.json: the image sensor is mono (--bayer sets a mosaic)");
+  a.black_level_zero = true;
+  a.camera_source = "cam.yaml";
+  EXPECT_EQ(NoRigWarning("cap", a), "cap holds no rig.json: the camera is cam.yaml's, the image sensor's black level 0 "
+                                    "(--background sets it), mono (--bayer sets a mosaic)");
+  a.mono = false;
+  a.bit_depth = "--bit-depth's";
+  EXPECT_EQ(NoRigWarning("cap", a), "cap holds no rig.json: the camera is cam.yaml's, the image sensor's black level 0 "
+                                    "(--background sets it), its bit depth --bit-depth's");
+  a.black_level_zero = false;
+  EXPECT_EQ(NoRigWarning("cap", a), "cap holds no rig.json: the camera is cam.yaml's, the image sensor's bit depth "
+                                    "--bit-depth's");
+  a = NoRigAssumptions{};
+  a.camera_source = "cam.yaml";
+  EXPECT_EQ(NoRigWarning("cap", a), "cap holds no rig.json: the camera is cam.yaml's");
+}
+
 }  // namespace
 }  // namespace lt

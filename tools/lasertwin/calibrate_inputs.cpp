@@ -7,25 +7,10 @@
 #include <iostream>
 
 #include "core/error.h"
+#include "core/text_fields.h"
 #include "pipeline/run_folder_reader.h"
 
 namespace lt::cli {
-
-namespace {
-
-// What a capture without rig.json is taken for, as scan says it: "the image
-// sensor's black level 0 (--background sets it), mono (--bayer sets a
-// mosaic)" (or "the image sensor is mono ..."), each part left out when its
-// option is given (the black level by the laser step only, the one that uses
-// it); "" when nothing is assumed.
-std::string NoRigSensor(const CalibrateArgs& a) {
-  std::string s;
-  if (a.step == "laser" && a.extraction.background.empty()) s = "the image sensor's black level 0 (--background sets it)";
-  if (a.extraction.bayer.empty()) s += (s.empty() ? "the image sensor is " : ", ") + std::string("mono (--bayer sets a mosaic)");
-  return s;
-}
-
-}  // namespace
 
 std::string Fmt(const char* format, double a, double b, double c, double d) {
   char buf[256];
@@ -62,10 +47,8 @@ CalibrationFile InputFile(const CalibrateArgs& a) {
   CalibrationFile f = ReadCalibrationFile(a.calib);
   if (!f.ignored_keys.empty()) {
     // One line, however many: another tool's file (a VINS config) can hold dozens.
-    const size_t n = f.ignored_keys.size(), shown = std::min<size_t>(n, 8);
-    std::string keys;
-    for (size_t i = 0; i < shown; ++i) keys += (i ? ", " : "") + f.ignored_keys[i];
-    if (n > shown) keys += " and " + std::to_string(n - shown) + " more";
+    const size_t n = f.ignored_keys.size();
+    const std::string keys = ListFirst(f.ignored_keys, 8);
     Warn(a.calib + ": " + (n == 1 ? "key " + keys + " is" : std::to_string(n) + " keys (" + keys + ") are") +
          " not kept in the output");
   }
@@ -101,9 +84,14 @@ SessionRun Session(const CalibrateArgs& a, const CalibrationFile& in, bool with_
                                 "FILE (from `lasertwin calibrate camera`, or OpenCV's YAML)");
   }
   if (!run.rig_in_run) {
-    const std::string sensor = NoRigSensor(a);
-    const std::string camera = run.has_camera ? "the camera is " + run.rig.source.string() + "'s" : "";
-    if (!sensor.empty()) Warn(a.run_dir + " holds no rig.json: " + camera + (camera.empty() ? "" : ", ") + sensor);
+    // The black level is the laser step's only (the corners need none).
+    NoRigAssumptions assumed;
+    assumed.black_level_zero = a.step == "laser" && a.extraction.background.empty();
+    assumed.mono = a.extraction.bayer.empty();
+    if (assumed.black_level_zero || assumed.mono) {
+      assumed.camera_source = run.has_camera ? run.rig.source.string() : "";
+      Warn(NoRigWarning(a.run_dir, assumed));
+    }
   }
   if (!a.quiet && run.from_listing) {
     std::cerr << "frames: the " << run.frames.size() << " image files of " << run.source.string()
