@@ -258,6 +258,7 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
         static const std::map<std::string, std::string> kHints = {
             {"KHR_draco_mesh_compression", "the meshes are Draco-compressed: write or convert the file without compression"},
             {"EXT_meshopt_compression", "the buffers are meshopt-compressed: write the file without it, e.g. gltfpack without -c/-cc"},
+            {"KHR_meshopt_compression", "the buffers are meshopt-compressed: write the file without it, e.g. gltfpack without -c/-cc"},
             {"KHR_texture_basisu", "the textures are KTX2: write or convert them as PNG or JPEG"},
             {"EXT_texture_webp", "the textures are WebP: write or convert them as PNG or JPEG"},
             {"EXT_texture_avif", "the textures are AVIF: write or convert them as PNG or JPEG"}};
@@ -297,13 +298,15 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
         // Only a GLB's first buffer may omit uri: it is the BIN chunk. (tinygltf
         // would hand the BIN chunk to every buffer without uri.)
         if (container.binary && i == 0) continue;
-        const bool fallback = b.contains("extensions") && b["extensions"].is_object() &&
-                              b["extensions"].contains("EXT_meshopt_compression");
+        // gltfpack 1.0 writes the ratified KHR_meshopt_compression, earlier ones the EXT_.
+        std::string meshopt;
+        for (const char* name : {"EXT_meshopt_compression", "KHR_meshopt_compression"}) {
+          if (b.contains("extensions") && b["extensions"].is_object() && b["extensions"].contains(name)) meshopt = name;
+        }
         throw InputError(file + ": /buffers/" + std::to_string(i),
-                         fallback ? std::string("the buffer holds no data: it is the fallback buffer of "
-                                                "EXT_meshopt_compression, whose compressed data is not supported "
-                                                "(write the file without meshopt compression, e.g. gltfpack "
-                                                "without -c/-cc)")
+                         !meshopt.empty() ? "the buffer holds no data: it is the fallback buffer of " + meshopt +
+                                                ", whose compressed data is not supported (write the file without "
+                                                "meshopt compression, e.g. gltfpack without -c/-cc)"
                                   : std::string("buffer has no uri") +
                                         (container.binary ? " (in a GLB only the first buffer, the BIN chunk, may "
                                                             "omit it)"

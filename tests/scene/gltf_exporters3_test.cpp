@@ -10,6 +10,7 @@
 namespace lt {
 namespace {
 
+using test::ErrorOf;
 using test::TempDir;
 using ::testing::HasSubstr;
 
@@ -55,6 +56,32 @@ TEST(GltfExporters3, RequiredTransmissionIsRead) {
   ASSERT_EQ(a.materials.size(), 1u);
   EXPECT_EQ(a.materials[0].base_color, Eigen::Vector3f::Zero());
   EXPECT_THAT(AllWarnings(a), HasSubstr("KHR_materials_transmission: transmitted light is not traced"));
+}
+
+// gltfpack 1.0 writes the ratified KHR_meshopt_compression (the Khronos
+// BrainStem glTF-Meshopt: required, a fallback buffer without uri), earlier
+// versions EXT_meshopt_compression. Only the EXT_ name was known: required, the
+// refusal gave no hint; its fallback buffer was 'buffer has no uri (a .gltf
+// buffer needs one)'.
+TEST(GltfExporters3, KhrMeshoptIsRefusedAsExtMeshoptIs) {
+  TempDir dir;
+  GltfBuilder b = test::SquareBuilder();
+  b.json()["extensionsUsed"] = {"KHR_mesh_quantization", "KHR_meshopt_compression"};
+  b.json()["extensionsRequired"] = {"KHR_mesh_quantization", "KHR_meshopt_compression"};
+  b.WriteGltf(dir / "packed.gltf", true);
+  EXPECT_THAT(ErrorOf([&] { LoadGltf(dir / "packed.gltf", "packed.gltf"); }),
+              HasSubstr("packed.gltf: /extensionsRequired/1: required extension \"KHR_meshopt_compression\" is not "
+                        "supported (the buffers are meshopt-compressed: write the file without it, e.g. gltfpack "
+                        "without -c/-cc)"));
+
+  b.json()["extensionsRequired"] = {"KHR_mesh_quantization"};
+  b.json()["buffers"] = {{{"byteLength", 4}, {"uri", "data:application/octet-stream;base64,AAAAAA=="}},
+                         {{"byteLength", b.bin().size()}, {"extensions", {{"KHR_meshopt_compression", {{"fallback", true}}}}}}};
+  for (auto& view : b.json()["bufferViews"]) view["buffer"] = 1;
+  b.WriteGltf(dir / "packed.gltf", true);
+  EXPECT_THAT(ErrorOf([&] { LoadGltf(dir / "packed.gltf", "packed.gltf"); }),
+              HasSubstr("packed.gltf: /buffers/1: the buffer holds no data: it is the fallback buffer of "
+                        "KHR_meshopt_compression, whose compressed data is not supported"));
 }
 
 }  // namespace
