@@ -119,6 +119,9 @@ class ToolpathOrientation {
   // Trailing mode: the wheel's half-angle vector (scene/trailing_wheel.h) at the start
   // of each segment with motion in the bed plane.
   std::vector<Eigen::Vector2d> wheel_start_;
+  // How far the heading jumps at the start of each segment (rad): 0 but where the
+  // path doubles back and the wheel is taken a little off straight back.
+  std::vector<double> wheel_jump_rad_;
 };
 
 }  // namespace lt

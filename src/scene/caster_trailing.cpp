@@ -40,13 +40,15 @@ Eigen::Vector2d ToolpathOrientation::TrailingDirectionAt(double s_m, size_t segm
 void ToolpathOrientation::StartTrailingWheel() {
   const auto& segs = path_->segments;
   wheel_start_.assign(segs.size(), WheelHalfAngle(0));  // the first move starts the wheel in line
+  wheel_jump_rad_.assign(segs.size(), 0.0);
   for (size_t n = 1; n < xy_segments_.size(); ++n) {
     const size_t prev = xy_segments_[n - 1], k = xy_segments_[n];
     const double end = s_start_m_[prev] + segs[prev].xy_length_m;
     const double heading = AngleOf(segs[prev].TangentXy(1)) + TrailingAngleOffPath(end, prev);
-    double psi = std::remainder(heading - AngleOf(segs[k].TangentXy(0)), 2 * M_PI);
-    if (std::abs(psi) > M_PI - kReversalOffsetRad) psi = std::copysign(M_PI - kReversalOffsetRad, psi);
-    wheel_start_[k] = WheelHalfAngle(psi);
+    const double psi = std::remainder(heading - AngleOf(segs[k].TangentXy(0)), 2 * M_PI);
+    const double kept = std::clamp(psi, -(M_PI - kReversalOffsetRad), M_PI - kReversalOffsetRad);
+    wheel_start_[k] = WheelHalfAngle(kept);
+    wheel_jump_rad_[k] = std::abs(psi - kept);
   }
 }
 
@@ -66,20 +68,13 @@ TurnRates ToolpathOrientation::TrailingTurnRates() const {
     const size_t k = xy_segments_[n];
     const ToolpathSegment& seg = segs[k];
     const double length = seg.xy_length_m;
-    if (n > 0) {
-      // The reversal offset is the one jump of the heading.
-      const size_t prev = xy_segments_[n - 1];
-      const double end = s_start_m_[prev] + segs[prev].xy_length_m;
-      const double heading = AngleOf(segs[prev].TangentXy(1)) + TrailingAngleOffPath(end, prev);
-      const double jump = std::abs(std::remainder(
-          heading - AngleOf(seg.TangentXy(0)) - WheelAngle(wheel_start_[k]), 2 * M_PI));
-      if (jump > 1e-9) {
-        ++r.jumps;
-        if (jump > r.max_jump_rad) {
-          r.max_jump_rad = jump;
-          r.max_jump_time_s = seg.t_start_s;
-          r.max_jump_line = seg.line;
-        }
+    // The reversal offset is the one jump of the heading.
+    if (wheel_jump_rad_[k] > 0) {
+      ++r.jumps;
+      if (wheel_jump_rad_[k] > r.max_jump_rad) {
+        r.max_jump_rad = wheel_jump_rad_[k];
+        r.max_jump_time_s = seg.t_start_s;
+        r.max_jump_line = seg.line;
       }
     }
     const double kappa = CurvatureOf(k);
