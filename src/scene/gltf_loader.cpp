@@ -267,6 +267,13 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
     }
     asset.warnings.push_back(file + ": " + what + " ignored (the scene file sets the sensor and the lights)");
   }
+  if (auto it = model.extensions.find("KHR_materials_variants"); it != model.extensions.end()) {
+    const tinygltf::Value& variants = it->second.Get("variants");
+    const size_t n = variants.IsArray() ? variants.ArrayLen() : 0;
+    asset.warnings.push_back(file + ": KHR_materials_variants: " + std::to_string(n) +
+                             (n == 1 ? " variant" : " variants") +
+                             " not applied; each primitive has its default material (its \"material\")");
+  }
   if (!model.animations.empty()) {
     asset.warnings.push_back(file + ": " + std::to_string(model.animations.size()) +
                              (model.animations.size() == 1 ? " animation" : " animations") +

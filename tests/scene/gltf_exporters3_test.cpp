@@ -84,5 +84,26 @@ TEST(GltfExporters3, KhrMeshoptIsRefusedAsExtMeshoptIs) {
                         "KHR_meshopt_compression, whose compressed data is not supported"));
 }
 
+// Blender I/O 3.3.2's KHR_materials_variants test file requires the extension.
+// glTF shows a primitive's own "material" when no variant is chosen, so the
+// file loads with its default materials and a warning; it was refused.
+TEST(GltfExporters3, RequiredMaterialVariantsShowTheDefaultMaterials) {
+  TempDir dir;
+  GltfBuilder b = test::SquareBuilder();
+  b.AddMaterial("Red", {1, 0, 0, 1}, 0, 0.4);
+  b.json()["meshes"][0]["primitives"][0]["material"] = b.AddMaterial("Blue", {0, 0, 1, 1}, 0, 0.4);
+  b.json()["meshes"][0]["primitives"][0]["extensions"]["KHR_materials_variants"]["mappings"] = {
+      {{"material", 0}, {"variants", {0}}}, {{"material", 1}, {"variants", {1}}}};
+  b.json()["extensions"]["KHR_materials_variants"]["variants"] = {{{"name", "Variant_Red"}}, {{"name", "Variant_Blue"}}};
+  b.json()["extensionsUsed"] = {"KHR_materials_variants"};
+  b.json()["extensionsRequired"] = {"KHR_materials_variants"};
+  b.WriteGltf(dir / "variants.gltf", true);
+  GltfAsset a = LoadGltf(dir / "variants.gltf", "variants.gltf");
+  ASSERT_EQ(a.meshes.size(), 1u);
+  for (uint32_t m : a.meshes[0].triangle_material) EXPECT_EQ(a.materials.at(m).name, "Blue");
+  EXPECT_THAT(AllWarnings(a), HasSubstr("variants.gltf: KHR_materials_variants: 2 variants not applied; each "
+                                        "primitive has its default material (its \"material\")"));
+}
+
 }  // namespace
 }  // namespace lt
