@@ -1,9 +1,12 @@
 #include "pipeline/yaml_tree.h"
 
+#include <map>
 #include <set>
 #include <sstream>
 
 #include "core/error.h"
+#include "core/text_fields.h"
+#include "pipeline/yaml_scalar.h"
 
 namespace lt {
 
@@ -15,49 +18,13 @@ struct Line {
   std::string text;  // without indentation, comment and trailing blanks
 };
 
-std::string Trim(const std::string& s) {
-  const size_t b = s.find_first_not_of(" \t");
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(" \t") - b + 1);
-}
-
-// A quote opens a quoted scalar where a value or key can start.
-bool OpensQuote(const std::string& s, size_t i) {
-  if (s[i] != '"' && s[i] != '\'') return false;
-  if (i == 0) return true;
-  const char p = s[i - 1];
-  return p == ' ' || p == '\t' || p == '[' || p == '{' || p == ',' || p == ':' || p == '-';
-}
-
-// Drops a `#` comment (at the start or after a blank, outside quotes).
-std::string StripComment(const std::string& s) {
-  char quote = 0;
-  for (size_t i = 0; i < s.size(); ++i) {
-    const char c = s[i];
-    if (quote) {
-      if (quote == '"' && c == '\\') {
-        ++i;
-      } else if (c == quote) {
-        if (quote == '\'' && i + 1 < s.size() && s[i + 1] == '\'') {
-          ++i;
-        } else {
-          quote = 0;
-        }
-      }
-    } else if (OpensQuote(s, i)) {
-      quote = c;
-    } else if (c == '#' && (i == 0 || s[i - 1] == ' ' || s[i - 1] == '\t')) {
-      return s.substr(0, i);
-    }
-  }
-  return s;
-}
+std::string Trim(const std::string& s) { return std::string(TrimBlanks(s)); }
 
 bool IsSeqItem(const std::string& t) { return t == "-" || t.rfind("- ", 0) == 0; }
 
 class TreeParser {
  public:
-  TreeParser(const std::string& text, std::string file) : file_(std::move(file)) {
+  TreeParser(const std::string& text, std::string file, YamlLine* first) : file_(std::move(file)) {
     std::istringstream in(text);
     std::string raw;
     int no = 0;
@@ -66,13 +33,15 @@ class TreeParser {
       ++no;
       if (no == 1 && raw.rfind("\xEF\xBB\xBF", 0) == 0) raw = raw.substr(3);
       if (!raw.empty() && raw.back() == '\r') raw.pop_back();
+      raw_.push_back(raw);
       size_t indent = 0;
       while (indent < raw.size() && (raw[indent] == ' ' || raw[indent] == '\t')) {
         if (raw[indent] == '\t') Fail(no, "tab in indentation (YAML indents with spaces)");
         ++indent;
       }
-      const std::string body = Trim(StripComment(raw.substr(indent)));
+      const std::string body = Trim(StripYamlComment(raw.substr(indent)));
       if (body.empty()) continue;
+      if (first && first->text.empty()) *first = {no, body};
       if (indent == 0 && body[0] == '%') {
         if (content) Fail(no, "a directive ('" + body + "') after the document's start");
         continue;
@@ -96,7 +65,7 @@ class TreeParser {
     root.line = 1;
     if (lines_.empty()) return root;
     if (lines_[0].indent != 0) Fail(lines_[0].no, "unexpected indentation (expected a top-level 'key: value')");
-    if (IsSeqItem(lines_[0].text)) Fail(lines_[0].no, "the top level is a sequence (expected 'key: value' lines)");
+    if (IsSeqItem(lines_[0].text)) Fail(lines_[0].no, "top-level sequences are not supported (expected 'key: value' lines)");
     root = ParseMap(i, 0);
     if (i < lines_.size()) Fail(lines_[i].no, "unexpected indentation");
     return root;
@@ -130,24 +99,9 @@ class TreeParser {
 
   // The quoted scalar starting at s[begin]; *end is just past its closing quote.
   std::string QuotedScalar(const std::string& s, size_t begin, int line, size_t* end) const {
-    const char q = s[begin];
-    std::string v;
-    for (size_t k = begin + 1; k < s.size(); ++k) {
-      const char c = s[k];
-      if (q == '\'' && c == '\'' && k + 1 < s.size() && s[k + 1] == '\'') {
-        v += '\'';
-        ++k;
-      } else if (q == '"' && c == '\\' && k + 1 < s.size()) {
-        const char n = s[++k];
-        v += n == 'n' ? '\n' : n == 't' ? '\t' : n;
-      } else if (c == q) {
-        *end = k + 1;
-        return v;
-      } else {
-        v += c;
-      }
-    }
-    Fail(line, "unterminated quoted string");
+    std::string value;
+    if (!ReadQuotedScalar(s, begin, &value, end)) Fail(line, "unterminated quoted string");
+    return value;
   }
 
   YamlNode ParseMap(size_t& i, int indent) {
@@ -195,31 +149,32 @@ class TreeParser {
   // the lines from i indented more than `indent` (for a key, a sequence at the
   // key's own indentation too).
   YamlNode ParseValue(const std::string& key, std::string rest, int no, int indent, size_t& i, bool in_map) {
-    std::string tag;
-    if (!rest.empty() && rest[0] == '!') {
-      const size_t sp = rest.find(' ');
-      tag = rest.substr(0, sp);
-      rest = sp == std::string::npos ? "" : Trim(rest.substr(sp));
-    }
-    if (!rest.empty() && (rest[0] == '&' || rest[0] == '*')) {
-      Fail(no, "anchors and aliases are not supported ('" + key + "')");
-    }
-    if (!rest.empty() && (rest[0] == '|' || rest[0] == '>')) {
-      Fail(no, "block scalars (| or >) are not supported ('" + key + "')");
+    std::string tag, anchor;
+    while (!rest.empty() && ((rest[0] == '!' && tag.empty()) || (rest[0] == '&' && anchor.empty()))) {
+      size_t pos = 0;
+      (rest[0] == '!' ? tag : anchor) = Property(rest, pos, no);
+      rest = Trim(rest.substr(pos));
     }
     YamlNode node;
     if (rest.empty()) {
       if (i < lines_.size() && lines_[i].indent > indent) {
-        const int child = lines_[i].indent;
-        node = IsSeqItem(lines_[i].text) ? ParseSeq(i, child) : ParseMap(i, child);
+        const Line& l = lines_[i];
+        std::string k, v;
+        if (IsSeqItem(l.text)) {
+          node = ParseSeq(i, l.indent);
+        } else if (l.text[0] != '[' && l.text[0] != '{' && SplitKey(l.text, l.no, &k, &v)) {
+          node = ParseMap(i, l.indent);
+        } else {
+          ++i;  // the value on the next line
+          node = ParseValue(key, l.text, l.no, indent, i, false);
+        }
       } else if (in_map && i < lines_.size() && lines_[i].indent == indent && IsSeqItem(lines_[i].text)) {
         node = ParseSeq(i, indent);
       }
       node.line = no;  // a block value's errors name its key's line
-      node.tag = tag;
-      return node;
-    }
-    if (rest[0] == '[' || rest[0] == '{') {
+    } else if (rest[0] == '|' || rest[0] == '>') {
+      node = BlockScalar(key, rest, no, indent, i);
+    } else if (rest[0] == '[' || rest[0] == '{') {
       // A flow collection may continue on the following lines until it closes.
       std::string text = rest;
       while (!Balanced(text, no) && i < lines_.size()) text += " " + lines_[i++].text;
@@ -228,9 +183,11 @@ class TreeParser {
       SkipBlanks(text, pos);
       if (pos < text.size()) Fail(no, "unexpected text after the value of '" + key + "': '" + text.substr(pos) + "'");
     } else {
-      node.kind = YamlNode::Kind::kScalar;
-      node.line = no;
-      if (rest[0] == '"' || rest[0] == '\'') {
+      if (rest[0] == '*') {
+        size_t pos = 0;
+        node = Alias(rest, pos, no);
+        if (pos < rest.size()) Fail(no, "unexpected text after the alias: '" + Trim(rest.substr(pos)) + "'");
+      } else if (rest[0] == '"' || rest[0] == '\'') {
         size_t end = 0;
         node.scalar = QuotedScalar(rest, 0, no, &end);
         node.quoted = true;
@@ -240,12 +197,74 @@ class TreeParser {
       } else {
         node.scalar = rest;
       }
+      if (node.kind == YamlNode::Kind::kNull) node.kind = YamlNode::Kind::kScalar;
+      node.line = no;
       if (i < lines_.size() && lines_[i].indent > indent) {
         Fail(lines_[i].no, "unexpected indented line after the value of '" + key +
                                "' (values that span lines are supported inside [ ] and { } only)");
       }
     }
-    node.tag = tag;
+    return Properties(std::move(node), tag, anchor);
+  }
+
+  // A tag or an anchor's name (without its '&') at s[pos], up to a blank, ',', ']' or '}'.
+  std::string Property(const std::string& s, size_t& pos, int no) const {
+    const size_t begin = pos;
+    while (pos < s.size() && s[pos] != ' ' && s[pos] != '\t' && s[pos] != ',' && s[pos] != ']' && s[pos] != '}') ++pos;
+    if (pos == begin + 1) Fail(no, "'" + s.substr(begin, 1) + "' without a name");
+    return s[begin] == '&' ? s.substr(begin + 1, pos - begin - 1) : s.substr(begin, pos - begin);
+  }
+
+  // The node of the alias at s[pos] ("*name"): a copy of its anchor's.
+  YamlNode Alias(const std::string& s, size_t& pos, int no) const {
+    const std::string name = Property(s, pos, no).substr(1);
+    const auto it = anchors_.find(name);
+    if (it == anchors_.end()) Fail(no, "unknown alias '*" + name + "' (its anchor '&" + name + "' must come before it)");
+    YamlNode node = it->second;
+    node.line = no;
+    return node;
+  }
+
+  // `node` with its tag, remembered under its anchor.
+  YamlNode Properties(YamlNode node, const std::string& tag, const std::string& anchor) {
+    if (!tag.empty()) node.tag = tag;
+    if (!anchor.empty()) anchors_[anchor] = node;
+    return node;
+  }
+
+  // A literal (|) or folded (>) block scalar: `header` is its indicator line,
+  // its text the raw lines after `no` that are blank or indented more than `indent`.
+  YamlNode BlockScalar(const std::string& key, const std::string& header, int no, int indent, size_t& i) {
+    char chomp = 0;
+    int base = 0;
+    for (size_t k = 1; k < header.size(); ++k) {
+      if ((header[k] == '+' || header[k] == '-') && !chomp) {
+        chomp = header[k];
+      } else if (header[k] >= '1' && header[k] <= '9' && !base) {
+        base = indent + (header[k] - '0');
+      } else {
+        Fail(no, "unexpected text after the block scalar's '" + header.substr(0, 1) + "': '" + header.substr(k) + "'");
+      }
+    }
+    auto blank = [](const std::string& r) { return r.find_first_not_of(' ') == std::string::npos; };
+    size_t end = size_t(no);  // raw_[k] is line k + 1: the block's lines are raw_[no, end)
+    while (end < raw_.size() && (blank(raw_[end]) || int(raw_[end].find_first_not_of(' ')) > indent)) {
+      if (!base && !blank(raw_[end])) base = int(raw_[end].find_first_not_of(' '));
+      ++end;
+    }
+    std::vector<std::string> body;
+    for (size_t k = size_t(no); k < end; ++k) {
+      if (!blank(raw_[k]) && int(raw_[k].find_first_not_of(' ')) < base) {
+        Fail(int(k) + 1, "a line of the block scalar '" + key + "' indented less than its first line");
+      }
+      body.push_back(blank(raw_[k]) ? "" : raw_[k].substr(size_t(base)));
+    }
+    while (i < lines_.size() && lines_[i].no <= int(end)) ++i;
+    YamlNode node;
+    node.kind = YamlNode::Kind::kScalar;
+    node.quoted = true;  // a string, never a number
+    node.line = no;
+    node.scalar = BlockScalarText(body, header[0], chomp);
     return node;
   }
 
@@ -253,7 +272,7 @@ class TreeParser {
   bool Balanced(const std::string& s, int no) const {
     int depth = 0;
     for (size_t k = 0; k < s.size(); ++k) {
-      if (OpensQuote(s, k)) {
+      if (OpensYamlQuote(s, k)) {
         const size_t close = s.find(s[k], k + 1);
         if (close == std::string::npos) return false;
         k = close;
@@ -272,10 +291,21 @@ class TreeParser {
 
   YamlNode ParseFlow(const std::string& s, size_t& pos, int no, bool key) {
     SkipBlanks(s, pos);
+    std::string tag, anchor;
+    while (pos < s.size() && ((s[pos] == '!' && tag.empty()) || (s[pos] == '&' && anchor.empty()))) {
+      (s[pos] == '!' ? tag : anchor) = Property(s, pos, no);
+      SkipBlanks(s, pos);
+    }
+    YamlNode node = ParseFlowNode(s, pos, no, key);
+    return Properties(std::move(node), tag, anchor);
+  }
+
+  YamlNode ParseFlowNode(const std::string& s, size_t& pos, int no, bool key) {
     YamlNode node;
     node.line = no;
     if (pos >= s.size()) Fail(no, "missing value in '" + s + "'");
     const char c = s[pos];
+    if (c == '*') return Alias(s, pos, no);
     if (c == '[' || c == '{') {
       const char close = c == '[' ? ']' : '}';
       node.kind = c == '[' ? YamlNode::Kind::kSeq : YamlNode::Kind::kMap;
@@ -298,7 +328,9 @@ class TreeParser {
         SkipBlanks(s, pos);
         if (pos < s.size() && s[pos] == ',') {
           ++pos;
-        } else if (pos >= s.size() || s[pos] != close) {
+        } else if (pos >= s.size()) {
+          Fail(no, std::string("missing '") + close + "' in '" + s + "'");
+        } else if (s[pos] != close) {
           Fail(no, std::string("expected ',' or '") + close + "' in '" + s + "'");
         }
       }
@@ -322,7 +354,9 @@ class TreeParser {
   }
 
   std::string file_;
+  std::vector<std::string> raw_;  // every line of the text, as written (for block scalars)
   std::vector<Line> lines_;
+  std::map<std::string, YamlNode> anchors_;
 };
 
 }  // namespace
@@ -334,6 +368,9 @@ const YamlNode* YamlNode::Find(const std::string& key) const {
   return nullptr;
 }
 
-YamlNode ParseYamlTree(const std::string& text, const std::string& file) { return TreeParser(text, file).Run(); }
+YamlNode ParseYamlTree(const std::string& text, const std::string& file, YamlLine* first) {
+  if (first) *first = {};
+  return TreeParser(text, file, first).Run();
+}
 
 }  // namespace lt

@@ -1,0 +1,82 @@
+#include "pipeline/yaml_scalar.h"
+
+namespace lt {
+
+bool OpensYamlQuote(const std::string& s, size_t i) {
+  if (s[i] != '"' && s[i] != '\'') return false;
+  if (i == 0) return true;
+  const char p = s[i - 1];
+  return p == ' ' || p == '\t' || p == '[' || p == '{' || p == ',' || p == ':' || p == '-';
+}
+
+std::string StripYamlComment(const std::string& s) {
+  char quote = 0;
+  for (size_t i = 0; i < s.size(); ++i) {
+    const char c = s[i];
+    if (quote) {
+      if (quote == '"' && c == '\\') {
+        ++i;
+      } else if (c == quote) {
+        if (quote == '\'' && i + 1 < s.size() && s[i + 1] == '\'') {
+          ++i;
+        } else {
+          quote = 0;
+        }
+      }
+    } else if (OpensYamlQuote(s, i)) {
+      quote = c;
+    } else if (c == '#' && (i == 0 || s[i - 1] == ' ' || s[i - 1] == '\t')) {
+      return s.substr(0, i);
+    }
+  }
+  return s;
+}
+
+bool ReadQuotedScalar(const std::string& s, size_t begin, std::string* value, size_t* end) {
+  const char q = s[begin];
+  value->clear();
+  for (size_t k = begin + 1; k < s.size(); ++k) {
+    const char c = s[k];
+    if (q == '\'' && c == '\'' && k + 1 < s.size() && s[k + 1] == '\'') {
+      *value += '\'';
+      ++k;
+    } else if (q == '"' && c == '\\' && k + 1 < s.size()) {
+      const char n = s[++k];
+      *value += n == 'n' ? '\n' : n == 't' ? '\t' : n;
+    } else if (c == q) {
+      *end = k + 1;
+      return true;
+    } else {
+      *value += c;
+    }
+  }
+  return false;
+}
+
+std::string BlockScalarText(const std::vector<std::string>& lines, char style, char chomp) {
+  size_t n = lines.size();
+  while (n > 0 && lines[n - 1].empty()) --n;
+  std::string text;
+  for (size_t k = 0; k < n; ++k) {
+    // Folded: a line break between two lines of text at the common indentation
+    // is a space; before blank lines it is dropped (each blank line is one).
+    const bool folds = style == '>' && k > 0 && !lines[k - 1].empty() && lines[k - 1][0] != ' ';
+    if (k > 0 && !folds) {
+      text += '\n';
+    } else if (folds) {
+      size_t next = k;
+      while (lines[next].empty()) ++next;  // lines[n - 1] is not empty
+      if (lines[next][0] == ' ') {
+        text += '\n';
+      } else if (next == k) {
+        text += ' ';
+      }
+    }
+    text += lines[k];
+  }
+  if (n > 0 && chomp != '-') text += '\n';
+  if (chomp == '+') text += std::string(lines.size() - n, '\n');
+  return text;
+}
+
+}  // namespace lt

@@ -1,0 +1,87 @@
+// The YAML tree (pipeline/yaml_tree.h), the one reader of every YAML file:
+// what it reads beyond block and flow collections (block scalars, anchors and
+// aliases, a value on the line after its key) and its errors at file:line.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "pipeline/yaml_tree.h"
+
+namespace lt {
+namespace {
+
+using ::testing::HasSubstr;
+
+// The error of parsing `text`: "where: message".
+std::string ErrorOf(const std::string& text) {
+  try {
+    ParseYamlTree(text, "t.yaml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+// Literal and folded block scalars with their chomping indicators, comments
+// and blank lines inside them kept as text. (Before: refused, "block scalars
+// (| or >) are not supported".)
+TEST(YamlTree, BlockScalars) {
+  const YamlNode root = ParseYamlTree(
+      "a: |\n  one # not a comment\n\n   two\nb: >-\n  folded\n  line\n\n  next\n    kept\n  end\n"
+      "c: |+\n  keep\n\n\nd: |2-\n    indented\ne: 1\n",
+      "t.yaml");
+  ASSERT_EQ(root.map.size(), 5u);
+  EXPECT_EQ(root.Find("a")->scalar, "one # not a comment\n\n two\n");
+  EXPECT_TRUE(root.Find("a")->quoted);  // a string, never a number
+  EXPECT_EQ(root.Find("a")->line, 1);
+  EXPECT_EQ(root.Find("b")->scalar, "folded line\nnext\n  kept\nend");
+  EXPECT_EQ(root.Find("c")->scalar, "keep\n\n\n");
+  EXPECT_EQ(root.Find("d")->scalar, "  indented");
+  EXPECT_EQ(root.Find("e")->scalar, "1");
+  EXPECT_EQ(root.Find("e")->line, 18);
+  EXPECT_EQ(ErrorOf("a: |x\n  text\n"), "t.yaml:1: unexpected text after the block scalar's '|': 'x'");
+  EXPECT_EQ(ErrorOf("a: |\n    first\n  less\n"), "t.yaml:3: a line of the block scalar 'a' indented less than its first line");
+}
+
+// Anchors and aliases, in block and flow collections. (Before: refused,
+// "anchors and aliases are not supported".)
+TEST(YamlTree, AnchorsAndAliases) {
+  const YamlNode root = ParseYamlTree(
+      "base: &b\n  rows: 3\n  data: [&x 1.5, *x]\ncopy: *b\ntagged: &m !!opencv-matrix\n  rows: 1\nagain: *m\n", "t.yaml");
+  const YamlNode* copy = root.Find("copy");
+  ASSERT_NE(copy, nullptr);
+  EXPECT_EQ(copy->line, 4);
+  EXPECT_EQ(copy->Find("rows")->scalar, "3");
+  ASSERT_EQ(copy->Find("data")->seq.size(), 2u);
+  EXPECT_EQ(copy->Find("data")->seq[1].scalar, "1.5");
+  EXPECT_EQ(root.Find("again")->tag, "!!opencv-matrix");
+  EXPECT_EQ(ErrorOf("a: *none\n"), "t.yaml:1: unknown alias '*none' (its anchor '&none' must come before it)");
+  EXPECT_EQ(ErrorOf("a: &x 1\nb: *x x\n"), "t.yaml:2: unexpected text after the alias: 'x'");
+}
+
+// A value may start on the line after its key, more indented. (Before:
+// "expected 'key: value'".)
+TEST(YamlTree, ValueOnTheNextLine) {
+  const YamlNode root = ParseYamlTree("data:\n   [ 1, 2,\n     3 ]\nname:\n  \"quoted\"\n", "t.yaml");
+  ASSERT_EQ(root.Find("data")->seq.size(), 3u);
+  EXPECT_EQ(root.Find("data")->seq[2].scalar, "3");
+  EXPECT_EQ(root.Find("name")->scalar, "quoted");
+  EXPECT_TRUE(root.Find("name")->quoted);
+}
+
+// The first line, for a caller that requires a header (OpenCV's "%YAML:1.0"),
+// and the errors of an unclosed flow collection and a top-level sequence.
+TEST(YamlTree, FirstLineAndErrors) {
+  YamlLine first;
+  ParseYamlTree("\xEF\xBB\xBF# comment\r\n\r\n%YAML:1.0\r\n---\r\na: 1\r\n", "t.yaml", &first);
+  EXPECT_EQ(first.no, 3);
+  EXPECT_EQ(first.text, "%YAML:1.0");
+  ParseYamlTree("", "t.yaml", &first);
+  EXPECT_EQ(first.no, 1);
+  EXPECT_EQ(first.text, "");
+  EXPECT_EQ(ErrorOf("a: [ 1, 2\n"), "t.yaml:1: missing ']' in '[ 1, 2'");
+  EXPECT_THAT(ErrorOf("- 1\n"), HasSubstr("t.yaml:1: top-level sequences are not supported"));
+}
+
+}  // namespace
+}  // namespace lt
