@@ -163,11 +163,21 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Materia
     if (prim.indices >= 0) {
       CheckAccessorRef(src, prim.indices, where + "/indices");
       corners = ReadIndexAccessor(src, prim.indices);
+      // The largest value of the index type restarts a strip or fan in OpenGL ES 3
+      // and WebGL 2; glTF forbids it in indices (3.7.2.1), so it is refused, named.
+      const int index_type = src.model.accessors[size_t(prim.indices)].componentType;
+      const uint32_t restart = index_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE    ? 0xffu
+                               : index_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 0xffffu
+                                                                                      : 0xffffffffu;
       for (size_t i = 0; i < corners.size(); ++i) {
         if (corners[i] >= nverts) {
           throw InputError(GltfWhere(src, "accessors", prim.indices),
                            "index " + std::to_string(corners[i]) + " (element " + std::to_string(i) +
-                               ") is past the vertex count " + std::to_string(nverts));
+                               ") is past the vertex count " + std::to_string(nverts) +
+                               (corners[i] == restart ? std::string(" (the primitive-restart value, which glTF does "
+                                                                    "not allow in indices: write each strip or fan "
+                                                                    "as its own primitive, or as triangles)")
+                                                      : std::string()));
         }
       }
     } else {

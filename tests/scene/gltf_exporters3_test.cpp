@@ -13,6 +13,7 @@ namespace {
 using test::ErrorOf;
 using test::TempDir;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 std::string AllWarnings(const GltfAsset& a) {
   std::string s;
@@ -103,6 +104,29 @@ TEST(GltfExporters3, RequiredMaterialVariantsShowTheDefaultMaterials) {
   for (uint32_t m : a.meshes[0].triangle_material) EXPECT_EQ(a.materials.at(m).name, "Blue");
   EXPECT_THAT(AllWarnings(a), HasSubstr("variants.gltf: KHR_materials_variants: 2 variants not applied; each "
                                         "primitive has its default material (its \"material\")"));
+}
+
+// OpenGL ES 3 and WebGL 2 restart a strip at the largest index value; glTF forbids
+// that value in indices. A strip written with one is refused as before, and the
+// message now says what the value is (it only said "past the vertex count").
+TEST(GltfExporters3, PrimitiveRestartValueIsNamed) {
+  TempDir dir;
+  GltfBuilder b = test::SquareBuilder();
+  auto& prim = b.json()["meshes"][0]["primitives"][0];
+  prim["mode"] = 5;
+  prim["indices"] = b.AddIndices({0, 1, 3, 2, 65535, 0, 1, 3}, 5123);
+  b.WriteGltf(dir / "strip.gltf", true);
+  const std::string error = ErrorOf([&] { LoadGltf(dir / "strip.gltf", "strip.gltf"); });
+  EXPECT_THAT(error, HasSubstr("strip.gltf: /accessors/3: index 65535 (element 4) is past the vertex count 4 (the "
+                               "primitive-restart value, which glTF does not allow in indices"));
+
+  prim["indices"] = b.AddIndices({0, 1, 3, 2, 255, 0}, 5121);
+  b.WriteGltf(dir / "strip.gltf", true);
+  EXPECT_THAT(ErrorOf([&] { LoadGltf(dir / "strip.gltf", "strip.gltf"); }), HasSubstr("primitive-restart value"));
+  prim["indices"] = b.AddIndices({0, 1, 3, 2, 254, 0}, 5121);  // an index merely out of range
+  b.WriteGltf(dir / "strip.gltf", true);
+  EXPECT_THAT(ErrorOf([&] { LoadGltf(dir / "strip.gltf", "strip.gltf"); }),
+              Not(HasSubstr("primitive-restart value")));
 }
 
 }  // namespace
