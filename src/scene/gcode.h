@@ -32,7 +32,12 @@
 //                   (X, Y, Z) at Marlin's homing speeds (50, 50, 4 mm/s), not the modal F
 //   G90, G91        absolute / relative X Y Z, and E relative under G91 (below)
 //   G92             set the current position (no motion); no axes: all axes to 0;
-//                   G92.1 clears its offset, G92.2 clears and keeps it, G92.3 restores it
+//                   G92.1 clears its offset, G92.2 clears and keeps it, G92.3 restores it;
+//                   on an axis whose place is unknown (G161/G162, M132, probing) it
+//                   states the place: no offset, the next absolute move goes there
+//   G161, G162      MakerBot's and Sailfish's homing to the minimum / maximum endstops,
+//                   M132 their stored home offsets: the named axes (all when none named)
+//                   unknown until G92 or an absolute move (warned; no time)
 //   G53             machine coordinates (no G92 or work offset) for the rest of its line
 //   G54-G59.3       work coordinate systems, their origins set by G10 L2 (machine
 //                   coordinates) or G10 L20 (the current position's value); P0: active
@@ -72,7 +77,9 @@
 // z=..") start the next layer (with height h); Simplify3D's "; feature name", KISSlicer's "; 'Name Path', ..." and
 // CraftWare's ";segType:name" name the type; header "layerHeight,", "filamentDiameters,"
 // (Simplify3D), "layer_thickness_mm =", "fiber_dia_mm =" (KISSlicer), "sliceHeight ="
-// (Kiri:Moto), "Filament Diameter #1:" (ideaMaker); ";FLAVOR:UltiGCode" (Cura for Ultimaker 2): E in mm^3, held as lengths of
+// (Kiri:Moto), "Filament Diameter #1:" (ideaMaker), "layerThickness =",
+// "filamentDiameter =" (MatterSlice); ";FLAVOR:Griffin" (Cura for Ultimaker 3 and S-series):
+// 2.85 mm filament unless the file states another; ";FLAVOR:UltiGCode" (Cura for Ultimaker 2): E in mm^3, held as lengths of
 // 2.85 mm filament; ";FLAVOR:Marlin(Volumetric)" (Cura's RepRap (Volumetric)): E in
 // mm^3, held as lengths of Marlin's nominal 1.75 mm filament. Comments hold
 // millimetres under G20 too. A file without any layer comment takes its layers from

@@ -69,6 +69,14 @@ void GcodeReader::MacroFileCall(std::string_view params) {
                             "times");
 }
 
+void GcodeReader::ExtruderOnWithoutE() {
+  Warn(kExtruderOnWithoutE,
+       "moves without E while M101 (line " + std::to_string(m101_line_) +
+           ") has the extruder on: the 3D-era RepRap and MakerBot form (Skeinforge for the Thing-O-Matic), where "
+           "the firmware feeds at M108's speed until M103; how much such moves extrude is not in the file, so they "
+           "lay no bead in the toolpath");
+}
+
 void GcodeReader::TrackKnownAxes(const std::string& command, int arc_axes) {
   const char axes[3] = {'X', 'Y', 'Z'};
   std::string unknown;

@@ -257,6 +257,12 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
         }
         PositionUnknown(CommandName('G', n));
         return;
+      case 161:  // MakerBot, Sailfish: home to the minimum endstops ("G161 X Y F2500")
+      case 162:  // ... to the maximum ("G162 Z F500"), usually followed by G92 or M132
+        ReadWords(code, pos, false);
+        Expect("XYZF", CommandName('G', n));
+        HomeToEndstops(CommandName('G', n), true);
+        return;
       case 12:  // Marlin's nozzle clean (a pattern at a configured place; going back is an option)
       case 27:  // Marlin's nozzle park (at the configured park point)
         ReadWords(code, pos, false);
@@ -300,6 +306,12 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
     }
     path_.program_end_line = line_no_;
     path_.program_end_command = CommandName('M', n);
+    return;
+  }
+  if (letter == 'M' && n == 132) {  // MakerBot, Sailfish: "M132 X Y Z A B", the stored home offsets
+    ReadWords(code, pos, false);
+    Expect("XYZAB", "M132");
+    HomeToEndstops("M132", false);
     return;
   }
   if (letter == 'M' && n == 48) {  // Marlin's probe repeatability test: probes around a point
@@ -355,6 +367,10 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
   std::string name(1, letter);
   name += integral ? std::to_string(n) : std::string(number);
   ++path_.skipped_commands[name];
+  if (letter == 'M' && (n == 101 || n == 103)) {  // extruder on, off: see ExtruderOnWithoutE
+    extruder_on_ = n == 101;
+    if (n == 101) m101_line_ = line_no_;
+  }
   if (letter == 'M' && n == 98 && integral) MacroFileCall(code.substr(pos));
   if (letter == 'T' && n >= 0 && n != active_tool_) {
     active_tool_ = n;    // the tool whose flow (M221) applies

@@ -126,12 +126,19 @@ void GcodeReader::Comment(std::string_view comment) {
       volumetric_diameter_mm_ = TrimBlanks(c.substr(7)) == "UltiGCode" ? kUltimakerFilamentMm : kMarlinNominalFilamentMm;
     }
     path_.filament_diameter_m = volumetric_diameter_mm_ * kMetresPerMm;
+  } else if (StartsWith(c, "FLAVOR:") && TrimBlanks(c.substr(7)) == "Griffin") {
+    // Cura's Griffin flavour is for Ultimaker's own firmware (Ultimaker 3, S3, S5, S7,
+    // Factor 4), whose printers all take 2.85 mm filament; the header states volumes
+    // (";EXTRUDER_TRAIN.0.MATERIAL.VOLUME_USED:") but no diameter. E is millimetres of it.
+    if (path_.filament_diameter_m <= 0) path_.filament_diameter_m = kUltimakerFilamentMm * kMetresPerMm;
   } else if (StartsWith(c, "Layer height:")) {
     path_.header_layer_height_m = *CommentNumber(c.substr(13), "Layer height") * kMetresPerMm;
   } else if (StartsWith(c, "layer_height =")) {
     path_.header_layer_height_m = *CommentNumber(c.substr(14), "layer_height") * kMetresPerMm;
   } else if (StartsWith(c, "layer_thickness_mm =")) {  // KISSlicer
     path_.header_layer_height_m = *CommentNumber(c.substr(20), "layer_thickness_mm") * kMetresPerMm;
+  } else if (StartsWith(c, "layerThickness =")) {  // MatterSlice (MatterControl)
+    path_.header_layer_height_m = *CommentNumber(c.substr(16), "layerThickness") * kMetresPerMm;
   } else if (StartsWith(c, "sliceHeight =")) {  // Kiri:Moto's process settings
     path_.header_layer_height_m = *CommentNumber(c.substr(13), "sliceHeight") * kMetresPerMm;
   } else if (StartsWith(c, "layerHeight,")) {  // Simplify3D's settings summary
@@ -139,6 +146,8 @@ void GcodeReader::Comment(std::string_view comment) {
   } else if (StartsWith(c, "filament_diameter =")) {
     std::string_view list = c.substr(19);  // "1.75" or "1.75,1.75" (one per extruder)
     path_.filament_diameter_m = *CommentNumber(list.substr(0, list.find(',')), "filament_diameter") * kMetresPerMm;
+  } else if (StartsWith(c, "filamentDiameter =")) {  // MatterSlice (MatterControl)
+    path_.filament_diameter_m = *CommentNumber(c.substr(18), "filamentDiameter") * kMetresPerMm;
   } else if (StartsWith(c, "Filament Diameter #1:")) {  // ideaMaker: one line per extruder, #1 the first
     path_.filament_diameter_m = *CommentNumber(c.substr(21), "Filament Diameter") * kMetresPerMm;
   } else if (StartsWith(c, "fiber_dia_mm =")) {  // KISSlicer

@@ -217,6 +217,9 @@ void GcodeReader::Move(int gcode) {
   Eigen::Vector3d end = Target();
   double extruded = Extruded();
   WarnBeadAtUnknown(CommandName('G', gcode), extruded, (end - pos_mm_).head<2>().norm());
+  if (extruder_on_ && !Find('E') && !Find('A') && !Find('B') && (end - pos_mm_).head<2>().norm() > 0) {
+    ExtruderOnWithoutE();
+  }
   ExtraAxes(CommandName('G', gcode), extruded);
   double length = (end - pos_mm_).norm();
   AddSegment(gcode, end, extruded, length, (end - pos_mm_).head<2>().norm(), nullptr, MoveFeed(length, extruded));

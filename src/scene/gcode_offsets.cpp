@@ -33,10 +33,36 @@ void GcodeReader::HomeAxis(int k) {
   axis_known_[k] = true;
 }
 
+void GcodeReader::HomeToEndstops(const std::string& command, bool homing) {
+  const char axes[3] = {'X', 'Y', 'Z'};
+  std::string named;
+  for (int k = 0; k < 3; ++k) {
+    if (Find(axes[k])) named += axes[k];
+  }
+  if (named.empty()) named = "XYZ";
+  for (char a : named) {
+    const int k = a - 'X';
+    if (homing) babystep_mm_[k] = 0;
+    offset_mm_[k] = OffsetWithoutG92()[k];  // the firmware's coordinates from here on, G92's gone
+    axis_known_[k] = false;
+  }
+  unknown_since_ = command + " (line " + std::to_string(line_no_) + ")";
+  std::string list;
+  for (char a : named) list += std::string(list.empty() ? "" : " ") + a;
+  WarnOncePerName(command, command + (homing ? " homes " + list + " to the endstops" : " recalls the home offsets of " + list +
+                                          " stored in the printer") +
+                               " (MakerBot, Sailfish): where that puts the nozzle is the printer's configuration, so " +
+                               list + (named.size() == 1 ? " stays" : " stay") + " unknown until G92 or an absolute move sets them" +
+                               (homing ? "; the homing takes no time in the toolpath" : ""));
+}
+
 void GcodeReader::SetPosition() {
   Expect("XYZEABUVWC", "G92");
   if (words_.empty()) {
     offset_mm_ = pos_mm_;
+    for (int k = 0; k < 3; ++k) {
+      if (!axis_known_[k]) offset_mm_[k] = OffsetWithoutG92()[k];  // as a named axis below
+    }
     for (double& e : e_logical_mm_) e = 0;
     for (double& a : extra_axes_) a = 0;
     return;
@@ -44,7 +70,12 @@ void GcodeReader::SetPosition() {
   ExtraAxes("G92", 0, ExtraAxesUse::kSet);
   const char axes[3] = {'X', 'Y', 'Z'};
   for (int k = 0; k < 3; ++k) {
-    if (const Word* w = Find(axes[k])) offset_mm_[k] = pos_mm_[k] - *w->value * unit_mm_;
+    const Word* w = Find(axes[k]);
+    if (!w) continue;
+    // On an axis whose place is unknown (homed to an endstop of the printer's
+    // configuration: MakerBot's "G162 Z" then "G92 Z80"), G92 states where the nozzle
+    // is rather than shifting a known frame: no G92 offset; the next absolute move puts it there.
+    offset_mm_[k] = axis_known_[k] ? pos_mm_[k] - *w->value * unit_mm_ : OffsetWithoutG92()[k];
   }
   const char letters[3] = {'E', 'A', 'B'};
   for (int k = 0; k < 3; ++k) {

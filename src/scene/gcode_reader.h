@@ -72,10 +72,11 @@ class GcodeReader {
     kProbingTime,
     kBeadAtUnknown,
     kModalMotion,
+    kExtruderOnWithoutE,
     kWarningKinds
   };
   void Warn(WarningKind kind, const std::string& text);
-  int warning_index_[kWarningKinds] = {-1, -1, -1, -1, -1, -1};
+  int warning_index_[kWarningKinds] = {-1, -1, -1, -1, -1, -1, -1};
   // A line of axis words without a command ("Z10" in a legacy Cura start script): the
   // last motion command again (RS-274's modal motion), warned.
   void ModalMotion(std::string_view code, size_t pos);
@@ -123,6 +124,11 @@ class GcodeReader {
   // Homing axis k (0-2) clears G92's offset and babystepping on it; work offsets and
   // Klipper's SET_GCODE_OFFSET stay.
   void HomeAxis(int k);
+  // MakerBot's and Sailfish's G161/G162 (home the named axes, or all, to the minimum or
+  // maximum endstops; `homing`) and M132 (recall the home offsets stored in the printer):
+  // the axes end where the printer's configuration says, unknown to the file, and G92's
+  // offset on them is gone. A G92 on an unknown axis states its place (SetPosition).
+  void HomeToEndstops(const std::string& command, bool homing);
   // The offsets that are physical shifts (Klipper's SET_GCODE_OFFSET, Bambu's z-trim,
   // babystepping, a firmware retraction's Z hop), which G53's machine coordinates keep; and with the
   // active work system's offset: all but G92's.
@@ -146,6 +152,12 @@ class GcodeReader {
   // lays its bead at the last known coordinate of that axis, with a warning (a prime in
   // place lays none).
   void WarnBeadAtUnknown(const std::string& command, double extruded_mm, double xy_length_mm);
+  // M101 ... M103 (extruder on, off) around moves without E: the 3D-era RepRap and
+  // MakerBot form (Skeinforge for the Thing-O-Matic), fed at the firmware's M108 speed.
+  // Such moves lay no bead (the amount is not in the file): warned, counted.
+  void ExtruderOnWithoutE();
+  bool extruder_on_ = false;  // between M101 and M103
+  int m101_line_ = 0;
   // U, V, W, C words (a tool changer's coupler, a second carriage, a rotary axis): not
   // modelled, ignored with a warning; one that moves while the line extrudes is an
   // error, since it would change the printed path.
