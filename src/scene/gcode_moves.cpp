@@ -217,9 +217,10 @@ void GcodeReader::Move(int gcode) {
   Eigen::Vector3d end = Target();
   double extruded = Extruded();
   WarnBeadAtUnknown(CommandName('G', gcode), extruded, (end - pos_mm_).head<2>().norm());
-  if (extruder_on_ && !Find('E') && !Find('A') && !Find('B') && (end - pos_mm_).head<2>().norm() > 0) {
-    ExtruderOnWithoutE();
-  }
+  // A file with E words (Skeinforge's and Simplify3D's 5D files keep M101/M103 around
+  // them) is not of that form: only one whose moves never gave E is warned.
+  if (Find('E') || Find('A') || Find('B')) e_word_seen_ = true;
+  if (extruder_on_ && !e_word_seen_ && (end - pos_mm_).head<2>().norm() > 0) ExtruderOnWithoutE();
   ExtraAxes(CommandName('G', gcode), extruded);
   double length = (end - pos_mm_).norm();
   AddSegment(gcode, end, extruded, length, (end - pos_mm_).head<2>().norm(), nullptr, MoveFeed(length, extruded));

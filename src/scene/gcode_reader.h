@@ -157,6 +157,7 @@ class GcodeReader {
   // Such moves lay no bead (the amount is not in the file): warned, counted.
   void ExtruderOnWithoutE();
   bool extruder_on_ = false;  // between M101 and M103
+  bool e_word_seen_ = false;  // a G0-G3 with E, A or B read
   int m101_line_ = 0;
   // U, V, W, C words (a tool changer's coupler, a second carriage, a rotary axis): not
   // modelled, ignored with a warning; one that moves while the line extrudes is an

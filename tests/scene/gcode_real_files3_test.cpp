@@ -104,7 +104,13 @@ TEST(GcodeRealFiles3, ExtruderOnWithoutEIsWarned) {
   EXPECT_EQ(p.warnings[0].line, 8);
   EXPECT_EQ(p.warnings[0].count, 2);  // the travel after M103 is not counted
   EXPECT_THAT(p.warnings[0].text, HasSubstr("moves without E while M101 (line 7) has the extruder on"));
-  Toolpath five_d = ParseGcode("M101\nG1 X1 Y1 F600 E0.4\nG1 X2 Y1 E0.8\nM103\n", "5d.gcode");
+  // Simplify3D's files for such firmware keep M101/M103 around moves with E (a real
+  // excerpt's "G1 E-1.0000 F2400 / M103 / ... / M101"); a move without E among them is
+  // no sign of the form.
+  Toolpath five_d = ParseGcode(
+      "G92 E0.0000\nG1 E-1.0000 F2400\nM103\n; feature outer perimeter\nM101\nG1 E0 F1800\n"
+      "G1 X1 Y1 F600 E0.4\nG1 X2 Y1\nG1 X3 Y1 E0.8\nM103\n",
+      "5d.gcode");
   EXPECT_TRUE(five_d.warnings.empty());
 }
 
