@@ -56,7 +56,7 @@
 //   F               feed rate in mm/min (inch/min under G20), modal, shared by G0-G3
 //   G29, G30, G32-G35, G38.2-5, G380 (Bambu), M48, G80 alone on its line (Prusa), Klipper's
 //                   BED_MESH_CALIBRATE etc. (probing: warned, it takes no time here);
-//                   Marlin's G12 clean and G27 park, Prusa XL's P0 park and T.. D0: X, Y,
+//                   Marlin's G12 clean and G27 park, Griffin's G280 prime, Prusa XL's P0 park and T.. D0: X, Y,
 //                   Z unknown until an absolute move or homing sets each (a relative
 //                   move on an unknown axis is warned: Toolpath::warnings; so is a bead
 //                   laid while an axis is unknown, at its last known value). G29 that only

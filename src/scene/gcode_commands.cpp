@@ -265,6 +265,7 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
         return;
       case 12:  // Marlin's nozzle clean (a pattern at a configured place; going back is an option)
       case 27:  // Marlin's nozzle park (at the configured park point)
+      case 280:  // Ultimaker's Griffin firmware: prime blob at the printer's prime position
         ReadWords(code, pos, false);
         ++path_.skipped_commands[CommandName('G', n)];
         PositionUnknown(CommandName('G', n), false);

@@ -70,6 +70,11 @@ TEST(GcodeRealFiles3, GriffinFlavourIsForUltimakersFilament) {
       "griffin.gcode");
   EXPECT_NEAR(p.filament_diameter_m, 2.85 * kMm, 1e-15);
   EXPECT_NEAR(p.BeadFilamentLength(true), 0.5 * kMm, 1e-15);
+  // G280 (the firmware's prime blob at its prime position) leaves the head where the
+  // firmware puts it: a relative move after it is built from the last known place, warned.
+  Toolpath g280 = ParseGcode(";FLAVOR:Griffin\nG0 F15000 X9 Y6 Z2\nG280\nG91\nG0 X8.0 Z0.5\nG90\n", "g280.gcode");
+  ASSERT_EQ(g280.warnings.size(), 1u);
+  EXPECT_THAT(g280.warnings[0].text, HasSubstr("G0 moves relative to a position G280 (line 3) left unknown in XZ"));
   // Other flavours keep the file's (or no) diameter.
   EXPECT_EQ(ParseGcode(";FLAVOR:Marlin\nG1 X1 E1 F600\n", "m.gcode").filament_diameter_m, 0.0);
 }
