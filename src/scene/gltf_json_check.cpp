@@ -250,7 +250,8 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
   static const std::set<std::string> kSupported = {
       "KHR_materials_emissive_strength", "KHR_mesh_quantization",         "KHR_texture_transform",
       "EXT_mesh_gpu_instancing",         "KHR_materials_pbrSpecularGlossiness", "KHR_materials_unlit",
-      "KHR_materials_transmission",      "KHR_lights_punctual",          "KHR_materials_variants"};
+      "KHR_materials_transmission",      "KHR_lights_punctual",          "KHR_materials_variants",
+      "KHR_node_visibility"};
   if (auto req = root.find("extensionsRequired"); req != root.end() && req->is_array()) {
     for (size_t i = 0; i < req->size(); ++i) {
       const auto& e = (*req)[i];

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/json_reader.h"
+#include "core/text_fields.h"
 
 namespace lt {
 
@@ -261,6 +262,7 @@ std::vector<GltfNodeUse> WalkGltfScene(const GltfSource& src, std::vector<std::s
     size_t depth;  // length of the path above the node
   };
   std::vector<GltfNodeUse> uses;
+  std::vector<std::string> hidden;     // the nodes KHR_node_visibility hides
   std::vector<int> path;               // the nodes from the root down to the current one
   std::vector<char> on_path(m.nodes.size(), 0), warned(m.nodes.size(), 0);
   // Shared nodes multiply: a bound on the placements keeps a malicious file from
@@ -293,6 +295,18 @@ std::vector<GltfNodeUse> WalkGltfScene(const GltfSource& src, std::vector<std::s
                           " parents (glTF asks for a tree); it is placed under each");
     }
     const tinygltf::Node& node = m.nodes[size_t(index)];
+    // KHR_node_visibility (Godot 4.5+): a node written invisible hides itself and
+    // all its descendants, as viewers show the file.
+    if (auto vis = node.extensions.find("KHR_node_visibility"); vis != node.extensions.end() && vis->second.Has("visible")) {
+      const tinygltf::Value& visible = vis->second.Get("visible");
+      if (!visible.IsBool()) {
+        throw InputError(where + "/extensions/KHR_node_visibility/visible", "must be true or false");
+      }
+      if (!visible.Get<bool>()) {
+        hidden.push_back("\"" + node_name(index) + "\"");
+        continue;
+      }
+    }
     Eigen::Affine3d global = e.parent * LocalTransform(node, where);
     if (node.mesh >= 0) {
       if (size_t(node.mesh) >= m.meshes.size()) {
@@ -359,6 +373,12 @@ std::vector<GltfNodeUse> WalkGltfScene(const GltfSource& src, std::vector<std::s
     }
     const std::vector<int> children = unique(node.children, "/nodes/" + std::to_string(index) + "/children");
     for (auto it = children.rbegin(); it != children.rend(); ++it) stack.push_back({*it, global, path.size()});
+  }
+  if (!hidden.empty()) {
+    warnings->push_back(src.file + ": " + std::to_string(hidden.size()) +
+                        (hidden.size() == 1 ? " node" : " nodes") +
+                        " hidden by KHR_node_visibility (\"visible\": false) not loaded, with their descendants: " +
+                        ListFirst(hidden, 3));
   }
   return uses;
 }

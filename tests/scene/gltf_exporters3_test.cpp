@@ -129,5 +129,35 @@ TEST(GltfExporters3, PrimitiveRestartValueIsNamed) {
               Not(HasSubstr("primitive-restart value")));
 }
 
+// KHR_node_visibility, as Godot 4.6 writes it (the Khronos CubeVisibility sample:
+// required): a node written "visible": false hides itself and its descendants.
+// The file was refused; loading it whole would show the hidden parts.
+TEST(GltfExporters3, NodeVisibilityHidesTheNodeAndItsDescendants) {
+  TempDir dir;
+  GltfBuilder b = test::SquareBuilder();  // node 0: "square_node", a root
+  const int hidden = b.AddNode("InvisibleCube", 0, {-1.5, 0, 0});
+  const int child = b.AddNode("ChildOfInvisible", 0, {0, 1.5, 0}, false);
+  const int grandchild = b.AddNode("DescendantOfInvisible", 0, {0, 1.5, 0}, false);
+  const int shown = b.AddNode("AnimatedVisibility", 0, {1.5, 0, 0});
+  b.json()["nodes"][size_t(hidden)]["children"] = {child};
+  b.json()["nodes"][size_t(child)]["children"] = {grandchild};
+  b.json()["nodes"][size_t(hidden)]["extensions"]["KHR_node_visibility"] = {{"visible", false}};
+  b.json()["nodes"][size_t(shown)]["extensions"]["KHR_node_visibility"] = {{"visible", true}};
+  b.json()["extensionsUsed"] = {"KHR_node_visibility"};
+  b.json()["extensionsRequired"] = {"KHR_node_visibility"};
+  b.WriteGltf(dir / "vis.gltf", true);
+  GltfAsset a = LoadGltf(dir / "vis.gltf", "vis.gltf");
+  ASSERT_EQ(a.instances.size(), 2u);
+  EXPECT_EQ(a.instances[0].node_name, "square_node");
+  EXPECT_EQ(a.instances[1].node_name, "AnimatedVisibility");
+  EXPECT_THAT(AllWarnings(a), HasSubstr("vis.gltf: 1 node hidden by KHR_node_visibility (\"visible\": false) not "
+                                        "loaded, with their descendants: \"InvisibleCube\""));
+
+  b.json()["nodes"][size_t(hidden)]["extensions"]["KHR_node_visibility"]["visible"] = 0;
+  b.WriteGltf(dir / "vis.gltf", true);
+  EXPECT_THAT(ErrorOf([&] { LoadGltf(dir / "vis.gltf", "vis.gltf"); }),
+              HasSubstr("vis.gltf: /nodes/1/extensions/KHR_node_visibility/visible: must be true or false"));
+}
+
 }  // namespace
 }  // namespace lt
