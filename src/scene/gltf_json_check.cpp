@@ -220,21 +220,42 @@ bool MatrixPlacesAsTrs(const nlohmann::json& node) {
 }  // namespace
 
 void CheckGltfJson(const GltfContainer& container, const std::string& file, const std::filesystem::path& base_dir,
-                   GltfExternalFiles* external, std::string* rewritten) {
+                   GltfExternalFiles* external, std::string* rewritten, std::vector<std::string>* warnings) {
   CheckJsonDepth(container.json_text, file);
   json::Document doc = json::Document::Parse(container.json_text, file, base_dir);
   // Integers written as decimals (most files have none: no copy then).
   bool decimals = false;
   ForEachIntegerPosition(doc.Root().raw(), [&](const nlohmann::json& v) { decimals |= IsIntegralDecimal(v); });
-  nlohmann::json as_integers;
+  nlohmann::json fixed;
+  bool changed = false;
   if (decimals) {
-    as_integers = doc.Root().raw();
-    ForEachIntegerPosition(as_integers, [](nlohmann::json& v) {
+    fixed = doc.Root().raw();
+    ForEachIntegerPosition(fixed, [](nlohmann::json& v) {
       if (IsIntegralDecimal(v)) v = static_cast<int64_t>(v.get<double>());
     });
-    if (rewritten) *rewritten = as_integers.dump();
+    changed = true;
   }
-  const nlohmann::json& root = decimals ? as_integers : doc.Root().raw();
+  // byteStride 0, or an index's size on a view of indices (copied only then).
+  auto odd_stride = [](const nlohmann::json& r) {
+    auto views = r.is_object() ? r.find("bufferViews") : r.end();
+    if (views == r.end() || !views->is_array()) return false;
+    for (const auto& v : *views) {
+      auto s = v.is_object() ? v.find("byteStride") : v.end();
+      if (s != v.end() && s->is_number_integer() && (s->get<int64_t>() < 4 || s->get<int64_t>() % 4 != 0)) return true;
+    }
+    return false;
+  };
+  if (odd_stride(changed ? fixed : doc.Root().raw())) {
+    nlohmann::json copy = changed ? fixed : doc.Root().raw();
+    std::vector<std::string> stride_warnings;
+    if (DropHarmlessByteStrides(&copy, file, &stride_warnings)) {
+      fixed = std::move(copy);
+      changed = true;
+      if (warnings) warnings->insert(warnings->end(), stride_warnings.begin(), stride_warnings.end());
+    }
+  }
+  if (changed && rewritten) *rewritten = fixed.dump();
+  const nlohmann::json& root = changed ? fixed : doc.Root().raw();
   if (!root.is_object()) throw InputError(file, "invalid glTF: the top level must be a JSON object");
   auto asset = root.find("asset");
   if (asset == root.end() || !asset->is_object()) throw InputError(file + ": /asset", "missing required object");

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "scene/gltf_container.h"
 
@@ -30,7 +31,11 @@ struct GltfExternalFiles {
 // fractional part or with an exponent ("count": 24.0, "bufferView": 1e0), which
 // tinygltf refuses: such values are read as the integers they are, and `rewritten`
 // (optional) receives the JSON with them written as integers (empty when none).
+// Buffer views' byteStride values that exporters wrote against glTF and viewers
+// read (DropHarmlessByteStrides) are removed in `rewritten` too, and `warnings`
+// (optional) says so.
 void CheckGltfJson(const GltfContainer& container, const std::string& file, const std::filesystem::path& base_dir,
-                   GltfExternalFiles* external = nullptr, std::string* rewritten = nullptr);
+                   GltfExternalFiles* external = nullptr, std::string* rewritten = nullptr,
+                   std::vector<std::string>* warnings = nullptr);
 
 }  // namespace lt

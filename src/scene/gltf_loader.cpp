@@ -161,11 +161,13 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
   const std::filesystem::path base = abs.parent_path();
   GltfExternalFiles external;
   std::string rewritten;
-  CheckGltfJson(container, file, base, &external, &rewritten);
+  std::vector<std::string> json_warnings;
+  CheckGltfJson(container, file, base, &external, &rewritten, &json_warnings);
   if (!rewritten.empty()) ReplaceGltfJson(&container, bytes, std::move(rewritten));
 
   GltfAsset asset;
   asset.path = path;
+  asset.warnings = std::move(json_warnings);
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
   tinygltf::FsCallbacks fs{&FileExistsCallback, &ExpandFilePathCallback, &ReadWholeFileCallback,

@@ -1,9 +1,12 @@
 #include "scene/gltf_schema.h"
 
 #include <cstdint>
+#include <map>
+#include <optional>
 #include <set>
 
 #include "core/error.h"
+#include "core/text_fields.h"
 
 namespace lt {
 
@@ -208,6 +211,92 @@ void CheckGltfSchema(const json& root, const std::string& file) {
       }
     }
   }
+}
+
+bool DropHarmlessByteStrides(json* root, const std::string& file, std::vector<std::string>* warnings) {
+  auto views = root->find("bufferViews");
+  if (!root->is_object() || views == root->end() || !views->is_array()) return false;
+  auto stride_of = [&](size_t v) -> std::optional<int64_t> {
+    const json& view = (*views)[v];
+    if (!view.is_object()) return std::nullopt;
+    auto it = view.find("byteStride");
+    if (it == view.end() || !IsInteger(*it)) return std::nullopt;
+    return AsInteger(*it);
+  };
+  auto valid = [](int64_t s) { return s >= 4 && s <= 252 && s % 4 == 0; };
+  bool any = false;
+  for (size_t v = 0; v < views->size(); ++v) {
+    if (auto s = stride_of(v); s && !valid(*s)) any = true;
+  }
+  if (!any) return false;
+  // The element size of each index accessor (mesh primitives' "indices").
+  std::map<int64_t, int64_t> index_size;
+  const json* accessors = root->contains("accessors") && (*root)["accessors"].is_array() ? &(*root)["accessors"] : nullptr;
+  if (auto meshes = root->find("meshes"); meshes != root->end() && meshes->is_array() && accessors) {
+    for (const json& mesh : *meshes) {
+      if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+      for (const json& p : mesh["primitives"]) {
+        if (!p.is_object() || !p.contains("indices") || !IsInteger(p["indices"])) continue;
+        const int64_t a = AsInteger(p["indices"]);
+        if (a < 0 || size_t(a) >= accessors->size() || !(*accessors)[size_t(a)].is_object()) continue;
+        const json& acc = (*accessors)[size_t(a)];
+        const int64_t type = acc.contains("componentType") && IsInteger(acc["componentType"]) ? AsInteger(acc["componentType"]) : 0;
+        index_size[a] = type == 5121 ? 1 : type == 5123 ? 2 : type == 5125 ? 4 : -1;
+      }
+    }
+  }
+  // Per view: the index sizes read from it, or -1 once anything else reads it.
+  std::map<size_t, int64_t> read_as;
+  auto use = [&](const json& ref, int64_t size) {
+    if (!IsInteger(ref) || AsInteger(ref) < 0) return;
+    auto [it, added] = read_as.emplace(size_t(AsInteger(ref)), size);
+    if (!added && it->second != size) it->second = -1;
+  };
+  if (accessors) {
+    for (size_t a = 0; a < accessors->size(); ++a) {
+      const json& acc = (*accessors)[a];
+      if (!acc.is_object()) continue;
+      auto idx = index_size.find(int64_t(a));
+      if (acc.contains("bufferView")) use(acc["bufferView"], idx != index_size.end() ? idx->second : -1);
+      if (acc.contains("sparse") && acc["sparse"].is_object()) {
+        for (const char* part : {"indices", "values"}) {
+          const json& sp = acc["sparse"];
+          if (sp.contains(part) && sp[part].is_object() && sp[part].contains("bufferView")) use(sp[part]["bufferView"], -1);
+        }
+      }
+    }
+  }
+  if (auto images = root->find("images"); images != root->end() && images->is_array()) {
+    for (const json& im : *images) {
+      if (im.is_object() && im.contains("bufferView")) use(im["bufferView"], -1);
+    }
+  }
+  std::vector<std::string> zero, on_indices;
+  for (size_t v = 0; v < views->size(); ++v) {
+    const std::optional<int64_t> s = stride_of(v);
+    if (!s || valid(*s)) continue;
+    auto read = read_as.find(v);
+    const std::string pointer = "/bufferViews/" + std::to_string(v) + "/byteStride";
+    if (*s == 0) {
+      zero.push_back(pointer);
+    } else if (read != read_as.end() && read->second == *s) {
+      on_indices.push_back(pointer + " (" + std::to_string(*s) + ")");
+    } else {
+      continue;
+    }
+    (*views)[v].erase("byteStride");
+  }
+  if (!zero.empty()) {
+    warnings->push_back(file + ": byteStride 0 read as tightly packed (glTF asks for 4 to 252 or none) in " +
+                        std::to_string(zero.size()) + (zero.size() == 1 ? " buffer view: " : " buffer views: ") +
+                        ListFirst(zero, 3));
+  }
+  if (!on_indices.empty()) {
+    warnings->push_back(file + ": byteStride of views read only as indices ignored (glTF gives it to vertex "
+                        "attributes only; it equals the index size) in " + std::to_string(on_indices.size()) +
+                        (on_indices.size() == 1 ? " buffer view: " : " buffer views: ") + ListFirst(on_indices, 3));
+  }
+  return !zero.empty() || !on_indices.empty();
 }
 
 }  // namespace lt

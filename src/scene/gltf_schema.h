@@ -7,11 +7,21 @@
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 namespace lt {
 
 // Throws lt::InputError naming the file and the JSON pointer of the first
 // element that glTF 2.0's schema refuses.
 void CheckGltfSchema(const nlohmann::json& root, const std::string& file);
+
+// Buffer views' byteStride values that glTF refuses but that real exporters wrote
+// and viewers read: 0 (Google Poly's exports; CesiumJS, three.js and gltf-rs read
+// it as absent, tightly packed) and, on a view read only as indices, the size of
+// an index (three.js's GLTFExporter before r89 wrote 2 there; glTF gives byteStride
+// to vertex attributes only). Such byteStride properties are removed from `root`,
+// with one warning; returns whether any was. Other values are left to
+// CheckGltfSchema to refuse.
+bool DropHarmlessByteStrides(nlohmann::json* root, const std::string& file, std::vector<std::string>* warnings);
 
 }  // namespace lt

@@ -159,5 +159,49 @@ TEST(GltfExporters3, NodeVisibilityHidesTheNodeAndItsDescendants) {
               HasSubstr("vis.gltf: /nodes/1/extensions/KHR_node_visibility/visible: must be true or false"));
 }
 
+// byteStride values glTF refuses but exporters wrote and viewers read: 2 on a view
+// of unsigned short indices (three.js's GLTFExporter before r89; glTF gives
+// byteStride to vertex attributes only) and 0 (Google Poly's exports; CesiumJS,
+// three.js and gltf-rs read it as absent). Both files were refused
+// ('/bufferViews/3/byteStride: must be an integer in [4, 252], got 2').
+TEST(GltfExporters3, HarmlessByteStridesOfOldExportersAreRead) {
+  for (const bool glb : {false, true}) {
+    TempDir dir;
+    GltfBuilder b = test::SquareBuilder();
+    auto& prim = b.json()["meshes"][0]["primitives"][0];
+    prim["indices"] = b.AddIndices(test::SquareIndices(), 5123);
+    const size_t index_view = b.json()["accessors"][3]["bufferView"].get<size_t>();
+    b.json()["bufferViews"][index_view]["byteStride"] = 2;
+    b.json()["bufferViews"][0]["byteStride"] = 0;  // the positions, tightly packed
+    const std::string name = glb ? "old.glb" : "old.gltf";
+    if (glb) {
+      b.WriteGlb(dir / name);
+    } else {
+      b.WriteGltf(dir / name, true);
+    }
+    GltfAsset a = LoadGltf(dir / name, name);
+    ASSERT_EQ(a.meshes.size(), 1u);
+    EXPECT_EQ(a.meshes[0].indices.size(), 6u);
+    EXPECT_EQ(a.meshes[0].positions[2], Eigen::Vector3f(1, 1, 0));
+    EXPECT_THAT(AllWarnings(a), HasSubstr(name + ": byteStride 0 read as tightly packed (glTF asks for 4 to 252 or "
+                                                 "none) in 1 buffer view: /bufferViews/0/byteStride"));
+    EXPECT_THAT(AllWarnings(a), HasSubstr(name + ": byteStride of views read only as indices ignored (glTF gives it "
+                                                 "to vertex attributes only; it equals the index size) in 1 buffer "
+                                                 "view: /bufferViews/" + std::to_string(index_view) +
+                                                 "/byteStride (2)"));
+
+    // A stride that is not the index size, or on a view of vertices, is refused as before.
+    b.json()["bufferViews"][index_view]["byteStride"] = 6;
+    b.WriteGltf(dir / "bad.gltf", true);
+    EXPECT_THAT(ErrorOf([&] { LoadGltf(dir / "bad.gltf", "bad.gltf"); }),
+                HasSubstr("bad.gltf: /bufferViews/" + std::to_string(index_view) + "/byteStride: must be a multiple of 4, got 6"));
+    b.json()["bufferViews"][index_view]["byteStride"] = 2;
+    b.json()["bufferViews"][0]["byteStride"] = 2;
+    b.WriteGltf(dir / "bad.gltf", true);
+    EXPECT_THAT(ErrorOf([&] { LoadGltf(dir / "bad.gltf", "bad.gltf"); }),
+                HasSubstr("bad.gltf: /bufferViews/0/byteStride: must be an integer in [4, 252], got 2"));
+  }
+}
+
 }  // namespace
 }  // namespace lt
