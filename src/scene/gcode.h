@@ -38,6 +38,8 @@
 //   G161, G162      MakerBot's and Sailfish's homing to the minimum / maximum endstops,
 //                   M132 their stored home offsets: the named axes (all when none named)
 //                   unknown until G92 or an absolute move (warned; no time)
+//   M101, M103      extruder on / off: skipped; in a file that never gives E (Skeinforge
+//                   for a DC extruder) the moves between them are warned: no bead
 //   G53             machine coordinates (no G92 or work offset) for the rest of its line
 //   G54-G59.3       work coordinate systems, their origins set by G10 L2 (machine
 //                   coordinates) or G10 L20 (the current position's value); P0: active
