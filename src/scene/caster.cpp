@@ -25,6 +25,9 @@ void OrientationOptions::Check() const {
     throw std::invalid_argument("caster window must be > 0");
   }
   if (!(std::isfinite(trail_m) && trail_m > 0)) throw std::invalid_argument("trail must be > 0");
+  if (!(std::isfinite(max_turn_rad_s) && max_turn_rad_s >= 0)) {
+    throw std::invalid_argument("turn rate limit must be >= 0");
+  }
 }
 
 std::string OrientationModeName(OrientationMode mode) {
@@ -63,6 +66,10 @@ ToolpathOrientation::ToolpathOrientation(std::shared_ptr<const Toolpath> path, O
   }
   total_xy_m_ = s;
   if (options_.mode == OrientationMode::kTrailing) StartTrailingWheel();
+  if (options_.max_turn_rad_s > 0 && !segs.empty()) {
+    limit_.emplace([this](double t) { return RuleHeadingAt(t); }, segs.front().t_start_s, segs.back().t_end_s,
+                   options_.max_turn_rad_s);
+  }
 }
 
 size_t ToolpathOrientation::SegmentAtLength(double s_m) const {
@@ -121,6 +128,17 @@ Eigen::Vector2d ToolpathOrientation::CasterDirectionAt(double s_m, size_t segmen
 }
 
 Eigen::Vector2d ToolpathOrientation::DirectionAt(double t_s) const {
+  if (!limit_) return RuleDirectionAt(t_s);
+  const double heading = limit_->HeadingAt(t_s, [this](double t) { return RuleHeadingAt(t); });
+  return {std::cos(heading), std::sin(heading)};
+}
+
+double ToolpathOrientation::RuleHeadingAt(double t_s) const {
+  const Eigen::Vector2d d = RuleDirectionAt(t_s);
+  return std::atan2(d.y(), d.x());
+}
+
+Eigen::Vector2d ToolpathOrientation::RuleDirectionAt(double t_s) const {
   switch (options_.mode) {
     case OrientationMode::kFixed: return Eigen::Vector2d::UnitX();
     case OrientationMode::kHeading: return MoveDirectionAt(t_s);
@@ -144,6 +162,15 @@ double ToolpathOrientation::HeadingAt(double t_s) const {
 }
 
 TurnRates ToolpathOrientation::ComputeTurnRates() const {
+  if (limit_) {
+    TurnRates r;
+    r.max_rate_rad_s = limit_->max_rate_rad_s();
+    r.max_rate_time_s = limit_->max_rate_time_s();
+    r.slews = limit_->slews();
+    r.longest_slew_s = limit_->longest_slew_s();
+    r.longest_slew_time_s = limit_->longest_slew_start_s();
+    return r;
+  }
   switch (options_.mode) {
     case OrientationMode::kFixed: return TurnRates{};
     case OrientationMode::kHeading: return HeadingTurnRates();

@@ -22,6 +22,11 @@
 //            as 1 degree off (towards the side it came from), so the wheel swings
 //            round within about 5 w of path, as a real one does.
 //
+// Any rule can be limited to a largest turn rate (`max_turn_rad_s`, scene/turn_rate_limit.h):
+// the heading then follows the rule's where it turns no faster, and turns at the limit,
+// the short way round, where the rule turns faster (corners, a caster's swing), until it
+// has caught up. An arm's wrist turns no faster than its joint speed.
+//
 // Path length here is measured in the bed plane: moves without motion in that plane
 // (z only, extruder only, dwells) keep the heading. Travel moves count like printing
 // moves: the scanner turns with the nozzle whatever it does. Before any motion in the
@@ -33,7 +38,10 @@
 #include <string>
 #include <vector>
 
+#include <optional>
+
 #include "scene/toolpath.h"
+#include "scene/turn_rate_limit.h"
 
 namespace lt {
 
@@ -43,7 +51,9 @@ struct OrientationOptions {
   OrientationMode mode = OrientationMode::kCaster;
   double caster_window_m = 0.010;  // path length behind the nozzle averaged by the caster
   double trail_m = 0.010;          // the trailing wheel's distance behind the nozzle
-  // Throws std::invalid_argument unless the window and the trail are finite and > 0.
+  double max_turn_rad_s = 0;       // the heading's largest turn rate; 0: no limit
+  // Throws std::invalid_argument unless the window and the trail are finite and > 0
+  // and the turn rate limit is finite and >= 0.
   void Check() const;
 };
 
@@ -63,6 +73,11 @@ struct TurnRates {
   double max_jump_rad = 0;
   double max_jump_time_s = 0;
   int max_jump_line = 0;
+  // With a turn rate limit: how often the heading turns at the limit, behind the
+  // rule's, the longest such slew (s) and when it starts.
+  size_t slews = 0;
+  double longest_slew_s = 0;
+  double longest_slew_time_s = 0;
 
   double MaxRateDegS() const;
   double MaxJumpDeg() const;
@@ -86,6 +101,8 @@ class ToolpathOrientation {
   // chord is shortest, a closed form); sampled at 17 points on pieces with arcs.
   // Trailing: exact on straight moves (the angle off the path shrinks monotonically);
   // on arcs sampled at steps over which the angle turns by at most 0.05 rad.
+  // With a turn rate limit: the limit where the heading slews, else the rule's
+  // largest change over a 1 ms step.
   TurnRates ComputeTurnRates() const;
 
   // Path length in the bed plane travelled by time t, and the point in that plane at
@@ -100,6 +117,9 @@ class ToolpathOrientation {
   size_t SegmentAtLength(double s_m) const;
   // The heading of the move at time t (heading mode).
   Eigen::Vector2d MoveDirectionAt(double t_s) const;
+  // The rule's heading, without the turn rate limit.
+  Eigen::Vector2d RuleDirectionAt(double t_s) const;
+  double RuleHeadingAt(double t_s) const;
   Eigen::Vector2d CasterDirectionAt(double s_m, size_t segment) const;
   // The trailing wheel on segment k (with motion in the bed plane) at path length s.
   Eigen::Vector2d TrailingDirectionAt(double s_m, size_t segment) const;
@@ -122,6 +142,7 @@ class ToolpathOrientation {
   // How far the heading jumps at the start of each segment (rad): 0 but where the
   // path doubles back and the wheel is taken a little off straight back.
   std::vector<double> wheel_jump_rad_;
+  std::optional<TurnRateLimit> limit_;
 };
 
 }  // namespace lt

@@ -36,6 +36,8 @@ void MakeWaypoints(const GcodeMotion& m, const GcodeRobot& robot, std::vector<Ro
     waypoints.push_back(w);
     lines.push_back(line);
   };
+  // The heading rule without a turn rate limit jumps at corners: a waypoint on each side.
+  const bool jumps = o.options().mode == OrientationMode::kHeading && o.options().max_turn_rad_s == 0;
   Eigen::Vector2d last_heading(std::nan(""), std::nan(""));
   for (size_t k = 0; k < path.segments.size(); ++k) {
     const ToolpathSegment& seg = path.segments[k];
@@ -43,15 +45,14 @@ void MakeWaypoints(const GcodeMotion& m, const GcodeRobot& robot, std::vector<Ro
     if (k == 0) {
       last_heading = o.DirectionAt(seg.t_start_s);
       add(seg.t_start_s, seg.start_m, last_heading, seg.line);
-    } else if (o.options().mode == OrientationMode::kHeading && seg.xy_length_m > 0) {
+    } else if (jumps && seg.xy_length_m > 0) {
       Eigen::Vector2d h = seg.TangentXy(0);
       if ((h - last_heading).norm() > 1e-12) add(seg.t_start_s, seg.start_m, h, seg.line);
     }
     for (int j = 1; j <= n; ++j) {
       const double u = double(j) / n;
       const double t = seg.t_start_s + u * seg.Duration();
-      last_heading = o.options().mode == OrientationMode::kHeading && seg.xy_length_m > 0 ? seg.TangentXy(u)
-                                                                                          : o.DirectionAt(t);
+      last_heading = jumps && seg.xy_length_m > 0 ? seg.TangentXy(u) : o.DirectionAt(t);
       add(t, seg.PointAt(u), last_heading, seg.line);
     }
   }
@@ -130,6 +131,7 @@ GcodeMotion ParseGcodeMotion(const json::Object& o) {
   m.orientation.mode = ParseOrientationMode(o.Enum("orientation", "caster", {"fixed", "heading", "caster", "trailing"}));
   m.orientation.caster_window_m = o.Number("caster_window_mm", 10.0, json::Range::Positive()) * kMetresPerMm;
   m.orientation.trail_m = o.Number("trail_mm", 10.0, json::Range::Positive()) * kMetresPerMm;
+  if (o.Find("max_turn_deg_s")) m.orientation.max_turn_rad_s = o.Number("max_turn_deg_s", json::Range::Positive()) * kDegToRad;
   if (auto v = o.Find("world_from_gcode")) m.world_from_gcode = ReadPose(*v);
   if (auto v = o.Find("nozzle_from_cam")) m.nozzle_from_cam = ReadPose(*v);
   m.start_time_s = o.Number("start_time_s", 0.0, json::Range::NonNegative());
@@ -149,6 +151,7 @@ nlohmann::json GcodeMotionToJson(const GcodeMotion& m) {
                    {"world_from_gcode", PoseToJson(m.world_from_gcode)},
                    {"nozzle_from_cam", PoseToJson(m.nozzle_from_cam)},
                    {"start_time_s", m.start_time_s}};
+  if (m.orientation.max_turn_rad_s > 0) j["max_turn_deg_s"] = m.orientation.max_turn_rad_s / kDegToRad;
   if (m.robot) {
     const GcodeRobot& r = *m.robot;
     std::vector<double> initial(6);
@@ -218,6 +221,11 @@ std::vector<std::string> GcodeMotionNotes(const GcodeMotion& m) {
     orientation += "; " + std::to_string(rates.jumps) + " instantaneous turns, the largest " +
                    Fixed(rates.MaxJumpDeg(), 1) + " deg at " + m.file.string() + ":" +
                    std::to_string(rates.max_jump_line);
+  }
+  if (rates.slews > 0) {
+    orientation += "; held to " + Fixed(m.orientation.max_turn_rad_s / kDegToRad, 1) + " deg/s: " +
+                   std::to_string(rates.slews) + " turns at that rate behind the rule's, the longest " +
+                   Fixed(rates.longest_slew_s, 3) + " s from G-code time " + Fixed(rates.longest_slew_time_s, 3) + " s";
   }
   notes.push_back(orientation);
   if (m.robot) {

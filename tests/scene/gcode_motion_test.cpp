@@ -159,6 +159,36 @@ TEST(GcodeMotion, RobotProblemsNameTheWaypointAndGcodeLine) {
   EXPECT_THAT(MotionNotes(warned)[2], HasSubstr("2 steps exceed a joint speed limit; the worst at"));
 }
 
+TEST(GcodeMotion, TurnRateLimitKeepsTheWristWithinItsSpeed) {
+  TempDir dir;
+  WriteText(dir / "square.gcode", kSquare);
+  // Heading mode held to 90 deg/s: each 90 degree corner is a 1 s turn, not a jump.
+  std::string text = RobotScene("heading");
+  text.insert(text.find("\"caster_window_mm\""), "\"max_turn_deg_s\": 90, ");
+  Motion m = ParseMotionText(text, dir);
+  const GcodeMotion& g = AsGcode(m);
+  ASSERT_TRUE(g.robot);
+  const JointPath& jp = g.robot->program->path;
+  EXPECT_EQ(jp.speed_violations, 0u);
+  const Pose cam_from_flange = (g.robot->flange_from_tool * g.robot->tool_from_cam).inverse();
+  for (size_t k = 0; k < jp.q.size(); ++k) {
+    Pose by_robot = g.robot->world_from_base * Ur5eForward(jp.q[k]) * cam_from_flange.inverse();
+    EXPECT_LT((by_robot.matrix() - g.WorldFromCam(jp.t_s[k]).matrix()).cwiseAbs().maxCoeff(), 1e-9) << k;
+    if (k > 0) EXPECT_GT(jp.t_s[k], jp.t_s[k - 1]) << k;  // no two waypoints at one time: no jump
+  }
+  const std::vector<std::string> notes = MotionNotes(m);
+  EXPECT_THAT(notes[1], HasSubstr("largest turn rate 90.0 deg/s"));
+  EXPECT_THAT(notes[1], HasSubstr("held to 90.0 deg/s: 2 turns at that rate behind the rule's, the longest 1.0"));
+  EXPECT_THAT(notes[2], HasSubstr("within the joint position and speed limits"));
+  // Halfway round the first corner (G-code time: approach + 2 s + 0.5 s), 45 degrees.
+  // The nozzle frame's x is the heading; the turn starts at most one 1 ms step late.
+  auto heading_x = [&](double t) { return Eigen::Vector3d((g.WorldFromCam(t) * g.nozzle_from_cam.inverse()).linear().col(0)); };
+  EXPECT_NEAR(std::acos(heading_x(ApproachTime() + 2.5).dot(heading_x(ApproachTime() + 1.0))), M_PI / 4,
+              M_PI / 2 * 1e-3 + 1e-9);
+  EXPECT_EQ(MotionToJson(m)["max_turn_deg_s"], 90.0);
+  EXPECT_FALSE(MotionToJson(ParseMotionText(RobotScene("heading"), dir)).contains("max_turn_deg_s"));
+}
+
 TEST(GcodeMotion, ResolvedJsonReproducesTheMotion) {
   TempDir dir;
   WriteText(dir / "square.gcode", kSquare);
@@ -187,6 +217,8 @@ TEST(GcodeMotion, SceneErrors) {
   EXPECT_THAT(error(R"({"type": "gcode", "file": "square.gcode", "caster_window_mm": 0})"),
               HasSubstr("/caster_window_mm: must be > 0"));
   EXPECT_THAT(error(R"({"type": "gcode", "file": "square.gcode", "start_time_s": -1})"), HasSubstr("/start_time_s"));
+  EXPECT_THAT(error(R"({"type": "gcode", "file": "square.gcode", "max_turn_deg_s": 0})"),
+              HasSubstr("/max_turn_deg_s: must be > 0"));
   EXPECT_THAT(error(R"({"type": "gcode", "file": "empty.gcode"})"), HasSubstr("/file: the G-code file has no moves"));
   EXPECT_THAT(error(R"({"type": "gcode", "file": "bad.gcode"})"), HasSubstr("bad.gcode:2: X without a number"));
   EXPECT_THAT(error(R"({"type": "gcode", "file": "missing.gcode"})"),

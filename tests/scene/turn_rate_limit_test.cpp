@@ -1,0 +1,126 @@
+// Tests of scene/turn_rate_limit.h and of orientation rules held to a turn rate:
+// closed forms for a step, a ramp, a reversal and a turn across +-180 degrees.
+#include "scene/turn_rate_limit.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "orientation_test_util.h"
+
+namespace lt {
+namespace {
+
+using namespace orientation_test;
+
+constexpr double kDeg = M_PI / 180;
+// The slew starts at most one 1 ms step late: its heading is then up to rate x 1 ms behind.
+constexpr double kStepS = 1e-3;
+
+double AngleDiff(double a, double b) { return std::abs(std::remainder(a - b, 2 * M_PI)); }
+
+TEST(TurnRateLimit, StepIsTurnedAtTheLimitThenFollowed) {
+  auto followed = [](double t) { return t < 1.0 ? 0.0 : 90 * kDeg; };
+  const double rate = 90 * kDeg;  // the 90 degree step takes 1 s
+  TurnRateLimit limit(followed, 0, 4, rate);
+  EXPECT_EQ(limit.HeadingAt(0.5, followed), 0.0);
+  EXPECT_NEAR(limit.HeadingAt(1.5, followed), 45 * kDeg, rate * kStepS + 1e-12);
+  EXPECT_TRUE(limit.SlewingAt(1.5));
+  EXPECT_FALSE(limit.SlewingAt(2.1));
+  EXPECT_EQ(limit.HeadingAt(2.5, followed), 90 * kDeg);  // following exactly
+  EXPECT_EQ(limit.slews(), 1u);
+  EXPECT_NEAR(limit.longest_slew_s(), 1.0, kStepS + 1e-8);
+  EXPECT_NEAR(limit.longest_slew_start_s(), 1.0, kStepS + 1e-12);
+  EXPECT_EQ(limit.max_rate_rad_s(), rate);
+}
+
+TEST(TurnRateLimit, SlowerHeadingIsFollowedExactly) {
+  auto followed = [](double t) { return std::remainder(0.5 * t * t, 2 * M_PI); };  // rate t, up to 3 rad/s
+  TurnRateLimit limit(followed, 0, 3, 3.5);
+  for (double t : {0.0, 0.7, 1.9, 2.999}) EXPECT_EQ(limit.HeadingAt(t, followed), followed(t)) << t;
+  EXPECT_EQ(limit.slews(), 0u);
+  EXPECT_NEAR(limit.max_rate_rad_s(), 3.0, 1e-3);  // the largest step at its end: (3 - dt/2) rad/s
+  EXPECT_NEAR(limit.max_rate_time_s(), 3.0, 2 * kStepS);
+}
+
+TEST(TurnRateLimit, FastRampIsCaughtUpWhereTheLimitMeetsIt) {
+  // The rule turns at a = 2 rad/s for T = 0.5 s, then holds 1 rad; the limit w = 0.8 rad/s
+  // slews from t = 0 and meets it at a T / w = 1.25 s.
+  const double a = 2, T = 0.5, w = 0.8;
+  auto followed = [&](double t) { return a * std::min(t, T); };
+  TurnRateLimit limit(followed, 0, 2, w);
+  EXPECT_NEAR(limit.HeadingAt(0.25, followed), w * 0.25, w * kStepS + 1e-12);
+  EXPECT_NEAR(limit.HeadingAt(1.2, followed), w * 1.2, w * kStepS + 1e-12);
+  EXPECT_EQ(limit.HeadingAt(1.3, followed), a * T);
+  EXPECT_NEAR(limit.longest_slew_s(), a * T / w, kStepS + 1e-8);
+  // Continuous where the slew ends.
+  const double end = limit.longest_slew_start_s() + limit.longest_slew_s();
+  EXPECT_NEAR(limit.HeadingAt(end - 1e-7, followed), limit.HeadingAt(end + 1e-7, followed), 1e-6);
+}
+
+TEST(TurnRateLimit, TurnsTheShortWayAcrossTheWrap) {
+  // 170 -> -170 degrees is 20 degrees counter-clockwise, through 180.
+  auto followed = [](double t) { return t < 0.1 ? 170 * kDeg : -170 * kDeg; };
+  TurnRateLimit limit(followed, 0, 1, 100 * kDeg);
+  const double mid = limit.HeadingAt(0.2, followed);
+  EXPECT_NEAR(AngleDiff(mid, 180 * kDeg), 0.0, 100 * kDeg * kStepS + 1e-9);
+  EXPECT_NEAR(limit.longest_slew_s(), 0.2, kStepS + 1e-8);
+  EXPECT_EQ(limit.HeadingAt(0.5, followed), -170 * kDeg);
+}
+
+TEST(TurnRateLimit, ReversalTakesHalfATurnAtTheLimit) {
+  auto followed = [](double t) { return t < 1 ? 0.0 : M_PI; };
+  TurnRateLimit limit(followed, 0, 5, M_PI / 2);
+  EXPECT_NEAR(limit.longest_slew_s(), 2.0, kStepS + 1e-8);
+  EXPECT_NEAR(AngleDiff(limit.HeadingAt(2, followed), M_PI / 2), 0.0, M_PI / 2 * kStepS + 1e-9);
+  EXPECT_EQ(limit.HeadingAt(3.5, followed), M_PI);
+}
+
+TEST(TurnRateLimit, BadLimitsAreRefused) {
+  auto followed = [](double) { return 0.0; };
+  EXPECT_THROW(TurnRateLimit(followed, 0, 1, 0), std::invalid_argument);
+  EXPECT_THROW(TurnRateLimit(followed, 0, 1, -1), std::invalid_argument);
+  EXPECT_THROW(TurnRateLimit(followed, 0, 1, NAN), std::invalid_argument);
+  EXPECT_THROW(TurnRateLimit(followed, 1, 0, 1), std::invalid_argument);
+  OrientationOptions o;
+  o.max_turn_rad_s = -1;
+  EXPECT_THROW(o.Check(), std::invalid_argument);
+}
+
+// A 40 mm square at 20 mm/s: corners at t = 2, 4 and 6 s.
+constexpr const char* kSquare = "G0 F1200 X0 Y0\nG1 X40\nG1 Y40\nG1 X0\nG1 Y0\n";
+
+TEST(TurnRateLimit, EveryRuleHeldToTheLimit) {
+  for (OrientationMode mode : {OrientationMode::kHeading, OrientationMode::kCaster}) {
+    OrientationOptions o;
+    o.mode = mode;
+    o.max_turn_rad_s = 90 * kDeg;
+    ToolpathOrientation limited(Path(kSquare), o);
+    ToolpathOrientation rule = Orientation(Path(kSquare), mode);
+    const TurnRates r = limited.ComputeTurnRates();
+    EXPECT_EQ(r.max_rate_rad_s, o.max_turn_rad_s) << OrientationModeName(mode);
+    EXPECT_EQ(r.jumps, 0u);
+    EXPECT_EQ(r.slews, 3u);
+    // Sampled at 0.1 ms: no step turns faster than the limit.
+    double worst = 0, prev = limited.HeadingAt(0);
+    for (double t = 1e-4; t <= 8; t += 1e-4) {
+      const double h = limited.HeadingAt(t);
+      worst = std::max(worst, AngleDiff(h, prev) / 1e-4);
+      prev = h;
+    }
+    EXPECT_LE(worst, o.max_turn_rad_s * (1 + 1e-6)) << OrientationModeName(mode);
+    // Between corners, once caught up, the rule's heading itself.
+    EXPECT_EQ(limited.HeadingAt(3.9), rule.HeadingAt(3.9)) << OrientationModeName(mode);
+  }
+  // Heading mode: each 90 degree corner takes 1 s at 90 deg/s.
+  OrientationOptions o;
+  o.mode = OrientationMode::kHeading;
+  o.max_turn_rad_s = 90 * kDeg;
+  const ToolpathOrientation limited(Path(kSquare), o);
+  EXPECT_NEAR(limited.ComputeTurnRates().longest_slew_s, 1.0, kStepS + 1e-8);
+  EXPECT_NEAR(limited.HeadingAt(2.5), 45 * kDeg, 90 * kDeg * kStepS + 1e-12);
+}
+
+}  // namespace
+}  // namespace lt
