@@ -2,7 +2,6 @@
 // same entries as the YAML form from <opencv_storage>'s child elements, and
 // OpenCvYamlWriter writes them in this form for StorageFormat::kXml.
 #include <cctype>
-#include <cmath>
 #include <cstdlib>
 #include <map>
 #include <set>
@@ -40,9 +39,8 @@ class XmlParser {
     return root;
   }
 
-  [[noreturn]] void Fail(int line, const std::string& message) const {
-    throw InputError(file_ + ":" + std::to_string(line), message);
-  }
+  std::string Where(int line) const { return file_ + ":" + std::to_string(line); }
+  [[noreturn]] void Fail(int line, const std::string& message) const { throw InputError(Where(line), message); }
 
  private:
   [[noreturn]] void Fail(const std::string& message) const { Fail(Line(), message); }
@@ -183,7 +181,6 @@ std::vector<YamlEntry> ParseOpenCvXml(const std::string& text, const std::string
     const auto type = el.attributes.find("type_id");
     if (type != el.attributes.end() && type->second == "opencv-matrix") {
       e.kind = YamlEntry::Kind::kMatrix;
-      YamlMatrix& m = e.matrix;
       std::map<std::string, const XmlElement*> parts;
       for (const XmlElement& c : el.children) {
         if (c.name != "rows" && c.name != "cols" && c.name != "dt" && c.name != "data") {
@@ -192,39 +189,12 @@ std::vector<YamlEntry> ParseOpenCvXml(const std::string& text, const std::string
         parts[c.name] = &c;
       }
       if (parts.size() != 4) parser.Fail(el.line, "matrix '" + e.key + "' needs rows, cols, dt and data");
-      for (auto [name, out] : {std::pair{"rows", &m.rows}, std::pair{"cols", &m.cols}}) {
-        const std::string s = Trim(parts[name]->text);
-        char* stop = nullptr;
-        const long v = std::strtol(s.c_str(), &stop, 10);
-        if (s.empty() || *stop != '\0' || v < 1 || v > 100000000) {
-          parser.Fail(parts[name]->line, std::string(name) + " must be a positive integer, got '" + s + "'");
-        }
-        *out = int(v);
-      }
-      const std::string dt = Trim(parts["dt"]->text);
-      if (!ParseMatrixDt(dt, &m)) {
-        parser.Fail(parts["dt"]->line,
-                    "dt must be d, f, i, u, s, w or c, with an optional channel count of 1 to 4 (2f), got '" + dt + "'");
-      }
-      std::istringstream values(parts["data"]->text);
-      for (std::string tok; values >> tok;) {
-        char* stop = nullptr;
-        const double v = std::strtod(tok.c_str(), &stop);
-        if (*stop != '\0' || !std::isfinite(v)) {
-          parser.Fail(parts["data"]->line, "data value " + std::to_string(m.data.size()) +
-                                               " is not a finite number: '" + tok + "'");
-        }
-        m.data.push_back(v);
-      }
-      const size_t expected = size_t(m.rows) * size_t(m.cols) * size_t(m.channels);
-      if (m.data.size() != expected) {
-        parser.Fail(parts["data"]->line, "matrix '" + e.key + "' is " + std::to_string(m.rows) + "x" +
-                                             std::to_string(m.cols) +
-                                             (m.channels > 1 ? " of " + std::to_string(m.channels) + " channels"
-                                                             : std::string()) +
-                                             " and needs " + std::to_string(expected) + " values, got " +
-                                             std::to_string(m.data.size()));
-      }
+      auto field = [&](const char* name) { return MatrixField{Trim(parts[name]->text), parser.Where(parts[name]->line)}; };
+      const MatrixField data = field("data");
+      std::vector<MatrixField> values;
+      std::istringstream tokens(data.text);
+      for (std::string tok; tokens >> tok;) values.push_back({tok, data.where});
+      e.matrix = MakeMatrix(e.key, field("rows"), field("cols"), field("dt"), values, data.where);
     } else if (type != el.attributes.end() || !el.children.empty()) {
       e.kind = YamlEntry::Kind::kOther;  // another type, a sequence or a map: skipped
     } else {

@@ -6,10 +6,12 @@
 #include <cstdlib>
 #include <fstream>
 #include <set>
+#include <tuple>
 #include <sstream>
 #include <stdexcept>
 
 #include "core/error.h"
+#include "pipeline/yaml_tree.h"
 
 namespace lt {
 
@@ -233,7 +235,95 @@ class Parser {
   std::vector<Line> lines_;
 };
 
+// A node's text as the file holds it (a quoted scalar in its quotes, so that
+// it is no number; "" for a collection or nothing), for the matrix's checks.
+MatrixField Field(const YamlNode& n, const std::string& file) {
+  const std::string text = n.kind != YamlNode::Kind::kScalar ? "" : n.quoted ? "\"" + n.scalar + "\"" : n.scalar;
+  return {text, file + ":" + std::to_string(n.line)};
+}
+
+// The matrix of an "!!opencv-matrix" node: a mapping of rows, cols, dt and data.
+YamlMatrix ReadMatrix(const std::string& key, const YamlNode& n, const std::string& file) {
+  const std::string where = file + ":" + std::to_string(n.line);
+  if (n.kind != YamlNode::Kind::kMap && n.kind != YamlNode::Kind::kNull) {
+    throw InputError(where, "'!!opencv-matrix' must be followed by its indented block (rows, cols, dt, data)");
+  }
+  for (const auto& [k, v] : n.map) {
+    if (k != "rows" && k != "cols" && k != "dt" && k != "data") {
+      throw InputError(file + ":" + std::to_string(v.line), "unknown matrix key '" + k + "' (expected rows, cols, dt, data)");
+    }
+  }
+  const YamlNode *rows = n.Find("rows"), *cols = n.Find("cols"), *dt = n.Find("dt"), *data = n.Find("data");
+  if (!rows || !cols || !dt || !data) throw InputError(where, "matrix '" + key + "' needs rows, cols, dt and data");
+  const MatrixField data_field = Field(*data, file);
+  if (data->kind != YamlNode::Kind::kSeq) throw InputError(data_field.where, "data must be a sequence [ v0, v1, ... ]");
+  std::vector<MatrixField> values;
+  for (const YamlNode& v : data->seq) values.push_back(Field(v, file));
+  return MakeMatrix(key, Field(*rows, file), Field(*cols, file), Field(*dt, file), values, data_field.where);
+}
+
 }  // namespace
+
+YamlMatrix MakeMatrix(const std::string& key, const MatrixField& rows, const MatrixField& cols, const MatrixField& dt,
+                      const std::vector<MatrixField>& data, const std::string& data_where) {
+  YamlMatrix m;
+  for (auto [name, field, out] : {std::tuple{"rows", &rows, &m.rows}, std::tuple{"cols", &cols, &m.cols}}) {
+    char* stop = nullptr;
+    const long v = std::strtol(field->text.c_str(), &stop, 10);
+    if (field->text.empty() || *stop != '\0' || v < 1 || v > 100000000) {
+      throw InputError(field->where, std::string(name) + " must be a positive integer, got '" + field->text + "'");
+    }
+    *out = int(v);
+  }
+  if (!ParseMatrixDt(dt.text, &m)) {
+    throw InputError(dt.where, "dt must be d, f, i, u, s, w or c, with an optional channel count of 1 to 4 (2f), got '" +
+                                   dt.text + "'");
+  }
+  for (const MatrixField& value : data) {
+    double v = 0;
+    if (!ParseReal(value.text, &v)) {
+      throw InputError(value.where, "data value " + std::to_string(m.data.size()) + " is not a finite number: '" +
+                                        value.text + "'");
+    }
+    m.data.push_back(v);
+  }
+  const size_t expected = size_t(m.rows) * size_t(m.cols) * size_t(m.channels);
+  if (m.data.size() != expected) {
+    throw InputError(data_where, "matrix '" + key + "' is " + std::to_string(m.rows) + "x" + std::to_string(m.cols) +
+                                     (m.channels > 1 ? " of " + std::to_string(m.channels) + " channels" : std::string()) +
+                                     " and needs " + std::to_string(expected) + " values, got " +
+                                     std::to_string(m.data.size()));
+  }
+  return m;
+}
+
+std::vector<YamlEntry> ParseOpenCvYaml(const std::string& text, const std::string& file) {
+  YamlLine first;
+  const YamlNode root = ParseYamlTree(text, file, &first);
+  if (first.text.rfind("%YAML", 0) != 0) {
+    throw InputError(file + ":" + std::to_string(first.no),
+                     "not an OpenCV FileStorage YAML file: the first line must be %YAML:1.0 (the XML form starts with "
+                     "<?xml); nor the camera file of ROS (camera_matrix: {rows, cols, data}), Kalibr (cam0: "
+                     "{intrinsics, ...}) or camodocal (model_type)");
+  }
+  std::vector<YamlEntry> entries;
+  for (const auto& [key, node] : root.map) {
+    YamlEntry e;
+    e.key = key;
+    e.line = node.line;
+    if (node.tag == "!!opencv-matrix") {
+      e.kind = YamlEntry::Kind::kMatrix;
+      e.matrix = ReadMatrix(key, node, file);
+    } else if (node.kind == YamlNode::Kind::kScalar && node.tag.empty()) {
+      e.scalar = node.scalar;
+      e.quoted = node.quoted;
+    } else {
+      e.kind = YamlEntry::Kind::kOther;  // a collection, nothing, or another type: skipped
+    }
+    entries.push_back(std::move(e));
+  }
+  return entries;
+}
 
 bool IsOpenCvXmlText(const std::string& text) {
   const size_t first = text.find_first_not_of(" \t\r\n");
@@ -247,7 +337,7 @@ OpenCvYaml OpenCvYaml::Parse(const std::string& text, const std::string& file) {
   if (IsOpenCvXmlText(text)) {
     y.entries_ = ParseOpenCvXml(text, file);
   } else {
-    y.entries_ = Parser(text, file).Run();
+    y.entries_ = ParseOpenCvYaml(text, file);
   }
   return y;
 }

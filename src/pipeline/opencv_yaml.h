@@ -3,18 +3,19 @@
 // optional "---", then top-level entries
 //
 //   key: scalar                      number or string (plain, "double" or 'single' quoted)
-//   key: !!opencv-matrix             a matrix, with the indented block
+//   key: !!opencv-matrix             a matrix: the indented block (or a flow map { rows: R, ... })
 //      rows: R                       R >= 1
 //      cols: C                       C >= 1
 //      dt: d                         d, f (floating), i, u, s, w, c (integer), with an optional
 //                                    channel count ("2f": 2 values per element; the sample's image points)
-//      data: [ v0, v1, ... ]         R x C values, row-major; may span lines
+//      data: [ v0, v1, ... ]         R x C values, row-major; may span lines (or a block sequence)
 //
-// Comments (#) and blank lines are skipped. Other top-level values (nested
-// mappings, sequences, other tags) are recognised and skipped as "other", so a
-// file written by OpenCV's calibration samples with extra entries still reads;
-// the consumer decides what to do with keys it does not know. Errors are
-// lt::InputError naming "file:line".
+// The text is read by the YAML tree (pipeline/yaml_tree.h: comments, quoting,
+// flow and block collections, block scalars, anchors); its top-level entries
+// are these. Other top-level values (nested mappings, sequences, other tags)
+// are skipped as "other", so a file written by OpenCV's calibration samples
+// with extra entries still reads; the consumer decides what to do with keys it
+// does not know. Errors are lt::InputError naming "file:line".
 //
 // OpenCV's XML form (cv::FileStorage to a .xml file) reads into the same
 // entries: "<?xml ...?>", then <opencv_storage> whose child elements are the
@@ -81,6 +82,21 @@ bool ParseMatrixDt(std::string dt, YamlMatrix* m);
 // The entries of an OpenCV FileStorage XML text (OpenCvYaml::Parse calls it for
 // a text that starts with '<').
 std::vector<YamlEntry> ParseOpenCvXml(const std::string& text, const std::string& file);
+// The entries of an OpenCV FileStorage YAML text, read from its YAML tree
+// (pipeline/yaml_tree.h): the text's first line must be a %YAML directive.
+std::vector<YamlEntry> ParseOpenCvYaml(const std::string& text, const std::string& file);
+
+// A matrix field as either form holds it: its text and its place ("file:line").
+struct MatrixField {
+  std::string text;
+  std::string where;
+};
+// The matrix `key` from its fields (as both forms' readers take them): rows
+// and cols positive integers, dt as ParseMatrixDt takes it, the data values
+// finite numbers, rows x cols x channels of them (else an error at data_where).
+// Errors are lt::InputError at the field's place.
+YamlMatrix MakeMatrix(const std::string& key, const MatrixField& rows, const MatrixField& cols, const MatrixField& dt,
+                      const std::vector<MatrixField>& data, const std::string& data_where);
 
 // The two text forms of cv::FileStorage.
 enum class StorageFormat { kYaml, kXml };

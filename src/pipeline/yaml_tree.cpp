@@ -104,7 +104,9 @@ class TreeParser {
     return value;
   }
 
-  YamlNode ParseMap(size_t& i, int indent) {
+  // The block mapping at lines_[i] (the value of `parent`, "" at the top level).
+  YamlNode ParseMap(size_t& i, int indent, const std::string& parent = "") {
+    const std::string in = parent.empty() ? "" : " in '" + parent + "'";
     YamlNode node;
     node.kind = YamlNode::Kind::kMap;
     node.line = lines_[i].no;
@@ -112,9 +114,9 @@ class TreeParser {
     while (i < lines_.size() && lines_[i].indent >= indent) {
       const Line l = lines_[i];
       if (l.indent > indent) Fail(l.no, "unexpected indentation");
-      if (IsSeqItem(l.text)) Fail(l.no, "a sequence item where 'key: value' was expected");
+      if (IsSeqItem(l.text)) Fail(l.no, "a sequence item where 'key: value' was expected" + in);
       std::string key, rest;
-      if (!SplitKey(l.text, l.no, &key, &rest)) Fail(l.no, "expected 'key: value', got '" + l.text + "'");
+      if (!SplitKey(l.text, l.no, &key, &rest)) Fail(l.no, "expected 'key: value'" + in + ", got '" + l.text + "'");
       if (!seen.insert(key).second) Fail(l.no, "duplicate key '" + key + "'");
       ++i;
       node.map.emplace_back(key, ParseValue(key, rest, l.no, indent, i, true));
@@ -163,7 +165,7 @@ class TreeParser {
         if (IsSeqItem(l.text)) {
           node = ParseSeq(i, l.indent);
         } else if (l.text[0] != '[' && l.text[0] != '{' && SplitKey(l.text, l.no, &k, &v)) {
-          node = ParseMap(i, l.indent);
+          node = ParseMap(i, l.indent, key);
         } else {
           ++i;  // the value on the next line
           node = ParseValue(key, l.text, l.no, indent, i, false);

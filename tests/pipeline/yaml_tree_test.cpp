@@ -1,10 +1,12 @@
 // The YAML tree (pipeline/yaml_tree.h), the one reader of every YAML file:
 // what it reads beyond block and flow collections (block scalars, anchors and
-// aliases, a value on the line after its key) and its errors at file:line.
+// aliases, a value on the line after its key) and its errors at file:line;
+// OpenCV's FileStorage subset (pipeline/opencv_yaml.h) read from it.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "pipeline/opencv_yaml.h"
 #include "pipeline/yaml_tree.h"
 
 namespace lt {
@@ -81,6 +83,41 @@ TEST(YamlTree, FirstLineAndErrors) {
   EXPECT_EQ(first.text, "");
   EXPECT_EQ(ErrorOf("a: [ 1, 2\n"), "t.yaml:1: missing ']' in '[ 1, 2'");
   EXPECT_THAT(ErrorOf("- 1\n"), HasSubstr("t.yaml:1: top-level sequences are not supported"));
+}
+
+// OpenCV's FileStorage YAML read from the tree: what its own parser refused
+// before ("quoted keys are not supported", "top-level sequences are not
+// supported" for a sequence at its key's indentation or a second document,
+// "'!!opencv-matrix' must be followed by its indented block" for a flow
+// matrix, "data must be a sequence [ v0, v1, ... ]" for a block sequence,
+// "not an OpenCV FileStorage YAML file" after a BOM) now reads as the tree
+// reads it; what it skipped (block scalars, anchors) are values.
+TEST(OpenCvYaml, ReadsWhatTheTreeReads) {
+  const OpenCvYaml y = OpenCvYaml::Parse(
+      "\xEF\xBB\xBF%YAML:1.0\r\n---\r\n\"image width\": 640\r\nnote: |\r\n  two\r\n  lines\r\nbase: &b 12\r\ncopy: *b\r\n"
+      "list:\r\n- 1\r\n- 2\r\nflow: !!opencv-matrix { rows: 1, cols: 2, dt: d, data: [ 1., 2. ] }\r\n"
+      "block: !!opencv-matrix\r\n   rows: 2\r\n   cols: 1\r\n   dt: d\r\n   data:\r\n   - 3.\r\n   - 4.\r\n"
+      "---\r\nsecond: document\r\n",
+      "x.yml");
+  std::vector<std::string> keys;
+  for (const YamlEntry& e : y.entries()) keys.push_back(e.key);
+  EXPECT_EQ(keys, (std::vector<std::string>{"image width", "note", "base", "copy", "list", "flow", "block"}));
+  EXPECT_EQ(y.Integer(*y.Find("image width"), 1, 10000), 640);
+  EXPECT_EQ(y.String(*y.Find("note")), "two\nlines\n");
+  EXPECT_THROW(y.Number(*y.Find("note")), InputError);
+  EXPECT_EQ(y.Integer(*y.Find("copy"), 0, 100), 12);
+  EXPECT_EQ(y.Find("copy")->line, 8);
+  EXPECT_EQ(y.Find("list")->kind, YamlEntry::Kind::kOther);
+  EXPECT_EQ(y.Matrix(*y.Find("flow")).data, (std::vector<double>{1, 2}));
+  EXPECT_EQ(y.Matrix(*y.Find("block")).data, (std::vector<double>{3, 4}));
+  EXPECT_EQ(y.Matrix(*y.Find("block")).rows, 2);
+  // A line in a matrix that is no key names the matrix.
+  try {
+    OpenCvYaml::Parse("%YAML:1.0\nm: !!opencv-matrix\n   rows: 1\n   just text\n", "x.yml");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "x.yml:4: expected 'key: value' in 'm', got 'just text'");
+  }
 }
 
 }  // namespace
