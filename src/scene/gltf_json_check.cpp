@@ -235,23 +235,14 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
     });
     changed = true;
   }
-  // byteStride 0, or an index's size on a view of indices (copied only then).
-  auto odd_stride = [](const nlohmann::json& r) {
-    auto views = r.is_object() ? r.find("bufferViews") : r.end();
-    if (views == r.end() || !views->is_array()) return false;
-    for (const auto& v : *views) {
-      auto s = v.is_object() ? v.find("byteStride") : v.end();
-      if (s != v.end() && s->is_number_integer() && (s->get<int64_t>() < 4 || s->get<int64_t>() % 4 != 0)) return true;
-    }
-    return false;
-  };
-  if (odd_stride(changed ? fixed : doc.Root().raw())) {
+  // What exporters wrote against glTF and viewers read (copied only then).
+  if (NeedsGltfFixUp(changed ? fixed : doc.Root().raw())) {
     nlohmann::json copy = changed ? fixed : doc.Root().raw();
-    std::vector<std::string> stride_warnings;
-    if (DropHarmlessByteStrides(&copy, file, &stride_warnings)) {
+    std::vector<std::string> fix_warnings;
+    if (FixUpGltfJson(&copy, file, &fix_warnings)) {
       fixed = std::move(copy);
       changed = true;
-      if (warnings) warnings->insert(warnings->end(), stride_warnings.begin(), stride_warnings.end());
+      if (warnings) warnings->insert(warnings->end(), fix_warnings.begin(), fix_warnings.end());
     }
   }
   if (changed && rewritten) *rewritten = fixed.dump();

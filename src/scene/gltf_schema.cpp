@@ -299,4 +299,61 @@ bool DropHarmlessByteStrides(json* root, const std::string& file, std::vector<st
   return !zero.empty() || !on_indices.empty();
 }
 
+namespace {
+
+// The image data: URI prefixes (through ";base64,") tinygltf reads.
+bool TinygltfReadsImageUri(const std::string& uri) {
+  for (const char* h : {"data:application/octet-stream;base64,", "data:image/jpeg;base64,", "data:image/png;base64,",
+                        "data:image/bmp;base64,", "data:image/gif;base64,"}) {
+    if (uri.rfind(h, 0) == 0) return true;
+  }
+  return false;
+}
+
+// An image uri that is a base64 data: URI tinygltf would take for a file name.
+bool OddImageDataUri(const json& image) {
+  if (!image.is_object() || !image.contains("uri") || !image["uri"].is_string()) return false;
+  const std::string& uri = image["uri"].get_ref<const std::string&>();
+  if (uri.rfind("data:", 0) != 0 || TinygltfReadsImageUri(uri)) return false;
+  const size_t comma = uri.find(',');
+  return comma != std::string::npos && comma >= 7 && uri.compare(comma - 7, 7, ";base64") == 0;
+}
+
+}  // namespace
+
+bool RelabelImageDataUris(json* root) {
+  auto images = root->is_object() ? root->find("images") : root->end();
+  if (images == root->end() || !images->is_array()) return false;
+  bool any = false;
+  for (json& image : *images) {
+    if (!OddImageDataUri(image)) continue;
+    std::string& uri = image["uri"].get_ref<std::string&>();
+    uri = "data:application/octet-stream;base64," + uri.substr(uri.find(',') + 1);
+    any = true;
+  }
+  return any;
+}
+
+bool NeedsGltfFixUp(const json& root) {
+  if (!root.is_object()) return false;
+  if (auto views = root.find("bufferViews"); views != root.end() && views->is_array()) {
+    for (const json& v : *views) {
+      auto s = v.is_object() ? v.find("byteStride") : v.end();
+      if (s != v.end() && IsInteger(*s) && (AsInteger(*s) < 4 || AsInteger(*s) % 4 != 0)) return true;
+    }
+  }
+  if (auto images = root.find("images"); images != root.end() && images->is_array()) {
+    for (const json& image : *images) {
+      if (OddImageDataUri(image)) return true;
+    }
+  }
+  return false;
+}
+
+bool FixUpGltfJson(json* root, const std::string& file, std::vector<std::string>* warnings) {
+  const bool strides = DropHarmlessByteStrides(root, file, warnings);
+  const bool images = RelabelImageDataUris(root);
+  return strides || images;
+}
+
 }  // namespace lt

@@ -24,4 +24,16 @@ void CheckGltfSchema(const nlohmann::json& root, const std::string& file);
 // CheckGltfSchema to refuse.
 bool DropHarmlessByteStrides(nlohmann::json* root, const std::string& file, std::vector<std::string>* warnings);
 
+// Image data: URIs whose media type tinygltf does not take (image/jpg, image/webp,
+// none, parameters before ";base64,") are relabelled application/octet-stream: an
+// image is decoded by its content, as browsers and the image loader here do, so a
+// PNG or JPEG so labelled reads and any other format gets the undecodable-image
+// error naming /images/N. Returns whether any was.
+bool RelabelImageDataUris(nlohmann::json* root);
+
+// Whether `root` holds anything DropHarmlessByteStrides or RelabelImageDataUris
+// would change (cheap: no copy), and both, with their warnings.
+bool NeedsGltfFixUp(const nlohmann::json& root);
+bool FixUpGltfJson(nlohmann::json* root, const std::string& file, std::vector<std::string>* warnings);
+
 }  // namespace lt

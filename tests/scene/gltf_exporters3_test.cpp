@@ -4,6 +4,11 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <iterator>
+
+#include "core/base64.h"
+#include "core/image_io.h"
 #include "scene/gltf_loader.h"
 #include "test_util.h"
 
@@ -201,6 +206,36 @@ TEST(GltfExporters3, HarmlessByteStridesOfOldExportersAreRead) {
     EXPECT_THAT(ErrorOf([&] { LoadGltf(dir / "bad.gltf", "bad.gltf"); }),
                 HasSubstr("bad.gltf: /bufferViews/0/byteStride: must be an integer in [4, 252], got 2"));
   }
+}
+
+// An image data: URI is decoded by its content, whatever its media type says, as
+// browsers (three.js) and Blender read it: "image/jpg" (not a media type) holding a
+// PNG was "image could not be loaded from "data:image/jpg;base64,..."" (tinygltf
+// took the URI for a file name), and a WebP so embedded gave the same message
+// instead of saying it is WebP.
+TEST(GltfExporters3, ImageDataUrisAreDecodedByTheirContent) {
+  TempDir dir;
+  WriteImage(dir / "tex.png", Image<uint8_t>(2, 2, 4, 200));
+  std::ifstream in(dir / "tex.png", std::ios::binary);
+  const std::vector<uint8_t> png((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  GltfBuilder b = test::SquareBuilder(true, true);
+  b.json()["textures"] = {{{"source", 0}}};
+  int mat = b.AddMaterial("labelled", {1, 1, 1, 1}, 0, 0.5);
+  b.json()["materials"][size_t(mat)]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  b.json()["meshes"][0]["primitives"][0]["material"] = mat;
+  for (const char* label : {"image/jpg", "image/png;charset=binary", "", "image/jpeg"}) {
+    b.json()["images"] = {{{"uri", std::string("data:") + label + ";base64," + Base64Encode(png.data(), png.size())}}};
+    b.WriteGltf(dir / "img.gltf", true);
+    GltfAsset a = LoadGltf(dir / "img.gltf", "img.gltf");
+    ASSERT_EQ(a.materials.size(), 1u) << label;
+    ASSERT_NE(a.materials[0].base_color_texture, nullptr) << label;
+    EXPECT_EQ(a.materials[0].base_color_texture->image.width, 2) << label;
+  }
+  const std::vector<uint8_t> webp = {'R', 'I', 'F', 'F', 30, 0, 0, 0, 'W', 'E', 'B', 'P', 'V', 'P', '8', ' ', 0, 0};
+  b.json()["images"] = {{{"uri", "data:image/webp;base64," + Base64Encode(webp.data(), webp.size())}}};
+  b.WriteGltf(dir / "img.gltf", true);
+  EXPECT_THAT(ErrorOf([&] { LoadGltf(dir / "img.gltf", "img.gltf"); }),
+              HasSubstr("img.gltf: /images/0: cannot decode the image: WebP"));
 }
 
 }  // namespace
