@@ -140,6 +140,17 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
   char letter = Upper(code[pos]);
   // P: Prusa firmware's (Buddy: XL) "P0 S1 L2 D0", parking the tool in its dock.
   const bool park = letter == 'P' && pos + 1 < code.size() && code[pos + 1] >= '0' && code[pos + 1] <= '9';
+  if (letter == 'F') {
+    // A line holding only F sets the feed, RS-274's form (CNC post-processors, Mach3's
+    // "F140 ;(Initialize feed rate)"): no motion, whatever the motion mode. It was read
+    // as the last G0-G3 again (after a G2: "G2 needs I/J"), or refused before any.
+    ReadWords(code, pos, true);
+    if (words_.size() == 1) {
+      ++commands_on_line_;
+      SetFeed();
+      return;
+    }
+  }
   if (std::string_view("XYZEFIJKR").find(letter) != std::string_view::npos && motion_mode_ >= 0) {
     ModalMotion(code, pos);
     return;

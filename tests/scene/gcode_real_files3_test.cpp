@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "scene/gcode.h"
 
 namespace lt {
@@ -117,6 +119,27 @@ TEST(GcodeRealFiles3, ExtruderOnWithoutEIsWarned) {
       "G1 X1 Y1 F600 E0.4\nG1 X2 Y1\nG1 X3 Y1 E0.8\nM103\n",
       "5d.gcode");
   EXPECT_TRUE(five_d.warnings.empty());
+}
+
+// A CNC router's file (in a G-code viewer's demos) sets the feed on lines of their own,
+// RS-274's form: "F4000" then "G01 Z-12.100", "F12000" then "G02 ...". Such a line was read
+// as the last G0-G3 again: after a G02 it was "G2 needs I/J (centre offset) or R
+// (radius)", and the file could not be read; before any motion it was "expected a command".
+TEST(GcodeRealFiles3, FeedAloneOnItsLineSetsTheFeed) {
+  Toolpath p = ParseGcode(
+      "T1\nG43 H1\nM03 S18000\nG00 X176.604 Y554.890\nG00 Z10.000 \nF4000\nG01 Z-12.100\nF12000\n"
+      "G02 X183.675 Y561.961 I3.536 J3.536\nG02 X176.604 Y554.890 I-3.536 J-3.536\nF4000\nG00 Z20.000 \nM05\nM30\n",
+      "router.gcode");
+  ASSERT_EQ(p.segments.size(), 6u);
+  EXPECT_NEAR(p.segments[2].feed_m_s, 4000 / 60.0 * kMm, 1e-12);  // G01 Z-12.1 at F4000
+  const ToolpathSegment& arc = p.segments[3];
+  EXPECT_TRUE(arc.arc);
+  EXPECT_NEAR(arc.Duration(), M_PI * 5.0 / (12000 / 60.0), 1e-6);  // half a circle of radius 5 at F12000
+  EXPECT_NEAR(p.segments.back().end_m.z(), 20 * kMm, 1e-12);
+  EXPECT_TRUE(p.warnings.empty());
+  // Mach3's header: F before any motion command.
+  Toolpath mach3 = ParseGcode("G21\nF140 ;(Initialize feed rate)\nG01 X10\n", "mach3.gcode");
+  EXPECT_NEAR(mach3.segments.back().feed_m_s, 140 / 60.0 * kMm, 1e-12);
 }
 
 }  // namespace
