@@ -71,7 +71,12 @@ double GcodeReader::Extruded() {
   const char letters[3] = {'E', 'A', 'B'};
   for (int k = 0; k < 3; ++k) {
     if (const Word* w = Find(letters[k])) {
-      if (e) Fail(std::string("both ") + letters[axis] + " and " + letters[k] + ": one extruder axis per move");
+      // A 5-axis printer's file turns rotary A, B (and C) axes while E extrudes: say so.
+      if (e) {
+        Fail(std::string("both ") + letters[axis] + " and " + letters[k] +
+             ": one extruder axis per move (A and B are read as extruders, as the Mach3 and Machinekit flavours "
+             "and MakerBot's second extruder use them; rotary A/B axes of a 5-axis printer are not modelled)");
+      }
       e = w;
       axis = k;
     }

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "scene/gcode.h"
+#include "test_util.h"
 
 namespace lt {
 namespace {
@@ -140,6 +141,16 @@ TEST(GcodeRealFiles3, FeedAloneOnItsLineSetsTheFeed) {
   // Mach3's header: F before any motion command.
   Toolpath mach3 = ParseGcode("G21\nF140 ;(Initialize feed rate)\nG01 X10\n", "mach3.gcode");
   EXPECT_NEAR(mach3.segments.back().feed_m_s, 140 / 60.0 * kMm, 1e-12);
+}
+
+// A 5-axis printer's file turns rotary axes A, B, C while E extrudes. The reader takes A
+// and B as extruders (Mach3's flavours, MakerBot's second extruder): such a file is
+// refused at its first line with both, and the refusal now says why.
+TEST(GcodeRealFiles3, RotaryAxesBesideEAreRefusedSayingWhy) {
+  EXPECT_THAT(test::ErrorOf([] { ParseGcode("G1 X10 Y0 Z1 A30 E0.5 F600\n", "5axis.gcode"); }),
+              HasSubstr("5axis.gcode:1: both E and A: one extruder axis per move (A and B are read as extruders, as "
+                        "the Mach3 and Machinekit flavours and MakerBot's second extruder use them; rotary A/B axes of "
+                        "a 5-axis printer are not modelled)"));
 }
 
 }  // namespace
