@@ -141,6 +141,8 @@ TEST_F(PrintScan, CoverageOfTheBeadsPrintedDuringTheRun) {
   EXPECT_LT(j["coverage"].get<double>(), 0.45);
   EXPECT_GT(j["points_on_print"].get<int>(), 0);
   EXPECT_EQ(j["max_turn_rate_deg_s"].get<double>(), j["max_turn_rate_deg_s"].get<double>());  // finite, not NaN
+  EXPECT_TRUE(j["turn_rate_limit_deg_s"].is_null());  // the scene sets none
+  EXPECT_THAT(r.out, HasSubstr("s (caster): "));
   // A run without a print is refused.
   r = RunCli("coverage " + Quoted(*root_ / "nothing"));
   EXPECT_EQ(r.exit_code, 2);

@@ -131,7 +131,10 @@ void Run(const CoverageArgs& a) {
     d = std::remainder(d, 2 * M_PI);
     if (std::abs(d) / kTurnStepS > max_rate) max_rate = std::abs(d) / kTurnStepS, max_rate_t = t;
   }
-  nlohmann::json j = {{"orientation", MotionToJson(scene.motion)["orientation"]},
+  const nlohmann::json resolved = MotionToJson(scene.motion);
+  std::string rule = resolved["orientation"].get<std::string>();
+  if (resolved.contains("max_turn_deg_s")) rule += ", held to " + FormatNumber(resolved["max_turn_deg_s"].get<double>()) + " deg/s";
+  nlohmann::json j = {{"orientation", resolved["orientation"]},
                       {"gcode_time_s", {g0, g1}},
                       {"distance_mm", a.distance_mm},
                       {"top_area_mm2", cov.area_m2 * 1e6},
@@ -141,11 +144,12 @@ void Run(const CoverageArgs& a) {
                       {"points_on_print", on_print.size()},
                       {"median_spacing_mm", spacing * 1e3},
                       {"max_turn_rate_deg_s", max_rate * 180 / M_PI},
+                      {"turn_rate_limit_deg_s", resolved.contains("max_turn_deg_s") ? resolved["max_turn_deg_s"] : nlohmann::json()},
                       {"max_turn_rate_gcode_time_s", max_rate_t}};
   WriteFileAtomically(run / "coverage.json", j.dump(2) + "\n");
   if (a.quiet) return;
   std::cout << std::fixed << std::setprecision(1) << "coverage of the beads printed in G-code time [" << g0 << ", " << g1
-            << "] s (" << MotionToJson(scene.motion)["orientation"].get<std::string>() << "): "
+            << "] s (" << rule << "): "
             << 100 * cov.Share() << "% of " << cov.area_m2 * 1e6 << " mm^2 of top surface within " << FormatNumber(a.distance_mm)
             << " mm of a point\n"
             << std::setprecision(3) << "points: " << points.size() << " (" << on_print.size()
