@@ -137,6 +137,12 @@ void GcodeReader::Comment(std::string_view comment) {
     path_.header_layer_height_m = *CommentNumber(c.substr(14), "layer_height") * kMetresPerMm;
   } else if (StartsWith(c, "layer_thickness_mm =")) {  // KISSlicer
     path_.header_layer_height_m = *CommentNumber(c.substr(20), "layer_thickness_mm") * kMetresPerMm;
+  } else if (c == "Software Leveling Applied") {
+    // MatterControl writes its measured bed plane (or mesh) into Z: the bed is not at Z 0.
+    WarnOncePerName("Software Leveling Applied",
+                    "MatterControl applied its software levelling to the file: Z follows the bed it measured (a "
+                    "real file's first layer runs at Z 2.15-2.6), not Z 0, so the part stands where that bed is; "
+                    "place the bed in the scene (world_from_gcode) to match");
   } else if (StartsWith(c, "layerThickness =")) {  // MatterSlice (MatterControl)
     path_.header_layer_height_m = *CommentNumber(c.substr(16), "layerThickness") * kMetresPerMm;
   } else if (StartsWith(c, "sliceHeight =")) {  // Kiri:Moto's process settings

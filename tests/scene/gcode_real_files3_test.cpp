@@ -96,6 +96,10 @@ TEST(GcodeRealFiles3, MatterSliceHeader) {
   EXPECT_NEAR(p.header_layer_height_m, 0.2 * kMm, 1e-15);
   EXPECT_EQ(p.LayerCount(), 1);
   EXPECT_NEAR(p.layer_height_m.at(0), 0.25 * kMm, 1e-15);
+  // Its software levelling puts the bed's measured plane into Z (layer 0 at Z 2.17 here): said once.
+  ASSERT_EQ(p.warnings.size(), 1u);
+  EXPECT_EQ(p.warnings[0].line, 1);
+  EXPECT_THAT(p.warnings[0].text, HasSubstr("MatterControl applied its software levelling to the file"));
 }
 
 // Skeinforge 11 for a Thing-O-Matic with a DC extruder: "M101" (extruder on) ... "M103"
