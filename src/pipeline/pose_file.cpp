@@ -119,6 +119,34 @@ Pose RowPose(const Layout& l, const std::vector<double>& v, double scale, const 
   return pose;
 }
 
+// The body of the rows read: --pose-body's, else the file's one. Throws lt::InputError
+// for a file of several without --pose-body, a --pose-body the file does not hold, or
+// one given for a file that names no bodies.
+void CheckBodies(const std::string& name, const PoseFileOptions& options, bool motive,
+                 const std::optional<Layout>& layout, int layout_line,
+                 const std::vector<std::pair<std::string, int>>& bodies) {
+  if (motive) return;  // MotiveAsOneHeader chose its rigid body
+  if (!layout || layout->body < 0) {
+    if (options.body) {
+      throw InputError(name, "--pose-body '" + *options.body + "': the file names no bodies (--pose-body picks an "
+                             "OptiTrack Motive export's rigid body, or the rows of one child_frame_id)");
+    }
+    return;
+  }
+  std::string listed;
+  for (const auto& b : bodies) listed += (listed.empty() ? "'" : ", '") + b.first + "'";
+  const std::string column = "column " + std::to_string(layout->body + 1) + " '" + layout->body_column + "'";
+  if (options.body && std::none_of(bodies.begin(), bodies.end(), [&](const auto& b) { return b.first == *options.body; })) {
+    throw InputError(name + ":" + std::to_string(layout_line), "no rows of the child frame '" + *options.body + "' (" +
+                                                                   column + "): its rows are of " + listed);
+  }
+  if (!options.body && bodies.size() > 1) {
+    throw InputError(name + ":" + std::to_string(bodies[1].second),
+                     "rows of several child frames (" + column + "), mixed in one trajectory if read: give --pose-body: " +
+                         listed);
+  }
+}
+
 }  // namespace
 
 QuaternionOrder ParseQuaternionOrder(const std::string& text, const std::string& option) {
@@ -138,13 +166,16 @@ PoseUnits ParsePoseUnits(const std::string& text, const std::string& option) {
 PoseFile ParsePoseFile(const std::string& file_text, const std::string& name, const PoseFileOptions& options,
                        const std::function<void(const std::string&)>& warn) {
   // An OptiTrack Motive export: its rows above the data read as one header line.
-  const std::optional<MotiveText> motive = MotiveAsOneHeader(file_text, name);
+  const std::optional<MotiveText> motive = MotiveAsOneHeader(file_text, name, options.body);
   const std::string& text = motive ? motive->text : file_text;
   PoseFile out;
   std::optional<Layout> layout;
   std::optional<PoseUnits> header_units;
   std::string last_comment;  // "# x y z qx qy qz qw" right above the first row may name the columns
   int last_comment_line = 0;
+  int layout_line = 0;
+  // Rows naming their body (a child_frame_id column): the bodies in file order, with the line of each one's first row.
+  std::vector<std::pair<std::string, int>> bodies;
   size_t line_no = 0;
   size_t pos = text.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0;
   double largest_m = 0;
@@ -174,6 +205,7 @@ PoseFile ParsePoseFile(const std::string& file_text, const std::string& name, co
     if (!layout) {
       if (!AllNumbers(fields)) {
         layout = HeaderLayout(fields, where, true, &header_units);
+        layout_line = int(line_no);
         continue;
       }
       if (last_comment_line == int(line_no) - 1) {
@@ -181,6 +213,7 @@ PoseFile ParsePoseFile(const std::string& file_text, const std::string& name, co
         const std::vector<std::string_view> names = SplitRow(last_comment, &comment_separator);
         if (names.size() == fields.size() && !AllNumbers(names)) {
           layout = HeaderLayout(names, name + ":" + std::to_string(last_comment_line), false, &header_units);
+          layout_line = last_comment_line;
         }
       }
       if (!layout) layout = HeaderlessLayout(fields.size(), separator, options, where);
@@ -196,6 +229,14 @@ PoseFile ParsePoseFile(const std::string& file_text, const std::string& name, co
     if (fields.size() != layout->fields) {
       throw InputError(where, std::to_string(fields.size()) + " fields, but the first row has " +
                                   std::to_string(layout->fields) + " (" + layout->form + ")");
+    }
+    if (layout->body >= 0) {
+      // Rows of several bodies (a tf topic's frames): the chosen one's only.
+      const std::string body(fields[size_t(layout->body)]);
+      if (std::none_of(bodies.begin(), bodies.end(), [&](const auto& b) { return b.first == body; })) {
+        bodies.emplace_back(body, int(line_no));
+      }
+      if (body != (options.body ? *options.body : bodies.front().first)) continue;
     }
     std::vector<double> v(fields.size(), 0.0);
     for (size_t i = 0; i < fields.size(); ++i) {
@@ -244,8 +285,10 @@ PoseFile ParsePoseFile(const std::string& file_text, const std::string& name, co
     const double t = out.poses.back().translation().norm();
     if (t > largest_m) largest_m = t, largest_line = int(line_no);
   }
+  CheckBodies(name, options, motive.has_value(), layout, layout_line, bodies);
   if (out.poses.empty()) throw InputError(name, "holds no pose (one row per frame expected)");
   out.form = motive ? "OptiTrack Motive rigid body '" + motive->body + "', " + layout->form : layout->form;
+  if (layout->body >= 0) out.form += ", child frame '" + (options.body ? *options.body : bodies.front().first) + "'";
   if (!options.units && !header_units && largest_m > kMillimetreHint_m && warn) {
     warn(name + ":" + std::to_string(largest_line) + ": a translation of " + FormatNumber(largest_m) +
          " m: are the poses in millimetres (as KUKA, ABB and Fanuc controllers write them)? --pose-units mm reads "

@@ -21,7 +21,8 @@
 //     unit >= 1e17 is in ns (EuRoC's #timestamp);
 //     columns named frame, index, image, file, filename, id or name are skipped,
 //     and those of other quantities: velocities, biases, covariances, twists,
-//     ROS's header.seq and frame_id, ABB's cf1 cf4 cf6 cfx, move_type, speed,
+//     ROS's header.seq and frame_id (its child_frame_id names the body: rows of
+//     several child frames need options.body, which keeps that one's rows), ABB's cf1 cf4 cf6 cfx, move_type, speed,
 //     zone, PlotJuggler's roll_deg, pitch_deg, yaw_deg beside the quaternion they
 //     derive from. In a UR RTDE log every field but actual_TCP_pose_0..5 is skipped
 //     (target_TCP_pose too, read when it is the only pose: a planned path); in a
@@ -31,8 +32,9 @@
 //     Any other name is an error: it may be a second pose (x2, pose_b_x), or a
 //     tool, work object or external axis changing the pose's frame.
 //     OptiTrack Motive's CSV export (settings, Type, Name, ID, Rotation/Position
-//     rows above Frame,Time,X,Y,Z,W,X,Y,Z): its one rigid body's quaternion and
-//     position, in its length unit (pose_file_motive.h); Vicon Nexus exports
+//     rows above Frame,Time,X,Y,Z,W,X,Y,Z): its rigid body's quaternion and
+//     position (of several, the one options.body names), in its length unit
+//     (pose_file_motive.h); Vicon Nexus exports
 //     (several header rows, angles in degrees), Qualisys QTM TSV exports (Euler
 //     angles of a definition the file does not give) and JSON files (nerfstudio's
 //     OpenGL camera axes) are refused. Fields may be double-quoted; a separator
@@ -70,6 +72,10 @@ struct PoseFileOptions {
   // Matching (scan_poses.h): seconds added to every image name's time before
   // its pose is interpolated; set, the poses must be matched by time.
   std::optional<double> image_time_offset_s;
+  // --pose-body: the body whose poses are read from a file of several: an OptiTrack
+  // Motive export's rigid body by its name, or the rows whose child_frame_id (ROS's tf,
+  // Odometry) is this. Unset: a file of several bodies is an error naming them.
+  std::optional<std::string> body;
 };
 
 struct PoseFile {

@@ -93,6 +93,12 @@ std::optional<Layout> HeaderLayout(const std::vector<std::string_view>& fields, 
       continue;
     }
     const std::vector<std::string> words = Words(name);
+    if (ChildFrame(words)) {
+      // ROS's child_frame_id (a tf or Odometry message): the body whose pose the row is.
+      if (!set(&l.body)) return fail("a second child frame column");
+      l.body_column = std::string(TrimBlanks(fields[i]));
+      continue;
+    }
     double part = 0;
     std::string prefix;
     if (TimePart(words, &part, &prefix)) {

@@ -27,6 +27,8 @@ struct Layout {
   int time_nanosec = -1;    // the column of its nanoseconds, when written in two (ROS's stamp.sec, stamp.nanosec)
   double time_to_s = 1.0;   // its unit
   bool time_unit_known = false;  // said by the name (or the log's format); else from the values' size
+  int body = -1;            // the column naming the body (frame) whose pose the row is: ROS's child_frame_id; -1: none
+  std::string body_column;  // its name as written
   int r[4] = {-1, -1, -1, -1};
   int m[16] = {-1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1};  // kMatrixColumns: row-major element's column
   std::string form;

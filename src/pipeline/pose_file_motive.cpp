@@ -1,6 +1,7 @@
 // OptiTrack Motive's CSV export read as one header line (pose_file_motive.h).
 #include "pipeline/pose_file_motive.h"
 
+#include <algorithm>
 #include <map>
 #include <string_view>
 #include <vector>
@@ -26,7 +27,8 @@ bool ColumnNames(const Line& l) { return Field(l, 0) == "frame" && Field(l, 1).r
 
 }  // namespace
 
-std::optional<MotiveText> MotiveAsOneHeader(const std::string& text, const std::string& name) {
+std::optional<MotiveText> MotiveAsOneHeader(const std::string& text, const std::string& name,
+                                            const std::optional<std::string>& chosen_body) {
   std::vector<Line> lines;
   size_t pos = text.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0;
   for (int number = 1; pos < text.size(); ++number) {
@@ -65,27 +67,38 @@ std::optional<MotiveText> MotiveAsOneHeader(const std::string& text, const std::
   const Line& kind = lines[columns - 1];  // ",,Rotation,Rotation,...,Position,..."
   const Line& axes = lines[columns];
   if (!type || !body) throw InputError(where(axes), "an OptiTrack Motive export without its Type and Name rows");
-  // The rigid bodies' rotation and position columns.
+  // The rigid bodies' rotation and position columns: the chosen one's, the others' skipped.
+  auto body_of = [&](size_t c) {
+    return std::string(TrimBlanks(c < body->fields.size() ? body->fields[c] : std::string_view()));
+  };
   std::vector<std::string> bodies;
+  for (size_t c = 2; c < axes.fields.size(); ++c) {
+    const std::string k = Field(kind, c);
+    if (Field(*type, c) != "rigid body" || (k != "rotation" && k != "position")) continue;
+    const std::string b = body_of(c);
+    if (std::find(bodies.begin(), bodies.end(), b) == bodies.end()) bodies.push_back(b);
+  }
+  if (bodies.empty()) {
+    throw InputError(where(*type), "an OptiTrack Motive export without a rigid body (markers only): export the "
+                                   "scanner's rigid body");
+  }
+  std::string listed;
+  for (const std::string& b : bodies) listed += (listed.empty() ? "'" : ", '") + b + "'";
+  if (chosen_body && std::find(bodies.begin(), bodies.end(), *chosen_body) == bodies.end()) {
+    throw InputError(where(*body), "no rigid body '" + *chosen_body + "' in this OptiTrack Motive export: its rigid " +
+                                       (bodies.size() == 1 ? "body is " : "bodies are ") + listed);
+  }
+  if (!chosen_body && bodies.size() > 1) {
+    throw InputError(where(*body), "an OptiTrack Motive export of several rigid bodies: give --pose-body: " + listed);
+  }
+  const std::string chosen = chosen_body ? *chosen_body : bodies[0];
   std::vector<std::string> names(axes.fields.size());
   names[0] = "frame";
   names[1] = "time [s]";
-  std::string chosen;
   for (size_t c = 2; c < axes.fields.size(); ++c) {
-    if (Field(*type, c) != "rigid body") continue;
+    if (Field(*type, c) != "rigid body" || body_of(c) != chosen) continue;
     const std::string k = Field(kind, c), a = Field(axes, c);
-    if (k != "rotation" && k != "position") continue;
-    const std::string b = std::string(TrimBlanks(c < body->fields.size() ? body->fields[c] : std::string_view()));
-    if (chosen.empty()) chosen = b;
-    if (b != chosen) {
-      throw InputError(where(*body), "an OptiTrack Motive export of several rigid bodies ('" + chosen + "', '" + b +
-                                         "'): export the one holding the scanner alone");
-    }
-    names[c] = k == "rotation" ? "q" + a : a + " [" + unit + "]";
-  }
-  if (chosen.empty()) {
-    throw InputError(where(*type), "an OptiTrack Motive export without a rigid body (markers only): export the "
-                                   "scanner's rigid body");
+    if (k == "rotation" || k == "position") names[c] = k == "rotation" ? "q" + a : a + " [" + unit + "]";
   }
   MotiveText out{text, chosen};
   for (size_t k = 0; k < columns; ++k) {

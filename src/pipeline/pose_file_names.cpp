@@ -84,6 +84,12 @@ std::vector<std::string> Words(const std::string& name) {
   return words;
 }
 
+bool ChildFrame(const std::vector<std::string>& words) {
+  const size_t n = words.size();
+  if (n >= 3 && words[n - 3] == "child" && words[n - 2] == "frame" && words[n - 1] == "id") return true;
+  return n >= 2 && words[n - 2] == "child" && words[n - 1] == "frame";
+}
+
 namespace {
 
 // A word naming another quantity than the pose: velocities and accelerations, biases,

@@ -30,6 +30,10 @@ bool Skipped(const std::string& name);
 // "p_RS_R_x", PlotJuggler's "/vicon/pose/position/x"); rostopic's '%' before "%time" dropped.
 std::vector<std::string> Words(const std::string& name);
 
+// ROS's child frame: a name ending in child_frame_id or child_frame ("field.child_frame_id",
+// "field.transforms0.child_frame_id"), the frame a tf or Odometry message gives the pose of.
+bool ChildFrame(const std::vector<std::string>& words);
+
 // A word of the name names another quantity than the pose (velocities, biases, ...).
 bool OtherQuantity(const std::vector<std::string>& words);
 

@@ -206,7 +206,7 @@ TEST(PoseFile, OptiTrackMotiveExportReadsItsRigidBody) {
   // Two rigid bodies: which is the scanner's? Euler angles, centimetres, markers only: refused.
   EXPECT_THAT(ErrorOf(Motive(settings, body + ",Rigid Body,Rigid Body,Rigid Body",
                              "A,A,A,A,A,A,A,A,B,B,B") + trailing),
-              HasSubstr("poses.csv:4: an OptiTrack Motive export of several rigid bodies ('A', 'B')"));
+              HasSubstr("poses.csv:4: an OptiTrack Motive export of several rigid bodies: give --pose-body: 'A', 'B'"));
   EXPECT_THAT(ErrorOf(Motive("Rotation Type,XYZ,Length Units,Meters", body + ",Marker,Marker,Marker",
                              "A,A,A,A,A,A,A,A,m,m,m") + trailing),
               HasSubstr("poses.csv:1: an OptiTrack Motive export with Rotation Type xyz"));
