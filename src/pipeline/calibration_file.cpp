@@ -158,7 +158,7 @@ Camera CalibrationFile::MakeCamera(const CameraParams& base, const std::string& 
   }
 }
 
-CalibrationFile ReadCalibrationFile(const std::filesystem::path& path) {
+CalibrationFile ReadCalibrationFile(const std::filesystem::path& path, const CalibrationFileOptions& options) {
   const std::string text = OpenCvYaml::ReadText(path);
   const std::string file = path.string();
   // The camera files of other tools (ROS, Kalibr, camodocal) are YAML that
@@ -168,7 +168,7 @@ CalibrationFile ReadCalibrationFile(const std::filesystem::path& path) {
   const bool opencv_header = first != std::string::npos && text.compare(first, 6, "%YAML:") == 0;
   if (!IsOpenCvXmlText(text)) {
     CalibrationFile other;
-    if (ReadColmapCameras(text, file, &other)) {
+    if (ReadColmapCameras(text, file, options.camera, &other)) {
       other.MakeCamera(CameraParams{}, file);
       return other;
     }
@@ -182,12 +182,13 @@ CalibrationFile ReadCalibrationFile(const std::filesystem::path& path) {
                                                   "the camera file of ROS (camera_info), Kalibr (camchain) or camodocal)");
       }
     }
-    if (root && ReadOtherCameraFile(*root, file, &other)) {
+    if (root && ReadOtherCameraFile(*root, file, options.camera, &other)) {
       other.MakeCamera(CameraParams{}, file);  // a distortion that folds inside the image
       return other;
     }
   }
   OpenCvYaml y = OpenCvYaml::Parse(text, file);
+  CheckNoCameraChosen(options.camera, file, "an OpenCV FileStorage file");
   CalibrationFile c;
   for (const auto& e : y.entries()) {
     if (!KnownKeys().count(e.key)) c.ignored_keys.push_back(e.key);

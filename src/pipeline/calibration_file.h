@@ -72,13 +72,23 @@ struct CalibrationFile {
   Camera MakeCamera(const CameraParams& base, const std::string& file) const;
 };
 
+// Which camera of a file of several to read (--calib-camera).
+struct CalibrationFileOptions {
+  // A Kalibr camchain's key (cam1), a VINS-Fusion config's camera (cam1: its
+  // cam1_calib file), a COLMAP cameras.txt's CAMERA_ID; for a file of one
+  // camera, its name (Kalibr's key, camera_name), which must match. Unset: a
+  // file of several cameras is an error naming them.
+  std::optional<std::string> camera;
+};
+
 // Reads a calibration file; errors are lt::InputError naming "file:line".
 // Plane normals are normalised (n and d divided by |n|) unless already unit to 1e-12.
 // Besides OpenCV's FileStorage YAML and XML, the camera files of ROS
 // (camera_info), Kalibr (camchain) and camodocal are read for their camera
 // (pipeline/camera_file_formats.h). A file from which nothing is read (no
-// camera, laser_planes, tool_from_cam or working range) is an error.
-CalibrationFile ReadCalibrationFile(const std::filesystem::path& path);
+// camera, laser_planes, tool_from_cam or working range) is an error, as is
+// options.camera for an OpenCV file (one camera, unnamed).
+CalibrationFile ReadCalibrationFile(const std::filesystem::path& path, const CalibrationFileOptions& options = {});
 // The form a calibration file of this name is written in: .xml is XML, .yaml
 // and .yml are YAML (any case). Throws lt::InputError naming the path for any
 // other extension (or none), so no file holds one form under another's name.

@@ -1,5 +1,5 @@
 // COLMAP's cameras.txt for `--calib` (pipeline/camera_file_formats.h): one
-// camera line, its principal point moved from COLMAP's pixel convention
+// camera line (of several, the one whose CAMERA_ID --calib-camera gives), its principal point moved from COLMAP's pixel convention
 // (pixel (0,0)'s centre at (0.5, 0.5), as COLMAP's documentation of its
 // keypoints states) to lasertwin's and OpenCV's ((0,0)).
 #include <cmath>
@@ -11,7 +11,8 @@
 
 namespace lt {
 
-bool ReadColmapCameras(const std::string& text, const std::string& file, CalibrationFile* out) {
+bool ReadColmapCameras(const std::string& text, const std::string& file, const std::optional<std::string>& camera,
+                       CalibrationFile* out) {
   struct Row {
     int line;
     std::vector<std::string> tokens;
@@ -35,11 +36,9 @@ bool ReadColmapCameras(const std::string& text, const std::string& file, Calibra
     rows.push_back(std::move(r));
   }
   if (rows.empty()) return false;
-  if (rows.size() > 1) {
-    throw InputError(file, "COLMAP cameras.txt with " + std::to_string(rows.size()) +
-                               " cameras: lasertwin reads one camera; keep the scanner camera's line alone in the file");
-  }
-  const Row& r = rows[0];
+  std::vector<std::string> ids, wheres;
+  for (const Row& r : rows) ids.push_back(r.tokens[0]), wheres.push_back(file + ":" + std::to_string(r.line));
+  const Row& r = rows[ChooseCamera(ids, wheres, camera, "a COLMAP cameras.txt")];
   const std::string where = file + ":" + std::to_string(r.line);
   const std::string& model = r.tokens[1];
   std::vector<double> p;

@@ -3,8 +3,10 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 
 #include "core/error.h"
+#include "core/text_fields.h"
 
 namespace lt {
 
@@ -104,8 +106,19 @@ bool IsCameraKey(const std::string& key) {
   return true;
 }
 
+// A file of one camera, named by `key` (camera_name) or not: `camera` must name it.
+void ChooseNamed(const Reader& r, const YamlNode& root, const char* key, const std::optional<std::string>& camera,
+                 const std::string& what) {
+  const YamlNode* n = root.Find(key);
+  if (!camera) return;
+  if (!n || n->kind != YamlNode::Kind::kScalar) CheckNoCameraChosen(camera, r.file(), what);
+  ChooseCamera({n->scalar}, {r.Where(*n)}, camera, what + " (its " + key + ")");
+}
+
 // ROS camera_info as camera_calibration_parsers write it.
-void ReadRosFile(const Reader& r, const YamlNode& root, CalibrationFile* out) {
+void ReadRosFile(const Reader& r, const YamlNode& root, const std::optional<std::string>& camera,
+                 CalibrationFile* out) {
+  ChooseNamed(r, root, "camera_name", camera, "a ROS camera_info file");
   CalibratedCamera c;
   c.width = r.Integer(r.Required(root, "image_width", "a ROS camera_info file"), "image_width", 1, 1 << 16);
   c.height = r.Integer(r.Required(root, "image_height", "a ROS camera_info file"), "image_height", 1, 1 << 16);
@@ -131,7 +144,9 @@ void ReadRosFile(const Reader& r, const YamlNode& root, CalibrationFile* out) {
 
 // A sensor_msgs/CameraInfo message as `rostopic echo` (K, D, ...) or
 // `ros2 topic echo` (k, d, ...) print it.
-void ReadRosMessage(const Reader& r, const YamlNode& root, CalibrationFile* out) {
+void ReadRosMessage(const Reader& r, const YamlNode& root, const std::optional<std::string>& camera,
+                    CalibrationFile* out) {
+  CheckNoCameraChosen(camera, r.file(), "a ROS CameraInfo message");
   auto find = [&](const char* upper, const char* lower) {
     const YamlNode* n = root.Find(upper);
     return n ? n : root.Find(lower);
@@ -176,18 +191,14 @@ void ReadRosMessage(const Reader& r, const YamlNode& root, CalibrationFile* out)
   out->camera = c;
 }
 
-void ReadKalibr(const Reader& r, const YamlNode& root, CalibrationFile* out) {
-  std::vector<std::string> cams;
+// A Kalibr camchain: the camera `camera` names (cam1), else its one camera. Its
+// extrinsics (T_cam_imu, cam1's T_cn_cnm1 = cam1_from_cam0) are not read.
+void ReadKalibr(const Reader& r, const YamlNode& root, const std::optional<std::string>& camera, CalibrationFile* out) {
+  std::vector<std::string> cams, wheres;
   for (const auto& [key, value] : root.map) {
-    if (IsCameraKey(key)) cams.push_back(key);
+    if (IsCameraKey(key)) cams.push_back(key), wheres.push_back(r.Where(value));
   }
-  if (cams.size() > 1) {
-    std::string names;
-    for (const auto& n : cams) names += (names.empty() ? "" : ", ") + n;
-    r.Fail("a Kalibr camera chain with " + std::to_string(cams.size()) + " cameras (" + names +
-           "): lasertwin reads one camera; keep the scanner camera's block alone in a file of its own (as cam0)");
-  }
-  const std::string name = cams[0];
+  const std::string name = cams[ChooseCamera(cams, wheres, camera, "a Kalibr camera chain")];
   const YamlNode& cam = *root.Find(name);
   if (cam.kind != YamlNode::Kind::kMap) r.Fail(cam, name + " must be a map");
   const std::string what = "Kalibr's " + name;
@@ -238,7 +249,9 @@ void ReadKalibr(const Reader& r, const YamlNode& root, CalibrationFile* out) {
 }
 
 // camodocal's camera (VINS-Mono, VINS-Fusion).
-void ReadCamodocal(const Reader& r, const YamlNode& root, CalibrationFile* out) {
+void ReadCamodocal(const Reader& r, const YamlNode& root, const std::optional<std::string>& camera,
+                   CalibrationFile* out) {
+  ChooseNamed(r, root, "camera_name", camera, "camodocal's camera file");
   const YamlNode& mt = *root.Find("model_type");
   const std::string model = r.String(mt, "model_type");
   if (model != "PINHOLE" && model != "KANNALA_BRANDT") {
@@ -285,6 +298,47 @@ void ReadCamodocal(const Reader& r, const YamlNode& root, CalibrationFile* out) 
     }
   }
   out->camera = c;
+}
+
+// VINS-Fusion's config: cam0_calib, cam1_calib, ... naming camodocal files, the first
+// num_of_cam of them (all without num_of_cam). The keys, in file order.
+std::vector<std::string> VinsFusionCameras(const YamlNode& root) {
+  const YamlNode* n = root.Find("num_of_cam");
+  const long count = n && n->kind == YamlNode::Kind::kScalar ? std::strtol(n->scalar.c_str(), nullptr, 10) : -1;
+  std::vector<std::string> keys;
+  for (const auto& [key, value] : root.map) {
+    const size_t at = key.size() - std::min(key.size(), size_t(6));
+    if (key.compare(at, 6, "_calib") != 0 || !IsCameraKey(key.substr(0, at))) continue;
+    if (count < 0 || std::strtol(key.c_str() + 3, nullptr, 10) < count) keys.push_back(key);
+  }
+  return keys;
+}
+
+// The camodocal file of the camera `camera` names (cam1), else of the one camera,
+// read beside the config as VINS-Fusion reads it (errors in it name that file).
+// Its extrinsics (body_T_cam0, body_T_cam1: imu_from_cam) are not read.
+void ReadVinsFusion(const Reader& r, const YamlNode& root, const std::optional<std::string>& camera,
+                    CalibrationFile* out) {
+  const std::vector<std::string> keys = VinsFusionCameras(root);
+  std::vector<std::string> cams, wheres;
+  for (const std::string& key : keys) cams.push_back(key.substr(0, key.size() - 6)), wheres.push_back(r.Where(*root.Find(key)));
+  const size_t chosen = ChooseCamera(cams, wheres, camera, "a VINS-Fusion config");
+  const YamlNode& n = *root.Find(keys[chosen]);
+  const std::string name = r.String(n, keys[chosen]);
+  const std::filesystem::path path = std::filesystem::path(r.file()).parent_path() / name;
+  if (!std::filesystem::is_regular_file(path)) {
+    r.Fail(n, keys[chosen] + " '" + name + "': no such file (VINS-Fusion reads it beside the config: " + path.string() +
+                  ")");
+  }
+  const YamlNode cam = ParseYamlTree(ReadTextFile(path, path.string()), path.string());
+  if (!cam.Find("model_type")) {
+    r.Fail(n, keys[chosen] + ": " + path.string() + " is not a camodocal camera file (no model_type)");
+  }
+  const Reader in_file(path.string(), out);
+  ReadCamodocal(in_file, cam, std::nullopt, out);
+  for (const auto& [key, value] : root.map) {
+    if (key != keys[chosen] && key != "num_of_cam") r.Ignore(key);
+  }
 }
 
 }  // namespace
@@ -340,7 +394,8 @@ void SetDistortion(const std::string& model, const std::vector<double>& d, const
   c->distortion = c->brown_conrady.IsZero() ? DistortionModel::kNone : DistortionModel::kBrownConrady;
 }
 
-bool ReadOtherCameraFile(const YamlNode& root, const std::string& file, CalibrationFile* out) {
+bool ReadOtherCameraFile(const YamlNode& root, const std::string& file, const std::optional<std::string>& camera,
+                         CalibrationFile* out) {
   if (root.kind != YamlNode::Kind::kMap) return false;
   CalibrationFile f;
   const Reader r(file, &f);
@@ -351,16 +406,18 @@ bool ReadOtherCameraFile(const YamlNode& root, const std::string& file, Calibrat
                         (value.Find("intrinsics") || value.Find("camera_model")));
   }
   if (root.Find("model_type")) {
-    ReadCamodocal(r, root, &f);
+    ReadCamodocal(r, root, camera, &f);
   } else if (kalibr) {
-    ReadKalibr(r, root, &f);
+    ReadKalibr(r, root, camera, &f);
+  } else if (!VinsFusionCameras(root).empty()) {
+    ReadVinsFusion(r, root, camera, &f);
   } else if (k && k->kind == YamlNode::Kind::kMap && k->tag.empty()) {
-    ReadRosFile(r, root, &f);
+    ReadRosFile(r, root, camera, &f);
   } else if ((root.Find("width") || root.Find("height")) &&
              ((root.Find("K") && root.Find("K")->kind == YamlNode::Kind::kSeq) ||
               (root.Find("k") && root.Find("k")->kind == YamlNode::Kind::kSeq))) {
     // (An OpenCV file's K: !!opencv-matrix is not a message's K.)
-    ReadRosMessage(r, root, &f);
+    ReadRosMessage(r, root, camera, &f);
   } else {
     return false;
   }

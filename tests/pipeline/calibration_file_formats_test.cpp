@@ -281,8 +281,8 @@ TEST(CalibrationFileFormats, KalibrCamchain) {
   const std::string cam1 = "cam1:\n  T_cn_cnm1:\n  - [1, 0, 0, -0.11]\n  - [0, 1, 0, 0]\n  - [0, 0, 1, 0]\n  - [0, 0, 0, 1]\n"
                            "  camera_model: pinhole\n  intrinsics: [461.5, 460.1, 356.4, 231.2]\n  resolution: [752, 480]\n";
   EXPECT_EQ(ErrorOf("stereo.yaml", cam0 + cam1),
-            (Err{"", "a Kalibr camera chain with 2 cameras (cam0, cam1): lasertwin reads one camera; keep the scanner "
-                     "camera's block alone in a file of its own (as cam0)"}));
+            (Err{":16", "a Kalibr camera chain of 2 cameras: give --calib-camera with the scanner camera's: 'cam0', "
+                        "'cam1'"}));
   std::string omni = radtan;
   omni.replace(omni.find("pinhole"), 7, "omni");
   EXPECT_EQ(ErrorOf("omni.yaml", omni).first, ":3");
@@ -437,8 +437,7 @@ TEST(CalibrationFileFormats, ColmapCameras) {
   EXPECT_EQ(f.camera->fisheye.k4, -0.0001);
   using Err = std::pair<std::string, std::string>;
   EXPECT_EQ(ErrorOf("several.txt", head + "1 SIMPLE_PINHOLE 1080 1920 1889.86 540 960\n2 SIMPLE_PINHOLE 1080 1920 1820.24 540 960\n"),
-            (Err{"", "COLMAP cameras.txt with 2 cameras: lasertwin reads one camera; keep the scanner camera's line "
-                     "alone in the file"}));
+            (Err{":4", "a COLMAP cameras.txt of 2 cameras: give --calib-camera with the scanner camera's: '1', '2'"}));
   EXPECT_EQ(ErrorOf("fov.txt", head + "1 FOV 640 480 500 500 320 240 0.9\n").first, ":3");
   EXPECT_EQ(ErrorOf("count.txt", head + "1 PINHOLE 640 480 500 500 320\n"),
             (Err{":3", "COLMAP PINHOLE has 4 parameters, got 3"}));
