@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/text_fields.h"
 #include "pipeline/opencv_yaml.h"
 
 namespace lt {
@@ -160,11 +161,7 @@ class XmlParser {
   size_t pos_ = 0;
 };
 
-std::string Trim(const std::string& s) {
-  const size_t b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
-}
+std::string Trim(const std::string& s) { return std::string(TrimBlanks(s)); }
 
 }  // namespace
 
@@ -189,7 +186,7 @@ std::vector<YamlEntry> ParseOpenCvXml(const std::string& text, const std::string
         parts[c.name] = &c;
       }
       if (parts.size() != 4) parser.Fail(el.line, "matrix '" + e.key + "' needs rows, cols, dt and data");
-      auto field = [&](const char* name) { return MatrixField{Trim(parts[name]->text), parser.Where(parts[name]->line)}; };
+      auto field = [&](const char* n) { return MatrixField{Trim(parts[n]->text), parser.Where(parts[n]->line)}; };
       const MatrixField data = field("data");
       std::vector<MatrixField> values;
       std::istringstream tokens(data.text);

@@ -76,25 +76,18 @@ class OpenCvYaml {
 
 // Whether a text is the XML form (starts with '<', after blanks or a BOM).
 bool IsOpenCvXmlText(const std::string& text);
-// Parses a matrix's dt ("d", "f", "2f", quoted or not) into m->dt and
-// m->channels; false when it is not one of OpenCV's (1 to 4 channels of d f i u s w c).
-bool ParseMatrixDt(std::string dt, YamlMatrix* m);
 // The entries of an OpenCV FileStorage XML text (OpenCvYaml::Parse calls it for
 // a text that starts with '<').
 std::vector<YamlEntry> ParseOpenCvXml(const std::string& text, const std::string& file);
-// The entries of an OpenCV FileStorage YAML text, read from its YAML tree
-// (pipeline/yaml_tree.h): the text's first line must be a %YAML directive.
-std::vector<YamlEntry> ParseOpenCvYaml(const std::string& text, const std::string& file);
 
 // A matrix field as either form holds it: its text and its place ("file:line").
 struct MatrixField {
-  std::string text;
-  std::string where;
+  std::string text, where;
 };
-// The matrix `key` from its fields (as both forms' readers take them): rows
-// and cols positive integers, dt as ParseMatrixDt takes it, the data values
-// finite numbers, rows x cols x channels of them (else an error at data_where).
-// Errors are lt::InputError at the field's place.
+// The matrix `key` from its fields, in either form: rows and cols positive
+// integers, dt one of OpenCV's ("d", "2f": 1 to 4 channels of d f i u s w c;
+// quoted or not), the data values finite numbers, rows x cols x channels of
+// them. Errors are lt::InputError at the field's place (the count: data_where).
 YamlMatrix MakeMatrix(const std::string& key, const MatrixField& rows, const MatrixField& cols, const MatrixField& dt,
                       const std::vector<MatrixField>& data, const std::string& data_where);
 

@@ -58,15 +58,12 @@ std::string BlockScalarText(const std::vector<std::string>& lines, char style, c
   while (n > 0 && lines[n - 1].empty()) --n;
   std::string text;
   for (size_t k = 0; k < n; ++k) {
-    // Folded: a line break between two lines of text at the common indentation
-    // is a space; before blank lines it is dropped (each blank line is one).
-    const bool folds = style == '>' && k > 0 && !lines[k - 1].empty() && lines[k - 1][0] != ' ';
-    if (k > 0 && !folds) {
-      text += '\n';
-    } else if (folds) {
+    if (k > 0) {
+      // Folded: a line break between two lines of text at the common indentation
+      // is a space; before blank lines it is dropped (each blank line is one).
       size_t next = k;
       while (lines[next].empty()) ++next;  // lines[n - 1] is not empty
-      if (lines[next][0] == ' ') {
+      if (style != '>' || lines[k - 1].empty() || lines[k - 1][0] == ' ' || lines[next][0] == ' ') {
         text += '\n';
       } else if (next == k) {
         text += ' ';

@@ -65,7 +65,9 @@ class TreeParser {
     root.line = 1;
     if (lines_.empty()) return root;
     if (lines_[0].indent != 0) Fail(lines_[0].no, "unexpected indentation (expected a top-level 'key: value')");
-    if (IsSeqItem(lines_[0].text)) Fail(lines_[0].no, "top-level sequences are not supported (expected 'key: value' lines)");
+    if (IsSeqItem(lines_[0].text)) {
+      Fail(lines_[0].no, "top-level sequences are not supported (expected 'key: value' lines)");
+    }
     root = ParseMap(i, 0);
     if (i < lines_.size()) Fail(lines_[i].no, "unexpected indentation");
     return root;
@@ -152,11 +154,9 @@ class TreeParser {
   // key's own indentation too).
   YamlNode ParseValue(const std::string& key, std::string rest, int no, int indent, size_t& i, bool in_map) {
     std::string tag, anchor;
-    while (!rest.empty() && ((rest[0] == '!' && tag.empty()) || (rest[0] == '&' && anchor.empty()))) {
-      size_t pos = 0;
-      (rest[0] == '!' ? tag : anchor) = Property(rest, pos, no);
-      rest = Trim(rest.substr(pos));
-    }
+    size_t start = 0;
+    ReadProperties(rest, start, no, &tag, &anchor);
+    rest = rest.substr(start);
     YamlNode node;
     if (rest.empty()) {
       if (i < lines_.size() && lines_[i].indent > indent) {
@@ -206,7 +206,17 @@ class TreeParser {
                                "' (values that span lines are supported inside [ ] and { } only)");
       }
     }
-    return Properties(std::move(node), tag, anchor);
+    return WithProperties(std::move(node), tag, anchor);
+  }
+
+  // The tag (!x) and anchor (&x) at s[pos], in either order, and the blanks after them.
+  void ReadProperties(const std::string& s, size_t& pos, int no, std::string* tag, std::string* anchor) const {
+    SkipBlanks(s, pos);
+    while (pos < s.size() && ((s[pos] == '!' && tag->empty()) || (s[pos] == '&' && anchor->empty()))) {
+      std::string* property = s[pos] == '!' ? tag : anchor;
+      *property = Property(s, pos, no);
+      SkipBlanks(s, pos);
+    }
   }
 
   // A tag or an anchor's name (without its '&') at s[pos], up to a blank, ',', ']' or '}'.
@@ -221,14 +231,16 @@ class TreeParser {
   YamlNode Alias(const std::string& s, size_t& pos, int no) const {
     const std::string name = Property(s, pos, no).substr(1);
     const auto it = anchors_.find(name);
-    if (it == anchors_.end()) Fail(no, "unknown alias '*" + name + "' (its anchor '&" + name + "' must come before it)");
+    if (it == anchors_.end()) {
+      Fail(no, "unknown alias '*" + name + "' (its anchor '&" + name + "' must come before it)");
+    }
     YamlNode node = it->second;
     node.line = no;
     return node;
   }
 
   // `node` with its tag, remembered under its anchor.
-  YamlNode Properties(YamlNode node, const std::string& tag, const std::string& anchor) {
+  YamlNode WithProperties(YamlNode node, const std::string& tag, const std::string& anchor) {
     if (!tag.empty()) node.tag = tag;
     if (!anchor.empty()) anchors_[anchor] = node;
     return node;
@@ -264,9 +276,9 @@ class TreeParser {
     while (i < lines_.size() && lines_[i].no <= int(end)) ++i;
     YamlNode node;
     node.kind = YamlNode::Kind::kScalar;
-    node.quoted = true;  // a string, never a number
     node.line = no;
     node.scalar = BlockScalarText(body, header[0], chomp);
+    node.quoted = true;  // a string, never a number
     return node;
   }
 
@@ -292,14 +304,9 @@ class TreeParser {
   }
 
   YamlNode ParseFlow(const std::string& s, size_t& pos, int no, bool key) {
-    SkipBlanks(s, pos);
     std::string tag, anchor;
-    while (pos < s.size() && ((s[pos] == '!' && tag.empty()) || (s[pos] == '&' && anchor.empty()))) {
-      (s[pos] == '!' ? tag : anchor) = Property(s, pos, no);
-      SkipBlanks(s, pos);
-    }
-    YamlNode node = ParseFlowNode(s, pos, no, key);
-    return Properties(std::move(node), tag, anchor);
+    ReadProperties(s, pos, no, &tag, &anchor);
+    return WithProperties(ParseFlowNode(s, pos, no, key), tag, anchor);
   }
 
   YamlNode ParseFlowNode(const std::string& s, size_t& pos, int no, bool key) {

@@ -1,16 +1,12 @@
 // The one YAML reader of lasertwin: OpenCV's FileStorage YAML
-// (pipeline/opencv_yaml.h reads its entries from this tree) and the camera
-// files other tools write (ROS camera_info, Kalibr camchain, camodocal;
-// pipeline/camera_file_formats.h). Block mappings and sequences by
-// indentation, flow sequences [a, b] and mappings {a: 1} (which may span
-// lines), a value on the line after its key, plain and quoted scalars (quoted
-// keys too), literal and folded block scalars (| >, with chomping and
-// indentation indicators), anchors and aliases (&a, *a), tags
-// (`!!opencv-matrix`, kept on the node), `#` comments, a BOM, CR LF line ends,
-// leading directives (`%YAML:1.0`, `%YAML 1.0`) and `---` / `...` document
-// markers (of several documents, the first is read). Tabs in indentation and
-// plain scalars over several lines are refused. Errors are lt::InputError
-// naming "file:line".
+// (pipeline/opencv_yaml.h) and the camera files of other tools (ROS, Kalibr,
+// camodocal; pipeline/camera_file_formats.h). Block and flow collections
+// (flow ones may span lines), a value on the line after its key, plain and
+// quoted scalars and keys, block scalars (| >), anchors and aliases, tags
+// (`!!opencv-matrix`, kept on the node), `#` comments, BOM, CR LF, leading
+// directives (`%YAML:1.0`) and `---` / `...` (of several documents, the
+// first). Tabs in indentation and plain scalars over several lines are
+// refused. Errors are lt::InputError naming "file:line".
 #pragma once
 
 #include <string>

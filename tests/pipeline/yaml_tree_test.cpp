@@ -42,20 +42,25 @@ TEST(YamlTree, BlockScalars) {
   EXPECT_EQ(root.Find("e")->scalar, "1");
   EXPECT_EQ(root.Find("e")->line, 18);
   EXPECT_EQ(ErrorOf("a: |x\n  text\n"), "t.yaml:1: unexpected text after the block scalar's '|': 'x'");
-  EXPECT_EQ(ErrorOf("a: |\n    first\n  less\n"), "t.yaml:3: a line of the block scalar 'a' indented less than its first line");
+  EXPECT_EQ(ErrorOf("a: |\n    first\n  less\n"),
+            "t.yaml:3: a line of the block scalar 'a' indented less than its first line");
 }
 
 // Anchors and aliases, in block and flow collections. (Before: refused,
 // "anchors and aliases are not supported".)
 TEST(YamlTree, AnchorsAndAliases) {
   const YamlNode root = ParseYamlTree(
-      "base: &b\n  rows: 3\n  data: [&x 1.5, *x]\ncopy: *b\ntagged: &m !!opencv-matrix\n  rows: 1\nagain: *m\n", "t.yaml");
+      "base: &b\n  rows: 3\n  data: [&x 1.5, *x, !!str &y 2, *y]\ncopy: *b\n"
+      "tagged: &m !!opencv-matrix\n  rows: 1\nagain: *m\n",
+      "t.yaml");
   const YamlNode* copy = root.Find("copy");
   ASSERT_NE(copy, nullptr);
   EXPECT_EQ(copy->line, 4);
   EXPECT_EQ(copy->Find("rows")->scalar, "3");
-  ASSERT_EQ(copy->Find("data")->seq.size(), 2u);
+  ASSERT_EQ(copy->Find("data")->seq.size(), 4u);
   EXPECT_EQ(copy->Find("data")->seq[1].scalar, "1.5");
+  EXPECT_EQ(copy->Find("data")->seq[3].scalar, "2");
+  EXPECT_EQ(copy->Find("data")->seq[3].tag, "!!str");
   EXPECT_EQ(root.Find("again")->tag, "!!opencv-matrix");
   EXPECT_EQ(ErrorOf("a: *none\n"), "t.yaml:1: unknown alias '*none' (its anchor '&none' must come before it)");
   EXPECT_EQ(ErrorOf("a: &x 1\nb: *x x\n"), "t.yaml:2: unexpected text after the alias: 'x'");
@@ -94,7 +99,8 @@ TEST(YamlTree, FirstLineAndErrors) {
 // reads it; what it skipped (block scalars, anchors) are values.
 TEST(OpenCvYaml, ReadsWhatTheTreeReads) {
   const OpenCvYaml y = OpenCvYaml::Parse(
-      "\xEF\xBB\xBF%YAML:1.0\r\n---\r\n\"image width\": 640\r\nnote: |\r\n  two\r\n  lines\r\nbase: &b 12\r\ncopy: *b\r\n"
+      "\xEF\xBB\xBF%YAML:1.0\r\n---\r\n\"image width\": 640\r\nnote: |\r\n  two\r\n  lines\r\n"
+      "base: &b 12\r\ncopy: *b\r\n"
       "list:\r\n- 1\r\n- 2\r\nflow: !!opencv-matrix { rows: 1, cols: 2, dt: d, data: [ 1., 2. ] }\r\n"
       "block: !!opencv-matrix\r\n   rows: 2\r\n   cols: 1\r\n   dt: d\r\n   data:\r\n   - 3.\r\n   - 4.\r\n"
       "---\r\nsecond: document\r\n",
