@@ -114,7 +114,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
   std::vector<RunFrame>& frames = listed.frames;
   if (frames.empty()) throw InputError(listed.source.string(), "holds no frame (expected one JSON object per line)");
   std::optional<CalibrationFile> cal_file;
-  if (options.calibration) cal_file = ReadCalibrationFile(*options.calibration);
+  if (options.calibration) cal_file = ReadCalibrationFile(*options.calibration, options.calibration_file);
   // The working range: --depth-range, else the calibration file's.
   const std::optional<DepthRange> depth_range = options.depth_range ? options.depth_range
                                                 : cal_file                ? cal_file->depth_range

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/calibration_file.h"
 #include "pipeline/capture_folder.h"
 #include "pipeline/colorize.h"
 #include "pipeline/extraction_options.h"
@@ -61,6 +62,7 @@ struct ScanOptions {
   // and its hand-eye pose (when present) with the run's tool poses the
   // manifest's camera poses.
   std::optional<std::filesystem::path> calibration;
+  CalibrationFileOptions calibration_file;  // which camera of a file of several (--calib-camera)
   // The raw frames' colour filter mosaic (`--bayer`); unset: rig.json's
   // color_filter (mono for a rig taken from a calibration file).
   std::optional<ColorFilter> color_filter;

@@ -190,7 +190,8 @@ TEST(CalibrateCli, RenderedSessionCalibratesEndToEnd) {
 // camera written as a ROS camera_info file (a stereo rectification, warned
 // about) and as a Kalibr camchain gives the plane the same camera gives in
 // OpenCV's form, bit for bit, and the output keeps that camera. (Before:
-// both refused, "the first line must be %YAML:1.0".)
+// both refused, "the first line must be %YAML:1.0".) The camchain is a stereo
+// rig's, the run's camera its cam1, read with --calib-camera cam1.
 TEST(CalibrateCli, LaserStepFromRosAndKalibrCameraFiles) {
   const Session& s = RenderedSession();
   ASSERT_TRUE(s.ok);
@@ -221,14 +222,17 @@ TEST(CalibrateCli, LaserStepFromRosAndKalibrCameraFiles) {
                                   << "  cols: 5\n  data: [" << n(b.k1) << ", " << n(b.k2) << ", " << n(b.p1) << ", "
                                   << n(b.p2) << ", " << n(b.k3) << "]\nrectification_matrix:\n  rows: 3\n  cols: 3\n"
                                   << "  data: [0.9998, -0.02, 0, 0.02, 0.9998, 0, 0, 0, 1]\n";
-  std::ofstream(dir / "camchain.yaml") << "cam0:\n  camera_model: pinhole\n  intrinsics: [" << n(c.fx) << ", " << n(c.fy)
+  std::ofstream(dir / "camchain.yaml") << "cam0:\n  camera_model: pinhole\n  intrinsics: [400, 401, 150, 120]\n"
+                                       << "  resolution: [320, 240]\n"
+                                       << "cam1:\n  camera_model: pinhole\n  intrinsics: [" << n(c.fx) << ", " << n(c.fy)
                                        << ", " << n(c.cx) << ", " << n(c.cy) << "]\n  distortion_model: radtan\n"
                                        << "  distortion_coeffs: [" << n(b.k1) << ", " << n(b.k2) << ", " << n(b.p1)
                                        << ", " << n(b.p2) << "]\n  resolution: [" << c.width << ", " << c.height << "]\n";
   std::vector<CalibrationFile> out;
   for (const char* in : {"camera.yml", "ost.yaml", "camchain.yaml"}) {
     const fs::path result = dir / (std::string("laser_from_") + in + ".yml");
-    const CliResult r = RunCli("calibrate laser " + Quoted(s.run) + " --calib " + Quoted(dir / in) + " --out " +
+    const std::string camera = std::string(in) == "camchain.yaml" ? " --calib-camera cam1" : "";
+    const CliResult r = RunCli("calibrate laser " + Quoted(s.run) + " --calib " + Quoted(dir / in) + camera + " --out " +
                                Quoted(result) + " --quiet");
     ASSERT_EQ(r.exit_code, 0) << in << "\n" << r.err;
     EXPECT_THAT(r.err, ::testing::Not(HasSubstr("using the run's true camera"))) << in;
@@ -433,6 +437,7 @@ TEST(CalibrateCli, RefusalsAreClearAndWriteNothing) {
   const fs::path run = RenderedSession().run;
   const fs::path out = two.parent_path() / "out.yaml";
   const fs::path out_in_no_folder = two.parent_path() / "no_folder" / "c.yaml";
+  std::ofstream(two.parent_path() / "cameras.txt") << "1 PINHOLE 640 480 500 500 320 240\n2 PINHOLE 640 480 510 510 320 240\n";
   const std::vector<CliResult> r = RunMany({
       "calibrate camera " + Quoted(two) + " --out " + Quoted(out),
       "calibrate camera " + Quoted(run) + " --rows 5 --cols 8 --square-mm 3 --out " + Quoted(out),
@@ -449,6 +454,10 @@ TEST(CalibrateCli, RefusalsAreClearAndWriteNothing) {
       // A form the writer does not have (it wrote YAML into any name before).
       "calibrate camera " + Quoted(run) + " --out " + Quoted(two.parent_path() / "c.json"),
       "calibrate laser " + Quoted(run) + " --out " + Quoted(two.parent_path() / "calib"),
+      // --calib-camera without --calib; a camera the file does not hold.
+      "calibrate laser " + Quoted(run) + " --calib-camera cam1 --out " + Quoted(out),
+      "calibrate laser " + Quoted(run) + " --calib " + Quoted(two.parent_path() / "cameras.txt") + " --calib-camera 3 --out " +
+          Quoted(out),
   });
   for (size_t i = 0; i < r.size(); ++i) EXPECT_EQ(r[i].exit_code, 2) << i << ": " << r[i].out << r[i].err;
   EXPECT_THAT(r[0].err, HasSubstr("camera calibration refused (2 of 2 views with the board): too few views"));
@@ -466,6 +475,9 @@ TEST(CalibrateCli, RefusalsAreClearAndWriteNothing) {
   EXPECT_THAT(r[10].err, HasSubstr("c.json: unknown extension '.json': a calibration file is written as OpenCV YAML "
                                    "(.yaml, .yml) or OpenCV XML (.xml)"));
   EXPECT_THAT(r[11].err, HasSubstr("calib: no extension"));
+  EXPECT_THAT(r[12].err, HasSubstr("--calib-camera: picks a camera of --calib's file: give --calib"));
+  EXPECT_THAT(r[13].err, HasSubstr((two.parent_path() / "cameras.txt").string() +
+                                   ":1: no camera '3' in a COLMAP cameras.txt: its cameras are '1', '2'"));
   for (size_t i : {10, 11}) {  // refused before any work: no result, no warning of the laser step
     EXPECT_THAT(r[i].out + r[i].err, ::testing::Not(HasSubstr("from 6 of 6")));
     EXPECT_THAT(r[i].err, ::testing::Not(HasSubstr("warning")));

@@ -256,6 +256,8 @@ TEST_F(ScanCommand, BadInputExitsWithTwo) {
   std::ofstream(good / "three.csv") << "x,y,z,qx,qy,qz,qw\n0,0,0,0,0,0,1\n0,0,0,0,0,0,1\n0,0,0,0,0,0,1\n";
   std::ofstream(good / "bad.csv") << "x,y,z,qx,qy,qz,qw\n0,0,0,0,0,0,1\n0,0,0,0,0,1\n";
   std::ofstream(good / "ambiguous.csv") << "0,0,0,0,0,0,1\n0,0,0,0,0,0,1\n";
+  std::ofstream(good / "tf.csv") << "field.child_frame_id,x,y,z,qx,qy,qz,qw\nscanner,0,0,0,0,0,0,1\npart,0,0,0,0,0,0,1\n";
+  std::ofstream(good / "cameras.txt") << "1 PINHOLE 640 480 500 500 320 240\n2 PINHOLE 640 480 510 510 320 240\n";
 
   struct Case {
     std::string args, message;
@@ -284,6 +286,17 @@ TEST_F(ScanCommand, BadInputExitsWithTwo) {
        "--image-time-offset: '1ms' is not a number of seconds"},
       {Quoted(good) + " --poses " + Quoted(good / "three.csv") + " --image-time-offset 0.001",
        (good / "three.csv").string() + ": --image-time-offset matches poses to the images' times, but the file has no times"},
+      {Quoted(good) + " --pose-body scanner", "--pose-body: describes a pose file: give it with --poses"},
+      {Quoted(good) + " --poses " + Quoted(good / "tf.csv"),
+       (good / "tf.csv").string() + ":3: rows of several child frames (column 1 'field.child_frame_id'), mixed in one "
+                                    "trajectory if read: give --pose-body: 'scanner', 'part'"},
+      {Quoted(good) + " --poses " + Quoted(good / "tf.csv") + " --pose-body robot",
+       (good / "tf.csv").string() + ":1: no rows of the child frame 'robot'"},
+      {Quoted(good) + " --calib-camera 2", "--calib-camera: picks a camera of --calib's file: give --calib"},
+      {Quoted(good) + " --calib " + Quoted(good / "cameras.txt"),
+       (good / "cameras.txt").string() + ":2: a COLMAP cameras.txt of 2 cameras: give --calib-camera"},
+      {Quoted(good) + " --calib " + Quoted(good / "cameras.txt") + " --calib-camera 3",
+       (good / "cameras.txt").string() + ":1: no camera '3' in a COLMAP cameras.txt"},
       {Quoted(good) + " --shutter sometimes", "--shutter: unknown shutter pattern 'sometimes'"},
       {Quoted(good) + " --background ambient", "--background: expected a level (a number) or 'local', got 'ambient'"},
       {Quoted(good) + " --depth-range 60", "--depth-range: expected MIN_MM:MAX_MM (camera z), got '60'"},

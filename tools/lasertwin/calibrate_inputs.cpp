@@ -1,6 +1,8 @@
 // The inputs of `lasertwin calibrate` (tools/lasertwin/calibrate_inputs.h).
 #include "tools/lasertwin/calibrate_inputs.h"
 
+#include "tools/lasertwin/calib_camera_arg.h"
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -43,8 +45,9 @@ CheckerboardSpec Board(const CalibrateArgs& a) {
 bool IsRunFolder(const std::string& dir) { return std::filesystem::exists(std::filesystem::path(dir) / "manifest.jsonl"); }
 
 CalibrationFile InputFile(const CalibrateArgs& a) {
+  const CalibrationFileOptions options = ParseCalibCamera(a.calib, a.calib_camera);
   if (a.calib.empty()) return {};
-  CalibrationFile f = ReadCalibrationFile(a.calib);
+  CalibrationFile f = ReadCalibrationFile(a.calib, options);
   if (!f.ignored_keys.empty()) {
     // One line, however many: another tool's file (a VINS config) can hold dozens.
     const size_t n = f.ignored_keys.size();

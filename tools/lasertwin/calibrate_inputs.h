@@ -20,6 +20,7 @@ struct CalibrateArgs {
   std::string run_dir;
   std::string out;
   std::string calib;
+  std::string calib_camera;  // --calib-camera: the camera of a --calib file of several
   std::string board;
   int rows = 0, cols = 0;
   double square_mm = 0;

@@ -22,6 +22,7 @@
 #include "pipeline/run_folder_reader.h"
 #include "pipeline/stripe_extractor.h"
 #include "pipeline/triangulation.h"
+#include "tools/lasertwin/calib_camera_arg.h"
 #include "tools/lasertwin/calibrate_inputs.h"
 #include "tools/lasertwin/command.h"
 
@@ -270,6 +271,7 @@ void Add(CLI::App& app) {
   cmd->add_option("--calib", args->calib,
                   "Calibration file to start from (its camera is used by the laser and hand-eye steps; a folder "
                   "without rig.json needs it)");
+  DeclareCalibCamera(cmd, &args->calib_camera);
   cmd->add_option("--board", args->board,
                   "Board layout (JSON: rows, cols, square_mm); default: checkerboard.json of the session");
   cmd->add_option("--rows", args->rows, "Inner corners down a column (instead of --board)");

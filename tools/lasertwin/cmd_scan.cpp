@@ -16,6 +16,7 @@
 #include "core/text_fields.h"
 #include "pipeline/scan.h"
 #include "pipeline/stripe_extractor.h"
+#include "tools/lasertwin/calib_camera_arg.h"
 #include "tools/lasertwin/command.h"
 #include "tools/lasertwin/extraction_args.h"
 #include "tools/lasertwin/pose_file_args.h"
@@ -28,6 +29,7 @@ struct ScanArgs {
   ExtractionArgs extraction;  // --method, --threshold, ..., --bayer, --roi; plane identification
   std::string axis;
   std::string calib;
+  std::string calib_camera;  // --calib-camera
   std::string frames;
   PoseFileArgs pose_args;  // --poses, --pose-units, --pose-order, --image-time-offset
   std::string depth_range;  // MIN_MM:MAX_MM
@@ -45,6 +47,7 @@ void Run(ScanArgs& a) {
   o.plane_id = x.plane_id;
   if (!a.axis.empty()) o.axis = ParseAxis(a.axis, "--axis");
   if (!a.calib.empty()) o.calibration = a.calib;
+  o.calibration_file = ParseCalibCamera(a.calib, a.calib_camera);
   if (!a.depth_range.empty()) o.depth_range = ParseDepthRange(a.depth_range, "--depth-range");
   if (!a.pose_args.poses.empty()) o.poses = a.pose_args.poses;
   o.pose_file = a.pose_args.Parse();
@@ -135,6 +138,7 @@ void Add(CLI::App& app) {
   cmd->add_option("--calib", args->calib,
                   "Calibration file (OpenCV YAML or XML, as lasertwin calibrate writes): its laser planes (and camera, "
                   "and hand-eye pose tool_from_cam with the run's world_from_tool) replace the run's ground truth");
+  DeclareCalibCamera(cmd, &args->calib_camera);
   cmd->add_option("--axis", args->axis, "rows | cols (default: the manifest's gt_axis, else from the laser planes)");
   cmd->add_option("--frames", args->frames, "Frames to scan: A:B (A inclusive, B exclusive), A:, :B or N");
   args->pose_args.Declare(cmd,

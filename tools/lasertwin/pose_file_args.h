@@ -17,6 +17,7 @@ struct PoseFileArgs {
   std::string units;              // --pose-units; empty: the header's, else m
   std::string order;              // --pose-order; empty: the header's (headerless 7/8-number rows need it)
   std::string image_time_offset;  // --image-time-offset, seconds; empty: match by time only when the counts differ
+  std::string body;               // --pose-body; empty: the file's one body
 
   // Declares --poses (described by `poses_help`, what the command takes the poses
   // for) and the options that describe the file.
@@ -29,13 +30,18 @@ struct PoseFileArgs {
                     "Seconds added to each image name's time before its pose is interpolated (a camera stamping the "
                     "start of its exposure: half the exposure; a camera clock behind the robot's: the lag); matches "
                     "every frame by time");
+    cmd->add_option("--pose-body", body,
+                    "NAME: the body whose poses are read from a pose file of several: an OptiTrack Motive export's "
+                    "rigid body, or the rows of one child_frame_id (a ROS tf or Odometry CSV); needed when the file "
+                    "holds several");
   }
 
   // Throws lt::InputError naming the option: one given without --poses, or a bad value.
   PoseFileOptions Parse() const {
     for (const auto& [option, value] : {std::pair<const char*, const std::string*>{"--pose-units", &units},
                                         {"--pose-order", &order},
-                                        {"--image-time-offset", &image_time_offset}}) {
+                                        {"--image-time-offset", &image_time_offset},
+                                        {"--pose-body", &body}}) {
       if (poses.empty() && !value->empty()) throw InputError(option, "describes a pose file: give it with --poses");
     }
     PoseFileOptions o;
@@ -47,6 +53,7 @@ struct PoseFileArgs {
     }
     if (!units.empty()) o.units = ParsePoseUnits(units, "--pose-units");
     if (!order.empty()) o.order = ParseQuaternionOrder(order, "--pose-order");
+    if (!body.empty()) o.body = body;
     return o;
   }
 };
