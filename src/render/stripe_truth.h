@@ -25,6 +25,13 @@
 // surface faces both the camera and the projector, the segment to the projector
 // is unoccluded, and the fan profile there is at least `fan_threshold` of its
 // value on the sheet's central ray at the same distance.
+//
+// The pixel centres miss a surface that none of them sees and that lies wholly
+// between two samples on one other surface (a thin fin nearly edge-on). So the
+// candidates also come from the geometry (render/stripe_truth_segments.h):
+// each sheet's plane cuts each triangle in a segment, projected through the
+// camera model; each crossing of a scan line that no centre found above holds
+// (within 1e-4 px) is decided by the same ray casts, refinement and lit test.
 #pragma once
 
 #include <Eigen/Core>

@@ -201,14 +201,28 @@ std::vector<Case> Cases() {
                      w.Add(test::Rectangle(Eigen::Vector3d(0, 0.003, 0.12) + 0.02 * up, X, up, 0.03, 0.02));
                      w.Add(test::Rectangle(Eigen::Vector3d(0, 0.003, 0.12) + 0.02 * down, X, down, 0.03, 0.02));
                    }});
-  cases.push_back({"fin-edge-on", [=](World& w) {
-                     // A 0.3 mm fin on a floor, its faces 2 degrees off the view ray.
-                     w.Add(Floor(0.12));
-                     Eigen::Affine3d place = Eigen::Affine3d::Identity();
-                     place.translate(Eigen::Vector3d(-0.002, 0, 0.105));
-                     place.rotate(Eigen::AngleAxisd(2 * M_PI / 180, Y));
-                     w.Add(test::Box({-0.00015, -0.015, -0.015}, {0.00015, 0.015, 0.015}), place);
-                   }});
+  // A 0.3 mm fin on a floor, 2 mm left of the optical axis and 0.105 m deep:
+  // turned 2 degrees about y (its lit face 3.0 degrees off the view ray), and
+  // turned so that its lit face (normal n, at n.p = e from the camera centre)
+  // is 0.3, 0.05 and 0 degrees off the view ray at the fin's distance r
+  // (e = -r sin(deg)): there the face and the top are seen over less than a
+  // pixel, on many rows wholly between two pixel centres on the floor, a
+  // sliver no pixel centre sees. At 0 degrees the face's plane holds the
+  // camera centre: only the top is seen.
+  const double r = std::hypot(0.002, 0.105), phi = std::atan2(0.002, 0.105);
+  auto lit_face_off = [&](double deg) { return std::asin((r * std::sin(deg * M_PI / 180) + 0.00015) / r) - phi; };
+  for (const auto& [name, turn] : std::vector<std::pair<std::string, double>>{{"fin-edge-on", 2 * M_PI / 180},
+                                                                                {"fin-0.3deg", lit_face_off(0.3)},
+                                                                                {"fin-0.05deg", lit_face_off(0.05)},
+                                                                                {"fin-0deg", lit_face_off(0)}}) {
+    cases.push_back({name, [=, turn = turn](World& w) {
+                       w.Add(Floor(0.12));
+                       Eigen::Affine3d place = Eigen::Affine3d::Identity();
+                       place.translate(Eigen::Vector3d(-0.002, 0, 0.105));
+                       place.rotate(Eigen::AngleAxisd(turn, Y));
+                       w.Add(test::Box({-0.00015, -0.015, -0.015}, {0.00015, 0.015, 0.015}), place);
+                     }});
+  }
   return cases;
 }
 
@@ -231,7 +245,7 @@ TEST_P(StripeTruthCurved, EveryReferenceCrossingFoundAndNoOther) {
   std::vector<Case> cases = Cases();
   cases.push_back(Grazing(87));
   cases.push_back(Grazing(89.5));
-  ASSERT_EQ(cases.size(), 13u);
+  ASSERT_EQ(cases.size(), 16u);
   const Case& c = cases[size_t(GetParam())];
   const std::vector<LaserProjector> one = {Shifted(test::TestLaser(0.03, 0.1), c.laser_y)};
   const std::vector<LaserProjector> doe = {
@@ -282,7 +296,7 @@ TEST_P(StripeTruthCurved, EveryReferenceCrossingFoundAndNoOther) {
   EXPECT_LT(r.max_du, kTolPx) << c.name << " posed";
 }
 
-INSTANTIATE_TEST_SUITE_P(Shapes, StripeTruthCurved, ::testing::Range(0, 13));
+INSTANTIATE_TEST_SUITE_P(Shapes, StripeTruthCurved, ::testing::Range(0, 16));
 
 }  // namespace
 }  // namespace lt
