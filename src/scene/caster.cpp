@@ -28,6 +28,10 @@ void OrientationOptions::Check() const {
   if (!(std::isfinite(max_turn_rad_s) && max_turn_rad_s >= 0)) {
     throw std::invalid_argument("turn rate limit must be >= 0");
   }
+  if (!(max_winding_rad >= M_PI)) throw std::invalid_argument("winding limit must be >= 180 degrees");
+  if (std::isfinite(max_winding_rad) && max_turn_rad_s == 0) {
+    throw std::invalid_argument("a winding limit needs a turn rate limit to unwind at");
+  }
 }
 
 std::string OrientationModeName(OrientationMode mode) {
@@ -68,7 +72,7 @@ ToolpathOrientation::ToolpathOrientation(std::shared_ptr<const Toolpath> path, O
   if (options_.mode == OrientationMode::kTrailing) StartTrailingWheel();
   if (options_.max_turn_rad_s > 0 && !segs.empty()) {
     limit_.emplace([this](double t) { return RuleHeadingAt(t); }, segs.front().t_start_s, segs.back().t_end_s,
-                   options_.max_turn_rad_s);
+                   options_.max_turn_rad_s, options_.max_winding_rad);
   }
 }
 
@@ -169,6 +173,8 @@ TurnRates ToolpathOrientation::ComputeTurnRates() const {
     r.slews = limit_->slews();
     r.longest_slew_s = limit_->longest_slew_s();
     r.longest_slew_time_s = limit_->longest_slew_start_s();
+    r.unwinds = limit_->unwinds();
+    r.max_winding_rad = limit_->max_winding_rad();
     return r;
   }
   switch (options_.mode) {

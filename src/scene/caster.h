@@ -25,7 +25,10 @@
 // Any rule can be limited to a largest turn rate (`max_turn_rad_s`, scene/turn_rate_limit.h):
 // the heading then follows the rule's where it turns no faster, and turns at the limit,
 // the short way round, where the rule turns faster (corners, a caster's swing), until it
-// has caught up. An arm's wrist turns no faster than its joint speed.
+// has caught up. An arm's wrist turns no faster than its joint speed. A winding limit
+// (`max_winding_rad`) also bounds how far the heading winds from its start: a print that
+// loops one way would wind the wrist past its range, so the scanner unwinds a whole
+// turn, the other way round, at the turn rate limit, where it would pass the bound.
 //
 // Path length here is measured in the bed plane: moves without motion in that plane
 // (z only, extruder only, dwells) keep the heading. Travel moves count like printing
@@ -34,6 +37,7 @@
 // heading 0.
 #pragma once
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -52,8 +56,12 @@ struct OrientationOptions {
   double caster_window_m = 0.010;  // path length behind the nozzle averaged by the caster
   double trail_m = 0.010;          // the trailing wheel's distance behind the nozzle
   double max_turn_rad_s = 0;       // the heading's largest turn rate; 0: no limit
-  // Throws std::invalid_argument unless the window and the trail are finite and > 0
-  // and the turn rate limit is finite and >= 0.
+  // How far the heading may wind either way from where it starts (an arm's wrist
+  // range, less a margin); beyond it the scanner unwinds a whole turn at
+  // max_turn_rad_s. Infinite: no limit; else >= pi and needs max_turn_rad_s.
+  double max_winding_rad = std::numeric_limits<double>::infinity();
+  // Throws std::invalid_argument unless the window and the trail are finite and > 0,
+  // the turn rate limit is finite and >= 0, and the winding limit as above.
   void Check() const;
 };
 
@@ -78,6 +86,10 @@ struct TurnRates {
   size_t slews = 0;
   double longest_slew_s = 0;
   double longest_slew_time_s = 0;
+  // With a winding limit: the slews that unwind, and the farthest the heading winds
+  // from its start (rad).
+  size_t unwinds = 0;
+  double max_winding_rad = 0;
 
   double MaxRateDegS() const;
   double MaxJumpDeg() const;

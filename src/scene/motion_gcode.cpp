@@ -132,6 +132,10 @@ GcodeMotion ParseGcodeMotion(const json::Object& o) {
   m.orientation.caster_window_m = o.Number("caster_window_mm", 10.0, json::Range::Positive()) * kMetresPerMm;
   m.orientation.trail_m = o.Number("trail_mm", 10.0, json::Range::Positive()) * kMetresPerMm;
   if (o.Find("max_turn_deg_s")) m.orientation.max_turn_rad_s = o.Number("max_turn_deg_s", json::Range::Positive()) * kDegToRad;
+  if (o.Find("max_winding_deg")) {
+    if (m.orientation.max_turn_rad_s == 0) o.Get("max_winding_deg").Fail("needs max_turn_deg_s, the rate to unwind at");
+    m.orientation.max_winding_rad = o.Number("max_winding_deg", json::Range::Closed(180, 1e6)) * kDegToRad;
+  }
   if (auto v = o.Find("world_from_gcode")) m.world_from_gcode = ReadPose(*v);
   if (auto v = o.Find("nozzle_from_cam")) m.nozzle_from_cam = ReadPose(*v);
   m.start_time_s = o.Number("start_time_s", 0.0, json::Range::NonNegative());
@@ -152,6 +156,7 @@ nlohmann::json GcodeMotionToJson(const GcodeMotion& m) {
                    {"nozzle_from_cam", PoseToJson(m.nozzle_from_cam)},
                    {"start_time_s", m.start_time_s}};
   if (m.orientation.max_turn_rad_s > 0) j["max_turn_deg_s"] = m.orientation.max_turn_rad_s / kDegToRad;
+  if (std::isfinite(m.orientation.max_winding_rad)) j["max_winding_deg"] = m.orientation.max_winding_rad / kDegToRad;
   if (m.robot) {
     const GcodeRobot& r = *m.robot;
     std::vector<double> initial(6);
@@ -226,6 +231,11 @@ std::vector<std::string> GcodeMotionNotes(const GcodeMotion& m) {
     orientation += "; held to " + Fixed(m.orientation.max_turn_rad_s / kDegToRad, 1) + " deg/s: " +
                    std::to_string(rates.slews) + " turns at that rate behind the rule's, the longest " +
                    Fixed(rates.longest_slew_s, 3) + " s from G-code time " + Fixed(rates.longest_slew_time_s, 3) + " s";
+  }
+  if (std::isfinite(m.orientation.max_winding_rad)) {
+    orientation += "; wound at most " + Fixed(rates.max_winding_rad / kDegToRad, 1) + " deg from the start (limit " +
+                   Fixed(m.orientation.max_winding_rad / kDegToRad, 1) + "), " + std::to_string(rates.unwinds) +
+                   (rates.unwinds == 1 ? " unwind" : " unwinds");
   }
   notes.push_back(orientation);
   if (m.robot) {

@@ -18,54 +18,64 @@ double Wrap(double a) { return std::remainder(a, 2 * M_PI); }
 }  // namespace
 
 TurnRateLimit::TurnRateLimit(const std::function<double(double)>& followed, double t_begin, double t_end,
-                             double max_rate_rad_s, double step_s)
+                             double max_rate_rad_s, double max_winding_rad, double step_s)
     : t_begin_(t_begin), t_end_(t_end), rate_(max_rate_rad_s) {
   if (!(std::isfinite(max_rate_rad_s) && max_rate_rad_s > 0)) throw std::invalid_argument("turn rate limit must be > 0");
+  if (!(max_winding_rad >= M_PI)) throw std::invalid_argument("winding limit must be >= 180 degrees");
   if (!(std::isfinite(step_s) && step_s > 0)) throw std::invalid_argument("turn rate step must be > 0");
   if (!(std::isfinite(t_begin) && std::isfinite(t_end) && t_end >= t_begin)) {
     throw std::invalid_argument("turn rate limit: empty time span");
   }
   const double dt = std::max(step_s, (t_end - t_begin) / kMaxSteps);
   pieces_.push_back({t_begin, 0.0, 0});
-  double heading = followed(t_begin);
+  auto slew_ends = [&](const Piece& slew, double t) {
+    if (t - slew.t0 > longest_slew_s_) {
+      longest_slew_s_ = t - slew.t0;
+      longest_slew_start_s_ = slew.t0;
+    }
+  };
+  // `heading` is unwound (continuous): how far the scanner has turned from where it
+  // started is heading - start, which the winding limit bounds.
+  const double start = followed(t_begin);
+  double heading = start;
   for (double t = t_begin; t < t_end;) {
     const double t_next = std::min(t + dt, t_end), h = t_next - t;
-    const double need = Wrap(followed(t_next) - heading);
+    const double f = followed(t_next);
+    // The followed heading's nearest turn, or the next one the other way round where
+    // the nearest would wind the scanner past the limit.
+    double target = heading + Wrap(f - heading);
+    const bool unwinding = std::abs(target - start) > max_winding_rad;
+    if (unwinding) target -= std::copysign(2 * M_PI, target - start);
+    const double need = target - heading;
+    const double turns = 2 * M_PI * std::round((target - f) / (2 * M_PI));  // target = followed + turns
     Piece& cur = pieces_.back();
     if (std::abs(need) <= rate_ * h) {
       if (cur.dir != 0) {
         // The slew meets the followed heading within this step: where, by bisection on
         // how far it still has to go (positive at t, not at t_next).
         const Piece slew = cur;
-        auto left = [&](double tau) { return slew.dir * Wrap(followed(tau) - (slew.angle0 + slew.dir * rate_ * (tau - slew.t0))); };
+        auto left = [&](double tau) {
+          return slew.dir * (followed(tau) + turns - (slew.angle0 + slew.dir * rate_ * (tau - slew.t0)));
+        };
         double a = t, b = t_next;
         while (b - a > kBisectionS) {
           const double m = 0.5 * (a + b);
           (left(m) > 0 ? a : b) = m;
         }
         pieces_.push_back({b, 0.0, 0});
-        const double length = b - slew.t0;
-        if (length > longest_slew_s_) {
-          longest_slew_s_ = length;
-          longest_slew_start_s_ = slew.t0;
-        }
+        slew_ends(slew, b);
       } else if (std::abs(need) / h > max_rate_rad_s_seen_ && slews_ == 0) {
         max_rate_rad_s_seen_ = std::abs(need) / h;
         max_rate_time_s_ = t;
       }
-      heading += need;
+      heading = target;
     } else {
       const int dir = need > 0 ? 1 : -1;
       if (cur.dir != dir) {
-        if (cur.dir != 0) {  // a slew that turns round: it ends here
-          const double length = t - cur.t0;
-          if (length > longest_slew_s_) {
-            longest_slew_s_ = length;
-            longest_slew_start_s_ = cur.t0;
-          }
-        }
+        if (cur.dir != 0) slew_ends(cur, t);  // a slew that turns round: it ends here
         if (pieces_.back().t0 == t) pieces_.pop_back();
         pieces_.push_back({t, heading, dir});
+        if (unwinding) ++unwinds_;
         if (slews_++ == 0) {
           max_rate_rad_s_seen_ = rate_;
           max_rate_time_s_ = t;
@@ -73,12 +83,10 @@ TurnRateLimit::TurnRateLimit(const std::function<double(double)>& followed, doub
       }
       heading += dir * rate_ * h;
     }
+    max_winding_seen_rad_ = std::max(max_winding_seen_rad_, std::abs(heading - start));
     t = t_next;
   }
-  if (pieces_.back().dir != 0 && t_end - pieces_.back().t0 > longest_slew_s_) {
-    longest_slew_s_ = t_end - pieces_.back().t0;
-    longest_slew_start_s_ = pieces_.back().t0;
-  }
+  if (pieces_.back().dir != 0) slew_ends(pieces_.back(), t_end);
 }
 
 size_t TurnRateLimit::PieceAt(double t_s) const {

@@ -8,9 +8,11 @@
 // meets the followed heading, found by bisection within the step to 1e-9 s. So the
 // heading is continuous, follows exactly where it follows, and a slew starts at most
 // one step late. Stored as pieces (following, or slewing from an angle), not samples.
+// Optionally it also bounds how far the scanner winds from where it started.
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -22,8 +24,12 @@ class TurnRateLimit {
   // `followed(t)`: the heading to follow, an angle in radians, over [t_begin, t_end].
   // Throws std::invalid_argument unless max_rate_rad_s and step_s are finite and > 0
   // and t_end >= t_begin.
+  // With a finite max_winding_rad (>= pi) the scanner never turns further than that
+  // either way from its heading at t_begin, as a wrist joint can turn only so far: where
+  // following would wind it further, it turns back the other way round, a whole turn
+  // less, at the limit rate (an unwind).
   TurnRateLimit(const std::function<double(double)>& followed, double t_begin, double t_end, double max_rate_rad_s,
-                double step_s = 1e-3);
+                double max_winding_rad = std::numeric_limits<double>::infinity(), double step_s = 1e-3);
 
   // The limited heading at t (clamped to [t_begin, t_end]), and whether t lies on a
   // slew. On a following piece this is followed(t) itself.
@@ -38,6 +44,9 @@ class TurnRateLimit {
   size_t slews() const { return slews_; }
   double longest_slew_s() const { return longest_slew_s_; }
   double longest_slew_start_s() const { return longest_slew_start_s_; }
+  // Slews made to unwind, and the farthest the scanner turns from its start (rad).
+  size_t unwinds() const { return unwinds_; }
+  double max_winding_rad() const { return max_winding_seen_rad_; }
 
  private:
   struct Piece {
@@ -52,6 +61,8 @@ class TurnRateLimit {
   double max_rate_rad_s_seen_ = 0, max_rate_time_s_ = 0;
   size_t slews_ = 0;
   double longest_slew_s_ = 0, longest_slew_start_s_ = 0;
+  size_t unwinds_ = 0;
+  double max_winding_seen_rad_ = 0;
 };
 
 }  // namespace lt

@@ -189,6 +189,38 @@ TEST(GcodeMotion, TurnRateLimitKeepsTheWristWithinItsSpeed) {
   EXPECT_FALSE(MotionToJson(ParseMotionText(RobotScene("heading"), dir)).contains("max_turn_deg_s"));
 }
 
+TEST(GcodeMotion, WindingLimitUnwindsTheWristBeforeItsRange) {
+  // Three laps of a circle turn the scanner through 1080 degrees: wrist 3 (+-360) cannot
+  // follow, and the arm would flip its configuration. Bounded to 300 degrees of winding
+  // the scanner unwinds a whole turn at 90 deg/s each time it gets there.
+  TempDir dir;
+  WriteText(dir / "laps.gcode", "G1 F1200 X50 Y20 Z0.2\nG3 X50 Y20 I-20 J0 E1\nG3 X50 Y20 I-20 J0 E2\n"
+                                "G3 X50 Y20 I-20 J0 E3\n");
+  auto scene = [&](const std::string& limits) {
+    std::string text = RobotScene("heading");
+    text.replace(text.find("square.gcode"), 12, "laps.gcode");
+    text.insert(text.find("\"caster_window_mm\""), limits);
+    return text;
+  };
+  Motion wound = ParseMotionText(scene(R"("max_turn_deg_s": 90, )"), dir);
+  ASSERT_TRUE(AsGcode(wound).robot);
+  EXPECT_GT(AsGcode(wound).robot->program->path.speed_violations, 0u);
+  EXPECT_THAT(MotionNotes(wound)[2], HasSubstr("the arm changes configuration: wrist 3 would reach"));
+
+  Motion m = ParseMotionText(scene(R"("max_turn_deg_s": 90, "max_winding_deg": 300, )"), dir);
+  const GcodeMotion& g = AsGcode(m);
+  ASSERT_TRUE(g.robot);
+  const JointPath& jp = g.robot->program->path;
+  EXPECT_EQ(jp.speed_violations, 0u);
+  for (const JointVector& q : jp.q) EXPECT_LE(q.cwiseAbs().maxCoeff(), 2 * M_PI);
+  const TurnRates r = g.toolpath->ComputeTurnRates();
+  EXPECT_GE(r.unwinds, 2u);  // 1080 - 300 degrees to shed, a turn at a time
+  EXPECT_LE(r.max_winding_rad, 300 * M_PI / 180 + 1e-9);
+  EXPECT_THAT(MotionNotes(m)[1], HasSubstr("deg from the start (limit 300.0), " + std::to_string(r.unwinds) + " unwinds"));
+  EXPECT_THAT(MotionNotes(m)[2], HasSubstr("within the joint position and speed limits"));
+  EXPECT_EQ(MotionToJson(m)["max_winding_deg"], 300.0);
+}
+
 TEST(GcodeMotion, ResolvedJsonReproducesTheMotion) {
   TempDir dir;
   WriteText(dir / "square.gcode", kSquare);
@@ -219,6 +251,10 @@ TEST(GcodeMotion, SceneErrors) {
   EXPECT_THAT(error(R"({"type": "gcode", "file": "square.gcode", "start_time_s": -1})"), HasSubstr("/start_time_s"));
   EXPECT_THAT(error(R"({"type": "gcode", "file": "square.gcode", "max_turn_deg_s": 0})"),
               HasSubstr("/max_turn_deg_s: must be > 0"));
+  EXPECT_THAT(error(R"({"type": "gcode", "file": "square.gcode", "max_winding_deg": 300})"),
+              HasSubstr("/max_winding_deg: needs max_turn_deg_s, the rate to unwind at"));
+  EXPECT_THAT(error(R"({"type": "gcode", "file": "square.gcode", "max_turn_deg_s": 90, "max_winding_deg": 100})"),
+              HasSubstr("/max_winding_deg"));
   EXPECT_THAT(error(R"({"type": "gcode", "file": "empty.gcode"})"), HasSubstr("/file: the G-code file has no moves"));
   EXPECT_THAT(error(R"({"type": "gcode", "file": "bad.gcode"})"), HasSubstr("bad.gcode:2: X without a number"));
   EXPECT_THAT(error(R"({"type": "gcode", "file": "missing.gcode"})"),

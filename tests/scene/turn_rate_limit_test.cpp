@@ -77,15 +77,42 @@ TEST(TurnRateLimit, ReversalTakesHalfATurnAtTheLimit) {
   EXPECT_EQ(limit.HeadingAt(3.5, followed), M_PI);
 }
 
+TEST(TurnRateLimit, WindingLimitUnwindsAWholeTurnTheOtherWay) {
+  // The rule turns at 1 rad/s for ever; held to 4 rad/s and 270 degrees of winding the
+  // scanner follows until it has wound 270 degrees, then turns back at 4 rad/s to the
+  // rule's heading a turn lower, which it meets after 2 pi / (4 + 1) s, and so on.
+  auto followed = [](double t) { return std::remainder(t, 2 * M_PI); };
+  const double rate = 4, winding = 1.5 * M_PI;
+  TurnRateLimit limit(followed, 0, 20, rate, winding);
+  const double t_unwind = winding;  // the rule reaches 270 degrees at t = 3 pi / 2
+  EXPECT_EQ(limit.HeadingAt(t_unwind - 0.01, followed), followed(t_unwind - 0.01));
+  EXPECT_TRUE(limit.SlewingAt(t_unwind + 0.5));
+  EXPECT_NEAR(AngleDiff(limit.HeadingAt(t_unwind + 0.5, followed), winding - rate * 0.5), 0.0, rate * kStepS + 1e-9);
+  EXPECT_NEAR(limit.longest_slew_s(), 2 * M_PI / (rate + 1), kStepS + 1e-8);
+  EXPECT_FALSE(limit.SlewingAt(t_unwind + 2 * M_PI / (rate + 1) + 0.01));
+  // Every 2 pi of the rule's turning (after the first 3 pi / 2) costs one unwind.
+  EXPECT_EQ(limit.unwinds(), 3u);  // at t = 4.71, 11.0, 17.3
+  EXPECT_LE(limit.max_winding_rad(), winding + 1e-12);
+  EXPECT_GT(limit.max_winding_rad(), winding - 1e-2);
+  // Without the winding limit it follows all the way.
+  TurnRateLimit free(followed, 0, 20, rate);
+  EXPECT_EQ(free.slews(), 0u);
+  EXPECT_NEAR(free.max_winding_rad(), 20, 1e-9);
+}
+
 TEST(TurnRateLimit, BadLimitsAreRefused) {
   auto followed = [](double) { return 0.0; };
   EXPECT_THROW(TurnRateLimit(followed, 0, 1, 0), std::invalid_argument);
   EXPECT_THROW(TurnRateLimit(followed, 0, 1, -1), std::invalid_argument);
   EXPECT_THROW(TurnRateLimit(followed, 0, 1, NAN), std::invalid_argument);
   EXPECT_THROW(TurnRateLimit(followed, 1, 0, 1), std::invalid_argument);
+  EXPECT_THROW(TurnRateLimit(followed, 0, 1, 1, 3.0), std::invalid_argument);  // under 180 degrees
   OrientationOptions o;
   o.max_turn_rad_s = -1;
   EXPECT_THROW(o.Check(), std::invalid_argument);
+  o.max_turn_rad_s = 0;
+  o.max_winding_rad = 2 * M_PI;
+  EXPECT_THROW(o.Check(), std::invalid_argument);  // nothing to unwind at
 }
 
 // A 40 mm square at 20 mm/s: corners at t = 2, 4 and 6 s.

@@ -134,6 +134,7 @@ void Run(const CoverageArgs& a) {
   const nlohmann::json resolved = MotionToJson(scene.motion);
   std::string rule = resolved["orientation"].get<std::string>();
   if (resolved.contains("max_turn_deg_s")) rule += ", held to " + FormatNumber(resolved["max_turn_deg_s"].get<double>()) + " deg/s";
+  if (resolved.contains("max_winding_deg")) rule += ", wound at most " + FormatNumber(resolved["max_winding_deg"].get<double>()) + " deg";
   nlohmann::json j = {{"orientation", resolved["orientation"]},
                       {"gcode_time_s", {g0, g1}},
                       {"distance_mm", a.distance_mm},
