@@ -67,7 +67,6 @@ std::vector<StripeCenter> ComputeStripeCenters(const EmbreeScene& scene, const C
   const int lines = axis == ScanAxis::kRows ? camera.height() : camera.width();
   const int length = axis == ScanAxis::kRows ? camera.width() : camera.height();
   LineScanner scanner(scene, camera, world_from_cam, axis, options);
-  Pose cam_from_world = world_from_cam.inverse();
 
   std::vector<std::vector<StripeCenter>> per_line(static_cast<size_t>(lines));
   tbb::parallel_for(0, lines, [&](int line) {
@@ -133,14 +132,7 @@ std::vector<StripeCenter> ComputeStripeCenters(const EmbreeScene& scene, const C
         }
         auto root = scanner.Refine(line, ws, s0, a, s1, b);
         if (!root || !scanner.Lit(ws, root->second)) return;
-        Eigen::Vector2d px = scanner.Pixel(line, root->first);
-        StripeCenter c;
-        c.u = px.x();
-        c.v = px.y();
-        c.plane = ws.plane;
-        c.p_world = root->second.p_world;
-        c.p_cam = cam_from_world * c.p_world;
-        out.push_back(c);
+        out.push_back(scanner.Centre(line, ws, *root));
       };
       for (size_t i = 0; i + 1 < pos.size(); ++i) {
         const Sample &a = samples[i], &b = samples[i + 1];

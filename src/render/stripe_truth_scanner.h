@@ -55,11 +55,28 @@ class LineScanner {
  public:
   LineScanner(const EmbreeScene& scene, const Camera& camera, const Pose& world_from_cam, ScanAxis axis,
               const StripeTruthOptions& options)
-      : scene_(scene), camera_(camera), world_from_cam_(world_from_cam), axis_(axis), options_(options) {}
+      : scene_(scene),
+        camera_(camera),
+        world_from_cam_(world_from_cam),
+        cam_from_world_(world_from_cam.inverse()),
+        axis_(axis),
+        options_(options) {}
 
   // Pixel of position s along scan line `line`.
   Eigen::Vector2d Pixel(int line, double s) const {
     return axis_ == ScanAxis::kRows ? Eigen::Vector2d(s, line) : Eigen::Vector2d(line, s);
+  }
+
+  // The centre a refined root (position along scan line `line`, surface point) gives.
+  StripeCenter Centre(int line, const WorldSheet& ws, const std::pair<double, Sample>& root) const {
+    const Eigen::Vector2d px = Pixel(line, root.first);
+    StripeCenter c;
+    c.u = px.x();
+    c.v = px.y();
+    c.plane = ws.plane;
+    c.p_world = root.second.p_world;
+    c.p_cam = cam_from_world_ * c.p_world;
+    return c;
   }
 
   // The first hit of the chief ray at position s along scan line `line`;
@@ -249,6 +266,7 @@ class LineScanner {
   const EmbreeScene& scene_;
   const Camera& camera_;
   Pose world_from_cam_;
+  Pose cam_from_world_;
   ScanAxis axis_;
   StripeTruthOptions options_;
 };

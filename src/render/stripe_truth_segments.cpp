@@ -257,14 +257,7 @@ void AddCentresFromSegments(const EmbreeScene& scene, const Camera& camera, cons
         }
       }
       if (!root || Known(out, ws.plane, root->first, axis) || !scanner.Lit(ws, root->second)) continue;
-      const Eigen::Vector2d px = scanner.Pixel(line, root->first);
-      StripeCenter centre;
-      centre.u = px.x();
-      centre.v = px.y();
-      centre.plane = ws.plane;
-      centre.p_world = root->second.p_world;
-      centre.p_cam = cam_from_world * centre.p_world;
-      out.push_back(centre);
+      out.push_back(scanner.Centre(line, ws, *root));
       added = true;
     }
     if (added) {
