@@ -72,7 +72,8 @@ ToolpathOrientation::ToolpathOrientation(std::shared_ptr<const Toolpath> path, O
   if (options_.mode == OrientationMode::kTrailing) StartTrailingWheel();
   if (options_.max_turn_rad_s > 0 && !segs.empty()) {
     limit_.emplace([this](double t) { return RuleHeadingAt(t); }, segs.front().t_start_s, segs.back().t_end_s,
-                   options_.max_turn_rad_s, options_.max_winding_rad);
+                   options_.max_turn_rad_s, options_.max_winding_rad,
+                   [this](double t) { return !path_->segments[path_->SegmentIndexAt(t)].LaysBead(); });
   }
 }
 

@@ -28,7 +28,8 @@
 // has caught up. An arm's wrist turns no faster than its joint speed. A winding limit
 // (`max_winding_rad`) also bounds how far the heading winds from its start: a print that
 // loops one way would wind the wrist past its range, so the scanner unwinds a whole
-// turn, the other way round, at the turn rate limit, where it would pass the bound.
+// turn, the other way round, at the turn rate limit, where it would pass the bound, or
+// earlier, on a move that lays no bead, once it has wound more than half a turn.
 //
 // Path length here is measured in the bed plane: moves without motion in that plane
 // (z only, extruder only, dwells) keep the heading. Travel moves count like printing

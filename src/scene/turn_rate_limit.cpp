@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 namespace lt {
@@ -18,7 +19,8 @@ double Wrap(double a) { return std::remainder(a, 2 * M_PI); }
 }  // namespace
 
 TurnRateLimit::TurnRateLimit(const std::function<double(double)>& followed, double t_begin, double t_end,
-                             double max_rate_rad_s, double max_winding_rad, double step_s)
+                             double max_rate_rad_s, double max_winding_rad,
+                             const std::function<bool(double)>& unwind_early, double step_s)
     : t_begin_(t_begin), t_end_(t_end), rate_(max_rate_rad_s) {
   if (!(std::isfinite(max_rate_rad_s) && max_rate_rad_s > 0)) throw std::invalid_argument("turn rate limit must be > 0");
   if (!(max_winding_rad >= M_PI)) throw std::invalid_argument("winding limit must be >= 180 degrees");
@@ -38,13 +40,19 @@ TurnRateLimit::TurnRateLimit(const std::function<double(double)>& followed, doub
   // started is heading - start, which the winding limit bounds.
   const double start = followed(t_begin);
   double heading = start;
+  // While an unwind is under way: the turns (a multiple of 2 pi) it adds to the
+  // followed heading, kept until it has caught up.
+  std::optional<double> unwind_turns;
   for (double t = t_begin; t < t_end;) {
     const double t_next = std::min(t + dt, t_end), h = t_next - t;
     const double f = followed(t_next);
     // The followed heading's nearest turn, or the next one the other way round where
-    // the nearest would wind the scanner past the limit.
-    double target = heading + Wrap(f - heading);
-    const bool unwinding = std::abs(target - start) > max_winding_rad;
+    // the nearest would wind the scanner past the limit (or past half a turn where
+    // unwinding costs least).
+    double target = unwind_turns ? f + *unwind_turns : heading + Wrap(f - heading);
+    const double wound = std::abs(target - start);
+    const bool unwinding = wound > max_winding_rad || (!unwind_turns && std::isfinite(max_winding_rad) &&
+                                                         unwind_early && wound > M_PI && unwind_early(t_next));
     if (unwinding) target -= std::copysign(2 * M_PI, target - start);
     const double need = target - heading;
     const double turns = 2 * M_PI * std::round((target - f) / (2 * M_PI));  // target = followed + turns
@@ -64,6 +72,7 @@ TurnRateLimit::TurnRateLimit(const std::function<double(double)>& followed, doub
         }
         pieces_.push_back({b, 0.0, 0});
         slew_ends(slew, b);
+        unwind_turns.reset();
       } else if (std::abs(need) / h > max_rate_rad_s_seen_ && slews_ == 0) {
         max_rate_rad_s_seen_ = std::abs(need) / h;
         max_rate_time_s_ = t;
@@ -75,7 +84,11 @@ TurnRateLimit::TurnRateLimit(const std::function<double(double)>& followed, doub
         if (cur.dir != 0) slew_ends(cur, t);  // a slew that turns round: it ends here
         if (pieces_.back().t0 == t) pieces_.pop_back();
         pieces_.push_back({t, heading, dir});
-        if (unwinding) ++unwinds_;
+        unwind_turns.reset();
+        if (unwinding) {
+          ++unwinds_;
+          unwind_turns = 2 * M_PI * std::round((target - f) / (2 * M_PI));
+        }
         if (slews_++ == 0) {
           max_rate_rad_s_seen_ = rate_;
           max_rate_time_s_ = t;

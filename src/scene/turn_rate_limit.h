@@ -27,9 +27,13 @@ class TurnRateLimit {
   // With a finite max_winding_rad (>= pi) the scanner never turns further than that
   // either way from its heading at t_begin, as a wrist joint can turn only so far: where
   // following would wind it further, it turns back the other way round, a whole turn
-  // less, at the limit rate (an unwind).
+  // less, at the limit rate (an unwind). `unwind_early(t)`, when given, says where an
+  // unwind costs least (moves that lay no bead): there the scanner unwinds as soon as it
+  // has wound more than half a turn, so that it seldom reaches the limit while printing.
+  // An unwind, once begun, keeps its way round until it has caught up.
   TurnRateLimit(const std::function<double(double)>& followed, double t_begin, double t_end, double max_rate_rad_s,
-                double max_winding_rad = std::numeric_limits<double>::infinity(), double step_s = 1e-3);
+                double max_winding_rad = std::numeric_limits<double>::infinity(),
+                const std::function<bool(double)>& unwind_early = {}, double step_s = 1e-3);
 
   // The limited heading at t (clamped to [t_begin, t_end]), and whether t lies on a
   // slew. On a following piece this is followed(t) itself.

@@ -100,6 +100,27 @@ TEST(TurnRateLimit, WindingLimitUnwindsAWholeTurnTheOtherWay) {
   EXPECT_NEAR(free.max_winding_rad(), 20, 1e-9);
 }
 
+TEST(TurnRateLimit, UnwindsEarlyWhereItCostsLeastAndFinishesTheTurn) {
+  // As above, but unwinding costs least in t = [4, 4.5] s (a travel move): wound 4 rad
+  // (229 degrees, over half a turn) there, the scanner unwinds at once, and keeps turning
+  // the same way after the window closes until it has caught up, 2 pi / 5 s later.
+  auto followed = [](double t) { return std::remainder(t, 2 * M_PI); };
+  auto travel = [](double t) { return t >= 4.0 && t <= 4.5; };
+  const double rate = 4, winding = 1.5 * M_PI;
+  TurnRateLimit limit(followed, 0, 6, rate, winding, travel);
+  EXPECT_EQ(limit.HeadingAt(3.99, followed), followed(3.99));
+  EXPECT_TRUE(limit.SlewingAt(4.8));  // past the window, still unwinding
+  EXPECT_NEAR(AngleDiff(limit.HeadingAt(4.8, followed), 4.0 - rate * 0.8), 0.0, rate * kStepS + 1e-9);
+  EXPECT_NEAR(limit.longest_slew_start_s(), 4.0, kStepS + 1e-12);
+  EXPECT_NEAR(limit.longest_slew_s(), 2 * M_PI / (rate + 1), kStepS + 1e-8);
+  EXPECT_EQ(limit.HeadingAt(5.5, followed), followed(5.5));
+  EXPECT_EQ(limit.unwinds(), 1u);  // and none at 3 pi / 2 = 4.71 s, where the limit alone would
+  EXPECT_NEAR(limit.max_winding_rad(), 4.0, kStepS + 1e-9);
+  // Under half a turn a travel move does not unwind.
+  TurnRateLimit early(followed, 0, 3, rate, winding, [](double) { return true; });
+  EXPECT_EQ(early.unwinds(), 0u);
+}
+
 TEST(TurnRateLimit, BadLimitsAreRefused) {
   auto followed = [](double) { return 0.0; };
   EXPECT_THROW(TurnRateLimit(followed, 0, 1, 0), std::invalid_argument);
