@@ -13,7 +13,7 @@ namespace {
 constexpr double kMaxSteps = 2e7;
 constexpr double kBisectionS = 1e-9;
 
-// The angle a minus b, in (-pi, pi].
+// The angle a, in (-pi, pi].
 double Wrap(double a) { return std::remainder(a, 2 * M_PI); }
 
 }  // namespace
@@ -63,7 +63,8 @@ TurnRateLimit::TurnRateLimit(const std::function<double(double)>& followed, doub
         // how far it still has to go (positive at t, not at t_next).
         const Piece slew = cur;
         auto left = [&](double tau) {
-          return slew.dir * (followed(tau) + turns - (slew.angle0 + slew.dir * rate_ * (tau - slew.t0)));
+          // Wrapped: within the step the gap is small, and the followed heading may cross +-pi.
+          return slew.dir * Wrap(followed(tau) + turns - (slew.angle0 + slew.dir * rate_ * (tau - slew.t0)));
         };
         double a = t, b = t_next;
         while (b - a > kBisectionS) {

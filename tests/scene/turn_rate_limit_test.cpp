@@ -69,6 +69,25 @@ TEST(TurnRateLimit, TurnsTheShortWayAcrossTheWrap) {
   EXPECT_EQ(limit.HeadingAt(0.5, followed), -170 * kDeg);
 }
 
+TEST(TurnRateLimit, SlewEndsWhereItMeetsTheRuleEvenWhereTheRuleCrossesTheWrap) {
+  // The rule steps to a at t1 = 1.0005 s (inside a step, so the 2 rad/s slew starts at the
+  // step's start s0) and turns on at 0.5 rad/s: the slew meets it at
+  // T = (a + 2 s0 - 0.5 t1) / 1.5, and a is chosen so that the rule crosses +-pi d later,
+  // within the same 1 ms step. The meeting, not the crossing, ends the slew.
+  const double t1 = 1.0005;
+  for (double d : {1e-6, 1e-5}) {
+    const double a = (2 * t1 + 3 * M_PI - 2 - 1.5 * d) / 4;  // cross - meet = d with s0 = 1
+    auto followed = [&](double t) { return t < t1 ? 0.0 : std::remainder(a + 0.5 * (t - t1), 2 * M_PI); };
+    TurnRateLimit limit(followed, 0, 5, 2.0);
+    const double s0 = limit.longest_slew_start_s();
+    ASSERT_NEAR(s0, 1.0, 1e-9);
+    const double meet = (a + 2 * s0 - 0.5 * t1) / 1.5;
+    const double cross = t1 + 2 * (M_PI - a);
+    ASSERT_NEAR(cross - meet, d, 1e-9);  // the case meant
+    EXPECT_NEAR(s0 + limit.longest_slew_s(), meet, 1e-8) << d;
+  }
+}
+
 TEST(TurnRateLimit, ReversalTakesHalfATurnAtTheLimit) {
   auto followed = [](double t) { return t < 1 ? 0.0 : M_PI; };
   TurnRateLimit limit(followed, 0, 5, M_PI / 2);
