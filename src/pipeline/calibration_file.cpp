@@ -119,6 +119,29 @@ Pose ReadRigid(const OpenCvYaml& y, const YamlEntry& e) {
   return p;
 }
 
+// The file's text as OpenCvYaml's entries, unless it is another tool's camera
+// file: then that camera is read into *other and nullopt returned. The YAML text
+// is parsed once, its tree read as the other tools' files or OpenCV's.
+std::optional<OpenCvYaml> ReadOpenCvOrOther(const std::string& text, const std::string& file,
+                                            const CalibrationFileOptions& options, CalibrationFile* other) {
+  if (IsOpenCvXmlText(text)) return OpenCvYaml::Parse(text, file);
+  if (ReadColmapCameras(text, file, options.camera, other)) return std::nullopt;
+  YamlLine first;
+  YamlNode root;
+  try {
+    root = ParseYamlTree(text, file, &first);
+  } catch (const InputError& e) {
+    // A file starting %YAML: is OpenCV's: its error as it is.
+    const size_t start = text.find_first_not_of(" \t\r\n");
+    if (start != std::string::npos && text.compare(start, 6, "%YAML:") == 0) throw;
+    throw InputError(e.where(), e.message() + " (expected a calibration file: OpenCV FileStorage YAML or XML, or "
+                                              "the camera file of ROS (camera_info), Kalibr (camchain) or camodocal)");
+  }
+  // The camera files of other tools (ROS, Kalibr, camodocal) are recognised by their keys.
+  if (ReadOtherCameraFile(root, file, options.camera, other)) return std::nullopt;
+  return OpenCvYaml::Parse(root, first, file);
+}
+
 }  // namespace
 
 CalibratedCamera CalibratedCamera::From(const Camera& camera) {
@@ -159,35 +182,14 @@ Camera CalibrationFile::MakeCamera(const CameraParams& base, const std::string& 
 }
 
 CalibrationFile ReadCalibrationFile(const std::filesystem::path& path, const CalibrationFileOptions& options) {
-  const std::string text = OpenCvYaml::ReadText(path);
   const std::string file = path.string();
-  // The camera files of other tools (ROS, Kalibr, camodocal) are YAML that
-  // OpenCV's subset does not cover (nested maps, no %YAML:1.0): recognised by
-  // their keys in the YAML tree.
-  const size_t first = text.find_first_not_of(" \t\r\n");
-  const bool opencv_header = first != std::string::npos && text.compare(first, 6, "%YAML:") == 0;
-  if (!IsOpenCvXmlText(text)) {
-    CalibrationFile other;
-    if (ReadColmapCameras(text, file, options.camera, &other)) {
-      other.MakeCamera(CameraParams{}, file);
-      return other;
-    }
-    std::optional<YamlNode> root;
-    try {
-      root = ParseYamlTree(text, file);
-    } catch (const InputError& e) {
-      // OpenCV's own files read with its subset (whose errors are the precise ones).
-      if (!opencv_header) {
-        throw InputError(e.where(), e.message() + " (expected a calibration file: OpenCV FileStorage YAML or XML, or "
-                                                  "the camera file of ROS (camera_info), Kalibr (camchain) or camodocal)");
-      }
-    }
-    if (root && ReadOtherCameraFile(*root, file, options.camera, &other)) {
-      other.MakeCamera(CameraParams{}, file);  // a distortion that folds inside the image
-      return other;
-    }
+  CalibrationFile other;
+  const std::optional<OpenCvYaml> opencv = ReadOpenCvOrOther(OpenCvYaml::ReadText(path), file, options, &other);
+  if (!opencv) {
+    other.MakeCamera(CameraParams{}, file);  // a distortion that folds inside the image
+    return other;
   }
-  OpenCvYaml y = OpenCvYaml::Parse(text, file);
+  const OpenCvYaml& y = *opencv;
   CheckNoCameraChosen(options.camera, file, "an OpenCV FileStorage file");
   CalibrationFile c;
   for (const auto& e : y.entries()) {

@@ -96,10 +96,8 @@ YamlMatrix MakeMatrix(const std::string& key, const MatrixField& rows, const Mat
 
 namespace {
 
-// The entries of a FileStorage YAML text, whose first line is a %YAML directive.
-std::vector<YamlEntry> ParseOpenCvYaml(const std::string& text, const std::string& file) {
-  YamlLine first;
-  const YamlNode root = ParseYamlTree(text, file, &first);
+// The entries of a FileStorage YAML text's tree, whose first line is a %YAML directive.
+std::vector<YamlEntry> OpenCvYamlEntries(const YamlNode& root, const YamlLine& first, const std::string& file) {
   if (first.text.rfind("%YAML", 0) != 0) {
     throw InputError(file + ":" + std::to_string(first.no),
                      "not an OpenCV FileStorage YAML file: the first line must be %YAML:1.0 (the XML form starts with "
@@ -134,9 +132,21 @@ bool IsOpenCvXmlText(const std::string& text) {
 }
 
 OpenCvYaml OpenCvYaml::Parse(const std::string& text, const std::string& file) {
+  if (!IsOpenCvXmlText(text)) {
+    YamlLine first;
+    const YamlNode root = ParseYamlTree(text, file, &first);
+    return Parse(root, first, file);
+  }
   OpenCvYaml y;
   y.file_ = file;
-  y.entries_ = IsOpenCvXmlText(text) ? ParseOpenCvXml(text, file) : ParseOpenCvYaml(text, file);
+  y.entries_ = ParseOpenCvXml(text, file);
+  return y;
+}
+
+OpenCvYaml OpenCvYaml::Parse(const YamlNode& root, const YamlLine& first, const std::string& file) {
+  OpenCvYaml y;
+  y.file_ = file;
+  y.entries_ = OpenCvYamlEntries(root, first, file);
   return y;
 }
 

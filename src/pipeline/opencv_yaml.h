@@ -30,6 +30,9 @@
 
 namespace lt {
 
+struct YamlNode;  // pipeline/yaml_tree.h
+struct YamlLine;
+
 struct YamlMatrix {
   int rows = 0, cols = 0;
   int channels = 1;          // dt "2f": 2 (OpenCV's sample writes its image points so)
@@ -52,6 +55,10 @@ class OpenCvYaml {
  public:
   // Parses text; `file` names it in errors.
   static OpenCvYaml Parse(const std::string& text, const std::string& file);
+  // The YAML form from its tree (ParseYamlTree of the text, `first` its first
+  // line, which must be the %YAML directive), so a caller that has parsed the
+  // text does not parse it again.
+  static OpenCvYaml Parse(const YamlNode& root, const YamlLine& first, const std::string& file);
   static OpenCvYaml Read(const std::filesystem::path& path);  // errors name the path
   // The whole text of a file (lt::InputError naming the path when it cannot be read).
   static std::string ReadText(const std::filesystem::path& path);

@@ -413,6 +413,11 @@ TEST(CalibrationFileFormats, StereoAndEmptyFilesAreRefused) {
   EXPECT_EQ(ocam.first, ":3");
   EXPECT_THAT(ocam.second, HasSubstr("expected a calibration file: OpenCV FileStorage YAML or XML, or the camera file of "
                                      "ROS (camera_info), Kalibr (camchain) or camodocal"));
+  // An OpenCV file (%YAML: first) that is no YAML: the tree's error as it is.
+  const auto opencv = ErrorOf("broken.yml", "%YAML:1.0\n---\nimage_width: 640\nnote: [ 1, 2\n");
+  EXPECT_EQ(opencv.first, ":4");
+  EXPECT_THAT(opencv.second, HasSubstr("missing ']'"));
+  EXPECT_THAT(opencv.second, ::testing::Not(HasSubstr("expected a calibration file")));
 }
 
 // COLMAP's cameras.txt: one camera, its principal point moved by half a pixel

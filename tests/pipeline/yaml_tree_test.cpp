@@ -126,5 +126,27 @@ TEST(OpenCvYaml, ReadsWhatTheTreeReads) {
   }
 }
 
+// A caller that has the tree (ReadCalibrationFile, which tries other tools'
+// formats on it first) reads the same entries from it as from the text.
+TEST(OpenCvYaml, ReadsFromAParsedTree) {
+  const std::string text = "%YAML:1.0\n---\nw: 640\nm: !!opencv-matrix\n   rows: 1\n   cols: 2\n   dt: d\n"
+                           "   data: [ 1., 2. ]\n";
+  YamlLine first;
+  const YamlNode root = ParseYamlTree(text, "x.yml", &first);
+  const OpenCvYaml y = OpenCvYaml::Parse(root, first, "x.yml");
+  ASSERT_EQ(y.entries().size(), 2u);
+  EXPECT_EQ(y.Integer(*y.Find("w"), 1, 10000), 640);
+  EXPECT_EQ(y.Where(*y.Find("m")), "x.yml:4");
+  EXPECT_EQ(y.Matrix(*y.Find("m")).data, (std::vector<double>{1, 2}));
+  // Without the %YAML directive the tree is no OpenCV file, as the text is not.
+  const YamlNode plain = ParseYamlTree("w: 640\n", "p.yml", &first);
+  try {
+    OpenCvYaml::Parse(plain, first, "p.yml");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(std::string(e.what()), ::testing::StartsWith("p.yml:1: not an OpenCV FileStorage YAML file"));
+  }
+}
+
 }  // namespace
 }  // namespace lt
