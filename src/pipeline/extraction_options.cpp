@@ -69,6 +69,23 @@ void ParseBackground(const std::string& text, const std::string& where, double* 
   *mode = BackgroundMode::kLevel;
 }
 
+void ParseTransfer(const std::string& text, const std::string& where, Transfer* transfer, double* gamma) {
+  const std::string t(TrimBlanks(text));
+  if (t == "linear" || t == "srgb") {
+    *transfer = t == "linear" ? Transfer::kLinear : Transfer::kSrgb;
+    return;
+  }
+  if (t.rfind("gamma=", 0) == 0) {
+    const std::optional<double> g = ParseFiniteNumber(t.substr(6));
+    if (g && *g >= 1 && *g <= 4) {
+      *transfer = Transfer::kGamma;
+      *gamma = *g;
+      return;
+    }
+  }
+  throw InputError(where, "expected linear, srgb or gamma=G with G in [1, 4] (e.g. gamma=2.2), got '" + text + "'");
+}
+
 namespace {
 bool FiniteOrAuto(double v) { return std::isnan(v) || std::isfinite(v); }
 }  // namespace
@@ -115,6 +132,8 @@ void ExtractionOptions::Check() const {
             "a demosaiced Bayer image has 3 channels (R, G, B): give 3 weights, got " +
                 std::to_string(channel_weights.size()));
   }
+  Require(transfer != Transfer::kGamma || (std::isfinite(gamma) && gamma >= 1 && gamma <= 4), "gamma",
+          "must be in [1, 4], got " + FormatNumber(gamma));
   Require(threads >= 0 && threads <= 1024, "threads", "must be in [0, 1024], got " + std::to_string(threads));
 }
 

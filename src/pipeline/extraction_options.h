@@ -33,6 +33,15 @@ enum class SearchAxis { kRows, kCols };
 // (its second derivative is blind to a linear background).
 enum class BackgroundMode { kLevel, kLocal };
 
+// How an integer image's values encode light (docs/extraction.md, "Encoded
+// images"). kLinear: proportional to it (raw sensor data, machine-vision
+// cameras). kSrgb: the sRGB transfer curve (webcams, phones, most JPEGs).
+// kGamma: a power law, value = light^(1/gamma). A non-linear image is
+// linearized per sample through a table (2^bits entries) to linear values on
+// the image's own scale (0..255 or 0..65535) before extraction, so the
+// threshold, background and widths are in linear units.
+enum class Transfer { kLinear, kSrgb, kGamma };
+
 // Candidate peaks (above the threshold) that max, com and multicom dropped
 // for their FWHM: narrower than min_width without continuing on the adjacent
 // search lines, or wider than max_width.
@@ -57,6 +66,10 @@ const char* AxisName(SearchAxis axis);
 // lt::InputError(where, ...) for anything else.
 ExtractionMethod ParseMethod(const std::string& text, const std::string& where);
 SearchAxis ParseAxis(const std::string& text, const std::string& where);
+// Parse a --transfer value: "linear", "srgb" or "gamma=G" (G in [1, 4], the
+// decoding exponent: 2.2 for an image encoded with gamma 1/2.2); throw
+// lt::InputError(where, ...) otherwise.
+void ParseTransfer(const std::string& text, const std::string& where, Transfer* transfer, double* gamma);
 // Parse a --background value: a number (mode kLevel, *level set) or "local"
 // (mode kLocal, *level untouched); throw lt::InputError(where, ...) otherwise.
 void ParseBackground(const std::string& text, const std::string& where, double* level, BackgroundMode* mode);
@@ -121,6 +134,11 @@ struct ExtractionOptions {
   // (threshold and background stay in the raw image's units), or on `channel` /
   // `channel_weights` of the demosaiced R, G, B.
   ColorFilter bayer = ColorFilter::kMono;
+
+  // How the input's values encode light (8- and 16-bit images; a float image
+  // is linear and refused with another transfer). gamma: kGamma's exponent.
+  Transfer transfer = Transfer::kLinear;
+  double gamma = 2.2;
 
   // Worker threads (TBB arena); 0 = all hardware threads.
   int threads = 0;

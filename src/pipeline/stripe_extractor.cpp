@@ -13,6 +13,7 @@
 #include "pipeline/demosaic.h"
 #include "pipeline/extract_methods.h"
 #include "pipeline/extract_steger.h"
+#include "pipeline/extract_transfer.h"
 
 namespace lt {
 
@@ -146,6 +147,7 @@ struct StripeExtractor::Impl {
   std::vector<uint16_t> buf16[2];
   std::vector<float> buf32[2];
   std::vector<float> demosaiced;  // R, G, B of a Bayer mosaic
+  std::vector<float> transfer_table, linear;  // options.transfer's table, the linearized image
   WidthRejections rejections;     // of the last Extract
 
   explicit Impl(ExtractionOptions o)
@@ -249,6 +251,19 @@ void StripeExtractor::Extract(const ImageView<T>& image, std::vector<StripePoint
   if (image.data == nullptr || image.empty()) {
     throw InputError("", "image is empty (" + SizeText(image.width, image.height) + ")");
   }
+  if (o.transfer == Transfer::kLinear) return ExtractLinear(image, ThresholdFor<T>(), points);
+  if constexpr (std::is_floating_point_v<T>) {
+    throw InputError("", "a float image holds linear values: --transfer applies to 8- and 16-bit images");
+  } else {
+    // Linear values on the image's own scale: the threshold is T's.
+    ExtractLinear(LinearizeImage(image, o.transfer, o.gamma, &impl_->transfer_table, &impl_->linear),
+                  ThresholdFor<T>(), points);
+  }
+}
+
+template <typename T>
+void StripeExtractor::ExtractLinear(const ImageView<T>& image, double threshold, std::vector<StripePoint>* points) {
+  const ExtractionOptions& o = impl_->options;
   if (image.channels < 1) throw InputError("", "image has no channels");
   ImageView<T> view = image;
   PixelRect region{0, 0, image.width, image.height};
@@ -300,7 +315,7 @@ void StripeExtractor::Extract(const ImageView<T>& image, std::vector<StripePoint
   }
   MethodParams params;
   params.options = &o;
-  params.threshold = ThresholdFor<T>();
+  params.threshold = threshold;
   params.high_threshold = std::isnan(o.high_threshold) ? params.threshold : o.high_threshold;
   const int W = view.width, H = view.height;
   if (bayer) {
@@ -349,30 +364,6 @@ void StripeExtractor::Extract(const ImageView<T>& image, std::vector<StripePoint
     p.u += region.x;
     p.v += region.y;
   }
-}
-
-std::vector<std::string> WidthRejectionNotes(const WidthRejections& rejected, const ExtractionOptions& o) {
-  std::vector<std::string> notes;
-  if (rejected.narrow > 0) {
-    notes.push_back(std::to_string(rejected.narrow) + " candidate peak" + (rejected.narrow == 1 ? " was" : "s were") +
-                    " narrower than --min-width " + FormatNumber(o.min_width) +
-                    " px without continuing on the adjacent search lines and rejected (hot pixels or noise "
-                    "spikes; lower --min-width to keep them)");
-  }
-  if (rejected.wide > 0) {
-    notes.push_back(std::to_string(rejected.wide) + " candidate peak" + (rejected.wide == 1 ? " was" : "s were") +
-                    " wider than --max-width " + FormatNumber(o.max_width) +
-                    " px and rejected (blobs of ambient light, or a stripe wider than that: raise --max-width)");
-  }
-  return notes;
-}
-
-std::string NoStripePointsNote(const ExtractionOptions& o) {
-  std::string note = "no stripe points found; check --threshold (the default is 10% of the image's full scale), --roi and --axis";
-  if (o.method == ExtractionMethod::kSteger && !std::isnan(o.expected_width)) {
-    note += ", and --width (" + FormatNumber(o.expected_width) + " px): steger finds only stripes of about that width";
-  }
-  return note;
 }
 
 std::vector<StripePoint> StripeExtractor::Extract(const AnyImage& image) {

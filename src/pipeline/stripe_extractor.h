@@ -30,9 +30,11 @@ class StripeExtractor {
   const ExtractionOptions& resolved_options() const;
 
   // Finds stripe points, ordered by search line (row or column) and then
-  // across it. Bad input (empty image, ROI outside the image, channel count
-  // that does not fit the options) throws lt::InputError with an empty `where`
-  // (the caller knows the file name). `points` is cleared first; its capacity is
+  // across it. An 8- or 16-bit image with options().transfer not linear is
+  // linearized first (pipeline/extract_transfer.h); a float one is refused.
+  // Bad input (empty image, ROI outside the image, channel count that does
+  // not fit the options) throws lt::InputError with an empty `where` (the
+  // caller knows the file name). `points` is cleared first; its capacity is
   // reused.
   template <typename T>
   void Extract(const ImageView<T>& image, std::vector<StripePoint>* points);
@@ -53,6 +55,10 @@ class StripeExtractor {
   double ThresholdFor() const;
 
  private:
+  // Extract on an image in linear units, with the threshold resolved.
+  template <typename T>
+  void ExtractLinear(const ImageView<T>& image, double threshold, std::vector<StripePoint>* points);
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -126,6 +126,34 @@ TEST_F(ExtractCommand, BackgroundLocalOrLevel) {
   ExpectInputError(Quoted(p) + " --background 5x", "--background: expected a level (a number) or 'local', got '5x'");
 }
 
+// --transfer srgb linearizes an sRGB-encoded frame (a webcam's, a JPEG's)
+// before extraction: the width column is the light's FWHM again (the encoded
+// profile is about 1.5 times wider); a bad value names the choices.
+TEST_F(ExtractCommand, TransferLinearizesAnSrgbFrame) {
+  Image<uint8_t> img(64, 48, 1, 0);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const double light = 0.8 * std::exp(-0.5 * (x - 20) * (x - 20) / 4.0);  // sigma 2: FWHM 4.71
+      const double code = light <= 0.0031308 ? 12.92 * light : 1.055 * std::pow(light, 1 / 2.4) - 0.055;
+      img.At(x, y) = uint8_t(std::lround(255 * code));
+    }
+  const fs::path p = dir_ / "srgb.png";
+  WriteImage(p, img);
+  auto first_width = [&](const std::string& options) {
+    const CliResult r = RunCli("extract " + Quoted(p) + options);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    double u = 0, v = 0, width = 0;
+    EXPECT_EQ(std::sscanf(r.out.c_str(), "u,v,width,strength\n%lf,%lf,%lf", &u, &v, &width), 3) << r.out;
+    EXPECT_NEAR(u, 20, 1e-3);
+    return width;
+  };
+  EXPECT_GT(first_width(""), 6.5);
+  EXPECT_NEAR(first_width(" --transfer srgb"), 4.71, 0.1);
+  EXPECT_NEAR(first_width(" --transfer gamma=2.2 --method steger"), 4.6, 0.3);
+  ExpectInputError(Quoted(p) + " --transfer gamma=0.45",
+                   "--transfer: expected linear, srgb or gamma=G with G in [1, 4] (e.g. gamma=2.2), got 'gamma=0.45'");
+}
+
 TEST_F(ExtractCommand, MissingEmptyCorruptAndTruncatedFiles) {
   const fs::path missing = dir_ / "missing.png";
   ExpectInputError(Quoted(missing), missing.string() + ": no such file");

@@ -18,95 +18,11 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/stripe_extractor.h"
+#include "tools/experiments/stripe_frames.h"
 
 namespace {
 
-using Profile = std::function<double(double)>;
-
-struct Stripe {
-  double u0, v0, angle_deg;  // u = u0 + (v - v0) tan(angle)
-  Profile profile;
-  double CentreU(double v) const { return u0 + (v - v0) * std::tan(angle_deg * M_PI / 180); }
-};
-
-struct Frame {
-  int width = 160, height = 96;
-  std::vector<Stripe> stripes;
-  double level = 0, noise = 0, speckle = 0;
-  double clip = 0;  // > 0: round and clip to [0, clip] (an integer camera)
-  unsigned seed = 1;
-};
-
-lt::Image<float> Render(const Frame& f) {
-  constexpr int kSub = 8;
-  lt::Image<float> img(f.width, f.height, 1, 0.0f);
-  std::mt19937 rng(f.seed);
-  std::normal_distribution<double> normal(0, 1);
-  for (int y = 0; y < f.height; ++y)
-    for (int x = 0; x < f.width; ++x) {
-      double sum = 0;
-      for (int a = 0; a < kSub; ++a)
-        for (int b = 0; b < kSub; ++b) {
-          const double px = x - 0.5 + (a + 0.5) / kSub, py = y - 0.5 + (b + 0.5) / kSub;
-          for (const Stripe& s : f.stripes) {
-            sum += s.profile((px - s.CentreU(py)) * std::cos(s.angle_deg * M_PI / 180));
-          }
-        }
-      double v = sum / (kSub * kSub);
-      if (f.speckle > 0) v *= std::max(0.0, 1 + f.speckle * normal(rng));
-      v += f.level + f.noise * normal(rng);
-      if (f.clip > 0) v = std::clamp(std::round(v), 0.0, f.clip);
-      img.At(x, y) = float(v);
-    }
-  return img;
-}
-
-Profile Gauss(double a, double s) {
-  return [=](double d) { return a * std::exp(-d * d / (2 * s * s)); };
-}
-Profile FlatTop(double a, double w, double soft) {
-  return [=](double d) { return a * 0.5 * std::erfc((std::abs(d) - w / 2) / (soft * std::sqrt(2.0))); };
-}
-// Gaussian core and, on the right, an exponential tail at `k` of the peak.
-Profile Tail(double a, double s, double tail, double k) {
-  return [=](double d) {
-    const double g = a * std::exp(-d * d / (2 * s * s));
-    return d > 0 ? std::max(g, k * a * std::exp(-d / tail)) : g;
-  };
-}
-
-struct Cell {
-  int found = 0, lines = 0, unmatched = 0;
-  double rms = 0, max_abs = 0;
-};
-
-Cell Measure(const Frame& f, const lt::Image<float>& img, const lt::ExtractionOptions& o, double match) {
-  lt::StripeExtractor extractor(o);
-  Cell c;
-  double sum2 = 0;
-  for (const auto& p : extractor.Extract(img.View())) {
-    double best = HUGE_VAL;
-    for (const Stripe& s : f.stripes) {
-      const double d = p.u - s.CentreU(p.v);
-      if (std::abs(d) < std::abs(best)) best = d;
-    }
-    if (!(std::abs(best) <= match)) {
-      ++c.unmatched;
-      continue;
-    }
-    ++c.found;
-    sum2 += best * best;
-    c.max_abs = std::max(c.max_abs, std::abs(best));
-  }
-  for (int y = 0; y < f.height; ++y)
-    for (const Stripe& s : f.stripes) {
-      const double u = s.CentreU(y);
-      if (u > 0 && u < f.width - 1) ++c.lines;
-    }
-  if (c.found > 0) c.rms = std::sqrt(sum2 / c.found);
-  return c;
-}
+using namespace exp_stripes;
 
 void Row(const std::string& name, const Frame& f, double threshold, double background = 0, double match = 3,
          bool local = false) {
@@ -119,7 +35,7 @@ void Row(const std::string& name, const Frame& f, double threshold, double backg
     o.threshold = threshold;
     o.background = background;
     if (local) o.background_mode = lt::BackgroundMode::kLocal;
-    const Cell c = Measure(f, img, o, match);
+    const Cell c = Measure(f, img.View(), o, match);
     std::printf(" %d/%d", c.found, c.lines);
     if (c.unmatched) std::printf(" +%d", c.unmatched);
     if (c.found) std::printf(", %.3f / %.3f", c.rms, c.max_abs);

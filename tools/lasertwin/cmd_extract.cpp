@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "core/image_io.h"
 #include "pipeline/demosaic.h"
+#include "pipeline/extract_transfer.h"
 #include "pipeline/plane_identification.h"
 #include "pipeline/stripe_csv.h"
 #include "pipeline/stripe_extractor.h"
@@ -29,6 +30,7 @@ struct ExtractArgs {
   std::string bayer = "none";
   std::string out;
   std::string background = "0";
+  std::string transfer = "linear";
   ExtractionOptions options;
   int planes = 0;
   PlaneIdOptions plane_options;
@@ -47,10 +49,15 @@ std::string DimImageNote(const Image<T>& im, const StripeExtractor& extractor, c
   double brightest = -std::numeric_limits<double>::infinity();
   for (int y = r.y; y < r.y + r.height; ++y)
     for (int x = r.x; x < r.x + r.width; ++x) brightest = std::max(brightest, double(im.At(x, y)));
+  const bool linearized = o.transfer != Transfer::kLinear && std::is_integral_v<T>;
+  if (linearized) {  // the threshold is in linear units (--transfer)
+    const double full = double(std::numeric_limits<T>::max());
+    brightest = full * DecodeTransfer(o.transfer, o.gamma, brightest / full);
+  }
   const double threshold = extractor.ThresholdFor<T>();
   if (!(brightest < threshold)) return "";
   std::string note = "its brightest pixel" + std::string(o.roi ? " in the ROI" : "") + " is " + FormatNumber(brightest) +
-                     ", below the threshold " + FormatNumber(threshold);
+                     (linearized ? " linearized" : "") + ", below the threshold " + FormatNumber(threshold);
   if (std::is_same_v<T, uint16_t> && std::isnan(o.threshold)) {
     note += " (10% of 65535)";
     if (const int bits = UnscaledBitDepth(brightest)) {
@@ -71,6 +78,7 @@ void Run(ExtractArgs& a) {
   if (!a.weights.empty()) o.channel_weights = ParseNumberList(a.weights, "--weights");
   o.bayer = ParseBayerPattern(a.bayer, "--bayer");
   ParseBackground(a.background, "--background", &o.background, &o.background_mode);
+  ParseTransfer(a.transfer, "--transfer", &o.transfer, &o.gamma);
   a.plane_options.axis = o.axis;
   if (a.planes < 0) throw InputError("--planes", "must be >= 1");
   if (a.planes > 0) a.plane_options.Check();
@@ -223,6 +231,10 @@ void AddExtract(CLI::App& app) {
   cmd->add_option("--bayer", args->bayer,
                   "Raw Bayer mosaic: rggb | bggr | grbg | gbrg (demosaiced, then extracted on the mean of R, G, B "
                   "or on --channel/--weights of them) | none")
+      ->capture_default_str();
+  cmd->add_option("--transfer", args->transfer,
+                  "How the image values encode light: linear | srgb | gamma=G (8- and 16-bit images; srgb: webcams, "
+                  "phones, most JPEGs; linearized before extraction, --threshold and --background in linear units)")
       ->capture_default_str();
   cmd->add_option("--threads", o.threads, "Worker threads (0: all)")->capture_default_str();
   cmd->add_option("--planes", args->planes, "Identify N laser planes (adds the plane column)");

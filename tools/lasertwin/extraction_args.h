@@ -34,6 +34,7 @@ struct ExtractionArgs {
   std::string weights;
   std::string background;  // empty: the black level
   std::string bayer;       // empty: the rig's color_filter
+  std::string transfer = "linear";
   ExtractionOptions options;  // the numeric options, bound directly
   PlaneIdOptions plane_id;
   std::vector<CLI::Option*> declared;
@@ -78,6 +79,10 @@ struct ExtractionArgs {
     add(cmd->add_option("--bayer", bayer,
                         "The raw frames' mosaic: rggb | bggr | grbg | gbrg | none (default: rig.json's color_filter; "
                         "none without a rig)"));
+    add(cmd->add_option("--transfer", transfer,
+                        "How the image values encode light: linear | srgb | gamma=G (8- and 16-bit images; srgb: webcams, "
+                        "phones, most JPEGs; linearized before extraction, --threshold and --background in linear units)"))
+        ->capture_default_str();
     add(cmd->add_option("--threads", e.threads, "Worker threads (0: all)"))->capture_default_str();
     add(cmd->add_option("--link-distance", plane_id.link_distance,
                         "Plane identification: max step across between lines (px)"))
@@ -98,6 +103,7 @@ struct ExtractionArgs {
     e.method = ParseMethod(method.empty() ? "com" : method, "--method");
     if (!background.empty()) ParseBackground(background, "--background", &e.background, &e.background_mode);
     if (!roi.empty()) e.roi = ParseRoi(roi, "--roi");
+    ParseTransfer(transfer, "--transfer", &e.transfer, &e.gamma);
     if (!weights.empty()) e.channel_weights = ParseNumberList(weights, "--weights");
     if (!bayer.empty()) p.color_filter = ParseBayerPattern(bayer, "--bayer");
     p.plane_id = plane_id;
