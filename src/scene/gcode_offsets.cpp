@@ -61,7 +61,10 @@ void GcodeReader::SetPosition() {
   if (words_.empty()) {
     offset_mm_ = pos_mm_;
     for (int k = 0; k < 3; ++k) {
-      if (!axis_known_[k]) offset_mm_[k] = OffsetWithoutG92()[k];  // as a named axis below
+      if (axis_known_[k]) continue;
+      offset_mm_[k] = OffsetWithoutG92()[k];  // as a named axis below: the nozzle is at 0
+      pos_mm_[k] = offset_mm_[k];
+      axis_known_[k] = true;
     }
     for (double& e : e_logical_mm_) e = 0;
     for (double& a : extra_axes_) a = 0;
@@ -74,8 +77,15 @@ void GcodeReader::SetPosition() {
     if (!w) continue;
     // On an axis whose place is unknown (homed to an endstop of the printer's
     // configuration: MakerBot's "G162 Z" then "G92 Z80"), G92 states where the nozzle
-    // is rather than shifting a known frame: no G92 offset; the next absolute move puts it there.
-    offset_mm_[k] = axis_known_[k] ? pos_mm_[k] - *w->value * unit_mm_ : OffsetWithoutG92()[k];
+    // is rather than shifting a known frame: no G92 offset, and the axis is known again
+    // there (a relative move goes on from it).
+    if (axis_known_[k]) {
+      offset_mm_[k] = pos_mm_[k] - *w->value * unit_mm_;
+    } else {
+      offset_mm_[k] = OffsetWithoutG92()[k];
+      pos_mm_[k] = *w->value * unit_mm_ + offset_mm_[k];
+      axis_known_[k] = true;
+    }
   }
   const char letters[3] = {'E', 'A', 'B'};
   for (int k = 0; k < 3; ++k) {

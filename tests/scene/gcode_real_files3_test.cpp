@@ -55,6 +55,18 @@ TEST(GcodeRealFiles3, MakerBotHomingToEndstopsLeavesThePositionToG92AndAbsoluteM
   EXPECT_NEAR(tom.segments.back().end_m.y(), -9.28 * kMm, 1e-12);
   EXPECT_NEAR(tom.segments.back().end_m.z(), 5.2 * kMm, 1e-12);
 
+  // G92 makes the axis known there: a relative move goes on from it (it was built from
+  // the last place known before the homing, Z -79.7 here, and warned).
+  Toolpath rel = ParseGcode("G1 X5 Y5 Z1 F600\nG162 Z\nG92 Z80\nG91\nG1 Z-79.7\nG90\nG1 X10 Y10 E1\n", "rel.gcode");
+  EXPECT_NEAR(rel.segments.back().start_m.z(), 0.3 * kMm, 1e-12);
+  EXPECT_NEAR(rel.segments.back().end_m.z(), 0.3 * kMm, 1e-12);
+  ASSERT_EQ(rel.warnings.size(), 1u);  // the homing's only
+  EXPECT_THAT(rel.warnings[0].text, HasSubstr("G162 homes Z to the endstops"));
+  // A bare G92 says the nozzle is at 0 on every axis, unknown ones included.
+  Toolpath bare = ParseGcode("G1 X5 Y5 Z1 F600\nG161 Z\nG92\nG91\nG1 Z0.2\nG90\nG1 X10 E1\n", "bare.gcode");
+  EXPECT_NEAR(bare.segments.back().end_m.z(), 0.2 * kMm, 1e-12);
+  EXPECT_EQ(bare.warnings.size(), 1u);
+
   // A G92 on a known axis still shifts the frame, as before.
   Toolpath known = ParseGcode("G1 X10 F600\nG92 X0\nG1 X5\n", "k.gcode");
   EXPECT_NEAR(known.segments.back().end_m.x(), 15 * kMm, 1e-12);
