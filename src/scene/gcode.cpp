@@ -19,6 +19,11 @@ Toolpath GcodeReader::Finish() {
   if (!layer_comments_) LayersFromZ();
   // The extra axes' warning names every one the file moved, not just the first line's.
   if (warning_index_[kExtraAxes] >= 0) path_.warnings[size_t(warning_index_[kExtraAxes])].text = ExtraAxesWarning(extra_axes_seen_);
+  // Moves without E under M101 are the 3D form's only in a file that never gives E.
+  if (warning_index_[kExtruderOnWithoutE] >= 0 && e_word_seen_) {
+    path_.warnings.erase(path_.warnings.begin() + warning_index_[kExtruderOnWithoutE]);
+    warning_index_[kExtruderOnWithoutE] = -1;
+  }
   return std::move(path_);
 }
 

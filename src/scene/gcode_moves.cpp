@@ -223,9 +223,12 @@ void GcodeReader::Move(int gcode) {
   double extruded = Extruded();
   WarnBeadAtUnknown(CommandName('G', gcode), extruded, (end - pos_mm_).head<2>().norm());
   // A file with E words (Skeinforge's and Simplify3D's 5D files keep M101/M103 around
-  // them) is not of that form: only one whose moves never gave E is warned.
-  if (Find('E') || Find('A') || Find('B')) e_word_seen_ = true;
-  if (extruder_on_ && !e_word_seen_ && (end - pos_mm_).head<2>().norm() > 0) ExtruderOnWithoutE();
+  // them) is not of that form: only one whose moves never give E is warned (Finish
+  // drops the warning of a file that gives E anywhere).
+  NoteEWords();
+  if (extruder_on_ && (end - pos_mm_).head<2>().norm() > 0 && !Find('E') && !Find('A') && !Find('B')) {
+    ExtruderOnWithoutE();
+  }
   ExtraAxes(CommandName('G', gcode), extruded);
   double length = (end - pos_mm_).norm();
   AddSegment(gcode, end, extruded, length, (end - pos_mm_).head<2>().norm(), nullptr, MoveFeed(length, extruded));
@@ -247,6 +250,7 @@ void GcodeReader::Arc(int gcode) {
   if (!i && !j && !r) Fail(command + " needs " + offsets + " (centre offset) or R (radius)");
   if ((i || j) && r) Fail(command + " takes " + offsets + " or R, not both");
   SetFeed();
+  NoteEWords();
   TrackKnownAxes(command, (1 << p) | (1 << q));
   Eigen::Vector3d end = Target();
   Eigen::Vector2d start2(pos_mm_[p], pos_mm_[q]), end2(end[p], end[q]);

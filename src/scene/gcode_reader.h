@@ -158,6 +158,7 @@ class GcodeReader {
   void ExtruderOnWithoutE();
   bool extruder_on_ = false;  // between M101 and M103
   bool e_word_seen_ = false;  // a G0-G3 with E, A or B read
+  void NoteEWords() { e_word_seen_ = e_word_seen_ || Find('E') || Find('A') || Find('B'); }
   int m101_line_ = 0;
   // U, V, W, C words (a tool changer's coupler, a second carriage, a rotary axis): not
   // modelled, ignored with a warning; one that moves while the line extrudes is an

@@ -136,6 +136,10 @@ TEST(GcodeRealFiles3, ExtruderOnWithoutEIsWarned) {
       "G1 X1 Y1 F600 E0.4\nG1 X2 Y1\nG1 X3 Y1 E0.8\nM103\n",
       "5d.gcode");
   EXPECT_TRUE(five_d.warnings.empty());
+  // The file's E words may come after its first move without E (a travel first), or on
+  // arcs only: it is still of the 5D form.
+  EXPECT_TRUE(ParseGcode("M101\nG1 X10 Y10 F600\nG1 X30 Y10 E1\nM103\n", "late.gcode").warnings.empty());
+  EXPECT_TRUE(ParseGcode("M101\nG1 X10 Y10 F600\nG2 X30 Y10 I10 J0 E1\nM103\n", "arc.gcode").warnings.empty());
 }
 
 // A CNC router's file (in a G-code viewer's demos) sets the feed on lines of their own,
