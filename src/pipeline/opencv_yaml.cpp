@@ -2,9 +2,7 @@
 
 #include <cctype>
 #include <cmath>
-#include <cstdlib>
 #include <stdexcept>
-#include <tuple>
 
 #include "core/error.h"
 #include "core/text_fields.h"
@@ -13,15 +11,6 @@
 namespace lt {
 
 namespace {
-
-// Parses the whole string as a finite number.
-bool ParseReal(const std::string& s, double* v) {
-  if (s.empty()) return false;
-  const char* begin = s.c_str();
-  char* end = nullptr;
-  *v = std::strtod(begin, &end);
-  return end == begin + s.size() && std::isfinite(*v);
-}
 
 // A node's text as the file holds it (a quoted scalar in its quotes, so that
 // it is no number; "" for a collection or nothing), for the matrix's checks.
@@ -56,14 +45,10 @@ YamlMatrix ReadMatrix(const std::string& key, const YamlNode& n, const std::stri
 YamlMatrix MakeMatrix(const std::string& key, const MatrixField& rows, const MatrixField& cols, const MatrixField& dt,
                       const std::vector<MatrixField>& data, const std::string& data_where) {
   YamlMatrix m;
-  for (auto [name, field, out] : {std::tuple{"rows", &rows, &m.rows}, std::tuple{"cols", &cols, &m.cols}}) {
-    char* stop = nullptr;
-    const long v = std::strtol(field->text.c_str(), &stop, 10);
-    if (field->text.empty() || *stop != '\0' || v < 1 || v > 100000000) {
-      throw InputError(field->where, std::string(name) + " must be a positive integer, got '" + field->text + "'");
-    }
-    *out = int(v);
-  }
+  // A field's text is as the file holds it (a quoted value in its quotes, so no number).
+  auto value = [](const MatrixField& f, const std::string& name) { return YamlValue{&f.text, false, name, f.where}; };
+  m.rows = int(YamlInteger(value(rows, "rows"), 1, 100000000));
+  m.cols = int(YamlInteger(value(cols, "cols"), 1, 100000000));
   m.dt = std::string(TrimBlanks(dt.text));
   if (m.dt.size() >= 2 && (m.dt[0] == '"' || m.dt[0] == '\'') && m.dt.back() == m.dt[0]) {
     m.dt = m.dt.substr(1, m.dt.size() - 2);
@@ -76,14 +61,7 @@ YamlMatrix MakeMatrix(const std::string& key, const MatrixField& rows, const Mat
     throw InputError(dt.where, "dt must be d, f, i, u, s, w or c, with an optional channel count of 1 to 4 (2f), "
                                "got '" + dt.text + "'");
   }
-  for (const MatrixField& value : data) {
-    double v = 0;
-    if (!ParseReal(value.text, &v)) {
-      throw InputError(value.where, "data value " + std::to_string(m.data.size()) + " is not a finite number: '" +
-                                        value.text + "'");
-    }
-    m.data.push_back(v);
-  }
+  for (const MatrixField& v : data) m.data.push_back(YamlNumber(value(v, "data value " + std::to_string(m.data.size()))));
   const size_t expected = size_t(m.rows) * size_t(m.cols) * size_t(m.channels);
   if (m.data.size() != expected) {
     const std::string of = m.channels > 1 ? " of " + std::to_string(m.channels) + " channels" : "";
@@ -164,30 +142,17 @@ const YamlEntry* OpenCvYaml::Find(const std::string& key) const {
   return nullptr;
 }
 
-double OpenCvYaml::Number(const YamlEntry& e) const {
-  double v = 0;
-  if (e.kind != YamlEntry::Kind::kScalar || e.quoted || !ParseReal(e.scalar, &v)) {
-    throw InputError(Where(e), e.key + " must be a finite number" +
-                                   (e.kind == YamlEntry::Kind::kScalar ? ", got '" + e.scalar + "'" : ""));
-  }
-  return v;
+YamlValue OpenCvYaml::Value(const YamlEntry& e) const {
+  return {e.kind == YamlEntry::Kind::kScalar ? &e.scalar : nullptr, e.quoted, e.key, Where(e)};
 }
+
+double OpenCvYaml::Number(const YamlEntry& e) const { return YamlNumber(Value(e)); }
 
 long long OpenCvYaml::Integer(const YamlEntry& e, long long lo, long long hi) const {
-  const std::string& s = e.scalar;
-  char* stop = nullptr;
-  long long v = e.kind == YamlEntry::Kind::kScalar && !e.quoted && !s.empty() ? std::strtoll(s.c_str(), &stop, 10) : 0;
-  if (e.kind != YamlEntry::Kind::kScalar || e.quoted || s.empty() || *stop != '\0' || v < lo || v > hi) {
-    throw InputError(Where(e), e.key + " must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                                   "]" + (e.kind == YamlEntry::Kind::kScalar ? ", got '" + s + "'" : ""));
-  }
-  return v;
+  return YamlInteger(Value(e), lo, hi);
 }
 
-std::string OpenCvYaml::String(const YamlEntry& e) const {
-  if (e.kind != YamlEntry::Kind::kScalar) throw InputError(Where(e), e.key + " must be a string");
-  return e.scalar;
-}
+std::string OpenCvYaml::String(const YamlEntry& e) const { return YamlString(Value(e)); }
 
 const YamlMatrix& OpenCvYaml::Matrix(const YamlEntry& e) const {
   if (e.kind != YamlEntry::Kind::kMatrix) throw InputError(Where(e), e.key + " must be an !!opencv-matrix");
@@ -230,7 +195,7 @@ void OpenCvYamlWriter::String(const std::string& key, const std::string& value) 
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.')) plain = false;
   }
   double ignored = 0;
-  if (plain && !ParseReal(value, &ignored)) {
+  if (plain && !ParseYamlReal(value, &ignored)) {
     if (format_ == StorageFormat::kXml) return XmlElement(key, value);
     text_ += key + ": " + value + "\n";
     return;

@@ -28,6 +28,8 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/yaml_scalar.h"
+
 namespace lt {
 
 struct YamlNode;  // pipeline/yaml_tree.h
@@ -75,6 +77,8 @@ class OpenCvYaml {
   long long Integer(const YamlEntry& e, long long lo, long long hi) const;
   std::string String(const YamlEntry& e) const;
   const YamlMatrix& Matrix(const YamlEntry& e) const;
+  // An entry as a value for the typed reads (pipeline/yaml_scalar.h), named by its key.
+  YamlValue Value(const YamlEntry& e) const;
 
  private:
   std::string file_;

@@ -1,5 +1,10 @@
 #include "pipeline/yaml_scalar.h"
 
+#include <cmath>
+#include <cstdlib>
+
+#include "core/error.h"
+
 namespace lt {
 
 bool OpensYamlQuote(const std::string& s, size_t i) {
@@ -74,6 +79,43 @@ std::string BlockScalarText(const std::vector<std::string>& lines, char style, c
   if (n > 0 && chomp != '-') text += '\n';
   if (chomp == '+') text += std::string(lines.size() - n, '\n');
   return text;
+}
+
+bool ParseYamlReal(const std::string& s, double* v) {
+  if (s.empty()) return false;
+  char* end = nullptr;
+  *v = std::strtod(s.c_str(), &end);
+  return end == s.c_str() + s.size() && std::isfinite(*v);
+}
+
+namespace {
+
+// ", got 'TEXT'" for a scalar (a collection has no text to show).
+std::string Got(const YamlValue& v) { return v.scalar ? ", got '" + *v.scalar + "'" : ""; }
+
+}  // namespace
+
+double YamlNumber(const YamlValue& v) {
+  double x = 0;
+  if (!v.scalar || v.quoted || !ParseYamlReal(*v.scalar, &x)) {
+    throw InputError(v.where, v.name + " must be a finite number" + Got(v));
+  }
+  return x;
+}
+
+long long YamlInteger(const YamlValue& v, long long lo, long long hi) {
+  if (v.scalar && !v.quoted && !v.scalar->empty()) {
+    char* end = nullptr;
+    const long long x = std::strtoll(v.scalar->c_str(), &end, 10);
+    if (*end == '\0' && x >= lo && x <= hi) return x;
+  }
+  throw InputError(v.where, v.name + " must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]" +
+                                Got(v));
+}
+
+std::string YamlString(const YamlValue& v) {
+  if (!v.scalar) throw InputError(v.where, v.name + " must be a string");
+  return *v.scalar;
 }
 
 }  // namespace lt

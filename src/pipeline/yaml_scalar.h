@@ -1,5 +1,9 @@
 // The scalars of the YAML tree (pipeline/yaml_tree.h): comments, quoted
-// scalars and the text of block scalars, as one line of YAML holds them.
+// scalars and the text of block scalars, as one line of YAML holds them; and
+// the typed reads of a scalar value (number, integer, string) with their
+// errors, which every calibration-file reader uses (OpenCV's entries,
+// pipeline/opencv_yaml.h, and the nodes of other tools' camera files,
+// pipeline/camera_file_formats.h).
 #pragma once
 
 #include <cstddef>
@@ -23,5 +27,25 @@ bool ReadQuotedScalar(const std::string& s, size_t begin, std::string* value, si
 // removed, blank lines empty): literal (style '|') or folded ('>'), with its
 // chomping ('-' strip, '+' keep, 0 clip: one final line break).
 std::string BlockScalarText(const std::vector<std::string>& lines, char style, char chomp);
+
+// A value to read as a number, an integer or a string: its text when it is a
+// scalar (nullptr for a collection, another type or nothing), whether it was
+// quoted (a string, never a number), and its name and place ("file:line") for
+// the errors.
+struct YamlValue {
+  const std::string* scalar = nullptr;
+  bool quoted = false;
+  std::string name, where;
+};
+
+// Each throws lt::InputError at v.where naming v.name: "NAME must be a finite
+// number", "... must be an integer in [LO, HI]", "... must be a string", with
+// ", got 'TEXT'" when the value is a scalar.
+double YamlNumber(const YamlValue& v);
+long long YamlInteger(const YamlValue& v, long long lo, long long hi);
+std::string YamlString(const YamlValue& v);
+
+// Whether the whole of `s` is a finite number (strtod's forms), into *v.
+bool ParseYamlReal(const std::string& s, double* v);
 
 }  // namespace lt

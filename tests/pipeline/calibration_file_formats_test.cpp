@@ -420,6 +420,32 @@ TEST(CalibrationFileFormats, StereoAndEmptyFilesAreRefused) {
   EXPECT_THAT(opencv.second, ::testing::Not(HasSubstr("expected a calibration file")));
 }
 
+// OpenCV's entries and matrices and other tools' nodes are read by one set of
+// checks (pipeline/yaml_scalar.h), with the same messages at file:line. (Before:
+// an OpenCV matrix's rows were 'a positive integer' and its data 'not a finite
+// number: ...', a ROS matrix's 'an integer in [0, 1000]' and 'must be a finite number'.)
+TEST(CalibrationFileFormats, OneSetOfValueChecks) {
+  const std::string m = "!!opencv-matrix\n   rows: 1\n   cols: 4\n   dt: d\n";
+  EXPECT_EQ(ErrorOf("r.yml", "%YAML:1.0\nlaser_planes: " + m.substr(0, m.find("rows")) + "rows: x\n   cols: 4\n   dt: d\n"
+                             "   data: [ 0., 1., 0., 0. ]\n"),
+            (std::pair<std::string, std::string>{":3", "rows must be an integer in [1, 100000000], got 'x'"}));
+  EXPECT_EQ(ErrorOf("d.yml", "%YAML:1.0\nlaser_planes: " + m + "   data: [ 0., x, 0., 0. ]\n"),
+            (std::pair<std::string, std::string>{":6", "data value 1 must be a finite number, got 'x'"}));
+  const std::string ros = "image_width: 640\nimage_height: 480\ncamera_matrix:\n  rows: 3\n  cols: 3\n";
+  EXPECT_EQ(ErrorOf("ost.yaml", ros + "  data: [500, x, 320, 0, 500, 240, 0, 0, 1]\n"),
+            (std::pair<std::string, std::string>{":6", "camera_matrix: data value 1 must be a finite number, got 'x'"}));
+  // The same words for an entry (OpenCV) and a node (ROS): a quoted number is a string.
+  const std::string k = "camera_matrix: " + m.substr(0, m.find("rows")) + "rows: 3\n   cols: 3\n   dt: d\n"
+                        "   data: [ 500., 0., 320., 0., 500., 240., 0., 0., 1. ]\n";
+  EXPECT_EQ(ErrorOf("w.yml", "%YAML:1.0\nimage_width: \"640\"\nimage_height: 480\n" + k),
+            (std::pair<std::string, std::string>{":2", "image_width must be an integer in [1, 65536], got '640'"}));
+  EXPECT_EQ(ErrorOf("ost.yaml", "image_width: \"640\"\n" + ros.substr(ros.find("image_height")) +
+                                    "  data: [500, 0, 320, 0, 500, 240, 0, 0, 1]\n"),
+            (std::pair<std::string, std::string>{":1", "image_width must be an integer in [1, 65536], got '640'"}));
+  EXPECT_EQ(ErrorOf("m.yml", "%YAML:1.0\nimage_width: 640\nimage_height: 480\ndistortion_model: [a]\n" + k),
+            (std::pair<std::string, std::string>{":4", "distortion_model must be a string"}));
+}
+
 // COLMAP's cameras.txt: one camera, its principal point moved by half a pixel
 // (COLMAP puts pixel (0,0)'s centre at (0.5, 0.5)). (Before: refused, "the
 // first line must be %YAML:1.0".)

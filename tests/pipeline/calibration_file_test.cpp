@@ -339,7 +339,7 @@ TEST(CalibrationFile, ReadsOpenCvXml) {
        "bad.xml:3: </image_height> closes <image_width>"},
       {"<?xml version=\"1.0\"?>\n<opencv_storage>\n<laser_planes type_id=\"opencv-matrix\">\n<rows>1</rows><cols>4</cols>"
        "<dt>d</dt>\n<data>0. 1. x 0.</data></laser_planes>\n</opencv_storage>\n",
-       "bad.xml:5: data value 2 is not a finite number: 'x'"},
+       "bad.xml:5: data value 2 must be a finite number, got 'x'"},
       {"<?xml version=\"1.0\"?>\n<opencv_storage>\n<image_width>1024</image_width>\n", "bad.xml:2: <opencv_storage> is not closed"},
   };
   for (const auto& [xml, message] : bad) {
@@ -395,7 +395,7 @@ TEST(CalibrationFile, BadFilesNameTheFileAndLine) {
       {head + "laser_planes: !!opencv-matrix\n   rows: 1\n   cols: 3\n   dt: d\n   data: [ 0., 1., 0. ]\n", ":3",
        "laser_planes must be N x 4"},
       {head + "laser_planes: !!opencv-matrix\n   rows: 1\n   cols: 4\n   dt: d\n   data: [ 0., .Nan, 0., 1. ]\n", ":7",
-       "data value 1 is not a finite number: '.Nan'"},
+       "data value 1 must be a finite number, got '.Nan'"},
       {head + "laser_planes: !!opencv-matrix\n   rows: 1\n   cols: 4\n   dt: d\n   data: [ 0., 0., 0., 1. ]\n", ":3",
        "plane 0 has a zero normal"},
       {head + "laser_planes: !!opencv-matrix\n   rows: 1\n   cols: 4\n   dt: 5d\n   data: [ 0., 0., 1., 1. ]\n", ":6",
