@@ -53,9 +53,10 @@ std::vector<std::string_view> SplitFields(std::string_view text, char separator)
   }
 }
 
-std::string ListFirst(const std::vector<std::string>& items, size_t shown) {
+std::string ListFirst(const std::vector<std::string>& items, size_t shown, char quote) {
+  const std::string q = quote ? std::string(1, quote) : "";
   std::string list;
-  for (size_t i = 0; i < std::min(shown, items.size()); ++i) list += (i ? ", " : "") + items[i];
+  for (size_t i = 0; i < std::min(shown, items.size()); ++i) list += (i ? ", " : "") + q + items[i] + q;
   if (items.size() > shown) list += " and " + std::to_string(items.size() - shown) + " more";
   return list;
 }

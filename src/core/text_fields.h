@@ -28,8 +28,9 @@ double FiniteField(const std::vector<std::string_view>& fields, size_t k, const 
 std::vector<std::string_view> SplitBlanks(std::string_view text);
 
 // The first `shown` of `items` for a message, and how many more:
-// "a, b, c and 4 more" (all of them when there are no more than `shown`).
-std::string ListFirst(const std::vector<std::string>& items, size_t shown);
+// "a, b, c and 4 more" (all of them when there are no more than `shown`); each item
+// between `quote`s when given ("'a', 'b' and 4 more").
+std::string ListFirst(const std::vector<std::string>& items, size_t shown, char quote = 0);
 
 // An image size for messages: "640x480".
 std::string SizeText(int width, int height);

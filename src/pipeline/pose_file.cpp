@@ -133,8 +133,9 @@ void CheckBodies(const std::string& name, const PoseFileOptions& options, bool m
     }
     return;
   }
-  std::string listed;
-  for (const auto& b : bodies) listed += (listed.empty() ? "'" : ", '") + b.first + "'";
+  std::vector<std::string> names;
+  for (const auto& b : bodies) names.push_back(b.first);
+  const std::string listed = ListFirst(names, kBodiesListed, '\'');
   const std::string column = "column " + std::to_string(layout->body + 1) + " '" + layout->body_column + "'";
   if (options.body && std::none_of(bodies.begin(), bodies.end(), [&](const auto& b) { return b.first == *options.body; })) {
     throw InputError(name + ":" + std::to_string(layout_line), "no rows of the child frame '" + *options.body + "' (" +

@@ -82,8 +82,7 @@ std::optional<MotiveText> MotiveAsOneHeader(const std::string& text, const std::
     throw InputError(where(*type), "an OptiTrack Motive export without a rigid body (markers only): export the "
                                    "scanner's rigid body");
   }
-  std::string listed;
-  for (const std::string& b : bodies) listed += (listed.empty() ? "'" : ", '") + b + "'";
+  const std::string listed = ListFirst(bodies, kBodiesListed, '\'');
   if (chosen_body && std::find(bodies.begin(), bodies.end(), *chosen_body) == bodies.end()) {
     throw InputError(where(*body), "no rigid body '" + *chosen_body + "' in this OptiTrack Motive export: its rigid " +
                                        (bodies.size() == 1 ? "body is " : "bodies are ") + listed);

@@ -5,10 +5,14 @@
 // pose_file.cpp.
 #pragma once
 
+#include <cstddef>
 #include <optional>
 #include <string>
 
 namespace lt::pose_file_detail {
+
+// Bodies named in a message about a file of several (and how many more).
+constexpr size_t kBodiesListed = 12;
 
 struct MotiveText {
   std::string text;  // the file with its rows above the data blank and one header line in place of its column names

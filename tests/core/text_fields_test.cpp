@@ -15,6 +15,7 @@ TEST(TextFields, ListFirstNamesAllUpToTheLimit) {
 TEST(TextFields, ListFirstCountsTheRest) {
   EXPECT_EQ(ListFirst({"a", "b", "c", "d"}, 3), "a, b, c and 1 more");
   EXPECT_EQ(ListFirst({"a", "b", "c", "d", "e"}, 1), "a and 4 more");
+  EXPECT_EQ(ListFirst({"a", "b", "c"}, 2, '\''), "'a', 'b' and 1 more");
 }
 
 TEST(TextFields, ParseFiniteNumberTakesOnlyAWholeFiniteNumber) {
