@@ -107,6 +107,36 @@ TEST(ExtractionEncoding, AmbientUnderTheThresholdInLightIsAboveItInSrgb) {
   EXPECT_LT(e.max_abs, 0.05);
 }
 
+// Each channel is linearized before the channel weights are applied: a red
+// stripe with a tenth of it in green, each channel through sRGB, weighted
+// 1,0.5,0, gives the points of the linear R, G, B weighted alike.
+TEST(ExtractionEncoding, ChannelsAreLinearizedBeforeTheirWeights) {
+  const SyntheticFrame f = TailFrame();
+  const Image<float> light = RenderSyntheticFrame(f);
+  Image<uint8_t> linear(light.width, light.height, 3, 0), srgb(light.width, light.height, 3, 0);
+  const Image<uint8_t> red = EncodeSrgb(light);
+  Image<float> green_light = light;
+  for (float& v : green_light.pixels) v *= 0.1f;
+  const Image<uint8_t> green = EncodeSrgb(green_light);
+  for (int y = 0; y < light.height; ++y)
+    for (int x = 0; x < light.width; ++x) {
+      linear.At(x, y, 0) = uint8_t(std::lround(light.At(x, y)));
+      linear.At(x, y, 1) = uint8_t(std::lround(green_light.At(x, y)));
+      srgb.At(x, y, 0) = red.At(x, y);
+      srgb.At(x, y, 1) = green.At(x, y);
+    }
+  ExtractionOptions o;
+  o.method = ExtractionMethod::kMultiCom;
+  o.channel_weights = {1, 0.5, 0};
+  const std::vector<StripePoint> reference = StripeExtractor(o).Extract(linear.View());
+  o.transfer = Transfer::kSrgb;
+  const Shift s = Compare(StripeExtractor(o).Extract(srgb.View()), reference);
+  ASSERT_GE(reference.size(), 38u);
+  EXPECT_EQ(s.pairs, int(reference.size()));
+  EXPECT_LT(s.rms_du, 0.02);
+  EXPECT_NEAR(s.mean_width_ratio, 1.0, 0.03);
+}
+
 TEST(ExtractionEncoding, TransferTables) {
   std::vector<float> table, out;
   const std::vector<uint8_t> codes = {0, 10, 128, 255};

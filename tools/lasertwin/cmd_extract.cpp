@@ -52,7 +52,7 @@ std::string DimImageNote(const Image<T>& im, const StripeExtractor& extractor, c
   const bool linearized = o.transfer != Transfer::kLinear && std::is_integral_v<T>;
   if (linearized) {  // the threshold is in linear units (--transfer)
     const double full = double(std::numeric_limits<T>::max());
-    brightest = full * DecodeTransfer(o.transfer, o.gamma, brightest / full);
+    brightest = std::round(10 * full * DecodeTransfer(o.transfer, o.gamma, brightest / full)) / 10;
   }
   const double threshold = extractor.ThresholdFor<T>();
   if (!(brightest < threshold)) return "";
