@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <optional>
 #include <cmath>
 #include <tuple>
 
@@ -47,6 +48,9 @@ struct Candidate {
 // triangle touching it at one corner, or lying in it, gives none.
 std::vector<Segment> SheetSegments(const SceneGeometry& geometry, const std::vector<WorldSheet>& sheets) {
   tbb::enumerable_thread_specific<std::vector<Segment>> local;
+  // Each mesh's bounds, once however often it is instanced: an instance whose box no
+  // sheet cuts is skipped whole.
+  std::vector<std::optional<Eigen::AlignedBox3d>> mesh_bounds(geometry.meshes.size());
   for (size_t i = 0; i < geometry.instances.size(); ++i) {
     const SceneInstance& inst = geometry.instances[i];
     const Mesh& mesh = geometry.meshes[inst.mesh];
@@ -57,6 +61,20 @@ std::vector<Segment> SheetSegments(const SceneGeometry& geometry, const std::vec
       const Eigen::Vector3d n = inst.world_from_mesh.linear().transpose() * ws.plane_world.n;
       in_mesh.emplace_back(n.x(), n.y(), n.z(), ws.plane_world.SignedDistance(inst.world_from_mesh.translation()));
     }
+    std::optional<Eigen::AlignedBox3d>& box = mesh_bounds[inst.mesh];
+    if (!box) box = mesh.Bounds();
+    if (box->isEmpty()) continue;
+    // The same test as each triangle's below, over the box: its slack is at least any
+    // triangle's, so a box wholly on one side of every sheet holds no segment.
+    const double box_size = std::max(box->min().cwiseAbs().maxCoeff(), box->max().cwiseAbs().maxCoeff());
+    const Eigen::Vector3d centre = box->center(), half = 0.5 * box->sizes();
+    const bool cut = std::any_of(in_mesh.begin(), in_mesh.end(), [&](const Eigen::Vector4d& pl) {
+      const Eigen::Vector3d n = pl.head<3>();
+      const double slack = 1e-9 * (std::abs(pl.w()) + n.lpNorm<1>() * box_size) + 1e-300;
+      const double g = n.dot(centre) + pl.w(), reach = n.cwiseAbs().dot(half);
+      return g - reach <= slack && g + reach >= -slack;
+    });
+    if (!cut) continue;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.TriangleCount(), 2048), [&](const auto& range) {
       std::vector<Segment>& out = local.local();
       for (size_t t = range.begin(); t != range.end(); ++t) {
