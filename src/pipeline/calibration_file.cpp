@@ -6,6 +6,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/text_fields.h"
 #include "pipeline/camera_file_formats.h"
 #include "pipeline/opencv_yaml.h"
 #include "pipeline/yaml_tree.h"
@@ -227,6 +228,19 @@ CalibrationFile ReadCalibrationFile(const std::filesystem::path& path, const Cal
                                (keys.empty() ? std::string() : " (its keys: " + keys + ")"));
   }
   return c;
+}
+
+std::vector<std::string> CalibrationFileWarnings(const CalibrationFile& c, const std::string& file,
+                                                 const std::string& fate) {
+  std::vector<std::string> lines;
+  if (const size_t n = c.ignored_keys.size(); n > 0) {
+    // One line, however many: another tool's file (a VINS config) can hold dozens.
+    const std::string keys = ListFirst(c.ignored_keys, 8);
+    lines.push_back(file + ": " + (n == 1 ? "key " + keys + " is" : std::to_string(n) + " keys (" + keys + ") are") +
+                    " " + fate);
+  }
+  lines.insert(lines.end(), c.warnings.begin(), c.warnings.end());
+  return lines;
 }
 
 StorageFormat CalibrationFileFormat(const std::filesystem::path& path) {

@@ -89,6 +89,14 @@ struct CalibrationFileOptions {
 // camera, laser_planes, tool_from_cam or working range) is an error, as is
 // options.camera for an OpenCV file (one camera, unnamed).
 CalibrationFile ReadCalibrationFile(const std::filesystem::path& path, const CalibrationFileOptions& options = {});
+// What a reader of `file` warns about after reading it, one line each (a
+// command prints each as "lasertwin: warning: LINE"): its ignored keys on one
+// line however many, "FILE: key K is FATE" or "FILE: N keys (the first 8 and M
+// more) are FATE", then the readers' warnings (CalibrationFile::warnings).
+// `fate` is what the caller does with the keys ("ignored"; calibrate: "not kept
+// in the output").
+std::vector<std::string> CalibrationFileWarnings(const CalibrationFile& calibration, const std::string& file,
+                                                 const std::string& fate);
 // The form a calibration file of this name is written in: .xml is XML, .yaml
 // and .yml are YAML (any case). Throws lt::InputError naming the path for any
 // other extension (or none), so no file holds one form under another's name.

@@ -114,7 +114,11 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
   std::vector<RunFrame>& frames = listed.frames;
   if (frames.empty()) throw InputError(listed.source.string(), "holds no frame (expected one JSON object per line)");
   std::optional<CalibrationFile> cal_file;
-  if (options.calibration) cal_file = ReadCalibrationFile(*options.calibration, options.calibration_file);
+  if (options.calibration) {
+    cal_file = ReadCalibrationFile(*options.calibration, options.calibration_file);
+    // Its ignored keys and the readers' notes (another tool's file), as calibrate prints them.
+    for (const std::string& w : CalibrationFileWarnings(*cal_file, options.calibration->string(), "ignored")) warn(w);
+  }
   // The working range: --depth-range, else the calibration file's.
   const std::optional<DepthRange> depth_range = options.depth_range ? options.depth_range
                                                 : cal_file                ? cal_file->depth_range
@@ -155,11 +159,6 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
   if (cal_file) {
     const fs::path& path = *options.calibration;
     const CalibrationFile& cal = *cal_file;
-    if (!cal.ignored_keys.empty()) {
-      std::string keys;
-      for (const auto& k : cal.ignored_keys) keys += (keys.empty() ? "" : ", ") + k;
-      warn(path.string() + ": ignored keys: " + keys);
-    }
     if (cal.laser_planes.empty()) throw InputError(path.string(), "holds no laser_planes (needed to triangulate)");
     if (cal.camera && (cal.camera->width != camera.width() || cal.camera->height != camera.height())) {
       throw InputError(path.string(), "the calibrated camera is " + SizeText(cal.camera->width, cal.camera->height) +

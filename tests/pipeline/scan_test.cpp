@@ -267,6 +267,44 @@ TEST(Scan, CalibrationFileReplacesThePlanes) {
   }
 }
 
+// scan says what the calibration file's readers say, as calibrate does
+// (CalibrationFileWarnings): the ignored keys on one line, then another tool's
+// notes (a ROS file's stereo rectification), before it refuses a file without
+// laser planes. (Before: the notes were dropped, and every ignored key listed.)
+TEST(Scan, CalibrationFileWarningsAsCalibrate) {
+  SyntheticRun run = MakeRun("calib_warnings", 1);
+  CalibrationFile cal;
+  cal.laser_planes = run.sheets;
+  std::string text = FormatCalibrationFile(cal);
+  for (int k = 0; k < 10; ++k) text += "extra_" + std::to_string(k) + ": " + std::to_string(k) + "\n";
+  const fs::path file = run.dir / "calib.yml";
+  std::ofstream(file) << text;
+  ScanOptions o;
+  o.calibration = file;
+  std::vector<std::string> warnings;
+  const auto warn = [&](const std::string& w) { warnings.push_back(w); };
+  EXPECT_GT(ScanRun(run.dir, o, warn).points, 100);
+  EXPECT_EQ(warnings, std::vector<std::string>{file.string() + ": 10 keys (extra_0, extra_1, extra_2, extra_3, extra_4, "
+                                                               "extra_5, extra_6, extra_7 and 2 more) are ignored"});
+  const fs::path ost = run.dir / "ost.yaml";
+  std::ofstream(ost) << "image_width: 160\nimage_height: 120\ncamera_name: left\ncamera_matrix:\n  rows: 3\n"
+                        "  cols: 3\n  data: [462.97, 0, 79.5, 0, 462.97, 59.5, 0, 0, 1]\ndistortion_model: plumb_bob\n"
+                        "distortion_coefficients:\n  rows: 1\n  cols: 5\n  data: [0, 0, 0, 0, 0]\n"
+                        "rectification_matrix:\n  rows: 3\n  cols: 3\n  data: [0.9998, 0.0175, 0, -0.0175, 0.9998, 0, "
+                        "0, 0, 1]\n";
+  o.calibration = ost;
+  warnings.clear();
+  try {
+    ScanRun(run.dir, o, warn);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.message(), HasSubstr("holds no laser_planes"));
+  }
+  ASSERT_EQ(warnings.size(), 2u);
+  EXPECT_EQ(warnings[0], ost.string() + ": 2 keys (camera_name, rectification_matrix) are ignored");
+  EXPECT_THAT(warnings[1], HasSubstr(ost.string() + ":13: rectification_matrix is not the identity"));
+}
+
 // A calibration file with a hand-eye pose: the cloud is stitched with
 // world_from_tool · tool_from_cam (what a real scanner on a robot knows), not
 // the manifest's world_from_cam; a run without tool poses keeps world_from_cam

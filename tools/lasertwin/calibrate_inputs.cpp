@@ -9,7 +9,6 @@
 #include <iostream>
 
 #include "core/error.h"
-#include "core/text_fields.h"
 #include "pipeline/run_folder_reader.h"
 
 namespace lt::cli {
@@ -48,14 +47,7 @@ CalibrationFile InputFile(const CalibrateArgs& a) {
   const CalibrationFileOptions options = ParseCalibCamera(a.calib, a.calib_camera);
   if (a.calib.empty()) return {};
   CalibrationFile f = ReadCalibrationFile(a.calib, options);
-  if (!f.ignored_keys.empty()) {
-    // One line, however many: another tool's file (a VINS config) can hold dozens.
-    const size_t n = f.ignored_keys.size();
-    const std::string keys = ListFirst(f.ignored_keys, 8);
-    Warn(a.calib + ": " + (n == 1 ? "key " + keys + " is" : std::to_string(n) + " keys (" + keys + ") are") +
-         " not kept in the output");
-  }
-  for (const auto& w : f.warnings) Warn(w);
+  for (const std::string& w : CalibrationFileWarnings(f, a.calib, "not kept in the output")) Warn(w);
   return f;
 }
 
