@@ -40,10 +40,9 @@
 
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
-
-#include <optional>
 
 #include "scene/toolpath.h"
 #include "scene/turn_rate_limit.h"

@@ -88,7 +88,7 @@ TurnRateLimit::TurnRateLimit(const std::function<double(double)>& followed, doub
         unwind_turns.reset();
         if (unwinding) {
           ++unwinds_;
-          unwind_turns = 2 * M_PI * std::round((target - f) / (2 * M_PI));
+          unwind_turns = turns;
         }
         if (slews_++ == 0) {
           max_rate_rad_s_seen_ = rate_;

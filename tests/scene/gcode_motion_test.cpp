@@ -174,7 +174,9 @@ TEST(GcodeMotion, TurnRateLimitKeepsTheWristWithinItsSpeed) {
   for (size_t k = 0; k < jp.q.size(); ++k) {
     Pose by_robot = g.robot->world_from_base * Ur5eForward(jp.q[k]) * cam_from_flange.inverse();
     EXPECT_LT((by_robot.matrix() - g.WorldFromCam(jp.t_s[k]).matrix()).cwiseAbs().maxCoeff(), 1e-9) << k;
-    if (k > 0) EXPECT_GT(jp.t_s[k], jp.t_s[k - 1]) << k;  // no two waypoints at one time: no jump
+    if (k > 0) {
+      EXPECT_GT(jp.t_s[k], jp.t_s[k - 1]) << k;  // no two waypoints at one time: no jump
+    }
   }
   const std::vector<std::string> notes = MotionNotes(m);
   EXPECT_THAT(notes[1], HasSubstr("largest turn rate 90.0 deg/s"));
