@@ -263,7 +263,7 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
       "KHR_materials_emissive_strength", "KHR_mesh_quantization",         "KHR_texture_transform",
       "EXT_mesh_gpu_instancing",         "KHR_materials_pbrSpecularGlossiness", "KHR_materials_unlit",
       "KHR_materials_transmission",      "KHR_lights_punctual",          "KHR_materials_variants",
-      "KHR_node_visibility"};
+      "KHR_node_visibility",             "CESIUM_RTC"};
   if (auto req = root.find("extensionsRequired"); req != root.end() && req->is_array()) {
     for (size_t i = 0; i < req->size(); ++i) {
       const auto& e = (*req)[i];

@@ -276,6 +276,24 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
                              (n == 1 ? " variant" : " variants") +
                              " not applied; each primitive has its default material (its \"material\")");
   }
+  // CESIUM_RTC (3D Tiles' b3dm content): positions are relative to a centre that 3D
+  // Tiles add after turning the file's y up to z up, in the tileset's frame (ECEF
+  // metres): it is not a translation in the file's own frame, so it is not applied.
+  if (auto it = model.extensions.find("CESIUM_RTC"); it != model.extensions.end()) {
+    const tinygltf::Value& c = it->second.Get("center");
+    bool valid = c.IsArray() && c.ArrayLen() == 3;
+    std::string centre;
+    for (int i = 0; valid && i < 3; ++i) {
+      valid = c.Get(i).IsNumber() && std::isfinite(c.Get(i).GetNumberAsDouble());
+      if (valid) centre += (i ? ", " : "") + FormatNumber(c.Get(i).GetNumberAsDouble());
+    }
+    if (!valid) {
+      throw InputError(file + ": /extensions/CESIUM_RTC/center", "must be an array of 3 finite numbers");
+    }
+    asset.warnings.push_back(file + ": CESIUM_RTC: the centre [" + centre +
+                             "] m is not applied (3D Tiles add it in the tileset's z-up frame): the model is "
+                             "placed relative to it; place it with the object's world_from_object");
+  }
   if (!model.animations.empty()) {
     asset.warnings.push_back(file + ": " + std::to_string(model.animations.size()) +
                              (model.animations.size() == 1 ? " animation" : " animations") +

@@ -228,6 +228,11 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Materia
                          "componentType " + std::to_string(ca.componentType) +
                              (ca.normalized ? "" : " without \"normalized\": true"));
       }
+      if (ca.type != TINYGLTF_TYPE_VEC3 && ca.type != TINYGLTF_TYPE_VEC4) {
+        throw InputError(GltfWhere(src, "accessors", acc),
+                         std::string("COLOR_0 must be VEC3 or VEC4 (glTF 3.7.2.1), got ") +
+                             (ca.type == TINYGLTF_TYPE_SCALAR ? "SCALAR" : ca.type == TINYGLTF_TYPE_VEC2 ? "VEC2" : "a matrix"));
+      }
       const int components = ca.type == TINYGLTF_TYPE_VEC4 ? 4 : 3;
       const std::vector<float> c = ReadFloatAccessor(src, acc, components);
       if (c.size() / size_t(components) != nverts) {

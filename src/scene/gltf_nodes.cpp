@@ -125,6 +125,14 @@ GltfSkinPose GltfSkinPoseOf(const GltfSource& src, int index) {
     }
     Eigen::Affine3d inverse_bind = Eigen::Affine3d::Identity();
     if (!ibm.empty()) {
+      for (int e = 0; e < 16; ++e) {
+        if (!std::isfinite(ibm[16 * k + size_t(e)])) {
+          throw InputError(GltfWhere(src, "accessors", skin.inverseBindMatrices),
+                           "inverse bind matrix " + std::to_string(k) + " is not finite (" +
+                               FormatNumber(ibm[16 * k + size_t(e)]) + " at column " + std::to_string(e / 4) +
+                               ", row " + std::to_string(e % 4) + ")");
+        }
+      }
       std::optional<Eigen::Affine3d> b = AffineFromColumnMajor(ibm.data() + 16 * k);
       if (!b) {
         throw InputError(GltfWhere(src, "accessors", skin.inverseBindMatrices),
