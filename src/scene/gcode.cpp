@@ -73,28 +73,10 @@ size_t MoveLinesAtMost(std::string_view text) {
   return count;
 }
 
-}  // namespace
-
-Toolpath ParseGcode(std::string_view text, const std::string& display_name) {
-  // PrusaSlicer's binary G-code (.bgcode, the default for some printers since 2.7)
-  // starts with the magic "GCDE" and holds compressed blocks: not readable as text.
-  if (StartsWith(text, "GCDE")) {
-    throw InputError(display_name,
-                     "is a binary G-code file (PrusaSlicer's .bgcode, which starts with \"GCDE\"): export text "
-                     "G-code instead (PrusaSlicer: untick \"Supports binary G-code\" in the printer's settings)");
-  }
-  // A zip archive: Bambu Studio's and OrcaSlicer's sliced project (.gcode.3mf) holds the
-  // G-code of each plate as Metadata/plate_N.gcode.
-  if (StartsWith(text, "PK\x03\x04")) {
-    throw InputError(display_name,
-                     "is a zip archive, not G-code (Bambu Studio's and OrcaSlicer's .gcode.3mf hold each plate's "
-                     "G-code as Metadata/plate_1.gcode, ...): extract the plate's .gcode file");
-  }
-  // UTF-16 (Windows editors' "Unicode"): every other byte is NUL.
-  if (StartsWith(text, "\xFF\xFE") || StartsWith(text, "\xFE\xFF")) {
-    throw InputError(display_name, "is UTF-16 text (it starts with a UTF-16 byte order mark): save it as UTF-8 or ASCII");
-  }
-  GcodeReader reader(display_name);
+// The text's lines through one reader (`ab_extruders`: GcodeReader's); sets
+// `prints_with_e` (if given) to GcodeReader::PrintsWithEBesideAB.
+Toolpath ReadLines(std::string_view text, const std::string& display_name, bool ab_extruders, bool* prints_with_e) {
+  GcodeReader reader(display_name, ab_extruders);
   size_t pos = StartsWith(text, "\xEF\xBB\xBF") ? 3 : 0;  // a UTF-8 byte order mark
   reader.ReserveSegments(MoveLinesAtMost(text.substr(pos)));
   int line_no = 0;
@@ -116,8 +98,38 @@ Toolpath ParseGcode(std::string_view text, const std::string& display_name) {
     }
     pos = end + 1;
   }
+  if (prints_with_e) *prints_with_e = reader.PrintsWithEBesideAB();
   Toolpath path = reader.Finish();
   path.lines_after_program_end = after_end;
+  return path;
+}
+
+}  // namespace
+
+Toolpath ParseGcode(std::string_view text, const std::string& display_name) {
+  // PrusaSlicer's binary G-code (.bgcode, the default for some printers since 2.7)
+  // starts with the magic "GCDE" and holds compressed blocks: not readable as text.
+  if (StartsWith(text, "GCDE")) {
+    throw InputError(display_name,
+                     "is a binary G-code file (PrusaSlicer's .bgcode, which starts with \"GCDE\"): export text "
+                     "G-code instead (PrusaSlicer: untick \"Supports binary G-code\" in the printer's settings)");
+  }
+  // A zip archive: Bambu Studio's and OrcaSlicer's sliced project (.gcode.3mf) holds the
+  // G-code of each plate as Metadata/plate_N.gcode.
+  if (StartsWith(text, "PK\x03\x04")) {
+    throw InputError(display_name,
+                     "is a zip archive, not G-code (Bambu Studio's and OrcaSlicer's .gcode.3mf hold each plate's "
+                     "G-code as Metadata/plate_1.gcode, ...): extract the plate's .gcode file");
+  }
+  // UTF-16 (Windows editors' "Unicode"): every other byte is NUL.
+  if (StartsWith(text, "\xFF\xFE") || StartsWith(text, "\xFE\xFF")) {
+    throw InputError(display_name, "is UTF-16 text (it starts with a UTF-16 byte order mark): save it as UTF-8 or ASCII");
+  }
+  bool prints_with_e = false;
+  Toolpath path = ReadLines(text, display_name, true, &prints_with_e);
+  // A and B named in a file that prints with E are not its extruders (a ring, a rotary
+  // axis): read again with them as extra axes.
+  if (prints_with_e) path = ReadLines(text, display_name, false, nullptr);
   return path;
 }
 

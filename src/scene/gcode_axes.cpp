@@ -12,7 +12,8 @@ namespace gcode_detail {
 
 namespace {
 
-constexpr char kExtraAxisLetters[4] = {'U', 'V', 'W', 'C'};
+// A and B last: they are extra axes only in a file that prints with E (ab_extruders_).
+constexpr char kExtraAxisLetters[6] = {'U', 'V', 'W', 'C', 'A', 'B'};
 
 }  // namespace
 
@@ -21,7 +22,11 @@ std::string ExtraAxesWarning(const std::string& axes) {
   for (size_t i = 0; i < axes.size(); ++i) list += (i ? ", " : "") + std::string(1, axes[i]);
   return "axis " + list +
          " ignored: the toolpath models X, Y, Z and the extruders (U, V, W and C drive a tool changer's coupler, a "
-         "second carriage or a rotary axis); none of them moves while the file extrudes";
+         "second carriage or a rotary axis" +
+         std::string(axes.find_first_of("AB") != std::string::npos
+                         ? "; A and B are no extruders here, since the file's print moves extrude with E"
+                         : "") +
+         "); none of them moves while the file extrudes";
 }
 
 void GcodeReader::Warn(WarningKind kind, const std::string& text) {
@@ -146,7 +151,7 @@ void GcodeReader::KlipperGcodeOffset(std::string_view params) {
 
 bool GcodeReader::ExtraAxes(const std::string& command, double extruded_mm, ExtraAxesUse use) {
   bool named = false;
-  for (int k = 0; k < 4; ++k) {
+  for (int k = 0; k < (ab_extruders_ ? 4 : 6); ++k) {
     const Word* w = Find(kExtraAxisLetters[k]);
     // Prusa firmware's "G28 W" homes X, Y and Z without mesh levelling: W is no axis there.
     if (!w || (use == ExtraAxesUse::kHome && kExtraAxisLetters[k] == 'W')) continue;

@@ -65,11 +65,19 @@ Eigen::Vector3d GcodeReader::Target() const {
   return target;
 }
 
+void GcodeReader::NoteExtruderAxes() {
+  const bool ab = Find('A') || Find('B');
+  ab_named_ = ab_named_ || ab;
+  if (!Find('X') && !Find('Y')) return;
+  if (Find('E')) ++xy_moves_e_;
+  if (ab) ++xy_moves_ab_;
+}
+
 double GcodeReader::Extruded() {
   const Word* e = nullptr;
   int axis = -1;
   const char letters[3] = {'E', 'A', 'B'};
-  for (int k = 0; k < 3; ++k) {
+  for (int k = 0; k < (ab_extruders_ ? 3 : 1); ++k) {
     if (const Word* w = Find(letters[k])) {
       // A 5-axis printer's file turns rotary A, B (and C) axes while E extrudes: say so.
       if (e) {
@@ -195,7 +203,7 @@ void GcodeReader::Move(int gcode) {
            FormatNumber(*h->value));
     }
     h_mode = int(*h->value);
-    if (h_mode != 0 && (Find('E') || Find('A') || Find('B'))) {
+    if (h_mode != 0 && ExtruderWord()) {
       Fail(CommandName('G', gcode) + " H" + std::to_string(h_mode) +
            " with E is not supported: H1-H4 are RepRapFirmware's homing and motor moves, not print moves");
     }
@@ -219,6 +227,7 @@ void GcodeReader::Move(int gcode) {
     return;
   }
   TrackKnownAxes(CommandName('G', gcode), 0);
+  NoteExtruderAxes();
   Eigen::Vector3d end = Target();
   double extruded = Extruded();
   WarnBeadAtUnknown(CommandName('G', gcode), extruded, (end - pos_mm_).head<2>().norm());
@@ -226,7 +235,7 @@ void GcodeReader::Move(int gcode) {
   // them) is not of that form: only one whose moves never give E is warned (Finish
   // drops the warning of a file that gives E anywhere).
   NoteEWords();
-  if (extruder_on_ && (end - pos_mm_).head<2>().norm() > 0 && !Find('E') && !Find('A') && !Find('B')) {
+  if (extruder_on_ && (end - pos_mm_).head<2>().norm() > 0 && !ExtruderWord()) {
     ExtruderOnWithoutE();
   }
   ExtraAxes(CommandName('G', gcode), extruded);
@@ -251,6 +260,7 @@ void GcodeReader::Arc(int gcode) {
   if ((i || j) && r) Fail(command + " takes " + offsets + " or R, not both");
   SetFeed();
   NoteEWords();
+  NoteExtruderAxes();
   TrackKnownAxes(command, (1 << p) | (1 << q));
   Eigen::Vector3d end = Target();
   Eigen::Vector2d start2(pos_mm_[p], pos_mm_[q]), end2(end[p], end[q]);

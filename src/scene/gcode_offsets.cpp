@@ -88,7 +88,7 @@ void GcodeReader::SetPosition() {
     }
   }
   const char letters[3] = {'E', 'A', 'B'};
-  for (int k = 0; k < 3; ++k) {
+  for (int k = 0; k < (ab_extruders_ ? 3 : 1); ++k) {
     if (const Word* e = Find(letters[k])) e_logical_mm_[k] = *e->value * unit_mm_;
   }
 }

@@ -47,7 +47,11 @@ struct Word {
 
 class GcodeReader {
  public:
-  explicit GcodeReader(const std::string& name) : name_(name) {
+  // `ab_extruders`: A and B are extruder axes (Cura's and PrusaSlicer's Mach3 and
+  // Machinekit flavours, MakerBot's two extruders); false: they are extra axes (a
+  // rotary axis, a ring), ignored as U, V, W and C are.
+  explicit GcodeReader(const std::string& name, bool ab_extruders = true) : name_(name) {
+    ab_extruders_ = ab_extruders;
     for (Eigen::Vector3d& offset : work_offset_mm_) offset.setZero();
   }
 
@@ -57,6 +61,11 @@ class GcodeReader {
   // After M2/M30: the program has ended, later lines are not executed.
   bool Ended() const { return path_.program_end_line > 0; }
   Toolpath Finish();
+  // Whether the file, read with A and B as extruders, names them but prints with E: more
+  // of its moves with X or Y give E than A or B (a Cura file for a printer whose A axis
+  // turns a ring: "G92 A90", "G0 A14.891" between E moves). Such a file is read again
+  // with A and B as extra axes (ParseGcode).
+  bool PrintsWithEBesideAB() const { return ab_extruders_ && ab_named_ && xy_moves_e_ > xy_moves_ab_; }
 
  private:
   [[noreturn]] void Fail(const std::string& message) const {
@@ -158,9 +167,18 @@ class GcodeReader {
   void ExtruderOnWithoutE();
   bool extruder_on_ = false;  // between M101 and M103
   bool e_word_seen_ = false;  // a G0-G3 with E, A or B read
-  void NoteEWords() { e_word_seen_ = e_word_seen_ || Find('E') || Find('A') || Find('B'); }
+  void NoteEWords() { e_word_seen_ = e_word_seen_ || ExtruderWord(); }
+  // Whether the line names an extruder axis: E, or A or B while they are extruders.
+  bool ExtruderWord() const { return Find('E') || (ab_extruders_ && (Find('A') || Find('B'))); }
+  // Counts a G0-G3's extruder words for PrintsWithEBesideAB.
+  void NoteExtruderAxes();
+  bool ab_extruders_ = true;
+  bool ab_named_ = false;   // A or B on a G0-G3 (not G92: "G92 A0 B0" in a start script moves nothing)
+  size_t xy_moves_e_ = 0;   // G0-G3 with X or Y and E
+  size_t xy_moves_ab_ = 0;  // G0-G3 with X or Y and A or B
   int m101_line_ = 0;
-  // U, V, W, C words (a tool changer's coupler, a second carriage, a rotary axis): not
+  // U, V, W, C words (a tool changer's coupler, a second carriage, a rotary axis; A and
+  // B too where they are no extruders): not
   // modelled, ignored with a warning; one that moves while the line extrudes is an
   // error, since it would change the printed path.
   // `use`: a move's words (relative under G91), G92's (set) or G28's (homed to 0;
@@ -237,7 +255,7 @@ class GcodeReader {
   int plane_ = 17;  // G17 XY, G18 ZX, G19 YZ
   bool axis_known_[3] = {true, true, true};  // false after probing, until an absolute move
   std::string unknown_since_;                // "G29 (line 12)": what made the position unknown
-  double extra_axes_[4] = {0, 0, 0, 0};      // U, V, W, C as the file sets them (file units)
+  double extra_axes_[6] = {0, 0, 0, 0, 0, 0};  // U, V, W, C (and A, B if not extruders) as the file sets them (file units)
   std::string extra_axes_seen_;              // the extra axes named in the file, in order of appearance
   int commands_on_line_ = 0;
   int layer_ = ToolpathSegment::kNoLayer;

@@ -1,0 +1,64 @@
+// Constructs met in the fourth pass over real slicers' and printers' files (docs/sequences.md,
+// "Real files checked, fourth pass"), each as a tiny excerpt in the form the file has it.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "scene/gcode.h"
+#include "test_util.h"
+
+namespace lt {
+namespace {
+
+using ::testing::HasSubstr;
+constexpr double kMm = 1e-3;
+
+double BeadFilamentMm(const Toolpath& p) {
+  double sum = 0;
+  for (const ToolpathSegment& s : p.segments) {
+    if (s.LaysBead()) sum += s.laid_m;
+  }
+  return sum / kMm;
+}
+
+// Cura 5.4 for a printer whose A axis turns a ring that lays a thread (a research
+// printer's start script): "G92 A90" and "G0 F5000 A14.891" turn the ring, E prints.
+// A was read as an extruder: the ring's turn was a 75.1 mm retraction, which the purge
+// lines' 30 mm of E then "made up", so they laid nothing (beads 0 mm, net -87.6 mm).
+TEST(GcodeRealFiles4, AAxisOfAFileThatPrintsWithEIsNoExtruder) {
+  const std::string text =
+      "M82 ; absolute extrusion mode\nG92 E0 ; Reset Extruder\nG28 X Y Z\n"
+      "G92 A90 ; Assume the ring has been manually homed, set its position to 90\n"
+      "G0 F5000 X55.0 ; Move head out of the way of the carrier\n"
+      "G0 F5000 A14.891 ; Move ring to initial thread position\n"
+      "G1 Z2.0 F3000\nG1 X0.1 Y20 Z0.3 F5000.0\nG1 X0.1 Y200.0 Z0.3 F1500.0 E15\n"
+      "G1 X0.4 Y200.0 Z0.3 F5000.0\nG1 X0.4 Y20 Z0.3 F1500.0 E30\nG92 E0\nG1 F1500 E-6.5\n";
+  Toolpath p = ParseGcode(text, "ring.gcode");
+  EXPECT_NEAR(BeadFilamentMm(p), 30.0, 1e-9);  // was 0
+  ASSERT_EQ(p.warnings.size(), 1u);
+  EXPECT_EQ(p.warnings[0].line, 4);
+  EXPECT_THAT(p.warnings[0].text, HasSubstr("axis A ignored"));
+  EXPECT_THAT(p.warnings[0].text, HasSubstr("A and B are no extruders here"));
+  // The ring's turn is no move of the nozzle (it was a retraction taking 0.9 s).
+  for (const ToolpathSegment& s : p.segments) EXPECT_GE(s.extruded_m, -6.5 * kMm - 1e-12);
+
+  // A file that prints with A (Cura's Mach3 flavour, MakerBot) keeps A as its extruder,
+  // even beside an E in a start script's purge; a start script's "G92 A0 B0" names no
+  // moving axis (a Replicator 2's purge with E stays as it was, without a warning).
+  Toolpath mach3 = ParseGcode("G1 X0 Y10 Z0.3 E5 F600\nG92 A0\nG1 X10 Y10 A1\nG1 X10 Y20 A2\nG1 X0 Y20 A3\n", "mach3.gcode");
+  EXPECT_NEAR(BeadFilamentMm(mach3), 8.0, 1e-9);
+  EXPECT_TRUE(mach3.warnings.empty());
+  Toolpath rep2 = ParseGcode("G92 A0 B0\nG1 X-140 Y-70 Z0.3 F1200\nG1 Y60 E25 F1200\n", "rep2.gcode");
+  EXPECT_NEAR(BeadFilamentMm(rep2), 25.0, 1e-9);
+  EXPECT_TRUE(rep2.warnings.empty());
+  // A rotary A turning while the line extrudes with E is still refused, naming the line
+  // (before the file's end shows that it prints with E).
+  const std::string error =
+      test::ErrorOf([] { ParseGcode("G1 X10 Y0 Z0.2 E1 F600\nG1 X20 E2\nG1 A30\nG1 X30 Y5 A40 E3\n", "5ax.gcode"); });
+  EXPECT_THAT(error, HasSubstr("5ax.gcode:4"));
+  EXPECT_THAT(error, HasSubstr("both E and A"));
+}
+
+}  // namespace
+}  // namespace lt
