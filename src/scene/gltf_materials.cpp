@@ -15,6 +15,7 @@
 #include <optional>
 
 #include "core/error.h"
+#include "core/text_fields.h"
 #include "scene/gltf_textures.h"
 
 namespace lt {
@@ -23,9 +24,18 @@ using namespace gltf_material_detail;
 
 namespace {
 
-double UnitFactor(double v, const std::string& where) {
-  if (!std::isfinite(v) || v < 0.0 || v > 1.0) throw InputError(where, "must be in [0, 1], got " + FormatNumber(v));
-  return v;
+// A factor glTF gives the range [0, 1]. A finite one outside it, as exporters write
+// them (Babylon.js's 3ds Max exporter: a roughnessFactor of -90.47056; doubles of
+// floats such as 1.0000000298), is clamped to it, as viewers show it, and its place
+// and value are added to `clamped` unless it is within float noise of the range.
+double UnitFactor(double v, const std::string& where, std::vector<std::string>* clamped) {
+  if (!std::isfinite(v)) throw InputError(where, "must be in [0, 1], got " + FormatNumber(v));
+  if (v >= 0.0 && v <= 1.0) return v;
+  if (v < -1e-6 || v > 1.0 + 1e-6) {
+    const size_t at = where.find(": /");
+    clamped->push_back((at == std::string::npos ? where : where.substr(at + 2)) + " " + FormatNumber(v));
+  }
+  return std::clamp(v, 0.0, 1.0);
 }
 
 // A number of a tinygltf extension object, `fallback` when absent.
@@ -119,6 +129,7 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
   std::map<std::string, std::string> ignored_extensions;  // name -> the materials using it
   std::string transmissive[2];
   std::string unlit_names;  // the materials with KHR_materials_unlit
+  std::vector<std::string> clamped;  // factors outside [0, 1]: their pointers and values
   // Mean texel of (texture, sRGB-encoded), or why there is none (MeanTexel).
   std::map<std::pair<int, bool>, std::pair<std::optional<Eigen::Vector4d>, std::string>> texture_means;  // the materials with KHR_materials_transmission, [with a transmissionTexture]
   // Makes texture info.index (in range) mat's base colour texture, each texture
@@ -141,12 +152,12 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
     }
     for (int c = 0; c < 3; ++c) {
       mat.base_color[c] = float(UnitFactor(pbr.baseColorFactor[size_t(c)],
-                                           where + "/pbrMetallicRoughness/baseColorFactor/" + std::to_string(c)));
+                                           where + "/pbrMetallicRoughness/baseColorFactor/" + std::to_string(c), &clamped));
     }
-    mat.alpha = float(UnitFactor(pbr.baseColorFactor[3], where + "/pbrMetallicRoughness/baseColorFactor/3"));
+    mat.alpha = float(UnitFactor(pbr.baseColorFactor[3], where + "/pbrMetallicRoughness/baseColorFactor/3", &clamped));
     ReadAlphaMode(gm, where, &mat);
-    mat.metallic = float(UnitFactor(pbr.metallicFactor, where + "/pbrMetallicRoughness/metallicFactor"));
-    mat.roughness = float(UnitFactor(pbr.roughnessFactor, where + "/pbrMetallicRoughness/roughnessFactor"));
+    mat.metallic = float(UnitFactor(pbr.metallicFactor, where + "/pbrMetallicRoughness/metallicFactor", &clamped));
+    mat.roughness = float(UnitFactor(pbr.roughnessFactor, where + "/pbrMetallicRoughness/roughnessFactor", &clamped));
     if (gm.emissiveFactor.size() != 3) throw InputError(where + "/emissiveFactor", "must have 3 elements");
     double strength = 1.0;
     if (auto it = gm.extensions.find("KHR_materials_emissive_strength"); it != gm.extensions.end()) {
@@ -161,7 +172,7 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
       }
     }
     for (int c = 0; c < 3; ++c) {
-      mat.emissive[c] = float(strength * UnitFactor(gm.emissiveFactor[size_t(c)], where + "/emissiveFactor/" + std::to_string(c)));
+      mat.emissive[c] = float(strength * UnitFactor(gm.emissiveFactor[size_t(c)], where + "/emissiveFactor/" + std::to_string(c), &clamped));
     }
     mat.double_sided = gm.doubleSided;
 
@@ -189,15 +200,15 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
         if (!d.IsArray() || d.ArrayLen() != 4) throw InputError(sg_where + "/diffuseFactor", "must have 4 elements");
         for (int c = 0; c < 4; ++c) {
           const tinygltf::Value& x = d.Get(c);
-          const double v = UnitFactor(x.IsNumber() ? x.GetNumberAsDouble() : -1.0,
-                                      sg_where + "/diffuseFactor/" + std::to_string(c));
+          const double v = UnitFactor(x.IsNumber() ? x.GetNumberAsDouble() : std::nan(""),
+                                      sg_where + "/diffuseFactor/" + std::to_string(c), &clamped);
           (c < 3 ? mat.base_color[c] : mat.alpha) = float(v);  // alpha: the extension's coverage
         }
       } else {
         mat.alpha = 1;
       }
       mat.metallic = 0;
-      mat.roughness = float(1.0 - UnitFactor(ExtNumber(sg, "glossinessFactor", 1.0, sg_where), sg_where + "/glossinessFactor"));
+      mat.roughness = float(1.0 - UnitFactor(ExtNumber(sg, "glossinessFactor", 1.0, sg_where), sg_where + "/glossinessFactor", &clamped));
       mat.base_color_texture = nullptr;
       mat.base_color_uv_transform = UvTransform();
       mat.base_color_texcoord = 0;
@@ -307,7 +318,7 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
     if (auto it = gm.extensions.find("KHR_materials_transmission"); it != gm.extensions.end()) {
       const std::string t_where = where + "/extensions/KHR_materials_transmission";
       if (!it->second.IsObject()) throw InputError(t_where, "must be an object");
-      const double t = UnitFactor(ExtNumber(it->second, "transmissionFactor", 0.0, t_where), t_where + "/transmissionFactor");
+      const double t = UnitFactor(ExtNumber(it->second, "transmissionFactor", 0.0, t_where), t_where + "/transmissionFactor", &clamped);
       mat.base_color *= float(1.0 - t * (1.0 - double(mat.metallic)));
       AddName(&transmissive[it->second.Has("transmissionTexture")], mat.name);
     }
@@ -349,6 +360,11 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
     warnings->push_back(src.file + ": KHR_materials_unlit: read as a diffuse surface of the base colour (metallic 0, "
                         "roughness 1, no emission; the other properties are the extension's fallbacks), " +
                         MaterialsNamed(unlit_names));
+  }
+  if (!clamped.empty()) {
+    warnings->push_back(src.file + ": " + std::to_string(clamped.size()) +
+                        (clamped.size() == 1 ? " material factor is" : " material factors are") +
+                        " outside glTF's range [0, 1] and clamped to it, as viewers show them: " + ListFirst(clamped, 3));
   }
   for (const auto& [name, materials] : ignored_extensions) {
     warnings->push_back(src.file + ": " + name + " ignored (not rendered), used by " + MaterialsNamed(materials));

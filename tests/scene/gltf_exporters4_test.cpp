@@ -16,6 +16,7 @@ namespace {
 using test::ErrorOf;
 using test::TempDir;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 std::string AllWarnings(const GltfAsset& a) {
   std::string s;
@@ -85,6 +86,27 @@ TEST(GltfExporters4, ColourOfWrongTypeNamesBothTypesAllowed) {
   b.WriteGltf(dir / "grey.gltf", true);
   EXPECT_EQ(ErrorOf([&] { LoadGltf(dir / "grey.gltf", "grey.gltf"); }),
             "grey.gltf: /accessors/" + std::to_string(acc) + ": COLOR_0 must be VEC3 or VEC4 (glTF 3.7.2.1), got SCALAR");
+}
+
+// Babylon.js's 3ds Max exporter wrote a roughnessFactor of -90.47056 (its
+// LeakDetector and FLIREx models); writers of doubles from floats write
+// 1.0000000298. Any factor outside [0, 1] refused the whole file, even for an
+// object whose scene-file "material" replaces the file's: now clamped, as viewers
+// show them, with one warning naming each place beyond float noise.
+TEST(GltfExporters4, MaterialFactorsOutsideTheirRangeAreClampedAndNamed) {
+  GltfBuilder b = test::SquareBuilder();
+  b.json()["meshes"][0]["primitives"][0]["material"] = b.AddMaterial("max", {1.0000000298, 0.5, 0.5, 1}, 1.5, -90.47056);
+  TempDir dir;
+  b.WriteGltf(dir / "max.gltf", true);
+  const GltfAsset a = LoadGltf(dir / "max.gltf", "max.gltf");
+  ASSERT_EQ(a.materials.size(), 1u);
+  EXPECT_EQ(a.materials[0].base_color[0], 1.0f);
+  EXPECT_EQ(a.materials[0].metallic, 1.0f);
+  EXPECT_EQ(a.materials[0].roughness, 0.0f);
+  EXPECT_THAT(AllWarnings(a), HasSubstr("max.gltf: 2 material factors are outside glTF's range [0, 1] and clamped to "
+                                        "it, as viewers show them: /materials/0/pbrMetallicRoughness/metallicFactor "
+                                        "1.5, /materials/0/pbrMetallicRoughness/roughnessFactor -90.47056\n"));
+  EXPECT_THAT(AllWarnings(a), Not(HasSubstr("baseColorFactor")));
 }
 
 }  // namespace
