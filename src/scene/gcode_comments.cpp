@@ -90,6 +90,14 @@ void GcodeReader::Comment(std::string_view comment) {
     layer_comments_ = true;
     layer_ = int(*v);
     stated_height_m_ = 0;
+  } else if (c.size() > 7 && StartsWith(c, "<layer ") && c[7] >= '0' && c[7] <= '9') {
+    // IceSL: "; <layer 0>" ... "; </layer>", numbered from 0.
+    std::string_view number = c.substr(7);
+    auto v = CommentNumber(number.substr(0, number.find('>')), "<layer");
+    if (*v != std::floor(*v) || std::abs(*v) > 1e9) Fail("<layer> comment needs an integer, got " + FormatNumber(*v));
+    layer_comments_ = true;
+    layer_ = int(*v);
+    stated_height_m_ = 0;
   } else if (c == "LAYER_CHANGE" || c == "CHANGE_LAYER") {
     next_layer();
   } else if (c.size() > 6 && StartsWith(c, "layer ") && c[6] >= '0' && c[6] <= '9') {
@@ -145,6 +153,8 @@ void GcodeReader::Comment(std::string_view comment) {
                     "place the bed in the scene (world_from_gcode) to match");
   } else if (StartsWith(c, "layerThickness =")) {  // MatterSlice (MatterControl)
     path_.header_layer_height_m = *CommentNumber(c.substr(16), "layerThickness") * kMetresPerMm;
+  } else if (StartsWith(c, "z_layer_height_mm :")) {  // IceSL's settings
+    path_.header_layer_height_m = *CommentNumber(c.substr(19), "z_layer_height_mm") * kMetresPerMm;
   } else if (StartsWith(c, "sliceHeight =")) {  // Kiri:Moto's process settings
     path_.header_layer_height_m = *CommentNumber(c.substr(13), "sliceHeight") * kMetresPerMm;
   } else if (StartsWith(c, "layerHeight,")) {  // Simplify3D's settings summary
@@ -156,6 +166,8 @@ void GcodeReader::Comment(std::string_view comment) {
     path_.filament_diameter_m = *CommentNumber(c.substr(18), "filamentDiameter") * kMetresPerMm;
   } else if (StartsWith(c, "Filament Diameter #1:")) {  // ideaMaker: one line per extruder, #1 the first
     path_.filament_diameter_m = *CommentNumber(c.substr(21), "Filament Diameter") * kMetresPerMm;
+  } else if (StartsWith(c, "filament_diameter_mm_0 :")) {  // IceSL: one line per extruder, 0 the first
+    path_.filament_diameter_m = *CommentNumber(c.substr(24), "filament_diameter_mm_0") * kMetresPerMm;
   } else if (StartsWith(c, "fiber_dia_mm =")) {  // KISSlicer
     path_.filament_diameter_m = *CommentNumber(c.substr(14), "fiber_dia_mm") * kMetresPerMm;
   } else if (StartsWith(c, "filamentDiameters,")) {  // Simplify3D: "1.75|1.75|..." (one per extruder)

@@ -60,5 +60,35 @@ TEST(GcodeRealFiles4, AAxisOfAFileThatPrintsWithEIsNoExtruder) {
   EXPECT_THAT(error, HasSubstr("both E and A"));
 }
 
+
+// IceSL (2021, for an Anycubic Mega Zero): its settings are "; name : <tab>value" lines
+// and its layers "; <layer 0>" ... "; </layer>". Neither was read: the filament
+// diameter stayed the default (a 2.85 mm file's beads took 1.75 mm filament's area,
+// 0.38 of the volume) and the layers came from the heights, which put the start
+// script's purge line (Z 0.3) into layer 0 beside the part's first layer (Z 0.28).
+TEST(GcodeRealFiles4, IceSLSettingsAndLayerComments) {
+  const std::string text =
+      "G92 E0\nG1 X20 Y10 Z0.3 F5000.0 ; move to start-line position\n"
+      "G1 X150 Y10 Z0.3 F1500.0 E15 ; draw 1st line\nG92 E0 ; reset extruder\n"
+      "; <IceSL Dec 20 2021 17:10:40>\n; filament_diameter_mm_0 : \t2.85\n; nozzle_diameter_mm_0 : \t0.4\n"
+      "; z_layer_height_mm : \t0.28\nM106 S0\n; <layer 0>\nG1 Z0.280\n; retract\nG1 F1800 E-7.000000\n"
+      "G0 F7200 X109.200 Y106.600 Z0.280000\n; prime\nG1 F1800 E0.000000\nG1 F1200 X108.776 Y106.639 E0.019826\n"
+      "G1 X108.623 Y106.666 E0.027061\n; retract\nG1 F1800 E-6.972939\nG92 E0\n; </layer>\n; <layer 1>\n"
+      "G1 Z0.560\n; prime\nG1 F1800 E7.000000\nG0 F7200 X109.200 Y110.800 Z0.560000\n"
+      "G1 F2100 X110.800 Y110.800 E7.074503\n; retract\nG1 F1800 E0.074503\nG92 E0\n; </layer>\n";
+  Toolpath p = ParseGcode(text, "icesl.gcode");
+  EXPECT_NEAR(p.filament_diameter_m, 2.85 * kMm, 1e-12);     // was 0: the default 1.75 mm
+  EXPECT_NEAR(p.header_layer_height_m, 0.28 * kMm, 1e-12);  // was 0
+  EXPECT_FALSE(p.layers_from_z);
+  EXPECT_EQ(p.LayerCount(), 2);
+  for (const ToolpathSegment& s : p.segments) {
+    if (!s.LaysBead()) continue;
+    // The purge line is outside the layers (it was in layer 0), the part's beads in theirs.
+    const int expected = s.start_m.z() > 0.5 * kMm ? 1 : s.start_m.z() > 0.29 * kMm ? ToolpathSegment::kNoLayer : 0;
+    EXPECT_EQ(s.layer, expected) << "bead at line " << s.line;
+  }
+  EXPECT_NEAR(BeadFilamentMm(p), 15 + 0.027061 + 0.074503, 1e-6);
+}
+
 }  // namespace
 }  // namespace lt
