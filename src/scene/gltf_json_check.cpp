@@ -257,13 +257,14 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
   }
   CheckGltfSchema(root, file);
   // Read, converted, or ignored as glTF allows and warned about: lights (the
-  // scene file sets the sensor and the lights) and material variants (each
-  // primitive's `material` is the one shown when no variant is chosen).
+  // scene file sets the sensor and the lights), material variants (each
+  // primitive's `material` is the one shown when no variant is chosen) and
+  // animation pointers (animations are not played).
   static const std::set<std::string> kSupported = {
       "KHR_materials_emissive_strength", "KHR_mesh_quantization",         "KHR_texture_transform",
       "EXT_mesh_gpu_instancing",         "KHR_materials_pbrSpecularGlossiness", "KHR_materials_unlit",
       "KHR_materials_transmission",      "KHR_lights_punctual",          "KHR_materials_variants",
-      "KHR_node_visibility",             "CESIUM_RTC"};
+      "KHR_node_visibility",             "CESIUM_RTC",                   "KHR_animation_pointer"};
   if (auto req = root.find("extensionsRequired"); req != root.end() && req->is_array()) {
     for (size_t i = 0; i < req->size(); ++i) {
       const auto& e = (*req)[i];

@@ -1,5 +1,6 @@
 // Features found in the fourth pass over real files (docs/scene-format.md, "Real
-// files checked, fourth pass"): 3D Tiles' CESIUM_RTC centre, and the messages for a
+// files checked, fourth pass"): 3D Tiles' CESIUM_RTC centre, a required
+// KHR_animation_pointer, material factors outside [0, 1], and the messages for a
 // skin's inverse bind matrix that is not finite and a COLOR_0 of the wrong type.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -50,6 +51,29 @@ TEST(GltfExporters4, CesiumRtcCentreIsNamedNotApplied) {
   b.WriteGltf(dir / "bad.gltf", true);
   EXPECT_EQ(ErrorOf([&] { LoadGltf(dir / "bad.gltf", "bad.gltf"); }),
             "bad.gltf: /extensions/CESIUM_RTC/center: must be an array of 3 finite numbers");
+}
+
+// KHR_animation_pointer animates any property (a material's colour, a node's
+// visibility). Animations are not played, so a file requiring it loads as
+// written, with the warning that counts the animations; it was refused
+// ('required extension "KHR_animation_pointer" is not supported').
+TEST(GltfExporters4, RequiredAnimationPointerLoadsTheStillPose) {
+  GltfBuilder b = test::SquareBuilder();
+  const int times = b.AddFloats({0, 1}, "SCALAR");
+  const int colours = b.AddFloats({1, 0, 0, 1, 0, 1, 0, 1}, "VEC4");
+  b.json()["animations"] = {
+      {{"channels", {{{"sampler", 0},
+                      {"target", {{"path", "pointer"},
+                                  {"extensions", {{"KHR_animation_pointer",
+                                                   {{"pointer", "/materials/0/pbrMetallicRoughness/baseColorFactor"}}}}}}}}}},
+       {"samplers", {{{"input", times}, {"output", colours}}}}}};
+  b.json()["extensionsUsed"] = {"KHR_animation_pointer"};
+  b.json()["extensionsRequired"] = {"KHR_animation_pointer"};
+  TempDir dir;
+  b.WriteGltf(dir / "pointer.gltf", true);
+  const GltfAsset a = LoadGltf(dir / "pointer.gltf", "pointer.gltf");
+  ASSERT_EQ(a.instances.size(), 1u);
+  EXPECT_THAT(AllWarnings(a), HasSubstr("pointer.gltf: 1 animation not played"));
 }
 
 // An inverse bind matrix holding a NaN was refused as 'must be affine (last row
