@@ -56,6 +56,21 @@ void GcodeReader::WarnOncePerName(const std::string& name, const std::string& te
   ++path_.warnings[it->second].count;
 }
 
+void GcodeReader::PauseForUser(int n) {
+  const char* what = n == 0 || n == 1 ? "a stop until the user resumes (Marlin; Cura's Pause at Height)"
+                     : n == 25        ? "a pause of the print (Marlin's and RepRapFirmware's SD print)"
+                     : n == 226       ? "a pause the file asks for (RepRapFirmware, Marlin)"
+                     : n == 600       ? "a filament change (the nozzle parks, the printer waits for the new filament "
+                                        "and returns; the park and return moves are not in the toolpath either)"
+                     : n == 601       ? "a pause (Prusa firmware)"
+                                      : nullptr;
+  if (!what) return;
+  const std::string name = CommandName('M', n);
+  WarnOncePerName(name, name + ", " + what +
+                            ", takes no time in the toolpath: every time after it (the printed part's, a scan's) is "
+                            "early by as long as the printer waits");
+}
+
 void GcodeReader::UnknownExtendedCommand(const std::string& name) {
   WarnOncePerName(name, name +
                             " skipped: a command the reader does not know (a macro of the printer's configuration?); "

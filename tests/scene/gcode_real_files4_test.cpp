@@ -90,5 +90,32 @@ TEST(GcodeRealFiles4, IceSLSettingsAndLayerComments) {
   EXPECT_NEAR(BeadFilamentMm(p), 15 + 0.027061 + 0.074503, 1e-6);
 }
 
+// A filament-change insert (a G-code utility's template, spliced into a print at a
+// layer): "M0 ; Pause" three times around heating and a purge, as Cura's Pause at
+// Height writes M0 (Marlin), M25 or M226 and PrusaSlicer's colour change M600. The
+// pauses were skipped without a word, though every time after them is early by as
+// long as the printer waits for the user. Now one warning per command, at its first
+// line, with the count; the path and times are unchanged.
+TEST(GcodeRealFiles4, PausesForTheUserAreWarned) {
+  const std::string text =
+      "G91 ;Relative positioning\nG1 E-2 F2700 ;Retract a bit\nG1 E-2 Z0.2 F2400 ;Retract and raise Z\n"
+      "G1 Z20\nG90 ;Absolute positionning\nG0 X0.5 Y0.5\nM104 S0 ;Turn-off hotend\nM0 ; Pause\n"
+      "M109 S200 ; wait for nozzle temp\nM0 ; Pause\nG92 E0 ; Reset Extruder\nG1 F800 E500 ; Extrude some filament\n"
+      "M0 ; Pause\nG28 ; AutoHome\nG92 E0\nG1 X5 Y7.0 Z0.3 F5000.0\nG1 X200 Y7.0 Z0.3 F1500.0 E15\n"
+      "M600 ; colour change\nG1 X200 Y20 E16\n";
+  Toolpath p = ParseGcode(text, "change.gcode");
+  ASSERT_EQ(p.warnings.size(), 2u);
+  EXPECT_EQ(p.warnings[0].line, 8);
+  EXPECT_EQ(p.warnings[0].count, 3);
+  EXPECT_THAT(p.warnings[0].text, HasSubstr("M0, a stop until the user resumes"));
+  EXPECT_THAT(p.warnings[0].text, HasSubstr("every time after it (the printed part's, a scan's) is early"));
+  EXPECT_EQ(p.warnings[1].line, 18);
+  EXPECT_THAT(p.warnings[1].text, HasSubstr("M600, a filament change"));
+  EXPECT_EQ(p.skipped_commands.at("M0"), 3u);
+  EXPECT_NEAR(BeadFilamentMm(p), 16.0, 1e-9);
+  // Commands of other numbers are skipped silently as before.
+  EXPECT_TRUE(ParseGcode("M117 Printing\nM400\nG1 X10 Y0 Z0.2 E1 F600\n", "plain.gcode").warnings.empty());
+}
+
 }  // namespace
 }  // namespace lt
