@@ -45,10 +45,11 @@ class XmlParser {
 
  private:
   [[noreturn]] void Fail(const std::string& message) const { Fail(Line(), message); }
+  // The line of pos_, counted on from the last call's (pos_ only moves forward),
+  // so an element per line costs the text's length once, not once per element.
   int Line() const {
-    int n = 1;
-    for (size_t i = 0; i < pos_ && i < s_.size(); ++i) n += s_[i] == '\n';
-    return n;
+    for (; line_pos_ < pos_ && line_pos_ < s_.size(); ++line_pos_) line_ += s_[line_pos_] == '\n';
+    return line_;
   }
   bool Starts(const char* p) const { return s_.compare(pos_, std::char_traits<char>::length(p), p) == 0; }
   void SkipSpace() {
@@ -109,12 +110,15 @@ class XmlParser {
   XmlElement Element() {
     XmlElement e;
     e.line = Line();
+    if (depth_ == kMaxDepth) Fail("elements nested deeper than " + std::to_string(kMaxDepth) + " levels");
+    ++depth_;  // not decremented on an error: the parse ends
     ++pos_;  // '<'
     e.name = Name();
     for (;;) {
       SkipSpace();
       if (Starts("/>")) {
         pos_ += 2;
+        --depth_;
         return e;
       }
       if (Starts(">")) {
@@ -144,6 +148,7 @@ class XmlParser {
         SkipSpace();
         if (!Starts(">")) Fail("expected '>'");
         ++pos_;
+        --depth_;
         return e;
       } else if (Starts("<")) {
         e.children.push_back(Element());
@@ -156,9 +161,13 @@ class XmlParser {
     }
   }
 
+  static constexpr int kMaxDepth = 100;
   const std::string& s_;
   std::string file_;
   size_t pos_ = 0;
+  mutable size_t line_pos_ = 0;  // Line(): the line of s_[line_pos_]
+  mutable int line_ = 1;
+  int depth_ = 0;  // elements open
 };
 
 std::string Trim(const std::string& s) { return std::string(TrimBlanks(s)); }

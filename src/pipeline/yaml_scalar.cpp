@@ -1,5 +1,6 @@
 #include "pipeline/yaml_scalar.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 
@@ -12,6 +13,26 @@ bool OpensYamlQuote(const std::string& s, size_t i) {
   if (i == 0) return true;
   const char p = s[i - 1];
   return p == ' ' || p == '\t' || p == '[' || p == '{' || p == ',' || p == ':' || p == '-';
+}
+
+bool FlowBalance::Closed(const std::string& s, char* extra) {
+  for (; pos_ < s.size(); ++pos_) {
+    const char c = s[pos_];
+    if (OpensYamlQuote(s, pos_)) {
+      const size_t close = s.find(c, std::max(search_, pos_ + 1));
+      if (close == std::string::npos) {
+        search_ = s.size();  // the quote is open: the text appended next is searched, not this again
+        return false;
+      }
+      pos_ = close;
+    } else if (c == '[' || c == '{') {
+      ++depth_;
+    } else if ((c == ']' || c == '}') && --depth_ < 0) {
+      *extra = c;
+      return false;
+    }
+  }
+  return depth_ == 0;
 }
 
 std::string StripYamlComment(const std::string& s) {

@@ -15,6 +15,22 @@ namespace lt {
 // Whether s[i] opens a quoted scalar: a quote where a value or key can start.
 bool OpensYamlQuote(const std::string& s, size_t i);
 
+// Whether every [ and { of a flow collection's text is closed (outside quotes),
+// as the text grows by the lines the collection spans: each call goes on from
+// where the last one stopped, so n lines cost their length once, not n times.
+class FlowBalance {
+ public:
+  // `s` is the text of the last call with more appended. True when every bracket
+  // is closed; false while some are open, or (*extra set to it) when a ] or }
+  // closes nothing.
+  bool Closed(const std::string& s, char* extra);
+
+ private:
+  size_t pos_ = 0;     // the next character to look at
+  size_t search_ = 0;  // where to look on for the closing quote of a quote at pos_
+  int depth_ = 0;
+};
+
 // `s` without its `#` comment (one at the start or after a blank, outside quotes).
 std::string StripYamlComment(const std::string& s);
 

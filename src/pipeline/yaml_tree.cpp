@@ -20,6 +20,10 @@ struct Line {
 
 std::string Trim(const std::string& s) { return std::string(TrimBlanks(s)); }
 
+// Text quoted in a message: its first 80 characters (a flow collection over
+// thousands of lines is one text).
+std::string Shown(const std::string& s) { return s.size() <= 80 ? s : s.substr(0, 80) + "..."; }
+
 bool IsSeqItem(const std::string& t) { return t == "-" || t.rfind("- ", 0) == 0; }
 
 class TreeParser {
@@ -78,6 +82,23 @@ class TreeParser {
     throw InputError(file_ + ":" + std::to_string(line), message);
   }
 
+  // One level of nesting (a block or flow collection) while it is read: deeper
+  // than kMaxDepth is an error, not a stack overflow.
+  class Nest {
+   public:
+    Nest(TreeParser* p, int line) : p_(p) {
+      if (++p_->depth_ > kMaxDepth) {
+        p_->Fail(line, "collections nested deeper than " + std::to_string(kMaxDepth) + " levels");
+      }
+    }
+    ~Nest() { --p_->depth_; }
+    Nest(const Nest&) = delete;
+    Nest& operator=(const Nest&) = delete;
+
+   private:
+    TreeParser* p_;
+  };
+
   // Splits "key: rest" at the first ':' followed by a blank or the end, outside quotes.
   bool SplitKey(const std::string& t, int line, std::string* key, std::string* rest) const {
     size_t i = 0;
@@ -109,6 +130,7 @@ class TreeParser {
   // The block mapping at lines_[i] (the value of `parent`, "" at the top level).
   YamlNode ParseMap(size_t& i, int indent, const std::string& parent = "") {
     const std::string in = parent.empty() ? "" : " in '" + parent + "'";
+    const Nest nest(this, lines_[i].no);
     YamlNode node;
     node.kind = YamlNode::Kind::kMap;
     node.line = lines_[i].no;
@@ -118,7 +140,7 @@ class TreeParser {
       if (l.indent > indent) Fail(l.no, "unexpected indentation");
       if (IsSeqItem(l.text)) Fail(l.no, "a sequence item where 'key: value' was expected" + in);
       std::string key, rest;
-      if (!SplitKey(l.text, l.no, &key, &rest)) Fail(l.no, "expected 'key: value'" + in + ", got '" + l.text + "'");
+      if (!SplitKey(l.text, l.no, &key, &rest)) Fail(l.no, "expected 'key: value'" + in + ", got '" + Shown(l.text) + "'");
       if (!seen.insert(key).second) Fail(l.no, "duplicate key '" + key + "'");
       ++i;
       node.map.emplace_back(key, ParseValue(key, rest, l.no, indent, i, true));
@@ -127,6 +149,7 @@ class TreeParser {
   }
 
   YamlNode ParseSeq(size_t& i, int indent) {
+    const Nest nest(this, lines_[i].no);
     YamlNode node;
     node.kind = YamlNode::Kind::kSeq;
     node.line = lines_[i].no;
@@ -179,11 +202,18 @@ class TreeParser {
     } else if (rest[0] == '[' || rest[0] == '{') {
       // A flow collection may continue on the following lines until it closes.
       std::string text = rest;
-      while (!Balanced(text, no) && i < lines_.size()) text += " " + lines_[i++].text;
+      FlowBalance balance;
+      for (char extra = 0;;) {
+        const bool closed = balance.Closed(text, &extra);
+        if (extra) Fail(no, "unbalanced '" + std::string(1, extra) + "'");
+        if (closed || i >= lines_.size()) break;
+        text += ' ';
+        text += lines_[i++].text;
+      }
       size_t pos = 0;
       node = ParseFlow(text, pos, no, false);
       SkipBlanks(text, pos);
-      if (pos < text.size()) Fail(no, "unexpected text after the value of '" + key + "': '" + text.substr(pos) + "'");
+      if (pos < text.size()) Fail(no, "unexpected text after the value of '" + key + "': '" + Shown(text.substr(pos)) + "'");
     } else {
       if (rest[0] == '*') {
         size_t pos = 0;
@@ -228,13 +258,19 @@ class TreeParser {
   }
 
   // The node of the alias at s[pos] ("*name"): a copy of its anchor's.
-  YamlNode Alias(const std::string& s, size_t& pos, int no) const {
+  YamlNode Alias(const std::string& s, size_t& pos, int no) {
     const std::string name = Property(s, pos, no).substr(1);
     const auto it = anchors_.find(name);
     if (it == anchors_.end()) {
       Fail(no, "unknown alias '*" + name + "' (its anchor '&" + name + "' must come before it)");
     }
-    YamlNode node = it->second;
+    // Aliases of aliases grow the tree exponentially with the text ("billion laughs").
+    copied_ += it->second.size;
+    if (copied_ > kMaxCopied) {
+      Fail(no, "the aliases copy more than " + std::to_string(kMaxCopied) +
+                   " nodes and characters (each alias copies its anchor's whole value)");
+    }
+    YamlNode node = it->second.node;
     node.line = no;
     return node;
   }
@@ -242,7 +278,7 @@ class TreeParser {
   // `node` with its tag, remembered under its anchor.
   YamlNode WithProperties(YamlNode node, const std::string& tag, const std::string& anchor) {
     if (!tag.empty()) node.tag = tag;
-    if (!anchor.empty()) anchors_[anchor] = node;
+    if (!anchor.empty()) anchors_[anchor] = {node, Size(node)};
     return node;
   }
 
@@ -282,23 +318,6 @@ class TreeParser {
     return node;
   }
 
-  // Whether every [ and { of a flow text is closed (outside quotes).
-  bool Balanced(const std::string& s, int no) const {
-    int depth = 0;
-    for (size_t k = 0; k < s.size(); ++k) {
-      if (OpensYamlQuote(s, k)) {
-        const size_t close = s.find(s[k], k + 1);
-        if (close == std::string::npos) return false;
-        k = close;
-      } else if (s[k] == '[' || s[k] == '{') {
-        ++depth;
-      } else if (s[k] == ']' || s[k] == '}') {
-        if (--depth < 0) Fail(no, "unbalanced '" + std::string(1, s[k]) + "'");
-      }
-    }
-    return depth == 0;
-  }
-
   static void SkipBlanks(const std::string& s, size_t& pos) {
     while (pos < s.size() && (s[pos] == ' ' || s[pos] == '\t')) ++pos;
   }
@@ -312,10 +331,11 @@ class TreeParser {
   YamlNode ParseFlowNode(const std::string& s, size_t& pos, int no, bool key) {
     YamlNode node;
     node.line = no;
-    if (pos >= s.size()) Fail(no, "missing value in '" + s + "'");
+    if (pos >= s.size()) Fail(no, "missing value in '" + Shown(s) + "'");
     const char c = s[pos];
     if (c == '*') return Alias(s, pos, no);
     if (c == '[' || c == '{') {
+      const Nest nest(this, no);
       const char close = c == '[' ? ']' : '}';
       node.kind = c == '[' ? YamlNode::Kind::kSeq : YamlNode::Kind::kMap;
       ++pos;
@@ -338,9 +358,9 @@ class TreeParser {
         if (pos < s.size() && s[pos] == ',') {
           ++pos;
         } else if (pos >= s.size()) {
-          Fail(no, std::string("missing '") + close + "' in '" + s + "'");
+          Fail(no, std::string("missing '") + close + "' in '" + Shown(s) + "'");
         } else if (s[pos] != close) {
-          Fail(no, std::string("expected ',' or '") + close + "' in '" + s + "'");
+          Fail(no, std::string("expected ',' or '") + close + "' in '" + Shown(s) + "'");
         }
       }
     }
@@ -358,17 +378,41 @@ class TreeParser {
       ++pos;
     }
     node.scalar = Trim(s.substr(begin, pos - begin));
-    if (node.scalar.empty()) Fail(no, "empty value in '" + s + "'");
+    if (node.scalar.empty()) Fail(no, "empty value in '" + Shown(s) + "'");
     return node;
   }
+
+  // The nodes of a tree and the characters of its strings.
+  static size_t Size(const YamlNode& n) {
+    size_t size = 1 + n.tag.size() + n.scalar.size();
+    for (const auto& [k, v] : n.map) size += k.size() + Size(v);
+    for (const YamlNode& v : n.seq) size += Size(v);
+    return size;
+  }
+
+  static constexpr int kMaxDepth = 100;
+  static constexpr size_t kMaxCopied = 1000000;
+  struct Anchor {
+    YamlNode node;
+    size_t size = 0;  // Size(node)
+  };
 
   std::string file_;
   std::vector<std::string> raw_;  // every line of the text, as written (for block scalars)
   std::vector<Line> lines_;
-  std::map<std::string, YamlNode> anchors_;
+  std::map<std::string, Anchor> anchors_;
+  int depth_ = 0;        // collections being read
+  size_t copied_ = 0;    // the Size of what the aliases have copied
 };
 
 }  // namespace
+
+YamlNode::YamlNode() = default;
+YamlNode::YamlNode(const YamlNode&) = default;
+YamlNode::YamlNode(YamlNode&&) noexcept = default;
+YamlNode& YamlNode::operator=(const YamlNode&) = default;
+YamlNode& YamlNode::operator=(YamlNode&&) noexcept = default;
+YamlNode::~YamlNode() = default;
 
 const YamlNode* YamlNode::Find(const std::string& key) const {
   for (const auto& [k, v] : map) {

@@ -25,6 +25,15 @@ struct YamlNode {
   std::vector<std::pair<std::string, YamlNode>> map;  // kMap, in file order
   std::vector<YamlNode> seq;                          // kSeq
 
+  // Defined where YamlNode is complete (yaml_tree.cpp): Clang 14 with libstdc++ 12
+  // refuses the implicit ones (std::pair of the incomplete YamlNode in `map`).
+  YamlNode();
+  YamlNode(const YamlNode&);
+  YamlNode(YamlNode&&) noexcept;
+  YamlNode& operator=(const YamlNode&);
+  YamlNode& operator=(YamlNode&&) noexcept;
+  ~YamlNode();
+
   // The value of `key` in a map (nullptr if absent or not a map).
   const YamlNode* Find(const std::string& key) const;
 };
