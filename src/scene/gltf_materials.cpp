@@ -26,8 +26,10 @@ namespace {
 
 // A factor glTF gives the range [0, 1]. A finite one outside it, as exporters write
 // them (Babylon.js's 3ds Max exporter: a roughnessFactor of -90.47056; doubles of
-// floats such as 1.0000000298), is clamped to it, as viewers show it, and its place
-// and value are added to `clamped` unless it is within float noise of the range.
+// floats such as 1.0000000298), is clamped to it (as viewers' shaders clamp roughness
+// and metallic; a base colour above 1 would reflect more light than reaches the
+// surface, and glTF writes an emission above 1 with KHR_materials_emissive_strength),
+// and its place and value are added to `clamped` unless within float noise of the range.
 double UnitFactor(double v, const std::string& where, std::vector<std::string>* clamped) {
   if (!std::isfinite(v)) throw InputError(where, "must be in [0, 1], got " + FormatNumber(v));
   if (v >= 0.0 && v <= 1.0) return v;
@@ -364,7 +366,7 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
   if (!clamped.empty()) {
     warnings->push_back(src.file + ": " + std::to_string(clamped.size()) +
                         (clamped.size() == 1 ? " material factor is" : " material factors are") +
-                        " outside glTF's range [0, 1] and clamped to it, as viewers show them: " + ListFirst(clamped, 3));
+                        " outside glTF's range [0, 1] and clamped to it: " + ListFirst(clamped, 3));
   }
   for (const auto& [name, materials] : ignored_extensions) {
     warnings->push_back(src.file + ": " + name + " ignored (not rendered), used by " + MaterialsNamed(materials));

@@ -115,8 +115,8 @@ TEST(GltfExporters4, ColourOfWrongTypeNamesBothTypesAllowed) {
 // Babylon.js's 3ds Max exporter wrote a roughnessFactor of -90.47056 (its
 // LeakDetector and FLIREx models); writers of doubles from floats write
 // 1.0000000298. Any factor outside [0, 1] refused the whole file, even for an
-// object whose scene-file "material" replaces the file's: now clamped, as viewers
-// show them, with one warning naming each place beyond float noise.
+// object whose scene-file "material" replaces the file's: now clamped, with one
+// warning naming each place beyond float noise.
 TEST(GltfExporters4, MaterialFactorsOutsideTheirRangeAreClampedAndNamed) {
   GltfBuilder b = test::SquareBuilder();
   b.json()["meshes"][0]["primitives"][0]["material"] = b.AddMaterial("max", {1.0000000298, 0.5, 0.5, 1}, 1.5, -90.47056);
@@ -128,7 +128,7 @@ TEST(GltfExporters4, MaterialFactorsOutsideTheirRangeAreClampedAndNamed) {
   EXPECT_EQ(a.materials[0].metallic, 1.0f);
   EXPECT_EQ(a.materials[0].roughness, 0.0f);
   EXPECT_THAT(AllWarnings(a), HasSubstr("max.gltf: 2 material factors are outside glTF's range [0, 1] and clamped to "
-                                        "it, as viewers show them: /materials/0/pbrMetallicRoughness/metallicFactor "
+                                        "it: /materials/0/pbrMetallicRoughness/metallicFactor "
                                         "1.5, /materials/0/pbrMetallicRoughness/roughnessFactor -90.47056\n"));
   EXPECT_THAT(AllWarnings(a), Not(HasSubstr("baseColorFactor")));
 }
