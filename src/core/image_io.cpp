@@ -2,7 +2,9 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cctype>
+#include <cmath>
 
 #if defined(__SANITIZE_ADDRESS__)
 #include <sanitizer/lsan_interface.h>
@@ -10,14 +12,40 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/png_chunks.h"
 
 namespace lt {
 
 namespace {
 
+// A file of several frames of one size (a multi-page TIFF stack, an animated
+// GIF, a multi-part EXR) is an error: reading its first would drop the others
+// unseen. A second image of another size (a TIFF's thumbnail page) is not a
+// frame and is left out.
+void RefuseSeveralFrames(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, const std::filesystem::path& path) {
+  // (OpenImageIO 2.4's TIFF reader does not claim "multiimage": seek.)
+  if (!in.seek_subimage(1, 0)) {
+    if (!in.seek_subimage(0, 0)) throw InputError(path.string(), "cannot read image: " + in.geterror());
+    return;
+  }
+  const bool same = in.spec().width == spec.width && in.spec().height == spec.height;
+  int frames = 2;
+  while (same && frames < 100000 && in.seek_subimage(frames, 0)) ++frames;
+  if (!in.seek_subimage(0, 0)) throw InputError(path.string(), "cannot read image: " + in.geterror());
+  if (!same) return;
+  throw InputError(path.string(), "holds " + std::to_string(frames) + " images of " + std::to_string(spec.width) + "x" +
+                                      std::to_string(spec.height) +
+                                      " (pages or frames); one file is one frame here: write each to its own file "
+                                      "(e.g. ImageJ's Stack to Images, or oiiotool's --subimage)");
+}
+
 std::unique_ptr<OIIO::ImageInput> OpenInput(const std::filesystem::path& path, OIIO::ImageSpec* spec) {
   if (!std::filesystem::exists(path)) throw InputError(path.string(), "no such file");
   if (std::filesystem::is_directory(path)) throw InputError(path.string(), "is a folder, not an image");
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(path, ec) && std::filesystem::file_size(path, ec) == 0 && !ec) {
+    throw InputError(path.string(), "is empty (0 bytes), not an image");
+  }
   // Straight (unassociated) alpha: without this OpenImageIO multiplies PNG's and
   // TIFF's colour by alpha, so a pixel of 200 with alpha 128 would read 100.
   OIIO::ImageSpec config;
@@ -34,6 +62,7 @@ std::unique_ptr<OIIO::ImageInput> OpenInput(const std::filesystem::path& path, O
                                         std::to_string(spec->nchannels) + " channels)");
   }
   if (spec->depth > 1) throw InputError(path.string(), "volume images are not supported");
+  RefuseSeveralFrames(*in, *spec, path);
   (void)in->geterror();  // open succeeded: whatever it noted is not a pixel error (see ReadAs)
   return in;
 }
@@ -154,6 +183,43 @@ int AlphaChannelOf(const OIIO::ImageSpec& spec) {
   return -1;
 }
 
+// The largest sample of every channel but `alpha` (-1: none).
+template <typename T>
+double LargestSample(const Image<T>& img, int alpha) {
+  double largest = 0;
+  const size_t n = img.pixels.size();
+  for (size_t i = 0; i < n; ++i) {
+    if (int(i % size_t(img.channels)) != alpha) largest = std::max(largest, double(img.pixels[i]));
+  }
+  return largest;
+}
+
+ImageFileFacts FactsOf(const std::filesystem::path& path, const OIIO::ImageSpec& spec, const AnyImage& image,
+                       int alpha) {
+  ImageFileFacts f;
+  f.orientation = spec.get_int_attribute("Orientation", 1);
+  if (spec.find_attribute("ICCProfile")) f.encoding = "an ICC profile";
+  if (spec.get_int_attribute("Exif:ColorSpace", 0) == 1) f.encoding = "EXIF ColorSpace sRGB";
+  const PngChunks png = ReadPngChunks(path);
+  if (png.is_png) {
+    f.encoding.clear();  // the chunks, read here, say it (OpenImageIO's guess is not used)
+    if (png.icc) f.encoding = "an ICC profile";
+    if (png.gamma > 0 && std::abs(png.gamma - 1) > 0.01) {
+      f.encoding = "a gAMA chunk (gamma " + FormatNumber(png.gamma) + ")";
+      f.gamma = png.gamma;
+    }
+    if (png.srgb) f.encoding = "an sRGB chunk", f.gamma = 0;  // sRGB overrides gAMA (the PNG standard)
+    const int container = std::holds_alternative<Image<uint16_t>>(image) ? 16 : std::holds_alternative<Image<uint8_t>>(image) ? 8 : 0;
+    if (png.significant_bits > 0 && png.significant_bits < container && png.bit_depth == container) {
+      f.significant_bits = png.significant_bits;
+      const double full = std::ldexp(1.0, png.significant_bits) - 1;
+      const double largest = std::visit([alpha](const auto& img) { return LargestSample(img, alpha); }, image);
+      if (largest <= full) f.unscaled_full_scale = full;
+    }
+  }
+  return f;
+}
+
 }  // namespace
 
 Image<float> ReadImageChannels(const std::filesystem::path& path, const std::vector<std::string>& names) {
@@ -179,12 +245,15 @@ Image<float> ReadImageChannels(const std::filesystem::path& path, const std::vec
 ImageFileSize ReadImageFileSize(const std::filesystem::path& path) {
   OIIO::ImageSpec spec;
   OpenInput(path, &spec);
-  return {spec.width, spec.height, spec.nchannels};
+  const char* type = spec.format == OIIO::TypeDesc::UINT8 ? "8-bit" : spec.format == OIIO::TypeDesc::UINT16 ? "16-bit" : "float";
+  return {spec.width, spec.height, spec.nchannels, type};
 }
 
 AnyImage ReadImage(const std::filesystem::path& path) { return ReadImage(path, AlphaChannel::kKeep); }
 
-AnyImage ReadImage(const std::filesystem::path& path, AlphaChannel alpha) {
+AnyImage ReadImage(const std::filesystem::path& path, AlphaChannel alpha) { return ReadImage(path, alpha, nullptr); }
+
+AnyImage ReadImage(const std::filesystem::path& path, AlphaChannel alpha, ImageFileFacts* facts) {
   OIIO::ImageSpec spec;
   auto in = OpenInput(path, &spec);
   const OIIO::TypeDesc f = spec.format;
@@ -197,6 +266,7 @@ AnyImage ReadImage(const std::filesystem::path& path, AlphaChannel alpha) {
     image = ReadFloatRaw(*in, spec, path);
   }
   const int a = AlphaChannelOf(spec);
+  if (facts) *facts = FactsOf(path, spec, image, a);
   if (alpha == AlphaChannel::kDrop && a >= 0 && a < spec.nchannels && spec.nchannels > 1) {
     std::visit([a](auto& img) { img = WithoutChannel(img, a); }, image);
   }

@@ -1,6 +1,9 @@
 // Reading and writing image files (PNG, TIFF, EXR, ... through OpenImageIO).
-// Errors (missing, unreadable, truncated file) are lt::InputError naming the file;
-// a file OpenImageIO decodes only in part (a truncated TIFF or JPEG) is one too.
+// Errors (missing, empty, unreadable, truncated file) are lt::InputError naming the
+// file; a file OpenImageIO decodes only in part (a truncated TIFF or JPEG) is one
+// too, and so is a file of several frames (a multi-page TIFF or animated GIF
+// whose second image has the first's size: one frame per file; a second page of
+// another size, a thumbnail, is left out).
 // Alpha is read as stored (straight, not multiplied into the colour).
 #pragma once
 
@@ -28,10 +31,38 @@ enum class AlphaChannel {
 };
 AnyImage ReadImage(const std::filesystem::path& path, AlphaChannel alpha);
 
+// What a file declares about its values beyond their sample type, for the
+// pipeline to follow or name (docs/extraction.md, "Image files from real cameras").
+struct ImageFileFacts {
+  // Significant bits the file declares below its sample type's (a PNG's sBIT
+  // chunk: 12 in a 16-bit PNG); 0 when it declares none or all. (A PGM's maxval
+  // and a TIFF's BitsPerSample 10 or 12 need nothing: OpenImageIO scales those
+  // samples to the full 16-bit range.)
+  int significant_bits = 0;
+  // 2^significant_bits - 1 when every sample (alpha aside) is at most that: the
+  // declared bits stored unscaled (LSB-aligned, as many cameras' tools write
+  // them), so that is the data's full scale; 0 otherwise (the sample type's
+  // maximum: the bits are MSB-aligned or scaled, as the PNG standard says).
+  double unscaled_full_scale = 0;
+  // What in the file says its values encode light by a curve, for messages
+  // ("an sRGB chunk", "a gAMA chunk (gamma 2.2)", "an ICC profile", "EXIF
+  // ColorSpace sRGB"); empty when nothing does or it says linear. (OpenImageIO
+  // names every PNG without a gAMA chunk "sRGB", tagged or not: not used.)
+  std::string encoding;
+  // The gAMA chunk's exponent G (value = light^(1/G)) when it gave `encoding`.
+  double gamma = 0;
+  // The TIFF/EXIF Orientation tag: 1 (or absent) the pixels as stored are the
+  // picture; 2-8 a viewer mirrors or turns them. ReadImage never does.
+  int orientation = 1;
+};
+AnyImage ReadImage(const std::filesystem::path& path, AlphaChannel alpha, ImageFileFacts* facts);
+
 // An image file's size from its header, without reading the pixels (errors as
 // ReadImage's for a missing or unreadable file).
 struct ImageFileSize {
   int width = 0, height = 0, channels = 0;
+  // The sample type ReadImage gives: "8-bit", "16-bit" or "float" (every other type).
+  std::string sample_type = {};
 };
 ImageFileSize ReadImageFileSize(const std::filesystem::path& path);
 

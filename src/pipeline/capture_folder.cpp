@@ -25,11 +25,19 @@ CaptureFolder ReadCaptureFolder(const fs::path& dir) {
   CaptureFolder c;
   const std::vector<fs::path>& files = top.empty() ? sub : top;
   c.images_dir = top.empty() ? dir / "frames" : dir;
+  std::string first_type;
   const std::string listing = c.images_dir.string() + " (no manifest.jsonl: frames in file name order)";
   for (size_t i = 0; i < files.size(); ++i) {
     const ImageFileSize size = ReadImageFileSize(files[i]);
     if (i == 0) {
       c.width = size.width, c.height = size.height;
+      first_type = size.sample_type;
+    } else if (size.sample_type != first_type) {
+      // Thresholds, black level and saturation follow the sample type: a frame
+      // of another type is another camera's or a converted copy.
+      throw InputError(files[i].string(), "the image is " + size.sample_type + " but " +
+                                              files.front().filename().string() + ", the first frame, is " + first_type +
+                                              ": the frames of a capture have one sample type");
     } else if (size.width != c.width || size.height != c.height) {
       throw InputError(files[i].string(), "the image is " + SizeText(size.width, size.height) + " but " +
                                               files.front().filename().string() + ", the first frame, is " +

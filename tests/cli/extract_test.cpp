@@ -5,6 +5,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <OpenImageIO/imageio.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -13,6 +15,7 @@
 #include "core/image.h"
 #include "core/image_io.h"
 #include "core/random.h"
+#include "png_chunk_util.h"
 #include "run_many.h"
 
 namespace lt::test {
@@ -24,25 +27,6 @@ using ::testing::HasSubstr;
 using ::testing::Not;
 
 void WriteBytes(const fs::path& p, const std::string& bytes) { std::ofstream(p, std::ios::binary) << bytes; }
-
-// CRC-32 (ISO 3309), as PNG chunks use it.
-uint32_t Crc32(const std::string& bytes) {
-  uint32_t c = 0xffffffffu;
-  for (unsigned char b : bytes) {
-    c ^= b;
-    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
-  }
-  return c ^ 0xffffffffu;
-}
-
-// A PNG chunk with its CRC.
-std::string Chunk(const std::string& type, const std::string& data) {
-  auto be32 = [](uint32_t v) {
-    return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
-  };
-  const std::string td = type + data;
-  return be32(uint32_t(data.size())) + td + be32(Crc32(td));
-}
 
 // An 8-bit grey PNG whose header says width x height (0 is invalid, but a file can say so).
 std::string PngWithHeader(uint32_t width, uint32_t height) {
@@ -160,7 +144,7 @@ TEST_F(ExtractCommand, MissingEmptyCorruptAndTruncatedFiles) {
 
   const fs::path empty = dir_ / "empty.png";
   WriteBytes(empty, "");
-  ExpectInputError(Quoted(empty), empty.string() + ": cannot read image");
+  ExpectInputError(Quoted(empty), empty.string() + ": is empty (0 bytes), not an image");
 
   const fs::path garbage = dir_ / "garbage.png";
   WriteBytes(garbage, std::string(200, 'x'));
@@ -320,6 +304,47 @@ TEST_F(ExtractCommand, TwelveBitFrameInASixteenBitFileIsNamedWhenBelowTheThresho
   WriteImage(dark, Image<uint16_t>(64, 48, 1, 3));
   const CliResult d = RunCli("extract " + Quoted(dark));
   EXPECT_THAT(d.err, HasSubstr(dark.string() + ": its brightest pixel is 3, below the threshold 6553.5 (10% of 65535)\n"));
+}
+
+// The same 12-bit frame saying so by an sBIT chunk (as cameras' tools write
+// it) is extracted with 10% of 4095 by default, with a note once; an sRGB
+// chunk is warned about unless --transfer is given; a 2-page TIFF is refused.
+// (Before: no point and the note above; no warning; the first page read alone.)
+TEST_F(ExtractCommand, WhatTheFileDeclaresIsFollowedOrNamed) {
+  Image<uint16_t> img(64, 48, 1, 30);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      img.At(x, y) = uint16_t(std::lround(30 + 3970 * std::exp(-0.5 * (x - 20) * (x - 20) / 4.0)));
+  const fs::path p = dir_ / "twelve.png";
+  WriteImage(p, img);
+  InsertPngChunk(p, "sBIT", std::string(1, char(12)));
+  const CliResult r = RunCli("extract " + Quoted(p));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("\n20.0000,"));
+  EXPECT_THAT(r.err, HasSubstr("note: " + p.string() + ": its sBIT chunk declares 12 significant bits, stored unscaled "
+                               "(no sample above 4095): the default threshold is 10% of 4095"));
+
+  const fs::path srgb = dir_ / "srgb.png";
+  WriteImage(srgb, StripeImage());
+  InsertPngChunk(srgb, "sRGB", std::string(1, char(0)));
+  EXPECT_THAT(RunCli("extract " + Quoted(srgb)).err,
+              HasSubstr("warning: " + srgb.string() + ": has an sRGB chunk: its values encode light by the sRGB curve, "
+                        "but are read as linear: give --transfer srgb"));
+  EXPECT_EQ(RunCli("extract " + Quoted(srgb) + " --transfer linear").err, "");
+
+  const fs::path stack = dir_ / "stack.tif";
+  {
+    const Image<uint8_t> frame = StripeImage();
+    OIIO::ImageSpec spec(frame.width, frame.height, 1, OIIO::TypeDesc::UINT8);
+    OIIO::ImageSpec specs[2] = {spec, spec};
+    auto out = OIIO::ImageOutput::create(stack.string());
+    ASSERT_TRUE(out && out->open(stack.string(), 2, specs));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, frame.pixels.data()));
+    ASSERT_TRUE(out->open(stack.string(), spec, OIIO::ImageOutput::AppendSubimage));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, frame.pixels.data()));
+    ASSERT_TRUE(out->close());
+  }
+  ExpectInputError(Quoted(stack), stack.string() + ": holds 2 images of 64x48 (pages or frames)");
 }
 
 // Frames of one camera share a size: an image of another size among them is

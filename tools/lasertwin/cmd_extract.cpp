@@ -6,6 +6,7 @@
 #include <limits>
 #include <type_traits>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <set>
 
@@ -13,6 +14,7 @@
 #include "core/image_io.h"
 #include "pipeline/demosaic.h"
 #include "pipeline/extract_transfer.h"
+#include "pipeline/image_file_facts.h"
 #include "pipeline/plane_identification.h"
 #include "pipeline/stripe_csv.h"
 #include "pipeline/stripe_extractor.h"
@@ -31,6 +33,7 @@ struct ExtractArgs {
   std::string out;
   std::string background = "0";
   std::string transfer = "linear";
+  bool transfer_given = false;  // --transfer on the command line (even linear): no warning about a file's tag
   ExtractionOptions options;
   int planes = 0;
   PlaneIdOptions plane_options;
@@ -63,7 +66,7 @@ std::string DimImageNote(const Image<T>& im, const StripeExtractor& extractor, c
     if (const int bits = UnscaledBitDepth(brightest)) {
       const double full = std::ldexp(1.0, bits) - 1;
       note += "; its values fit in " + std::to_string(bits) + " bits: for a " + std::to_string(bits) +
-              "-bit camera's frames stored unscaled give --threshold, e.g. " + FormatNumber(0.1 * full) +
+              "-bit camera's frames stored unscaled give --threshold, e.g. " + FormatNumber(std::round(full) / 10) +
               " for 10% of " + FormatNumber(full);
     }
   }
@@ -114,6 +117,11 @@ void Run(ExtractArgs& a) {
   }
   size_t total = 0;
   WidthRejections rejected;
+  // Extractors for images whose declared bits are stored unscaled (a 16-bit
+  // PNG with sBIT 12 and no sample above 4095), by that full scale: the
+  // default threshold is 10% of it, not of the sample type's.
+  std::map<double, std::unique_ptr<StripeExtractor>> unscaled_extractors;
+  bool unscaled_noted = false;
   // The first image's size: the frames of one camera share it, so an image of
   // another size (another camera's, a cropped or resized copy) is named.
   std::string first_image;
@@ -124,8 +132,13 @@ void Run(ExtractArgs& a) {
   };
   // One image's points, identified and written (or printed).
   auto extract_one = [&](const std::string& image) {
-    AnyImage img = ReadImage(image, AlphaChannel::kDrop);
+    ImageFileFacts facts;
+    AnyImage img = ReadImage(image, AlphaChannel::kDrop, &facts);
+    for (const std::string& w : ImageFileWarnings(facts, a.transfer_given)) {
+      std::cerr << "lasertwin: warning: " << image << ": " << w << "\n";
+    }
     std::vector<StripePoint> points;
+    StripeExtractor* ex = &extractor;
     int width = 0, height = 0;
     try {
       std::visit([&](const auto& im) { width = im.width, height = im.height; }, img);
@@ -136,14 +149,25 @@ void Run(ExtractArgs& a) {
                   << first_image << ") " << first_width << "x" << first_height
                   << ": extracted on its own (frames of one camera have one size)\n";
       }
-      points = extractor.Extract(img);
-      rejected += extractor.last_rejections();
+      // A file declaring bits stored unscaled (sBIT) has its own default threshold.
+      if (facts.unscaled_full_scale > 0) {
+        const ExtractionOptions declared = OptionsForImageFile(o, facts);  // refuses --transfer
+        if (std::isnan(o.threshold)) {
+          std::unique_ptr<StripeExtractor>& slot = unscaled_extractors[declared.threshold];
+          if (!slot) slot = std::make_unique<StripeExtractor>(declared);
+          ex = slot.get();
+          if (!unscaled_noted) std::cerr << "lasertwin: note: " << image << ": " << UnscaledBitsNote(facts) << "\n";
+          unscaled_noted = true;
+        }
+      }
+      points = ex->Extract(img);
+      rejected += ex->last_rejections();
     } catch (const InputError& e) {
       throw InputError(image, e.message());
     }
     total += points.size();
     if (points.empty()) {
-      const std::string why = std::visit([&](const auto& im) { return DimImageNote(im, extractor, o); }, img);
+      const std::string why = std::visit([&](const auto& im) { return DimImageNote(im, *ex, ex->options()); }, img);
       if (!why.empty()) std::cerr << "lasertwin: note: " << image << ": " << why << "\n";
     }
     if (a.planes > 0) {
@@ -151,7 +175,7 @@ void Run(ExtractArgs& a) {
       // Edge connectivity must reach past the lines a method cannot measure.
       PlaneIdOptions id_options = a.plane_options;
       id_options.edge_margin =
-          std::max(id_options.edge_margin, extractor.resolved_options().EdgeLinesWithoutPoints() + 2);
+          std::max(id_options.edge_margin, ex->resolved_options().EdgeLinesWithoutPoints() + 2);
       PlaneIdentification id = IdentifyPlanes(points, region, a.planes, id_options);
       if (!id.ok) std::cerr << "lasertwin: warning: " << image << ": plane identification failed: " << id.error << "\n";
       if (id.ok && id.method == PlaneIdMethod::kEdgeChains) {
@@ -232,7 +256,7 @@ void AddExtract(CLI::App& app) {
                   "Raw Bayer mosaic: rggb | bggr | grbg | gbrg (demosaiced, then extracted on the mean of R, G, B "
                   "or on --channel/--weights of them) | none")
       ->capture_default_str();
-  cmd->add_option("--transfer", args->transfer,
+  CLI::Option* transfer = cmd->add_option("--transfer", args->transfer,
                   "How the image values encode light: linear | srgb | gamma=G (8- and 16-bit images; srgb: webcams, "
                   "phones, most JPEGs; linearized before extraction, --threshold and --background in linear units)")
       ->capture_default_str();
@@ -247,7 +271,10 @@ void AddExtract(CLI::App& app) {
   cmd->add_option("--min-segment-points", args->plane_options.min_segment_points,
                   "Plane identification: smaller segments are noise")
       ->capture_default_str();
-  cmd->callback([args] { Run(*args); });
+  cmd->callback([args, transfer] {
+    args->transfer_given = transfer->count() > 0;
+    Run(*args);
+  });
 }
 
 }  // namespace

@@ -1,0 +1,73 @@
+#include "pipeline/image_file_facts.h"
+
+#include <cmath>
+
+#include "core/error.h"
+
+namespace lt {
+
+namespace {
+
+// OpenImageIO's (and the TIFF standard's) meaning of Orientation 2..8.
+const char* OrientationText(int orientation) {
+  switch (orientation) {
+    case 2: return "mirrored left to right";
+    case 3: return "turned 180 degrees";
+    case 4: return "mirrored top to bottom";
+    case 5: return "transposed";
+    case 6: return "turned 90 degrees clockwise";
+    case 7: return "transversed";
+    case 8: return "turned 90 degrees counter-clockwise";
+  }
+  return "unknown";
+}
+
+}  // namespace
+
+std::vector<std::string> ImageFileWarnings(const ImageFileFacts& facts, bool transfer_given) {
+  std::vector<std::string> out;
+  if (!facts.encoding.empty() && !transfer_given) {
+    const std::string keep = " (--transfer linear reads them as they are, without this warning)";
+    if (facts.gamma > 0) {
+      out.push_back("has " + facts.encoding + ": its values encode light as value = light^(1/" +
+                    FormatNumber(facts.gamma) + "), but are read as linear: give --transfer gamma=" +
+                    FormatNumber(facts.gamma) + " to linearize them" + keep);
+    } else if (facts.encoding == "an sRGB chunk") {
+      out.push_back("has " + facts.encoding + ": its values encode light by the sRGB curve, but are read as linear: "
+                    "give --transfer srgb to linearize them" + keep);
+    } else {
+      out.push_back("has " + facts.encoding + ": its values likely encode light by a curve (the sRGB one for most "
+                    "cameras' and phones' JPEGs), but are read as linear: give --transfer srgb if so" + keep);
+    }
+  }
+  if (facts.orientation >= 2 && facts.orientation <= 8) {
+    out.push_back("its Orientation tag (" + std::to_string(facts.orientation) + ": shown " +
+                  OrientationText(facts.orientation) +
+                  ") is not applied: the pixels are read as stored, and u, v are in that grid (an image viewer and "
+                  "OpenCV's imread show the image turned or mirrored)");
+  }
+  return out;
+}
+
+std::string UnscaledBitsNote(const ImageFileFacts& facts) {
+  if (facts.unscaled_full_scale <= 0) return "";
+  return "its sBIT chunk declares " + std::to_string(facts.significant_bits) +
+         " significant bits, stored unscaled (no sample above " + FormatNumber(facts.unscaled_full_scale) +
+         "): the default threshold is 10% of " + FormatNumber(facts.unscaled_full_scale);
+}
+
+ExtractionOptions OptionsForImageFile(const ExtractionOptions& o, const ImageFileFacts& facts) {
+  if (facts.unscaled_full_scale <= 0) return o;
+  if (o.transfer != Transfer::kLinear) {
+    throw InputError("", "its sBIT chunk declares " + std::to_string(facts.significant_bits) +
+                             " significant bits stored unscaled (no sample above " +
+                             FormatNumber(facts.unscaled_full_scale) +
+                             "): --transfer decodes samples on the full 8- or 16-bit scale only; scale the image's "
+                             "values to it first");
+  }
+  ExtractionOptions out = o;
+  if (std::isnan(o.threshold)) out.threshold = 0.1 * facts.unscaled_full_scale * o.WeightedFullScale();
+  return out;
+}
+
+}  // namespace lt

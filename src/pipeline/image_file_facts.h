@@ -1,0 +1,36 @@
+// What extraction does with what an image file declares (core/image_io.h's
+// ImageFileFacts): the default threshold of declared bits stored unscaled, and
+// messages for what it does not apply (docs/extraction.md, "Image files from
+// real cameras").
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/image_io.h"
+#include "pipeline/extraction_options.h"
+
+namespace lt {
+
+// Warnings (one line each, without "warning: " and the file name) for a file
+// read with `--transfer linear`: a tag saying its values encode light by a
+// curve (unless transfer_given: the user said linear), and an Orientation tag
+// that is not applied. Empty when there is nothing to say.
+std::vector<std::string> ImageFileWarnings(const ImageFileFacts& facts, bool transfer_given);
+
+// The note for an image whose declared bits are stored unscaled (its default
+// threshold follows them), e.g. "its sBIT chunk declares 12 significant bits,
+// stored unscaled (no sample above 4095): the default threshold is 10% of
+// 4095". Empty when facts.unscaled_full_scale is 0.
+std::string UnscaledBitsNote(const ImageFileFacts& facts);
+
+// The options for extracting an image read with `facts`: `o`, with the default
+// threshold (kAuto) made 10% of facts.unscaled_full_scale (times the weights'
+// WeightedFullScale) when the file declares bits stored unscaled: a 16-bit PNG
+// of 12-bit DN with an sBIT chunk is extracted as a 12-bit image, not as a dim
+// 16-bit one. A given threshold is kept. Such a file with a non-linear
+// transfer is an InputError (empty `where`): --transfer decodes the sample
+// type's full scale.
+ExtractionOptions OptionsForImageFile(const ExtractionOptions& o, const ImageFileFacts& facts);
+
+}  // namespace lt

@@ -1,0 +1,183 @@
+// What image files from real cameras declare beyond their sample type
+// (ImageFileFacts: sBIT, colour tags, Orientation), files of several frames
+// and empty files (docs/extraction.md, "Image files from real cameras").
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <fstream>
+
+#include "core/error.h"
+#include "core/image_io.h"
+#include "error_of.h"
+#include "png_chunk_util.h"
+
+namespace lt {
+namespace {
+
+using test::ErrorOf;
+using test::InsertPngChunk;
+
+class ImageFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           (std::string("lt_image_files_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::filesystem::path dir_;
+};
+
+// A 16-bit image of `channels` channels whose first channel ramps up to `largest`
+// (the others full: an opaque alpha).
+Image<uint16_t> Ramp16(int channels, int largest) {
+  Image<uint16_t> img(16, 4, channels, 65535);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) img.At(x, y, 0) = uint16_t(largest * (x + 16 * y) / 63);
+  return img;
+}
+
+// Writes `img` with OpenImageIO, with one extra attribute (an int).
+void WriteWith(const std::filesystem::path& path, const Image<uint8_t>& img, const char* name, int value) {
+  auto out = OIIO::ImageOutput::create(path.string());
+  ASSERT_TRUE(out);
+  OIIO::ImageSpec spec(img.width, img.height, img.channels, OIIO::TypeDesc::UINT8);
+  spec.attribute(name, value);
+  ASSERT_TRUE(out->open(path.string(), spec));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, img.pixels.data()));
+  ASSERT_TRUE(out->close());
+}
+
+ImageFileFacts FactsOf(const std::filesystem::path& path) {
+  ImageFileFacts facts;
+  ReadImage(path, AlphaChannel::kDrop, &facts);
+  return facts;
+}
+
+// OpenImageIO 2.4 calls every PNG without a gAMA chunk "sRGB"; a frame written
+// here (linear, no colour chunk) must not look encoded.
+TEST_F(ImageFiles, APngWithoutColourChunksDeclaresNothing) {
+  WriteImage(dir_ / "a.png", Ramp16(1, 4000));
+  const ImageFileFacts f = FactsOf(dir_ / "a.png");
+  EXPECT_EQ(f.encoding, "");
+  EXPECT_EQ(f.significant_bits, 0);
+  EXPECT_EQ(f.unscaled_full_scale, 0);
+  EXPECT_EQ(f.orientation, 1);
+}
+
+// sBIT 12 in a 16-bit PNG: values at most 4095 are the 12 bits stored unscaled
+// (full scale 4095); values shifted to the top bits (the PNG standard's way)
+// keep 65535. The values are read as stored either way.
+TEST_F(ImageFiles, SbitChunkGivesTheFullScaleOfUnscaledBits) {
+  const Image<uint16_t> lsb = Ramp16(1, 4095);
+  WriteImage(dir_ / "lsb.png", lsb);
+  InsertPngChunk(dir_ / "lsb.png", "sBIT", std::string(1, char(12)));
+  ImageFileFacts f;
+  AnyImage back = ReadImage(dir_ / "lsb.png", AlphaChannel::kDrop, &f);
+  EXPECT_EQ(std::get<Image<uint16_t>>(back).pixels, lsb.pixels);
+  EXPECT_EQ(f.significant_bits, 12);
+  EXPECT_EQ(f.unscaled_full_scale, 4095);
+
+  Image<uint16_t> msb = lsb;
+  for (uint16_t& v : msb.pixels) v = uint16_t(v << 4);
+  WriteImage(dir_ / "msb.png", msb);
+  InsertPngChunk(dir_ / "msb.png", "sBIT", std::string(1, char(12)));
+  f = FactsOf(dir_ / "msb.png");
+  EXPECT_EQ(f.significant_bits, 12);
+  EXPECT_EQ(f.unscaled_full_scale, 0);
+}
+
+// Grey+alpha: sBIT gives the grey's bits and the alpha's; an opaque alpha
+// (65535) does not make the grey look scaled.
+TEST_F(ImageFiles, SbitOfGreyAndAlphaLeavesTheAlphaOut) {
+  WriteImage(dir_ / "ga.png", Ramp16(2, 1000));
+  InsertPngChunk(dir_ / "ga.png", "sBIT", std::string{char(10), char(16)});
+  const ImageFileFacts f = FactsOf(dir_ / "ga.png");
+  EXPECT_EQ(f.significant_bits, 10);
+  EXPECT_EQ(f.unscaled_full_scale, 1023);
+}
+
+TEST_F(ImageFiles, ColourChunksAndExifSayHowValuesEncodeLight) {
+  const Image<uint8_t> img(8, 4, 1, 100);
+  WriteImage(dir_ / "srgb.png", img);
+  InsertPngChunk(dir_ / "srgb.png", "sRGB", std::string(1, char(0)));
+  EXPECT_EQ(FactsOf(dir_ / "srgb.png").encoding, "an sRGB chunk");
+
+  WriteImage(dir_ / "gamma.png", img);
+  InsertPngChunk(dir_ / "gamma.png", "gAMA", test::BigEndian32(45455));
+  ImageFileFacts f = FactsOf(dir_ / "gamma.png");
+  EXPECT_EQ(f.encoding, "a gAMA chunk (gamma 2.2)");
+  EXPECT_DOUBLE_EQ(f.gamma, 2.2);
+
+  WriteImage(dir_ / "linear.png", img);  // gAMA 1.0: linear, nothing to say
+  InsertPngChunk(dir_ / "linear.png", "gAMA", test::BigEndian32(100000));
+  EXPECT_EQ(FactsOf(dir_ / "linear.png").encoding, "");
+
+  WriteWith(dir_ / "exif.jpg", img, "Exif:ColorSpace", 1);
+  EXPECT_EQ(FactsOf(dir_ / "exif.jpg").encoding, "EXIF ColorSpace sRGB");
+  WriteImage(dir_ / "plain.jpg", img);
+  EXPECT_EQ(FactsOf(dir_ / "plain.jpg").encoding, "");
+}
+
+// The Orientation tag is reported, never applied: the pixels stay as stored.
+TEST_F(ImageFiles, OrientationIsReportedNotApplied) {
+  Image<uint8_t> img(6, 3, 1, 0);
+  img.At(5, 0) = 200;
+  WriteWith(dir_ / "o6.tif", img, "Orientation", 6);
+  ImageFileFacts f;
+  AnyImage back = ReadImage(dir_ / "o6.tif", AlphaChannel::kDrop, &f);
+  EXPECT_EQ(f.orientation, 6);
+  const auto& b = std::get<Image<uint8_t>>(back);
+  EXPECT_EQ(b.width, 6);
+  EXPECT_EQ(b.pixels, img.pixels);
+}
+
+// Writes a TIFF of one page per image.
+void WritePages(const std::filesystem::path& path, const std::vector<Image<uint8_t>>& pages) {
+  std::vector<OIIO::ImageSpec> specs;
+  for (const auto& p : pages) specs.emplace_back(p.width, p.height, p.channels, OIIO::TypeDesc::UINT8);
+  auto out = OIIO::ImageOutput::create(path.string());
+  ASSERT_TRUE(out);
+  ASSERT_TRUE(out->open(path.string(), int(specs.size()), specs.data()));
+  for (size_t i = 0; i < pages.size(); ++i) {
+    if (i > 0) {
+      ASSERT_TRUE(out->open(path.string(), specs[i], OIIO::ImageOutput::AppendSubimage));
+    }
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pages[i].pixels.data()));
+  }
+  ASSERT_TRUE(out->close());
+}
+
+// A stack of frames in one TIFF was read as its first page, the others dropped
+// unseen; it is an error naming the file and the count. A smaller second page
+// (a thumbnail) is no frame.
+TEST_F(ImageFiles, SeveralFramesInOneFileAreAnError) {
+  const Image<uint8_t> frame(8, 6, 1, 50), thumb(4, 3, 1, 50);
+  WritePages(dir_ / "stack.tif", {frame, frame, frame});
+  const std::string e = ErrorOf([&] { ReadImage(dir_ / "stack.tif"); });
+  EXPECT_NE(e.find("stack.tif: holds 3 images of 8x6"), std::string::npos) << e;
+  EXPECT_NE(ErrorOf([&] { ReadImageFileSize(dir_ / "stack.tif"); }), "");
+
+  WritePages(dir_ / "thumb.tif", {frame, thumb});
+  EXPECT_EQ(std::get<Image<uint8_t>>(ReadImage(dir_ / "thumb.tif")).pixels, frame.pixels);
+}
+
+TEST_F(ImageFiles, AnEmptyFileIsNamedAsEmpty) {
+  std::ofstream(dir_ / "zero.png").close();
+  const std::string e = ErrorOf([&] { ReadImage(dir_ / "zero.png"); });
+  EXPECT_NE(e.find("zero.png: is empty (0 bytes)"), std::string::npos) << e;
+}
+
+TEST_F(ImageFiles, FileSizeNamesTheSampleType) {
+  WriteImage(dir_ / "a.png", Image<uint8_t>(4, 2, 1, 0));
+  WriteImage(dir_ / "b.png", Image<uint16_t>(4, 2, 1, 0));
+  WriteImage(dir_ / "c.exr", Image<float>(4, 2, 1, 0.f));
+  EXPECT_EQ(ReadImageFileSize(dir_ / "a.png").sample_type, "8-bit");
+  EXPECT_EQ(ReadImageFileSize(dir_ / "b.png").sample_type, "16-bit");
+  EXPECT_EQ(ReadImageFileSize(dir_ / "c.exr").sample_type, "float");
+}
+
+}  // namespace
+}  // namespace lt
