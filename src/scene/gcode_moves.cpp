@@ -65,6 +65,16 @@ Eigen::Vector3d GcodeReader::Target() const {
   return target;
 }
 
+void GcodeReader::MoveS(const std::string& command) const {
+  const Word* s = Find('S');
+  if (s && *s->value != 0) {
+    Fail(command + " S" + FormatNumber(*s->value) +
+         " is not supported: on a move S is a laser power or spindle speed (Marlin's laser mode, Grbl) or, in "
+         "older RepRapFirmware and Repetier, an endstop mode (RepRapFirmware's S1 as H1, S2 as H2); S0, none of "
+         "them, is ignored");
+  }
+}
+
 void GcodeReader::NoteExtruderAxes() {
   const bool ab = Find('A') || Find('B');
   ab_named_ = ab_named_ || ab;
@@ -191,7 +201,8 @@ void GcodeReader::FlowFactor() {
 }
 
 void GcodeReader::Move(int gcode) {
-  Expect("XYZEFHABUVWC", CommandName('G', gcode));
+  Expect("XYZEFHABUVWCS", CommandName('G', gcode));
+  MoveS(CommandName('G', gcode));
   // RepRapFirmware's H: 0 an ordinary move; 2 moves the motors without kinematics
   // (homing files lift Z so before the position is known; on the Cartesian printers
   // modelled here, the same motion as the axes' move); 1, 3 and 4 move towards the
@@ -251,7 +262,8 @@ void GcodeReader::Arc(int gcode) {
   const int p = plane_ == 17 ? 0 : plane_ == 18 ? 2 : 1;
   const int q = plane_ == 17 ? 1 : plane_ == 18 ? 0 : 2;
   const char offset_p = "IJK"[p], offset_q = "IJK"[q];
-  Expect(std::string("XYZEFRPABUVWC") + offset_p + offset_q, command);
+  Expect(std::string("XYZEFRPABUVWCS") + offset_p + offset_q, command);
+  MoveS(command);
   const std::string offsets = std::string(1, offset_p) + "/" + offset_q;
   const Word* i = Find(offset_p);
   const Word* j = Find(offset_q);

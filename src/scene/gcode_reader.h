@@ -174,6 +174,9 @@ class GcodeReader {
   void NoteEWords() { e_word_seen_ = e_word_seen_ || ExtruderWord(); }
   // Whether the line names an extruder axis: E, or A or B while they are extruders.
   bool ExtruderWord() const { return Find('E') || (ab_extruders_ && (Find('A') || Find('B'))); }
+  // S on a G0-G3: S0 is ignored (a laser's power off, no endstop check: nothing in any
+  // firmware's reading); another S is refused, naming its meanings.
+  void MoveS(const std::string& command) const;
   // Counts a G0-G3's extruder words for PrintsWithEBesideAB.
   void NoteExtruderAxes();
   bool ab_extruders_ = true;

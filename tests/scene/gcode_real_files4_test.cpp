@@ -117,5 +117,19 @@ TEST(GcodeRealFiles4, PausesForTheUserAreWarned) {
   EXPECT_TRUE(ParseGcode("M117 Printing\nM400\nG1 X10 Y0 Z0.2 E1 F600\n", "plain.gcode").warnings.empty());
 }
 
+// A test file for Klipper's arc support lifts with "G0 Z10.0000 S0" (S: a laser's power or
+// spindle speed in Marlin's laser mode and Grbl, an endstop mode in older RepRapFirmware;
+// S0 is none of them, and Marlin and Klipper ignore it): it was refused at that line ("G0
+// takes no parameter S"). S0 on a move is ignored; another S is still refused, saying why.
+TEST(GcodeRealFiles4, SZeroOnAMoveIsIgnored) {
+  Toolpath p = ParseGcode("G28 ; home\nG0 Z10.0000 S0 ; lift z\nG90\nG2 X20 Y0 I10 J0 Z20 S0 F8000\n", "arcs.gcode");
+  ASSERT_FALSE(p.segments.empty());
+  EXPECT_NEAR(p.segments.back().end_m.z(), 20 * kMm, 1e-12);
+  EXPECT_NEAR(p.segments.back().end_m.x(), 20 * kMm, 1e-12);
+  const std::string error = test::ErrorOf([] { ParseGcode("G1 X10 S1 F600\n", "rrf.gcode"); });
+  EXPECT_THAT(error, HasSubstr("rrf.gcode:1: G1 S1 is not supported"));
+  EXPECT_THAT(error, HasSubstr("S0, none of them, is ignored"));
+}
+
 }  // namespace
 }  // namespace lt
