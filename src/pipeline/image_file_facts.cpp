@@ -41,10 +41,10 @@ std::vector<std::string> ImageFileWarnings(const ImageFileFacts& facts, bool tra
     }
   }
   if (facts.orientation >= 2 && facts.orientation <= 8) {
-    out.push_back("its Orientation tag (" + std::to_string(facts.orientation) + ": shown " +
+    out.push_back("has an Orientation tag of " + std::to_string(facts.orientation) + " (shown " +
                   OrientationText(facts.orientation) +
-                  ") is not applied: the pixels are read as stored, and u, v are in that grid (an image viewer and "
-                  "OpenCV's imread show the image turned or mirrored)");
+                  "): it is not applied: the pixels are read as stored, and u, v are in that grid (an image viewer "
+                  "and OpenCV's imread show the image turned or mirrored)");
   }
   return out;
 }

@@ -15,7 +15,10 @@ namespace lt {
 // Warnings (one line each, without "warning: " and the file name) for a file
 // read with `--transfer linear`: a tag saying its values encode light by a
 // curve (unless transfer_given: the user said linear), and an Orientation tag
-// that is not applied. Empty when there is nothing to say.
+// that is not applied. Each starts with what the file has, up to the first
+// ':' ("has an sRGB chunk", "has an Orientation tag of 6 (shown turned 90
+// degrees clockwise)"), so a caller can name it again. Empty when there is
+// nothing to say.
 std::vector<std::string> ImageFileWarnings(const ImageFileFacts& facts, bool transfer_given);
 
 // The note for an image whose declared bits are stored unscaled (its default

@@ -331,6 +331,16 @@ TEST_F(ExtractCommand, WhatTheFileDeclaresIsFollowedOrNamed) {
               HasSubstr("warning: " + srgb.string() + ": has an sRGB chunk: its values encode light by the sRGB curve, "
                         "but are read as linear: give --transfer srgb"));
   EXPECT_EQ(RunCli("extract " + Quoted(srgb) + " --transfer linear").err, "");
+  // In a batch, once, and counted for the others.
+  fs::copy_file(srgb, dir_ / "srgb2.png");
+  fs::copy_file(srgb, dir_ / "srgb3.png");
+  const CliResult batch = RunCli("extract " + Quoted(srgb) + " " + Quoted(dir_ / "srgb2.png") + " " +
+                                 Quoted(dir_ / "srgb3.png") + " --out " + Quoted(dir_ / "csv"));
+  EXPECT_EQ(batch.err, "lasertwin: warning: " + srgb.string() +
+                           ": has an sRGB chunk: its values encode light by the sRGB curve, but are read as linear: "
+                           "give --transfer srgb to linearize them (--transfer linear reads them as they are, without "
+                           "this warning)\nlasertwin: warning: the same as for " + srgb.string() +
+                           " (has an sRGB chunk) holds for 2 more images\n");
 
   const fs::path stack = dir_ / "stack.tif";
   {

@@ -122,6 +122,7 @@ void Run(ExtractArgs& a) {
   // default threshold is 10% of it, not of the sample type's.
   std::map<double, std::unique_ptr<StripeExtractor>> unscaled_extractors;
   bool unscaled_noted = false;
+  std::map<std::string, std::pair<std::string, size_t>> file_warnings;  // text -> first image, images
   // The first image's size: the frames of one camera share it, so an image of
   // another size (another camera's, a cropped or resized copy) is named.
   std::string first_image;
@@ -134,8 +135,14 @@ void Run(ExtractArgs& a) {
   auto extract_one = [&](const std::string& image) {
     ImageFileFacts facts;
     AnyImage img = ReadImage(image, AlphaChannel::kDrop, &facts);
+    // Each warning once, on the first image it concerns (a batch of a phone's
+    // JPEGs would repeat it for every one); the others are counted at the end.
     for (const std::string& w : ImageFileWarnings(facts, a.transfer_given)) {
-      std::cerr << "lasertwin: warning: " << image << ": " << w << "\n";
+      auto& [first, count] = file_warnings[w];
+      if (count++ == 0) {
+        first = image;
+        std::cerr << "lasertwin: warning: " << image << ": " << w << "\n";
+      }
     }
     std::vector<StripePoint> points;
     StripeExtractor* ex = &extractor;
@@ -207,6 +214,12 @@ void Run(ExtractArgs& a) {
       if (!several) throw;
       std::cerr << "lasertwin: error: " << e.what() << "\n";
       failed.push_back(image);
+    }
+  }
+  for (const auto& [warning, seen] : file_warnings) {
+    if (seen.second > 1) {
+      std::cerr << "lasertwin: warning: the same as for " << seen.first << " (" << warning.substr(0, warning.find(':'))
+                << ") holds for " << seen.second - 1 << " more image" << (seen.second > 2 ? "s" : "") << "\n";
     }
   }
   for (const std::string& note : WidthRejectionNotes(rejected, o)) std::cerr << "lasertwin: note: " << note << "\n";
