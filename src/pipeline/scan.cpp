@@ -210,8 +210,9 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
   std::vector<PendingPoint> pending;
   bool all_posed = true, any_posed = false, all_labelled = true;
   std::error_code ec;
-  for (const RunFrame& frame : frames) {
-    if (!selected(frame)) continue;
+  for (const RunFrame& listed : frames) {
+    if (!selected(listed)) continue;
+    RunFrame frame = listed;  // its bit depth may come from its file (below)
     if (!frame.IsLaserFrame()) {
       ++summary.other_frames;
       fs::remove(run_dir / ScanCentersName(frame.index), ec);  // scanned as a laser frame before (another --shutter)
@@ -224,7 +225,11 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     fs::remove(run_dir / ScanCentersName(frame.index), ec);
     AnyImage image;
     try {
-      image = ReadImage(frame.image, AlphaChannel::kDrop);  // a camera frame's alpha is coverage, not light
+      ImageFileFacts facts;
+      image = ReadImage(frame.image, AlphaChannel::kDrop, &facts);  // a camera frame's alpha is coverage, not light
+      // Bits a PNG's sBIT chunk declares, stored unscaled, are the frame's bit
+      // depth (threshold, saturation) when nothing else gives one.
+      if (frame.bit_depth <= 0 && facts.unscaled_full_scale > 0) frame.bit_depth = facts.significant_bits;
     } catch (const InputError& e) {
       throw InputError(e.where(), e.message() + context);
     }

@@ -18,6 +18,7 @@
 #include "pipeline/stripe_extractor.h"
 #include "pipeline/synthetic_stripes.h"
 #include "png_chunk_util.h"
+#include "scan_test_util.h"
 
 namespace lt {
 namespace {
@@ -169,6 +170,28 @@ TEST_F(ImageFileForms, ACaptureOfTwoSampleTypesIsAnError) {
   WriteImage(dir_ / "f2.png", Image<uint16_t>(8, 6, 1, 10));
   const std::string e = test::ErrorOf([&] { ReadCaptureFolder(dir_); });
   EXPECT_NE(e.find("f2.png: the image is 16-bit but f1.png, the first frame, is 8-bit"), std::string::npos) << e;
+}
+
+// scan: a capture whose manifest and rig.json give no bit depth, of 10-bit DN
+// in 16-bit PNGs with an sBIT chunk of 10: the frames' bit depth is 10
+// (threshold 10% of 1023), so the stripe (1000 DN) is found; without the
+// chunk, 10% of 65535 finds no point.
+TEST(ImageFileScan, SbitGivesTheBitDepthNothingElseGives) {
+  using namespace scan_test;
+  SyntheticRun run = MakeRun("sbit_depth", 1);
+  nlohmann::json rig = nlohmann::json::parse(std::ifstream(run.dir / "rig.json"));
+  rig["image_sensor"].erase("bit_depth");
+  std::ofstream(run.dir / "rig.json") << rig.dump(2);
+  std::ofstream(run.dir / "manifest.jsonl") << R"({"index":0,"files":{"image":"frames/000000.png"}})" << "\n";
+  auto quiet = [](const std::string&) {};
+  EXPECT_EQ(ScanRun(run.dir, ScanOptions{}, quiet).triangulated, 0);
+  test::InsertPngChunk(run.dir / "frames/000000.png", "sBIT", std::string(1, char(10)));
+  const ScanSummary s = ScanRun(run.dir, ScanOptions{}, quiet);
+  EXPECT_GE(s.triangulated, 150);
+  for (const ScanPoint& p : ReadScanCsv(run.dir / "centers/000000.csv")) {
+    ASSERT_TRUE(p.p_in_cam);
+    EXPECT_LT(ErrorInPixels(run, 0, p), 0.01);
+  }
 }
 
 }  // namespace
