@@ -29,6 +29,7 @@ Toolpath GcodeReader::Finish() {
 
 }  // namespace gcode_detail
 
+using gcode_detail::ExtruderAxes;
 using gcode_detail::GcodeReader;
 using gcode_detail::StartsWith;
 
@@ -73,10 +74,10 @@ size_t MoveLinesAtMost(std::string_view text) {
   return count;
 }
 
-// The text's lines through one reader (`ab_extruders`: GcodeReader's); sets
-// `prints_with_e` (if given) to GcodeReader::PrintsWithEBesideAB.
-Toolpath ReadLines(std::string_view text, const std::string& display_name, bool ab_extruders, bool* prints_with_e) {
-  GcodeReader reader(display_name, ab_extruders);
+// The text's lines through one reader reading E, A and B as `axes` says; sets `reread`
+// (if given) to GcodeReader::RereadAs.
+Toolpath ReadLines(std::string_view text, const std::string& display_name, ExtruderAxes axes, ExtruderAxes* reread) {
+  GcodeReader reader(display_name, axes);
   size_t pos = StartsWith(text, "\xEF\xBB\xBF") ? 3 : 0;  // a UTF-8 byte order mark
   reader.ReserveSegments(MoveLinesAtMost(text.substr(pos)));
   int line_no = 0;
@@ -98,7 +99,7 @@ Toolpath ReadLines(std::string_view text, const std::string& display_name, bool 
     }
     pos = end + 1;
   }
-  if (prints_with_e) *prints_with_e = reader.PrintsWithEBesideAB();
+  if (reread) *reread = reader.RereadAs();
   Toolpath path = reader.Finish();
   path.lines_after_program_end = after_end;
   return path;
@@ -125,11 +126,12 @@ Toolpath ParseGcode(std::string_view text, const std::string& display_name) {
   if (StartsWith(text, "\xFF\xFE") || StartsWith(text, "\xFE\xFF")) {
     throw InputError(display_name, "is UTF-16 text (it starts with a UTF-16 byte order mark): save it as UTF-8 or ASCII");
   }
-  bool prints_with_e = false;
-  Toolpath path = ReadLines(text, display_name, true, &prints_with_e);
+  ExtruderAxes reread = ExtruderAxes::kSeparate;
+  Toolpath path = ReadLines(text, display_name, ExtruderAxes::kSeparate, &reread);
   // A and B named in a file that prints with E are not its extruders (a ring, a rotary
-  // axis): read again with them as extra axes.
-  if (prints_with_e) path = ReadLines(text, display_name, false, nullptr);
+  // axis); E in a file that prints with A or B is the active tool's axis (MakerBot):
+  // read again so.
+  if (reread != ExtruderAxes::kSeparate) path = ReadLines(text, display_name, reread, nullptr);
   return path;
 }
 

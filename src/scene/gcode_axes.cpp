@@ -12,7 +12,7 @@ namespace gcode_detail {
 
 namespace {
 
-// A and B last: they are extra axes only in a file that prints with E (ab_extruders_).
+// A and B last: they are extra axes only in a file that prints with E (ExtruderAxes::kABExtra).
 constexpr char kExtraAxisLetters[6] = {'U', 'V', 'W', 'C', 'A', 'B'};
 
 }  // namespace
@@ -166,7 +166,7 @@ void GcodeReader::KlipperGcodeOffset(std::string_view params) {
 
 bool GcodeReader::ExtraAxes(const std::string& command, double extruded_mm, ExtraAxesUse use) {
   bool named = false;
-  for (int k = 0; k < (ab_extruders_ ? 4 : 6); ++k) {
+  for (int k = 0; k < (ABAreExtruders() ? 4 : 6); ++k) {
     const Word* w = Find(kExtraAxisLetters[k]);
     // Prusa firmware's "G28 W" homes X, Y and Z without mesh levelling: W is no axis there.
     if (!w || (use == ExtraAxesUse::kHome && kExtraAxisLetters[k] == 'W')) continue;

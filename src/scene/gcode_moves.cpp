@@ -75,9 +75,16 @@ void GcodeReader::MoveS(const std::string& command) const {
   }
 }
 
+ExtruderAxes GcodeReader::RereadAs() const {
+  if (extruder_axes_ != ExtruderAxes::kSeparate || !ab_named_) return ExtruderAxes::kSeparate;
+  if (xy_moves_e_ > xy_moves_ab_) return ExtruderAxes::kABExtra;
+  return e_on_move_ ? ExtruderAxes::kEIsActiveAB : ExtruderAxes::kSeparate;
+}
+
 void GcodeReader::NoteExtruderAxes() {
   const bool ab = Find('A') || Find('B');
   ab_named_ = ab_named_ || ab;
+  e_on_move_ = e_on_move_ || Find('E');
   if (!Find('X') && !Find('Y')) return;
   if (Find('E')) ++xy_moves_e_;
   if (ab) ++xy_moves_ab_;
@@ -87,7 +94,7 @@ double GcodeReader::Extruded() {
   const Word* e = nullptr;
   int axis = -1;
   const char letters[3] = {'E', 'A', 'B'};
-  for (int k = 0; k < (ab_extruders_ ? 3 : 1); ++k) {
+  for (int k = 0; k < (ABAreExtruders() ? 3 : 1); ++k) {
     if (const Word* w = Find(letters[k])) {
       // A 5-axis printer's file turns rotary A, B (and C) axes while E extrudes: say so.
       if (e) {
@@ -101,7 +108,7 @@ double GcodeReader::Extruded() {
   }
   if (!e) return 0;
   double v = *e->value * unit_mm_;
-  double& logical = e_logical_mm_[axis];
+  double& logical = e_logical_mm_[ExtruderSlot(axis)];
   double delta = ERelative() ? v : v - logical;
   logical = ERelative() ? logical + v : v;
   // Volumetric: mm^3 of filament, as the length of the M200 diameter's filament.

@@ -88,8 +88,8 @@ void GcodeReader::SetPosition() {
     }
   }
   const char letters[3] = {'E', 'A', 'B'};
-  for (int k = 0; k < (ab_extruders_ ? 3 : 1); ++k) {
-    if (const Word* e = Find(letters[k])) e_logical_mm_[k] = *e->value * unit_mm_;
+  for (int k = 0; k < (ABAreExtruders() ? 3 : 1); ++k) {
+    if (const Word* e = Find(letters[k])) e_logical_mm_[ExtruderSlot(k)] = *e->value * unit_mm_;
   }
 }
 

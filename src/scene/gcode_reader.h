@@ -39,6 +39,15 @@ std::string ExtraAxesWarning(const std::string& axes);
 
 inline bool StartsWith(std::string_view s, std::string_view prefix) { return s.substr(0, prefix.size()) == prefix; }
 
+// How the extruder words E, A and B are read (ParseGcode decides from a first read):
+// kSeparate: each is an extruder axis with its own position (Cura's and PrusaSlicer's
+// Mach3 and Machinekit flavours extrude on A, MakerBot's second extruder on B).
+// kABExtra: A and B are extra axes (a rotary axis, a ring), ignored as U, V, W and C
+// are, in a file that prints with E. kEIsActiveAB: E is the active tool's axis (A for
+// T0, B for T1), one position with it, as MakerBot's and Sailfish's G-code (GPX) read
+// it, in a file that prints with A or B.
+enum class ExtruderAxes { kSeparate, kABExtra, kEIsActiveAB };
+
 // One parameter word: a letter and (for most commands, required) a number.
 struct Word {
   char letter = 0;
@@ -47,11 +56,8 @@ struct Word {
 
 class GcodeReader {
  public:
-  // `ab_extruders`: A and B are extruder axes (Cura's and PrusaSlicer's Mach3 and
-  // Machinekit flavours, MakerBot's two extruders); false: they are extra axes (a
-  // rotary axis, a ring), ignored as U, V, W and C are.
-  explicit GcodeReader(const std::string& name, bool ab_extruders = true) : name_(name) {
-    ab_extruders_ = ab_extruders;
+  explicit GcodeReader(const std::string& name, ExtruderAxes axes = ExtruderAxes::kSeparate) : name_(name) {
+    extruder_axes_ = axes;
     for (Eigen::Vector3d& offset : work_offset_mm_) offset.setZero();
   }
 
@@ -61,11 +67,12 @@ class GcodeReader {
   // After M2/M30: the program has ended, later lines are not executed.
   bool Ended() const { return path_.program_end_line > 0; }
   Toolpath Finish();
-  // Whether the file, read with A and B as extruders, names them but prints with E: more
-  // of its moves with X or Y give E than A or B (a Cura file for a printer whose A axis
-  // turns a ring: "G92 A90", "G0 A14.891" between E moves). Such a file is read again
-  // with A and B as extra axes (ParseGcode).
-  bool PrintsWithEBesideAB() const { return ab_extruders_ && ab_named_ && xy_moves_e_ > xy_moves_ab_; }
+  // How a file read with ExtruderAxes::kSeparate should be read again, from the moves
+  // (G0-G3) that name A or B and those with X or Y that give E or A/B: kABExtra where E
+  // prints and A or B also appear (more of those moves give E than A or B); kEIsActiveAB
+  // where A or B print and E also appears on a move (MakerBot's start script primes
+  // with E); kSeparate (no second read) otherwise.
+  ExtruderAxes RereadAs() const;
 
  private:
   [[noreturn]] void Fail(const std::string& message) const {
@@ -173,16 +180,22 @@ class GcodeReader {
   bool e_word_seen_ = false;  // a G0-G3 with E, A or B read
   void NoteEWords() { e_word_seen_ = e_word_seen_ || ExtruderWord(); }
   // Whether the line names an extruder axis: E, or A or B while they are extruders.
-  bool ExtruderWord() const { return Find('E') || (ab_extruders_ && (Find('A') || Find('B'))); }
+  bool ExtruderWord() const { return Find('E') || (ABAreExtruders() && (Find('A') || Find('B'))); }
+  bool ABAreExtruders() const { return extruder_axes_ != ExtruderAxes::kABExtra; }
+  // Where the logical position of extruder word k (0 E, 1 A, 2 B) is kept (e_logical_mm_).
+  int ExtruderSlot(int k) const {
+    return k == 0 && extruder_axes_ == ExtruderAxes::kEIsActiveAB ? (active_tool_ == 1 ? 2 : 1) : k;
+  }
   // S on a G0-G3: S0 is ignored (a laser's power off, no endstop check: nothing in any
   // firmware's reading); another S is refused, naming its meanings.
   void MoveS(const std::string& command) const;
-  // Counts a G0-G3's extruder words for PrintsWithEBesideAB.
+  // Counts a G0-G3's extruder words for RereadAs.
   void NoteExtruderAxes();
-  bool ab_extruders_ = true;
+  ExtruderAxes extruder_axes_ = ExtruderAxes::kSeparate;
   bool ab_named_ = false;   // A or B on a G0-G3 (not G92: "G92 A0 B0" in a start script moves nothing)
   size_t xy_moves_e_ = 0;   // G0-G3 with X or Y and E
   size_t xy_moves_ab_ = 0;  // G0-G3 with X or Y and A or B
+  bool e_on_move_ = false;  // E on a G0-G3
   int m101_line_ = 0;
   // U, V, W, C words (a tool changer's coupler, a second carriage, a rotary axis; A and
   // B too where they are no extruders): not

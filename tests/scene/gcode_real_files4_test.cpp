@@ -131,5 +131,27 @@ TEST(GcodeRealFiles4, SZeroOnAMoveIsIgnored) {
   EXPECT_THAT(error, HasSubstr("S0, none of them, is ignored"));
 }
 
+// MakerWare (Miracle Grue 3.9.4) for a Replicator: its start script primes with E
+// ("G1 X-141 Y-74 Z0.270 F1800.000 E25.000 (Extruder Prime Start)"), resets the
+// extruders with "G92 A0 B0" and moves to "E0.0"; the print extrudes on A. MakerBot's
+// G-code (GPX, Sailfish) reads E as the active tool's axis, A for T0: E0.0 after G92 A0
+// moves nothing. Read as an axis of its own, E0.0 was a 25 mm retraction that the
+// print's first 25 mm of A then made up: the first layer's beads lost 25 of 35.3 mm.
+TEST(GcodeRealFiles4, EIsTheActiveToolsAxisInAFileThatPrintsWithA) {
+  const std::string text =
+      "G92 X152 Y75 Z0 A0 B0\nM135 T0\n"
+      "G1 X105.400 Y-74.000 Z0.270 F9000.000 (Extruder Prime Dry Move)\n"
+      "G1 X-141 Y-74 Z0.270 F1800.000 E25.000 (Extruder Prime Start)\nG92 A0 B0 (Reset after prime)\n"
+      "G1 Z0.000000 F1000\nG1 X-141.0 Y-74.0 Z0.0 F1000 E0.0\nG92 E0\n"
+      "G1 X-141.000 Y-74.000 Z0.000 F1500 A-1.30000; Retract \nG1 X-141.000 Y-74.000 Z0.200 F1380; Travel Move \n"
+      "G1 X-9.400 Y-9.400 Z0.200 F9000; Travel Move \nG1 X-9.400 Y-9.400 Z0.200 F1500 A0.00000; Restart \n"
+      "G1 X-9.400 Y9.400 Z0.200 F1800 A0.65725; Inset \nG1 X9.400 Y9.400 Z0.200 F1800 A1.31449; Inset \n"
+      "G1 X9.400 Y-9.400 Z0.200 F1800 A1.97174; Inset \nG1 X-9.400 Y-9.400 Z0.200 F1800 A2.62898; Inset \n";
+  Toolpath p = ParseGcode(text, "makerware.gcode");
+  EXPECT_NEAR(BeadFilamentMm(p), 25 + 2.62898, 1e-9);  // was 25: the insets laid nothing
+  EXPECT_NEAR(p.ExtrudedLength() / kMm, 25 + 2.62898, 1e-9);
+  EXPECT_TRUE(p.warnings.empty());
+}
+
 }  // namespace
 }  // namespace lt
