@@ -56,6 +56,13 @@ std::string UnscaledBitsNote(const ImageFileFacts& facts) {
          "): the default threshold is 10% of " + FormatNumber(facts.unscaled_full_scale);
 }
 
+std::string FloatScaleNote(double largest) {
+  if (!(largest > 1)) return "";
+  return "a float image whose samples reach " + FormatNumber(largest) +
+         ", not 0..1 (counts stored as float, or 32-bit integers): the default threshold, 0.1, assumes 0..1; give "
+         "--threshold in its units (e.g. " + FormatNumber(std::round(largest) / 10) + ", 10% of that)";
+}
+
 ExtractionOptions OptionsForImageFile(const ExtractionOptions& o, const ImageFileFacts& facts) {
   if (facts.unscaled_full_scale <= 0) return o;
   if (o.transfer != Transfer::kLinear) {

@@ -27,6 +27,12 @@ std::vector<std::string> ImageFileWarnings(const ImageFileFacts& facts, bool tra
 // 4095". Empty when facts.unscaled_full_scale is 0.
 std::string UnscaledBitsNote(const ImageFileFacts& facts);
 
+// The note for a float image (float or half TIFF and EXR, 32-bit integers
+// read as float) whose largest sample is above 1 while the threshold is the
+// default, 0.1, which assumes values in 0..1: integer counts stored as float
+// (ImageJ's 32-bit TIFFs) put every pixel above it. Empty when largest <= 1.
+std::string FloatScaleNote(double largest);
+
 // The options for extracting an image read with `facts`: `o`, with the default
 // threshold (kAuto) made 10% of facts.unscaled_full_scale (times the weights'
 // WeightedFullScale) when the file declares bits stored unscaled: a 16-bit PNG

@@ -342,6 +342,14 @@ TEST_F(ExtractCommand, WhatTheFileDeclaresIsFollowedOrNamed) {
                            "this warning)\nlasertwin: warning: the same as for " + srgb.string() +
                            " (has an sRGB chunk) holds for 2 more images\n");
 
+  // A float TIFF of counts (ImageJ's 32-bit): named once, with a threshold in its units.
+  Image<float> counts(64, 48, 1, 0.f);
+  for (int y = 0; y < counts.height; ++y)
+    for (int x = 0; x < counts.width; ++x) counts.At(x, y) = float(4000 * std::exp(-0.5 * (x - 20) * (x - 20) / 4.0));
+  WriteImage(dir_ / "counts.tif", counts);
+  EXPECT_THAT(RunCli("extract " + Quoted(dir_ / "counts.tif")).err,
+              HasSubstr("note: " + (dir_ / "counts.tif").string() + ": a float image whose samples reach 4000, not 0..1"));
+
   const fs::path stack = dir_ / "stack.tif";
   {
     const Image<uint8_t> frame = StripeImage();

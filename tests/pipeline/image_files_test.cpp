@@ -163,6 +163,15 @@ TEST(ImageFileWarnings, NameTheTagAndTheOptionThatFollowsIt) {
             std::string::npos);
 }
 
+// A float image of counts (ImageJ's 32-bit TIFF, a uint32 TIFF) is above the
+// default threshold, 0.1, everywhere: named, with a threshold in its units.
+TEST(ImageFileNotes, FloatImagesOfCountsAreNamed) {
+  EXPECT_EQ(FloatScaleNote(1.0), "");
+  EXPECT_EQ(FloatScaleNote(56000), "a float image whose samples reach 56000, not 0..1 (counts stored as float, or "
+                                   "32-bit integers): the default threshold, 0.1, assumes 0..1; give --threshold in "
+                                   "its units (e.g. 5600, 10% of that)");
+}
+
 // A capture folder of 8- and 16-bit frames: thresholds and black level would
 // differ from frame to frame. An error naming both files.
 TEST_F(ImageFileForms, ACaptureOfTwoSampleTypesIsAnError) {

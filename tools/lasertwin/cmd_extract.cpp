@@ -121,7 +121,7 @@ void Run(ExtractArgs& a) {
   // PNG with sBIT 12 and no sample above 4095), by that full scale: the
   // default threshold is 10% of it, not of the sample type's.
   std::map<double, std::unique_ptr<StripeExtractor>> unscaled_extractors;
-  bool unscaled_noted = false;
+  bool unscaled_noted = false, float_scale_noted = false;
   std::map<std::string, std::pair<std::string, size_t>> file_warnings;  // text -> first image, images
   // The first image's size: the frames of one camera share it, so an image of
   // another size (another camera's, a cropped or resized copy) is named.
@@ -173,6 +173,13 @@ void Run(ExtractArgs& a) {
       throw InputError(image, e.message());
     }
     total += points.size();
+    if (const auto* f = std::get_if<Image<float>>(&img); f && std::isnan(o.threshold) && !float_scale_noted) {
+      float largest = 0;
+      for (float v : f->pixels) largest = std::max(largest, v);
+      const std::string note = FloatScaleNote(largest);
+      if (!note.empty()) std::cerr << "lasertwin: note: " << image << ": " << note << "\n";
+      float_scale_noted = !note.empty();
+    }
     if (points.empty()) {
       const std::string why = std::visit([&](const auto& im) { return DimImageNote(im, *ex, ex->options()); }, img);
       if (!why.empty()) std::cerr << "lasertwin: note: " << image << ": " << why << "\n";
