@@ -63,9 +63,10 @@ void GcodeReader::PauseForUser(int n) {
                      : n == 600       ? "a filament change (the nozzle parks, the printer waits for the new filament "
                                         "and returns; the park and return moves are not in the toolpath either)"
                      : n == 601       ? "a pause (Prusa firmware)"
+                     : n == 400       ? "Bambu Lab's pause (its printers' pause G-code)"
                                       : nullptr;
   if (!what) return;
-  const std::string name = CommandName('M', n);
+  const std::string name = n == 400 ? "M400 U1" : CommandName('M', n);
   WarnOncePerName(name, name + ", " + what +
                             ", takes no time in the toolpath: every time after it (the printed part's, a scan's) is "
                             "early by as long as the printer waits");

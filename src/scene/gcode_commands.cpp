@@ -384,7 +384,8 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
     if (n == 101) m101_line_ = line_no_;
   }
   if (letter == 'M' && n == 98 && integral) MacroFileCall(code.substr(pos));
-  if (letter == 'M' && integral) PauseForUser(n);
+  // Bambu Lab's pause is "M400 U1" (its printers' machine_pause_gcode); M400 alone waits for the moves.
+  if (letter == 'M' && integral && (n != 400 || HasWord(code.substr(pos), "U1"))) PauseForUser(n);
   if (letter == 'T' && n >= 0 && n != active_tool_) {
     active_tool_ = n;    // the tool whose flow (M221) applies
     retracted_mm_ = 0;  // the new tool's filament: loaded to its nozzle by the firmware or the tool changer

@@ -103,9 +103,10 @@ class GcodeReader {
   // RepRapFirmware's M98 P"file.g": runs a macro file of the printer's (homing, probing,
   // a purge): skipped, one warning per file.
   void MacroFileCall(std::string_view params);
-  // M0, M1, M25, M226, M600, M601 (a stop, pause or filament change that waits for the
-  // user: Cura's Pause at Height, PrusaSlicer's colour change): skipped, one warning
-  // per command, since every time after it is early by the wait. Other n: nothing.
+  // M0, M1, M25, M226, M600, M601, M400 (called with U1 only: Bambu's pause) (a stop,
+  // pause or filament change that waits for the user: Cura's Pause at Height,
+  // PrusaSlicer's colour change): skipped, one warning per command, since every time
+  // after it is early by the wait. Other n: nothing.
   void PauseForUser(int n);
   // One warning per distinct name (`text` the first time), counting each occurrence.
   void WarnOncePerName(const std::string& name, const std::string& text);

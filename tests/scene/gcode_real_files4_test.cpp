@@ -113,7 +113,12 @@ TEST(GcodeRealFiles4, PausesForTheUserAreWarned) {
   EXPECT_THAT(p.warnings[1].text, HasSubstr("M600, a filament change"));
   EXPECT_EQ(p.skipped_commands.at("M0"), 3u);
   EXPECT_NEAR(BeadFilamentMm(p), 16.0, 1e-9);
-  // Commands of other numbers are skipped silently as before.
+  // Bambu Lab's pause, "M400 U1" (real files state machine_pause_gcode = M400 U1), is one
+  // too; M400 alone (wait for the moves) and other commands are skipped silently as before.
+  Toolpath bambu = ParseGcode("G1 X10 Y0 Z0.2 E1 F600\nM400 U1\nM400\nG1 X20 E2\n", "bambu.gcode");
+  ASSERT_EQ(bambu.warnings.size(), 1u);
+  EXPECT_EQ(bambu.warnings[0].line, 2);
+  EXPECT_THAT(bambu.warnings[0].text, HasSubstr("M400 U1, Bambu Lab's pause"));
   EXPECT_TRUE(ParseGcode("M117 Printing\nM400\nG1 X10 Y0 Z0.2 E1 F600\n", "plain.gcode").warnings.empty());
 }
 
