@@ -18,6 +18,7 @@
 #include "core/json_reader.h"
 #include "scene/gltf_schema.h"
 #include "scene/gltf_uri.h"
+#include "scene/gltf_without_materials.h"
 
 
 namespace lt {
@@ -220,16 +221,24 @@ bool MatrixPlacesAsTrs(const nlohmann::json& node) {
 }  // namespace
 
 void CheckGltfJson(const GltfContainer& container, const std::string& file, const std::filesystem::path& base_dir,
-                   GltfExternalFiles* external, std::string* rewritten, std::vector<std::string>* warnings) {
+                   GltfExternalFiles* external, std::string* rewritten, std::vector<std::string>* warnings,
+                   bool materials) {
   CheckJsonDepth(container.json_text, file);
   json::Document doc = json::Document::Parse(container.json_text, file, base_dir);
-  // Integers written as decimals (most files have none: no copy then).
-  bool decimals = false;
-  ForEachIntegerPosition(doc.Root().raw(), [&](const nlohmann::json& v) { decimals |= IsIntegralDecimal(v); });
   nlohmann::json fixed;
   bool changed = false;
-  if (decimals) {
+  // Without materials, nothing of them is checked or read further (gltf_without_materials.h).
+  if (!materials && HasGltfMaterials(doc.Root().raw())) {
     fixed = doc.Root().raw();
+    DropGltfMaterials(&fixed);
+    changed = true;
+  }
+  // Integers written as decimals (most files have none: no copy then).
+  bool decimals = false;
+  ForEachIntegerPosition(changed ? fixed : doc.Root().raw(),
+                         [&](const nlohmann::json& v) { decimals |= IsIntegralDecimal(v); });
+  if (decimals) {
+    if (!changed) fixed = doc.Root().raw();
     ForEachIntegerPosition(fixed, [](nlohmann::json& v) {
       if (IsIntegralDecimal(v)) v = static_cast<int64_t>(v.get<double>());
     });
@@ -268,7 +277,8 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
   if (auto req = root.find("extensionsRequired"); req != root.end() && req->is_array()) {
     for (size_t i = 0; i < req->size(); ++i) {
       const auto& e = (*req)[i];
-      if (!e.is_string() || kSupported.count(e.get<std::string>()) == 0) {
+      if (!e.is_string() || (kSupported.count(e.get<std::string>()) == 0 &&
+                             (materials || !IsGltfMaterialExtension(e.get<std::string>())))) {
         // What to do about the extensions that optimising tools write.
         static const std::map<std::string, std::string> kHints = {
             {"KHR_draco_mesh_compression", "the meshes are Draco-compressed: write or convert the file without compression"},

@@ -33,9 +33,12 @@ struct GltfExternalFiles {
 // (optional) receives the JSON with them written as integers (empty when none).
 // Buffer views' byteStride values that exporters wrote against glTF and viewers
 // read (DropHarmlessByteStrides) are removed in `rewritten` too, and `warnings`
-// (optional) says so.
+// (optional) says so. Without `materials`, the file's materials, textures, images
+// and samplers are dropped first (DropGltfMaterials, in `rewritten`): none is checked,
+// no image file is looked for, and required extensions that concern only them
+// (IsGltfMaterialExtension) are accepted.
 void CheckGltfJson(const GltfContainer& container, const std::string& file, const std::filesystem::path& base_dir,
                    GltfExternalFiles* external = nullptr, std::string* rewritten = nullptr,
-                   std::vector<std::string>* warnings = nullptr);
+                   std::vector<std::string>* warnings = nullptr, bool materials = true);
 
 }  // namespace lt

@@ -151,7 +151,8 @@ std::string Trim(std::string s) {
 
 }  // namespace
 
-GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display_name) {
+GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display_name,
+                   const GltfLoadOptions& options) {
   const std::string file = display_name.empty() ? path.string() : display_name;
   std::error_code ec;
   std::filesystem::path abs = std::filesystem::absolute(path, ec).lexically_normal();
@@ -162,7 +163,7 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
   GltfExternalFiles external;
   std::string rewritten;
   std::vector<std::string> json_warnings;
-  CheckGltfJson(container, file, base, &external, &rewritten, &json_warnings);
+  CheckGltfJson(container, file, base, &external, &rewritten, &json_warnings, options.materials);
   if (!rewritten.empty()) ReplaceGltfJson(&container, bytes, std::move(rewritten));
 
   GltfAsset asset;
@@ -194,7 +195,8 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
   image_ctx.errors.resize(model.images.size());
   const GltfSource src{model, file, &image_ctx.errors};
   std::vector<bool> metallic_by_default;
-  asset.materials = ConvertGltfMaterials(src, &asset.warnings, &metallic_by_default);
+  // Without materials the JSON held none (CheckGltfJson): every primitive takes the default.
+  if (options.materials) asset.materials = ConvertGltfMaterials(src, &asset.warnings, &metallic_by_default);
   std::vector<GltfNodeUse> uses = WalkGltfScene(src, &asset.warnings);
 
   const uint32_t default_material = uint32_t(asset.materials.size());
@@ -257,8 +259,8 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
     if (used[i] && metallic_by_default[i]) metals.push_back("\"" + asset.materials[i].name + "\"");
   }
   if (!metals.empty()) asset.metallic_by_default = (metals.size() == 1 ? "material " : "materials ") + ListFirst(metals, kListed);
-  if (uses_default) asset.materials.push_back(DefaultMaterial());
-  asset.uses_default_material = uses_default;
+  if (uses_default || !options.materials) asset.materials.push_back(DefaultMaterial());
+  asset.uses_default_material = uses_default && options.materials;
   if (!model.cameras.empty() || !model.lights.empty()) {
     auto count = [](size_t n, const char* one, const char* many) {
       return std::to_string(n) + " " + (n == 1 ? one : many);

@@ -57,8 +57,23 @@ struct GltfAsset {
   std::vector<std::string> warnings; // each prefixed with the file name
 };
 
+struct GltfLoadOptions {
+  // false when the caller gives every primitive a material of its own (a scene
+  // object's "material"): the file's materials, textures, images and samplers are
+  // then neither read nor checked (nor the required extensions that concern only
+  // them: KHR_materials_*, KHR_texture_basisu, ...), so a file whose look cannot be
+  // read still loads; nothing is said about them. The geometry is read as with
+  // materials (the same triangles, instances and positions), except that each
+  // primitive reads TEXCOORD_0 (not the set its material's texture named).
+  // GltfAsset::materials then holds one placeholder, glTF's default material, that
+  // every triangle indexes; uses_default_material is false and metallic_by_default
+  // empty.
+  bool materials = true;
+};
+
 // Loads a .gltf or .glb (detected from the content, not the extension). Errors
 // name the file as `display_name` (default: the path as given).
-GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display_name = "");
+GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display_name = "",
+                   const GltfLoadOptions& options = {});
 
 }  // namespace lt

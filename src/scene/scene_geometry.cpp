@@ -96,17 +96,34 @@ SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
     std::string metallic_by_default;
   };
   std::map<std::filesystem::path, Loaded> loaded;
-  for (size_t oi = 0; oi < scene.objects.size(); ++oi) {
-    const SceneObject& obj = scene.objects[oi];
-    g.object_names.push_back(obj.name);
+  // Each file's key, and whether some object using it takes the file's materials: a
+  // file used only by objects with a "material" of their own is loaded without them
+  // (GltfLoadOptions::materials), so materials that cannot be read do not refuse it.
+  std::vector<std::filesystem::path> keys;
+  std::map<std::filesystem::path, bool> needs_materials;
+  for (const SceneObject& obj : scene.objects) {
     std::error_code ec;
     std::filesystem::path key = std::filesystem::weakly_canonical(obj.gltf, ec);
     if (ec) key = obj.gltf;
+    needs_materials[key] |= obj.material.empty() || scene.FindMaterial(obj.material) < 0;
+    keys.push_back(std::move(key));
+  }
+  for (size_t oi = 0; oi < scene.objects.size(); ++oi) {
+    const SceneObject& obj = scene.objects[oi];
+    g.object_names.push_back(obj.name);
+    const std::filesystem::path& key = keys[oi];
+    const int32_t override_id = obj.material.empty() ? -1 : int32_t(scene.FindMaterial(obj.material));
     auto it = loaded.find(key);
     if (it == loaded.end()) {
-      GltfAsset asset = LoadGltf(obj.gltf, obj.gltf.string());
-      const uint32_t material_base = uint32_t(g.materials.size());
-      for (auto& m : asset.materials) g.materials.push_back(std::move(m));
+      GltfLoadOptions options;
+      options.materials = needs_materials[key];
+      GltfAsset asset = LoadGltf(obj.gltf, obj.gltf.string(), options);
+      // Without materials, every object using the file sets its own: the triangles
+      // index this one's (never read through an instance) in place of the placeholder.
+      const uint32_t material_base = options.materials ? uint32_t(g.materials.size()) : uint32_t(override_id);
+      if (options.materials) {
+        for (auto& m : asset.materials) g.materials.push_back(std::move(m));
+      }
       Loaded l{g.meshes.size(), std::move(asset.instances), asset.uses_default_material, asset.metallic_by_default};
       for (auto& mesh : asset.meshes) {
         for (auto& id : mesh.triangle_material) id += material_base;
@@ -116,7 +133,6 @@ SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
       for (auto& w : asset.warnings) g.warnings.push_back(std::move(w));
       it = loaded.emplace(key, std::move(l)).first;
     }
-    const int32_t override_id = obj.material.empty() ? -1 : int32_t(scene.FindMaterial(obj.material));
     if (override_id < 0 && it->second.uses_default_material) {
       // Files converted from STL or OBJ often hold no material at all.
       g.warnings.push_back("object \"" + obj.name + "\": " + obj.gltf.string() +
