@@ -5,6 +5,7 @@
 #include "scene/gcode.h"
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <string>
 #include <string_view>
@@ -125,6 +126,24 @@ Toolpath ParseGcode(std::string_view text, const std::string& display_name) {
   // UTF-16 (Windows editors' "Unicode"): every other byte is NUL.
   if (StartsWith(text, "\xFF\xFE") || StartsWith(text, "\xFE\xFF")) {
     throw InputError(display_name, "is UTF-16 text (it starts with a UTF-16 byte order mark): save it as UTF-8 or ASCII");
+  }
+  // FlashForge's .gx (FlashPrint): "xgcode 1.0\n\0", a 58-byte header of little-endian
+  // fields, thumbnails (a BMP, on newer printers a PNG too), then the G-code text from
+  // the offset at byte 0x18. The G-code is read; its lines are counted from its start.
+  if (StartsWith(text, "xgcode 1.0\n")) {
+    constexpr size_t kGxHeaderBytes = 58, kGxGcodeOffsetAt = 0x18;
+    if (text.size() < kGxHeaderBytes) {
+      throw InputError(display_name, "is a FlashForge .gx file whose 58-byte header is cut short (" +
+                                         std::to_string(text.size()) + " bytes)");
+    }
+    uint32_t offset = 0;
+    for (int b = 3; b >= 0; --b) offset = offset << 8 | static_cast<unsigned char>(text[kGxGcodeOffsetAt + size_t(b)]);
+    if (offset < kGxHeaderBytes || offset > text.size()) {
+      throw InputError(display_name, "is a FlashForge .gx file whose header puts the G-code at byte " +
+                                         std::to_string(offset) + ", outside the file's " +
+                                         std::to_string(text.size()) + " bytes long");
+    }
+    text = text.substr(offset);
   }
   ExtruderAxes reread = ExtruderAxes::kSeparate;
   Toolpath path = ReadLines(text, display_name, ExtruderAxes::kSeparate, &reread);

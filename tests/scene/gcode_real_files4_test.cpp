@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 
 #include "scene/gcode.h"
 #include "test_util.h"
@@ -156,6 +157,36 @@ TEST(GcodeRealFiles4, EIsTheActiveToolsAxisInAFileThatPrintsWithA) {
   EXPECT_NEAR(BeadFilamentMm(p), 25 + 2.62898, 1e-9);  // was 25: the insets laid nothing
   EXPECT_NEAR(p.ExtrudedLength() / kMm, 25 + 2.62898, 1e-9);
   EXPECT_TRUE(p.warnings.empty());
+}
+
+// FlashForge's FlashPrint writes .gx files: "xgcode 1.0\n\0", a 58-byte header of
+// little-endian fields (0x10: the BMP's offset, 0x14: a PNG's, 0x18: the G-code's),
+// the thumbnails, then the G-code text (a real Creator 4 export, as a project documents
+// it, starts "M118 X16.63 Y16.63 Z21.22 T0"). It was refused for the thumbnail's NUL
+// bytes ("not text"); the G-code is now read from its offset, lines counted from there.
+TEST(GcodeRealFiles4, FlashForgeGxFilesAreReadFromTheirGcodeOffset) {
+  auto le32 = [](uint32_t v) {
+    std::string b(4, '\0');
+    for (int i = 0; i < 4; ++i) b[size_t(i)] = char((v >> (8 * i)) & 0xff);
+    return b;
+  };
+  const std::string bmp = std::string("BM") + le32(20) + std::string(14, '\0');  // 20 bytes with NULs
+  const std::string gcode =
+      "M118 X16.63 Y16.63 Z21.22 T0\nM140 S110 T0\nM104 S235 T0\nG90\nG1 Z50.000 F420\nM7 T0\nM6 T0\nM108 T0\n"
+      "G1 X0 Y0 Z0.2 F3000\nG1 X10 Y0 E1 F1200\n";
+  std::string header = std::string("xgcode 1.0\n") + '\0' + le32(0) + le32(58) + le32(78) + le32(78) + le32(100) +
+                       le32(1) + le32(0);
+  header.resize(58, '\0');
+  Toolpath p = ParseGcode(header + bmp + gcode, "box.gx");
+  EXPECT_NEAR(BeadFilamentMm(p), 1.0, 1e-9);
+  ASSERT_FALSE(p.segments.empty());
+  EXPECT_EQ(p.segments.back().line, 10);
+  EXPECT_NEAR(p.segments.back().end_m.x(), 10 * kMm, 1e-12);
+  // A header whose offset lies outside the file is refused, naming it.
+  std::string bad = header;
+  bad.replace(0x18, 4, le32(100000));
+  EXPECT_THAT(test::ErrorOf([&] { ParseGcode(bad + bmp + gcode, "bad.gx"); }),
+              HasSubstr("bad.gx: is a FlashForge .gx file whose header puts the G-code at byte 100000"));
 }
 
 }  // namespace
