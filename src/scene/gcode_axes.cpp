@@ -1,6 +1,6 @@
 // The G-code reader's axes beyond the modelled X, Y, Z and extruders: a position
-// that probing left unknown, and extra axes (U, V, W, C) that are ignored; and the
-// warnings that say so (Toolpath::warnings).
+// that probing left unknown, and extra axes (U, V, W, C) that are ignored; how a file
+// uses E, A and B (ExtruderAxes); and the warnings that say so (Toolpath::warnings).
 #include <string>
 
 #include "core/error.h"
@@ -163,6 +163,21 @@ void GcodeReader::KlipperGcodeOffset(std::string_view params) {
     AddSegment(1, end, 0, delta.norm(), delta.head<2>().norm(), nullptr,
                move_speed > 0 ? move_speed : MoveFeed(delta.norm(), 0));
   }
+}
+
+ExtruderAxes GcodeReader::RereadAs() const {
+  if (extruder_axes_ != ExtruderAxes::kSeparate || !ab_named_) return ExtruderAxes::kSeparate;
+  if (xy_moves_e_ > xy_moves_ab_) return ExtruderAxes::kABExtra;
+  return e_on_move_ ? ExtruderAxes::kEIsActiveAB : ExtruderAxes::kSeparate;
+}
+
+void GcodeReader::NoteExtruderAxes() {
+  const bool ab = Find('A') || Find('B');
+  ab_named_ = ab_named_ || ab;
+  e_on_move_ = e_on_move_ || Find('E');
+  if (!Find('X') && !Find('Y')) return;
+  if (Find('E')) ++xy_moves_e_;
+  if (ab) ++xy_moves_ab_;
 }
 
 bool GcodeReader::ExtraAxes(const std::string& command, double extruded_mm, ExtraAxesUse use) {

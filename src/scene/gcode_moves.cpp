@@ -75,21 +75,6 @@ void GcodeReader::MoveS(const std::string& command) const {
   }
 }
 
-ExtruderAxes GcodeReader::RereadAs() const {
-  if (extruder_axes_ != ExtruderAxes::kSeparate || !ab_named_) return ExtruderAxes::kSeparate;
-  if (xy_moves_e_ > xy_moves_ab_) return ExtruderAxes::kABExtra;
-  return e_on_move_ ? ExtruderAxes::kEIsActiveAB : ExtruderAxes::kSeparate;
-}
-
-void GcodeReader::NoteExtruderAxes() {
-  const bool ab = Find('A') || Find('B');
-  ab_named_ = ab_named_ || ab;
-  e_on_move_ = e_on_move_ || Find('E');
-  if (!Find('X') && !Find('Y')) return;
-  if (Find('E')) ++xy_moves_e_;
-  if (ab) ++xy_moves_ab_;
-}
-
 double GcodeReader::Extruded() {
   const Word* e = nullptr;
   int axis = -1;
