@@ -6,7 +6,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstring>
+#include <string>
+#include <vector>
 
 #include "core/image_io.h"
 #include "scene/gltf_loader.h"
