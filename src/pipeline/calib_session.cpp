@@ -13,6 +13,7 @@
 #include "pipeline/calib_board_turns.h"
 #include "pipeline/calib_camera_images.h"
 #include "pipeline/frame_extraction.h"
+#include "pipeline/image_file_facts.h"
 #include "pipeline/run_folder_reader.h"
 #include "pipeline/stripe_extractor.h"
 #include "pipeline/triangulation.h"
@@ -43,11 +44,15 @@ fs::path ScenePath(const fs::path& run_dir) {
   return p;
 }
 
-// A frame's image, of the run camera's size.
-AnyImage ReadFrameImage(const SessionRun& run, const RunFrame& frame) {
+// A frame's image, of the run camera's size, as scan reads it: an alpha
+// channel left out, and (with declared_bits) the bits its file declares
+// stored unscaled (DeclaredUnscaledBits; 0 when none).
+AnyImage ReadFrameImage(const SessionRun& run, const RunFrame& frame, int* declared_bits = nullptr) {
   AnyImage image;
   try {
-    image = ReadImage(frame.image);
+    ImageFileFacts facts;
+    image = ReadImage(frame.image, AlphaChannel::kDrop, &facts);
+    if (declared_bits) *declared_bits = DeclaredUnscaledBits(facts);
   } catch (const InputError& e) {
     throw InputError(e.where(), e.message() + " (frame " + std::to_string(frame.index) + ", " + frame.where + ")");
   }
@@ -297,8 +302,10 @@ SessionLaserResult CalibrateSessionLaser(const SessionRun& run, const Checkerboa
       r.laser_views.push_back(lv);
       continue;
     }
-    const RunFrame& dim = *frames.at(sv.dim_frame);
-    const AnyImage image = ReadFrameImage(run, dim);
+    RunFrame dim = *frames.at(sv.dim_frame);
+    int declared_bits = 0;
+    const AnyImage image = ReadFrameImage(run, dim, &declared_bits);
+    if (dim.bit_depth <= 0) dim.bit_depth = declared_bits;  // as scan: threshold and saturation
     std::unique_ptr<StripeExtractor> chosen;
     std::vector<StripePoint> points;
     FrameExtraction fx;

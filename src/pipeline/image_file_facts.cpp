@@ -63,6 +63,10 @@ std::string FloatScaleNote(double largest) {
          "--threshold in its units (e.g. " + FormatNumber(std::round(largest) / 10) + ", 10% of that)";
 }
 
+int DeclaredUnscaledBits(const ImageFileFacts& facts) {
+  return facts.unscaled_full_scale > 0 ? facts.significant_bits : 0;
+}
+
 ExtractionOptions OptionsForImageFile(const ExtractionOptions& o, const ImageFileFacts& facts) {
   if (facts.unscaled_full_scale <= 0) return o;
   if (o.transfer != Transfer::kLinear) {

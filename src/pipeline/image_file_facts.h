@@ -33,6 +33,11 @@ std::string UnscaledBitsNote(const ImageFileFacts& facts);
 // (ImageJ's 32-bit TIFFs) put every pixel above it. Empty when largest <= 1.
 std::string FloatScaleNote(double largest);
 
+// The bits a file declares and holds unscaled (facts.significant_bits when
+// facts.unscaled_full_scale is set), else 0: scan and calibrate laser take them
+// as a frame's bit depth when nothing else gives one.
+int DeclaredUnscaledBits(const ImageFileFacts& facts);
+
 // The options for extracting an image read with `facts`: `o`, with the default
 // threshold (kAuto) made 10% of facts.unscaled_full_scale (times the weights'
 // WeightedFullScale) when the file declares bits stored unscaled: a 16-bit PNG

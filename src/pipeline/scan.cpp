@@ -17,6 +17,7 @@
 #include "pipeline/channel_weights.h"
 #include "pipeline/colorize.h"
 #include "pipeline/frame_extraction.h"
+#include "pipeline/image_file_facts.h"
 #include "pipeline/plane_id_sheets.h"
 #include "pipeline/scan_cloud.h"
 #include "pipeline/scan_poses.h"
@@ -229,7 +230,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
       image = ReadImage(frame.image, AlphaChannel::kDrop, &facts);  // a camera frame's alpha is coverage, not light
       // Bits a PNG's sBIT chunk declares, stored unscaled, are the frame's bit
       // depth (threshold, saturation) when nothing else gives one.
-      if (frame.bit_depth <= 0 && facts.unscaled_full_scale > 0) frame.bit_depth = facts.significant_bits;
+      if (frame.bit_depth <= 0) frame.bit_depth = DeclaredUnscaledBits(facts);
     } catch (const InputError& e) {
       throw InputError(e.where(), e.message() + context);
     }

@@ -19,6 +19,7 @@
 #include "pipeline/calib_geometry.h"
 #include "pipeline/calib_laser_plane.h"
 #include "pipeline/calibration_file.h"
+#include "png_chunk_util.h"
 #include "run_many.h"
 
 namespace lt::test {
@@ -115,6 +116,48 @@ TEST(CalibrateExtraction, BlackLevelIsSubtractedAsScanDoes) {
   EXPECT_LT(with.offset_m, 1e-9) << Describe(with);
   EXPECT_GT(without.normal_angle_rad, 1e-5) << Describe(without);
   EXPECT_GT(without.offset_m, 1e-6) << Describe(without);
+}
+
+// A camera tool's 16-bit PNGs of 10-bit DN with an sBIT chunk of 10, and no
+// --bit-depth: the laser step takes the 10 bits as scan does (threshold 10% of
+// 1023) and gives the plane of --bit-depth 10; without the chunk 10% of 65535
+// finds no stripe (refused). The frames stored as grey+alpha (opaque): the
+// alpha is left out as scan leaves it out, the same plane (before, a
+// two-channel image: refused for want of --channel).
+TEST(CalibrateExtraction, SbitAndAlphaAsScan) {
+  ASSERT_TRUE(RenderedSession().ok);
+  const Capture c = MakeCapture("calib_x_plain10");
+  const Capture s = MakeCapture("calib_x_sbit");
+  const Capture a = MakeCapture("calib_x_alpha");
+  const std::string depth = " --bit-depth 10";
+  std::string no_depth = s.args;
+  ASSERT_NE(no_depth.find(depth), std::string::npos);
+  no_depth.erase(no_depth.find(depth), depth.size());
+  for (const auto& e : fs::directory_iterator(s.capture / "frames")) {
+    InsertPngChunk(e.path(), "sBIT", std::string(1, char(10)));
+  }
+  for (const auto& e : fs::directory_iterator(a.capture / "frames")) {
+    const Image<uint16_t> grey = std::get<Image<uint16_t>>(ReadImage(e.path()));
+    Image<uint16_t> ga(grey.width, grey.height, 2, 65535);
+    for (int y = 0; y < grey.height; ++y)
+      for (int x = 0; x < grey.width; ++x) ga.At(x, y, 0) = grey.At(x, y);
+    WriteImage(e.path(), ga);
+  }
+  const std::vector<CliResult> r = RunMany({
+      "calibrate laser " + Quoted(c.capture) + c.args + " --quiet --out " + Quoted(c.dir / "plain.yaml"),
+      "calibrate laser " + Quoted(s.capture) + no_depth + " --quiet --out " + Quoted(s.dir / "sbit.yaml"),
+      "calibrate laser " + Quoted(c.capture) + no_depth + " --quiet --out " + Quoted(c.dir / "none.yaml"),
+      "calibrate laser " + Quoted(a.capture) + a.args + " --quiet --out " + Quoted(a.dir / "alpha.yaml"),
+  });
+  ASSERT_EQ(r[0].exit_code, 0) << r[0].err;
+  ASSERT_EQ(r[1].exit_code, 0) << r[1].err;
+  EXPECT_EQ(r[2].exit_code, 2) << r[2].err;
+  ASSERT_EQ(r[3].exit_code, 0) << r[3].err;
+  const Plane p0 = PlaneOf(c, "plain.yaml");
+  for (const PlaneError& e : {ComparePlanes(PlaneOf(s, "sbit.yaml"), p0), ComparePlanes(PlaneOf(a, "alpha.yaml"), p0)}) {
+    EXPECT_LT(e.normal_angle_rad, 1e-7) << Describe(e);
+    EXPECT_LT(e.offset_m, 1e-9) << Describe(e);
+  }
 }
 
 // A run whose rig.json gives the black level: the laser step subtracts it by
