@@ -7,6 +7,7 @@
 #include <type_traits>
 #include <map>
 #include <memory>
+#include <set>
 #include <tuple>
 
 #include "core/error.h"
@@ -207,6 +208,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
   bool warned_colour_default = false;
   bool warned_unknown_depth = false;
   bool warned_above_depth = false;
+  std::set<std::string> file_warnings;  // ImageFileWarnings already given: each once a scan
   std::vector<int> flooded;  // frames without shutter keys, mostly above the threshold
   std::vector<PendingPoint> pending;
   bool all_posed = true, any_posed = false, all_labelled = true;
@@ -231,6 +233,10 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
       // Bits a PNG's sBIT chunk declares, stored unscaled, are the frame's bit
       // depth (threshold, saturation) when nothing else gives one.
       if (frame.bit_depth <= 0) frame.bit_depth = DeclaredUnscaledBits(facts);
+      // A transfer tag or an Orientation tag, as extract says them: once, on the first frame.
+      for (const std::string& w : ImageFileWarnings(facts, options.transfer_given || options.extraction.transfer != Transfer::kLinear)) {
+        if (file_warnings.insert(w).second) warn(frame.image.string() + ": " + w);
+      }
     } catch (const InputError& e) {
       throw InputError(e.where(), e.message() + context);
     }

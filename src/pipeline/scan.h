@@ -43,6 +43,9 @@ struct ScanOptions {
   // the scan takes multicom, which finds every stripe on a search line (com
   // and max find one, so N-1 stripes would be lost), else extraction.method.
   bool method_from_planes = false;
+  // `--transfer` was given (even linear): a frame file's tag saying its values
+  // encode light by a curve (sRGB, gAMA, ICC) is then not warned about.
+  bool transfer_given = false;
   // Search axis; unset: the manifest's gt_axis of each frame, else the axis
   // the laser planes' stripes call for (StripeAxis).
   std::optional<SearchAxis> axis;

@@ -203,5 +203,40 @@ TEST(ImageFileScan, SbitGivesTheBitDepthNothingElseGives) {
   }
 }
 
+// A capture whose frames carry an sRGB chunk: scan says so once, naming the
+// first frame's file and --transfer (as extract does), not once per frame;
+// with --transfer given (even linear) it says nothing.
+TEST(ImageFileScan, TransferTagIsWarnedOnceAScan) {
+  using namespace scan_test;
+  SyntheticRun run = MakeRun("srgb_tag", 1);
+  // A second laser frame, a copy of the first.
+  std::ifstream manifest(run.dir / "manifest.jsonl");
+  nlohmann::json dim;
+  manifest >> dim;
+  dim["index"] = 2;
+  dim["files"]["image"] = "frames/000002.png";
+  std::ofstream(run.dir / "manifest.jsonl", std::ios::app) << dim.dump() << "\n";
+  fs::copy_file(run.dir / "frames/000000.png", run.dir / "frames/000002.png");
+  for (const char* f : {"frames/000000.png", "frames/000002.png"}) {
+    test::InsertPngChunk(run.dir / f, "sRGB", std::string(1, char(0)));
+  }
+  std::vector<std::string> warnings;
+  auto collect = [&](const std::string& w) { warnings.push_back(w); };
+  ScanRun(run.dir, ScanOptions{}, collect);
+  int tagged = 0;
+  for (const std::string& w : warnings) {
+    if (w.find("sRGB") == std::string::npos) continue;
+    ++tagged;
+    EXPECT_NE(w.find("000000.png: "), std::string::npos) << w;
+    EXPECT_NE(w.find("--transfer"), std::string::npos) << w;
+  }
+  EXPECT_EQ(tagged, 1);
+  warnings.clear();
+  ScanOptions given;
+  given.transfer_given = true;
+  ScanRun(run.dir, given, collect);
+  for (const std::string& w : warnings) EXPECT_EQ(w.find("sRGB"), std::string::npos) << w;
+}
+
 }  // namespace
 }  // namespace lt

@@ -43,6 +43,7 @@ void Run(ScanArgs& a) {
   const ParsedExtraction x = a.extraction.Parse();
   o.extraction = x.extraction;
   o.method_from_planes = x.method_from_planes;
+  o.transfer_given = x.transfer_given;
   o.color_filter = x.color_filter;
   o.plane_id = x.plane_id;
   if (!a.axis.empty()) o.axis = ParseAxis(a.axis, "--axis");

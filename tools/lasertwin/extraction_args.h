@@ -22,6 +22,8 @@ struct ParsedExtraction {
   // threshold and background kAuto (NaN) unless given: 10% of each frame's
   // full scale, the image sensor's black level (RunFrameExtraction).
   ExtractionOptions extraction;
+  // --transfer was given (even linear): no warning about a file's transfer tag.
+  bool transfer_given = false;
   // --method absent: com, or multicom for several laser planes.
   bool method_from_planes = true;
   std::optional<ColorFilter> color_filter;  // --bayer; unset: rig.json's color_filter
@@ -104,6 +106,7 @@ struct ExtractionArgs {
     if (!background.empty()) ParseBackground(background, "--background", &e.background, &e.background_mode);
     if (!roi.empty()) e.roi = ParseRoi(roi, "--roi");
     ParseTransfer(transfer, "--transfer", &e.transfer, &e.gamma);
+    for (const CLI::Option* o : declared) p.transfer_given |= o->get_name() == "--transfer" && o->count() > 0;
     if (!weights.empty()) e.channel_weights = ParseNumberList(weights, "--weights");
     if (!bayer.empty()) p.color_filter = ParseBayerPattern(bayer, "--bayer");
     p.plane_id = plane_id;
