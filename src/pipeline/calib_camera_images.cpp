@@ -78,7 +78,7 @@ PhotoCameraResult CalibrateCameraFromImages(const std::vector<fs::path>& images,
   PhotoCameraResult r;
   std::vector<CalibrationView> views;
   for (const fs::path& path : images) {
-    AnyImage image = ReadImage(path);
+    AnyImage image = ReadImage(path, AlphaChannel::kDrop);  // alpha is coverage, not light (as scan's frames)
     const auto [w, h, c] = std::visit([](const auto& i) { return std::tuple{i.width, i.height, i.channels}; }, image);
     if (r.views.empty()) {
       r.width = w, r.height = h;

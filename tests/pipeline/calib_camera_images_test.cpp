@@ -89,6 +89,32 @@ TEST(CalibCameraImages, AFolderOfPhotographsCalibratesTheCamera) {
   }
 }
 
+// A photograph's alpha channel is coverage, not light: a grey+alpha PNG (an
+// editor's or a screenshot tool's export) gives the corners of its grey
+// channel alone, to the last bit, whatever its alpha holds (here noise; the
+// detector averaged it in before).
+TEST(CalibCameraImages, AlphaIsLeftOutOfThePhotograph) {
+  const Camera cam(Camera640Params({-0.18, 0.08, 3e-4, -2e-4, 0}));
+  const fs::path dir = Folder("alpha");
+  const Image<uint8_t> grey = Photo(cam, Poses()[0], 1);
+  Image<uint8_t> grey_alpha(grey.width, grey.height, 2);
+  for (size_t k = 0; k < grey.pixels.size(); ++k) {
+    grey_alpha.pixels[2 * k] = grey.pixels[k];
+    grey_alpha.pixels[2 * k + 1] = uint8_t(Rng::For(7, 0, k, 0).NextDouble() * 255.0);
+  }
+  WriteImage(dir / "a.png", grey);
+  WriteImage(dir / "b.png", grey_alpha);
+  const PhotoCameraResult r = CalibrateCameraFromImages({dir / "a.png", dir / "b.png"}, Board(), {});
+  ASSERT_EQ(r.views.size(), 2u);
+  ASSERT_TRUE(r.views[0].detection.ok) << r.views[0].detection.reason;
+  ASSERT_TRUE(r.views[1].detection.ok) << r.views[1].detection.reason;
+  ASSERT_EQ(r.views[1].detection.corners.size(), r.views[0].detection.corners.size());
+  for (size_t i = 0; i < r.views[0].detection.corners.size(); ++i) {
+    EXPECT_EQ(r.views[1].detection.corners[i], r.views[0].detection.corners[i]) << i;
+  }
+  EXPECT_EQ(r.one_channel, 2);
+}
+
 // OpenCV's usual 9 x 6 board (rows + cols even; refused before): a half turn
 // looks the same, so a view's corners come out in one of two board frames;
 // each view has its own pose, so the intrinsics come out as with any board.
