@@ -224,7 +224,8 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
                                   skin, &use.morph);
       asset.degenerate_triangles += stats.degenerate_triangles;
       for (const auto& [mode, pi] : stats.skipped_primitives) {
-        auto kind = std::find_if(skipped.begin(), skipped.end(), [&](const auto& k) { return k.first == mode; });
+        // Captured by name: C++17 lambdas may not capture a structured binding (Clang rejects it).
+        auto kind = std::find_if(skipped.begin(), skipped.end(), [&m = mode](const auto& k) { return k.first == m; });
         if (kind == skipped.end()) kind = skipped.insert(skipped.end(), {mode, {}});
         kind->second.push_back("mesh \"" + mesh.name + "\" primitive " + std::to_string(pi));
       }
