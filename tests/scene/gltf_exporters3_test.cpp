@@ -17,16 +17,11 @@
 namespace lt {
 namespace {
 
+using test::AllWarnings;
 using test::ErrorOf;
 using test::TempDir;
 using ::testing::HasSubstr;
 using ::testing::Not;
-
-std::string AllWarnings(const GltfAsset& a) {
-  std::string s;
-  for (const auto& w : a.warnings) s += w + "\n";
-  return s;
-}
 
 // The Khronos DirectionalLight sample (Blender I/O 1.7.33 + manual edit) requires
 // KHR_lights_punctual. Lights are ignored by design (the scene file sets the

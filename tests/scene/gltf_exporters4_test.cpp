@@ -14,16 +14,11 @@
 namespace lt {
 namespace {
 
+using test::AllWarnings;
 using test::ErrorOf;
 using test::TempDir;
 using ::testing::HasSubstr;
 using ::testing::Not;
-
-std::string AllWarnings(const GltfAsset& a) {
-  std::string s;
-  for (const auto& w : a.warnings) s += w + "\n";
-  return s;
-}
 
 // b3dm tiles' glTF (py3dtiles, FME, Cesium's converters) hold positions relative
 // to a CESIUM_RTC centre in ECEF metres, which 3D Tiles add after turning the

@@ -16,6 +16,7 @@
 namespace lt {
 namespace {
 
+using test::AllWarnings;
 using test::ErrorOf;
 using test::TempDir;
 using ::testing::HasSubstr;
@@ -24,12 +25,6 @@ using ::testing::Not;
 GltfAsset LoadGlb(const GltfBuilder& b, const TempDir& dir, const std::string& stem = "model") {
   b.WriteGlb(dir / (stem + ".glb"));
   return LoadGltf(dir / (stem + ".glb"), stem + ".glb");
-}
-
-std::string AllWarnings(const GltfAsset& a) {
-  std::string s;
-  for (const auto& w : a.warnings) s += w + "\n";
-  return s;
 }
 
 // ------------------------------------------------------------------ TEXCOORD_n

@@ -16,15 +16,10 @@
 namespace lt {
 namespace {
 
+using test::AllWarnings;
 using test::ErrorOf;
 using test::TempDir;
 using ::testing::HasSubstr;
-
-std::string AllWarnings(const GltfAsset& a) {
-  std::string s;
-  for (const auto& w : a.warnings) s += w + "\n";
-  return s;
-}
 
 // A 2x2 RGBA PNG `name` in dir with the given texels (row by row), as image 0 and texture 0.
 GltfBuilder SquareWithTexture(const TempDir& dir, const std::vector<std::array<uint8_t, 4>>& texels) {

@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "error_of.h"
+#include "scene/gltf_loader.h"
 #include "scene/gltf_writer.h"
 
 namespace lt::test {
@@ -59,6 +60,13 @@ inline GltfBuilder SquareBuilder(bool normals = true, bool texcoords = false) {
                                texcoords ? SquareTexcoords() : std::vector<float>{}, SquareIndices());
   b.AddNode("square_node", mesh);
   return b;
+}
+
+// A loaded file's warnings, one a line, for HasSubstr checks.
+inline std::string AllWarnings(const GltfAsset& a) {
+  std::string s;
+  for (const auto& w : a.warnings) s += w + "\n";
+  return s;
 }
 
 }  // namespace lt::test
