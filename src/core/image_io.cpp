@@ -183,15 +183,24 @@ int AlphaChannelOf(const OIIO::ImageSpec& spec) {
   return -1;
 }
 
-// The largest sample of every channel but `alpha` (-1: none).
+// Whether every sample of every channel but `alpha` (-1: none) is at most
+// `full` = 2^bits - 1 and some sample has a bit set below the top `bits` of its
+// `container` bits: the declared bits stored unscaled (LSB-aligned). Samples
+// shifted to the top bits (the PNG standard's way, by a shift or by repeating
+// the high bits) have those low bits clear wherever they are at most `full`, as
+// in a dim frame, so all-clear low bits are read as shifted.
 template <typename T>
-double LargestSample(const Image<T>& img, int alpha) {
-  double largest = 0;
+bool StoredUnscaled(const Image<T>& img, int alpha, int bits, int container) {
+  const uint32_t full = (1u << bits) - 1, low = (1u << (container - bits)) - 1;
+  bool low_bits = false;
   const size_t n = img.pixels.size();
   for (size_t i = 0; i < n; ++i) {
-    if (int(i % size_t(img.channels)) != alpha) largest = std::max(largest, double(img.pixels[i]));
+    if (int(i % size_t(img.channels)) == alpha) continue;
+    const uint32_t v = uint32_t(img.pixels[i]);
+    if (v > full) return false;
+    low_bits = low_bits || (v & low) != 0;
   }
-  return largest;
+  return low_bits;
 }
 
 ImageFileFacts FactsOf(const std::filesystem::path& path, const OIIO::ImageSpec& spec, const AnyImage& image,
@@ -212,9 +221,10 @@ ImageFileFacts FactsOf(const std::filesystem::path& path, const OIIO::ImageSpec&
     const int container = std::holds_alternative<Image<uint16_t>>(image) ? 16 : std::holds_alternative<Image<uint8_t>>(image) ? 8 : 0;
     if (png.significant_bits > 0 && png.significant_bits < container && png.bit_depth == container) {
       f.significant_bits = png.significant_bits;
-      const double full = std::ldexp(1.0, png.significant_bits) - 1;
-      const double largest = std::visit([alpha](const auto& img) { return LargestSample(img, alpha); }, image);
-      if (largest <= full) f.unscaled_full_scale = full;
+      const int bits = png.significant_bits;
+      const bool unscaled =  // container 8 or 16: an integer image
+          std::visit([&](const auto& img) { return StoredUnscaled(img, alpha, bits, container); }, image);
+      if (unscaled) f.unscaled_full_scale = std::ldexp(1.0, bits) - 1;
     }
   }
   return f;

@@ -39,10 +39,12 @@ struct ImageFileFacts {
   // and a TIFF's BitsPerSample 10 or 12 need nothing: OpenImageIO scales those
   // samples to the full 16-bit range.)
   int significant_bits = 0;
-  // 2^significant_bits - 1 when every sample (alpha aside) is at most that: the
-  // declared bits stored unscaled (LSB-aligned, as many cameras' tools write
-  // them), so that is the data's full scale; 0 otherwise (the sample type's
-  // maximum: the bits are MSB-aligned or scaled, as the PNG standard says).
+  // 2^significant_bits - 1 when every sample (alpha aside) is at most that and
+  // some sample has a bit set below the declared top bits: the declared bits
+  // stored unscaled (LSB-aligned, as many cameras' tools write them), so that is
+  // the data's full scale; 0 otherwise (the sample type's maximum: the bits are
+  // MSB-aligned or scaled, as the PNG standard says; a dim frame of such samples
+  // is at most 2^significant_bits - 1 too, but its low bits are all clear).
   double unscaled_full_scale = 0;
   // What in the file says its values encode light by a curve, for messages
   // ("an sRGB chunk", "a gAMA chunk (gamma 2.2)", "an ICC profile", "EXIF

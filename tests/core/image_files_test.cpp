@@ -87,6 +87,20 @@ TEST_F(ImageFiles, SbitChunkGivesTheFullScaleOfUnscaledBits) {
   f = FactsOf(dir_ / "msb.png");
   EXPECT_EQ(f.significant_bits, 12);
   EXPECT_EQ(f.unscaled_full_scale, 0);
+
+  // A dim frame of shifted samples (12-bit peak 200: every sample at most 4095)
+  // is still shifted: its low 4 bits are clear, by a shift or by repeating the
+  // high bits (v << 4 | v >> 8). Before, it was read as 12 bits unscaled, and
+  // one brighter pixel flipped the frame back.
+  for (const bool repeat : {false, true}) {
+    Image<uint16_t> dim = Ramp16(1, 200);
+    for (uint16_t& v : dim.pixels) v = uint16_t(v << 4 | (repeat ? v >> 8 : 0));
+    WriteImage(dir_ / "dim.png", dim);
+    InsertPngChunk(dir_ / "dim.png", "sBIT", std::string(1, char(12)));
+    f = FactsOf(dir_ / "dim.png");
+    EXPECT_EQ(f.significant_bits, 12);
+    EXPECT_EQ(f.unscaled_full_scale, 0) << repeat;
+  }
 }
 
 // Grey+alpha: sBIT gives the grey's bits and the alpha's; an opaque alpha
