@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -75,9 +76,10 @@ size_t MoveLinesAtMost(std::string_view text) {
   return count;
 }
 
-// The text's lines through one reader reading E, A and B as `axes` says; sets `reread`
-// (if given) to GcodeReader::RereadAs.
-Toolpath ReadLines(std::string_view text, const std::string& display_name, ExtruderAxes axes, ExtruderAxes* reread) {
+// The text's lines through one reader reading E, A and B as `axes` says; sets
+// `called_for` (if given) to GcodeReader::CalledFor.
+Toolpath ReadLines(std::string_view text, const std::string& display_name, ExtruderAxes axes,
+                   ExtruderAxes* called_for) {
   GcodeReader reader(display_name, axes);
   size_t pos = StartsWith(text, "\xEF\xBB\xBF") ? 3 : 0;  // a UTF-8 byte order mark
   reader.ReserveSegments(MoveLinesAtMost(text.substr(pos)));
@@ -100,7 +102,7 @@ Toolpath ReadLines(std::string_view text, const std::string& display_name, Extru
     }
     pos = end + 1;
   }
-  if (reread) *reread = reader.RereadAs();
+  if (called_for) *called_for = reader.CalledFor();
   Toolpath path = reader.Finish();
   path.lines_after_program_end = after_end;
   return path;
@@ -145,13 +147,29 @@ Toolpath ParseGcode(std::string_view text, const std::string& display_name) {
     }
     text = text.substr(offset);
   }
-  ExtruderAxes reread = ExtruderAxes::kSeparate;
-  Toolpath path = ReadLines(text, display_name, ExtruderAxes::kSeparate, &reread);
   // A and B named in a file that prints with E are not its extruders (a ring, a rotary
   // axis); E in a file that prints with A or B is the active tool's axis (MakerBot):
   // read again so.
-  if (reread != ExtruderAxes::kSeparate) path = ReadLines(text, display_name, reread, nullptr);
-  return path;
+  ExtruderAxes reread = ExtruderAxes::kSeparate;
+  try {
+    Toolpath path = ReadLines(text, display_name, ExtruderAxes::kSeparate, &reread);
+    if (reread != ExtruderAxes::kSeparate) path = ReadLines(text, display_name, reread, nullptr);
+    return path;
+  } catch (const InputError&) {
+    // The first read takes A and B for extruders, which can refuse a file that prints
+    // with E before its moves say so (a rotary "A30 C45" read as extruding while C
+    // turns). Read with A and B as axes: that reading stands if the whole file calls
+    // for it; else the first read's error does.
+    if (reread != ExtruderAxes::kSeparate) throw;  // the second reading failed
+    ExtruderAxes called = ExtruderAxes::kSeparate;
+    std::optional<Toolpath> path;
+    try {
+      path = ReadLines(text, display_name, ExtruderAxes::kABExtra, &called);
+    } catch (const InputError&) {
+    }
+    if (!path || called != ExtruderAxes::kABExtra) throw;
+    return std::move(*path);
+  }
 }
 
 Toolpath ReadGcode(const std::filesystem::path& path, const std::string& display_name) {

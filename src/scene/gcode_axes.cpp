@@ -165,10 +165,14 @@ void GcodeReader::KlipperGcodeOffset(std::string_view params) {
   }
 }
 
-ExtruderAxes GcodeReader::RereadAs() const {
-  if (extruder_axes_ != ExtruderAxes::kSeparate || !ab_named_) return ExtruderAxes::kSeparate;
+ExtruderAxes GcodeReader::CalledFor() const {
+  if (!ab_named_) return ExtruderAxes::kSeparate;
   if (xy_moves_e_ > xy_moves_ab_) return ExtruderAxes::kABExtra;
   return e_on_move_ ? ExtruderAxes::kEIsActiveAB : ExtruderAxes::kSeparate;
+}
+
+ExtruderAxes GcodeReader::RereadAs() const {
+  return extruder_axes_ == ExtruderAxes::kSeparate ? CalledFor() : ExtruderAxes::kSeparate;
 }
 
 void GcodeReader::NoteExtruderAxes() {

@@ -92,6 +92,10 @@ double GcodeReader::Extruded() {
     }
   }
   if (!e) return 0;
+  if (axis == 0 && extruder_axes_ == ExtruderAxes::kEIsActiveAB) {
+    Warn(kEAsActiveAB, "E read as the active tool's axis, A (T0) or B (T1), sharing its position as MakerBot's "
+                       "firmware reads it, since the file prints with A or B and gives E on moves too");
+  }
   double v = *e->value * unit_mm_;
   double& logical = e_logical_mm_[ExtruderSlot(axis)];
   double delta = ERelative() ? v : v - logical;

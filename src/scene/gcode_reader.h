@@ -73,6 +73,9 @@ class GcodeReader {
   // where A or B print and E also appears on a move (MakerBot's start script primes
   // with E); kSeparate (no second read) otherwise.
   ExtruderAxes RereadAs() const;
+  // The reading the moves read so far call for, whatever this reader's: as RereadAs
+  // for a kSeparate reader (ParseGcode's second try after a first read that failed).
+  ExtruderAxes CalledFor() const;
 
  private:
   [[noreturn]] void Fail(const std::string& message) const {
@@ -89,10 +92,11 @@ class GcodeReader {
     kBeadAtUnknown,
     kModalMotion,
     kExtruderOnWithoutE,
+    kEAsActiveAB,
     kWarningKinds
   };
   void Warn(WarningKind kind, const std::string& text);
-  int warning_index_[kWarningKinds] = {-1, -1, -1, -1, -1, -1, -1};
+  int warning_index_[kWarningKinds] = {-1, -1, -1, -1, -1, -1, -1, -1};
   // A line of axis words without a command ("Z10" in a legacy Cura start script): the
   // last motion command again (RS-274's modal motion), warned.
   void ModalMotion(std::string_view code, size_t pos);

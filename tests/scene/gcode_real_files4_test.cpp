@@ -49,7 +49,9 @@ TEST(GcodeRealFiles4, AAxisOfAFileThatPrintsWithEIsNoExtruder) {
   // moving axis (a Replicator 2's purge with E stays as it was, without a warning).
   Toolpath mach3 = ParseGcode("G1 X0 Y10 Z0.3 E5 F600\nG92 A0\nG1 X10 Y10 A1\nG1 X10 Y20 A2\nG1 X0 Y20 A3\n", "mach3.gcode");
   EXPECT_NEAR(BeadFilamentMm(mach3), 8.0, 1e-9);
-  EXPECT_TRUE(mach3.warnings.empty());
+  ASSERT_EQ(mach3.warnings.size(), 1u);  // E goes onto A's position (MakerBot's reading), said
+  EXPECT_EQ(mach3.warnings[0].line, 1);
+  EXPECT_THAT(mach3.warnings[0].text, HasSubstr("E read as the active tool's axis"));
   Toolpath rep2 = ParseGcode("G92 A0 B0\nG1 X-140 Y-70 Z0.3 F1200\nG1 Y60 E25 F1200\n", "rep2.gcode");
   EXPECT_NEAR(BeadFilamentMm(rep2), 25.0, 1e-9);
   EXPECT_TRUE(rep2.warnings.empty());
@@ -156,7 +158,10 @@ TEST(GcodeRealFiles4, EIsTheActiveToolsAxisInAFileThatPrintsWithA) {
   Toolpath p = ParseGcode(text, "makerware.gcode");
   EXPECT_NEAR(BeadFilamentMm(p), 25 + 2.62898, 1e-9);  // was 25: the insets laid nothing
   EXPECT_NEAR(p.ExtrudedLength() / kMm, 25 + 2.62898, 1e-9);
-  EXPECT_TRUE(p.warnings.empty());
+  ASSERT_EQ(p.warnings.size(), 1u);  // the reading of E, said once
+  EXPECT_EQ(p.warnings[0].line, 4);
+  EXPECT_EQ(p.warnings[0].count, 2);
+  EXPECT_THAT(p.warnings[0].text, HasSubstr("E read as the active tool's axis"));
 }
 
 // FlashForge's FlashPrint writes .gx files: "xgcode 1.0\n\0", a 58-byte header of
@@ -187,6 +192,35 @@ TEST(GcodeRealFiles4, FlashForgeGxFilesAreReadFromTheirGcodeOffset) {
   bad.replace(0x18, 4, le32(100000));
   EXPECT_THAT(test::ErrorOf([&] { ParseGcode(bad + bmp + gcode, "bad.gx"); }),
               HasSubstr("bad.gx: is a FlashForge .gx file whose header puts the G-code at byte 100000"));
+}
+
+// A file that prints with E and turns a rotary A beside it: its first move "A30 C45"
+// was read with A as an extruder, so C turned "while it extrudes" and the file was
+// refused at line 1 before its moves showed that it prints with E (found in review).
+// The reading with A and B as axes now stands, since the whole file calls for it.
+TEST(GcodeRealFiles4, ARotaryAxisBeforeTheFirstPrintMoveDoesNotRefuseTheFile) {
+  const std::string text = "G1 X10 Y0 Z1 A30 C45\nG1 X20 Y0 E1\nG1 X20 Y10 E2\nG1 X10 Y10 E3\n";
+  const Toolpath p = ParseGcode(text, "rotary.gcode");
+  EXPECT_NEAR(BeadFilamentMm(p), 3.0, 1e-9);
+  ASSERT_FALSE(p.warnings.empty());
+  EXPECT_THAT(p.warnings[0].text, HasSubstr("A and B are no extruders here"));
+  // A file that does print with A keeps the first read's error (the A word on the
+  // moves outnumbers E): C turning while A extrudes is refused, naming the line.
+  EXPECT_THAT(test::ErrorOf([] {
+                ParseGcode("G1 X10 Y0 Z1 A30 C45\nG1 X20 Y0 A31\nG1 X20 Y10 A32\n", "a_prints.gcode");
+              }),
+              HasSubstr("a_prints.gcode:1: G1 moves the C axis while it extrudes"));
+}
+
+// In a file that prints with A (MakerBot, Mach3) E on a move goes onto the active
+// tool's axis: said once, with the first line, rather than silently (found in review:
+// a Mach3 purge "E5" without a later "G92 A0" made A1 a 4 mm retraction, 0 warnings).
+TEST(GcodeRealFiles4, EReadAsTheActiveToolsAxisIsWarned) {
+  const Toolpath p = ParseGcode("G1 X0 Y10 Z0.3 E5 F600\nG1 X10 Y10 A6\nG1 X10 Y20 A7\nG1 X0 Y20 A8\n", "m.gcode");
+  ASSERT_EQ(p.warnings.size(), 1u);
+  EXPECT_EQ(p.warnings[0].line, 1);
+  EXPECT_THAT(p.warnings[0].text, HasSubstr("E read as the active tool's axis, A (T0) or B (T1)"));
+  EXPECT_NEAR(BeadFilamentMm(p), 8.0, 1e-9);
 }
 
 }  // namespace
