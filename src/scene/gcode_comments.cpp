@@ -22,6 +22,18 @@ constexpr double kUltimakerFilamentMm = 2.85;
 // until M200 D sets one: for Cura's Marlin(Volumetric) flavour, which states none.
 constexpr double kMarlinNominalFilamentMm = 1.75;
 
+// IceSL's layer comment "<layer N>" (N 0 to 999999999, numbered from 0), else none:
+// another comment that starts so ("<layer 5 is thin>") is an ordinary comment.
+std::optional<int> IceSlLayer(std::string_view c) {
+  if (!StartsWith(c, "<layer ") || c.size() < 9 || c.back() != '>' || c.size() > 17) return std::nullopt;
+  int n = 0;
+  for (char d : c.substr(7, c.size() - 8)) {
+    if (d < '0' || d > '9') return std::nullopt;
+    n = 10 * n + (d - '0');
+  }
+  return n;
+}
+
 }  // namespace
 
 void GcodeReader::LayersFromZ() {
@@ -90,13 +102,11 @@ void GcodeReader::Comment(std::string_view comment) {
     layer_comments_ = true;
     layer_ = int(*v);
     stated_height_m_ = 0;
-  } else if (c.size() > 7 && StartsWith(c, "<layer ") && c[7] >= '0' && c[7] <= '9') {
-    // IceSL: "; <layer 0>" ... "; </layer>", numbered from 0.
-    std::string_view number = c.substr(7);
-    auto v = CommentNumber(number.substr(0, number.find('>')), "<layer");
-    if (*v != std::floor(*v) || std::abs(*v) > 1e9) Fail("<layer> comment needs an integer, got " + FormatNumber(*v));
+  } else if (const std::optional<int> icesl = IceSlLayer(c)) {
+    // IceSL: "; <layer 0>" ... "; </layer>" (the end is not read: what follows the
+    // last layer's end, the end script, stays in it, as after Cura's last LAYER).
     layer_comments_ = true;
-    layer_ = int(*v);
+    layer_ = *icesl;
     stated_height_m_ = 0;
   } else if (c == "LAYER_CHANGE" || c == "CHANGE_LAYER") {
     next_layer();

@@ -91,6 +91,12 @@ TEST(GcodeRealFiles4, IceSLSettingsAndLayerComments) {
     EXPECT_EQ(s.layer, expected) << "bead at line " << s.line;
   }
   EXPECT_NEAR(BeadFilamentMm(p), 15 + 0.027061 + 0.074503, 1e-6);
+  // Only "<layer N>" is a layer: a comment that merely starts so is a comment (it
+  // refused the whole file: "comment without a number").
+  for (const char* comment : {"; <layer 5 is thin>\n", "; <layer 1.5>\n", "; <layer 7\n", "; <layer >\n"}) {
+    const Toolpath q = ParseGcode(comment + text, "icesl.gcode");
+    EXPECT_EQ(q.LayerCount(), 2) << comment;
+  }
 }
 
 // A filament-change insert (a G-code utility's template, spliced into a print at a
