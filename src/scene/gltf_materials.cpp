@@ -202,8 +202,9 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
         if (!d.IsArray() || d.ArrayLen() != 4) throw InputError(sg_where + "/diffuseFactor", "must have 4 elements");
         for (int c = 0; c < 4; ++c) {
           const tinygltf::Value& x = d.Get(c);
-          const double v = UnitFactor(x.IsNumber() ? x.GetNumberAsDouble() : std::nan(""),
-                                      sg_where + "/diffuseFactor/" + std::to_string(c), &clamped);
+          const std::string c_where = sg_where + "/diffuseFactor/" + std::to_string(c);
+          if (!x.IsNumber()) throw InputError(c_where, "must be a number");
+          const double v = UnitFactor(x.GetNumberAsDouble(), c_where, &clamped);
           (c < 3 ? mat.base_color[c] : mat.alpha) = float(v);  // alpha: the extension's coverage
         }
       } else {

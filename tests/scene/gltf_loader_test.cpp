@@ -525,6 +525,11 @@ TEST(GltfLoader, SpecularGlossinessIsConvertedWithAWarning) {
   EXPECT_THAT(a.warnings[0], HasSubstr("model.glb: material \"painted\": KHR_materials_pbrSpecularGlossiness "
                                        "converted to metallic-roughness"));
   EXPECT_THAT(a.warnings[0], HasSubstr("the specular colour is approximated"));
+  // A diffuseFactor entry that is no number is named as such (it read "must be in
+  // [0, 1], got nan").
+  b.json()["materials"][0]["extensions"]["KHR_materials_pbrSpecularGlossiness"]["diffuseFactor"][1] = "0.25";
+  EXPECT_THAT(ErrorOf([&] { LoadBuilt(b, dir, Format::kGlb); }),
+              HasSubstr("KHR_materials_pbrSpecularGlossiness/diffuseFactor/1: must be a number"));
 }
 
 // Features that are not rendered are reported, never silently dropped.
