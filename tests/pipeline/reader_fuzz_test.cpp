@@ -1,6 +1,6 @@
-// Inputs the fuzz targets (tools/fuzz) found, minimised: each reader gives a
-// clean lt::InputError naming the file and line, never a crash, a stack
-// overflow or gigabytes allocated.
+// Hostile inputs found reading the YAML and XML readers for the fuzz targets
+// (tools/fuzz), minimised: each reader gives a clean lt::InputError naming the
+// file and line, never a crash, a stack overflow or gigabytes allocated.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
