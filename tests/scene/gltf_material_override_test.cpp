@@ -177,6 +177,8 @@ void ExpectSameGeometry(const GltfAsset& with, const GltfAsset& without) {
     EXPECT_EQ(std::memcmp(a.positions.data(), b.positions.data(), a.positions.size() * sizeof(a.positions[0])), 0)
         << i;
     EXPECT_EQ(a.normals, b.normals) << i;
+    EXPECT_EQ(a.texcoords, b.texcoords) << i;  // TEXCOORD_0 both ways: the files' materials read set 0
+    EXPECT_EQ(a.colors, b.colors) << i;
     EXPECT_EQ(b.triangle_material, std::vector<uint32_t>(b.TriangleCount(), 0u)) << i;
   }
   ASSERT_EQ(with.instances.size(), without.instances.size());
