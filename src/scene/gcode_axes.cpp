@@ -56,7 +56,28 @@ void GcodeReader::WarnOncePerName(const std::string& name, const std::string& te
   ++path_.warnings[it->second].count;
 }
 
-void GcodeReader::PauseForUser(int n) {
+void GcodeReader::PauseForUser(int n, std::string_view params) {
+  if (n == 0 || n == 1) {
+    // Marlin's M0/M1 [P<ms>] [S<s>] [message]: with a time, the stop ends by itself.
+    double seconds = 0;
+    bool timed = false;
+    for (std::string_view word : SplitBlanks(params)) {
+      const char letter = Upper(word[0]);
+      if (letter != 'P' && letter != 'S') continue;
+      const std::optional<double> v = ParseFiniteNumber(word.substr(1));
+      if (!v || *v < 0) continue;  // a message's word ("Press", "S-")
+      seconds += letter == 'P' ? *v / 1000.0 : *v;
+      timed = true;
+    }
+    if (timed) {
+      const std::string name = CommandName('M', n) + " with a time";
+      WarnOncePerName(name, CommandName('M', n) +
+                                " with a time (Marlin: a stop that ends when the user resumes or the time passes), "
+                                "taken as a dwell of its whole time");
+      if (seconds > 0) AddDwell(seconds);
+      return;
+    }
+  }
   const char* what = n == 0 || n == 1 ? "a stop until the user resumes (Marlin; Cura's Pause at Height)"
                      : n == 25        ? "a pause of the print (Marlin's and RepRapFirmware's SD print)"
                      : n == 226       ? "a pause the file asks for (RepRapFirmware, Marlin)"

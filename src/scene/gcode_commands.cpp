@@ -385,7 +385,7 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
   }
   if (letter == 'M' && n == 98 && integral) MacroFileCall(code.substr(pos));
   // Bambu Lab's pause is "M400 U1" (its printers' machine_pause_gcode); M400 alone waits for the moves.
-  if (letter == 'M' && integral && (n != 400 || HasWord(code.substr(pos), "U1"))) PauseForUser(n);
+  if (letter == 'M' && integral && (n != 400 || HasWord(code.substr(pos), "U1"))) PauseForUser(n, code.substr(pos));
   if (letter == 'T' && n >= 0 && n != active_tool_) {
     active_tool_ = n;    // the tool whose flow (M221) applies
     retracted_mm_ = 0;  // the new tool's filament: loaded to its nozzle by the firmware or the tool changer

@@ -364,18 +364,20 @@ void GcodeReader::Dwell() {
   if (const Word* p = Find('P')) seconds += *p->value / 1000.0;
   if (const Word* s = Find('S')) seconds += *s->value;
   if (seconds < 0) Fail("G4 dwell time must be >= 0, got " + FormatNumber(seconds) + " s");
-  if (seconds > 0) {
-    ToolpathSegment s;
-    s.start_m = s.end_m = pos_mm_ * kMetresPerMm;
-    s.t_start_s = t_s_;
-    s.t_end_s = t_s_ + seconds;
-    s.layer = layer_;
-    s.type = type_;
-    s.gcode = 4;
-    s.line = line_no_;
-    path_.segments.push_back(s);
-    t_s_ = s.t_end_s;
-  }
+  if (seconds > 0) AddDwell(seconds);
+}
+
+void GcodeReader::AddDwell(double seconds) {
+  ToolpathSegment s;
+  s.start_m = s.end_m = pos_mm_ * kMetresPerMm;
+  s.t_start_s = t_s_;
+  s.t_end_s = t_s_ + seconds;
+  s.layer = layer_;
+  s.type = type_;
+  s.gcode = 4;
+  s.line = line_no_;
+  path_.segments.push_back(s);
+  t_s_ = s.t_end_s;
 }
 
 void GcodeReader::Home() {

@@ -110,8 +110,10 @@ class GcodeReader {
   // M0, M1, M25, M226, M600, M601, M400 (called with U1 only: Bambu's pause) (a stop,
   // pause or filament change that waits for the user: Cura's Pause at Height,
   // PrusaSlicer's colour change): skipped, one warning per command, since every time
-  // after it is early by the wait. Other n: nothing.
-  void PauseForUser(int n);
+  // after it is early by the wait. Other n: nothing. M0/M1 with a time (Marlin's
+  // "M0 S5", "M1 P500": a stop that ends when the user resumes or the time passes) is
+  // a dwell of that time instead, warned as such (`params`: the words after the command).
+  void PauseForUser(int n, std::string_view params);
   // One warning per distinct name (`text` the first time), counting each occurrence.
   void WarnOncePerName(const std::string& name, const std::string& text);
   std::map<std::string, size_t> unknown_command_warning_;  // name -> index in path_.warnings
@@ -131,6 +133,7 @@ class GcodeReader {
   void Move(int gcode);
   void Arc(int gcode);
   void Dwell();
+  void AddDwell(double seconds);  // a segment standing still for `seconds` (> 0)
   void Home();
   // G92 (set the position: an offset of later absolute moves), G92.1 and G92.2 (G92's
   // offset cleared; .2 keeps it for G92.3, which restores it): scene/gcode_offsets.cpp.

@@ -129,6 +129,23 @@ TEST(GcodeRealFiles4, PausesForTheUserAreWarned) {
   EXPECT_EQ(bambu.warnings[0].line, 2);
   EXPECT_THAT(bambu.warnings[0].text, HasSubstr("M400 U1, Bambu Lab's pause"));
   EXPECT_TRUE(ParseGcode("M117 Printing\nM400\nG1 X10 Y0 Z0.2 E1 F600\n", "plain.gcode").warnings.empty());
+  // Marlin's M0/M1 with a time ends by itself when the time passes: a dwell of that
+  // time, warned as such (found in review: "M0 S5" was warned as a stop for the user
+  // and took no time); a message's words are no time.
+  Toolpath timed = ParseGcode("G1 X10 Y0 Z0.2 F600\nM0 S5 Cooling\nM1 P500\nM0 Press to resume\n", "timed.gcode");
+  ASSERT_EQ(timed.warnings.size(), 3u);
+  EXPECT_EQ(timed.warnings[0].line, 2);
+  EXPECT_EQ(timed.warnings[0].count, 1);
+  EXPECT_THAT(timed.warnings[0].text, HasSubstr("M0 with a time (Marlin: a stop that ends when the user resumes"));
+  EXPECT_EQ(timed.warnings[1].line, 3);
+  EXPECT_THAT(timed.warnings[1].text, HasSubstr("M1 with a time"));
+  EXPECT_EQ(timed.warnings[2].line, 4);
+  EXPECT_THAT(timed.warnings[2].text, HasSubstr("M0, a stop until the user resumes"));
+  double dwell_s = 0;
+  for (const ToolpathSegment& s : timed.segments) {
+    if (s.gcode == 4) dwell_s += s.t_end_s - s.t_start_s;
+  }
+  EXPECT_NEAR(dwell_s, 5.5, 1e-12);
 }
 
 // A test file for Klipper's arc support lifts with "G0 Z10.0000 S0" (S: a laser's power or
