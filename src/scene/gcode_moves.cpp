@@ -186,7 +186,10 @@ void GcodeReader::FlowFactor() {
   int tool = active_tool_;
   for (char letter : {'T', 'D'}) {
     if (const Word* w = Find(letter)) {
-      if (!w->value || *w->value < 0 || *w->value != std::floor(*w->value)) Fail(std::string("M221 ") + letter + " must be a tool number");
+      // At most the largest command number read (ReadCommand's 1e6): int() of more is UB.
+      if (!w->value || *w->value < 0 || *w->value >= 1e6 || *w->value != std::floor(*w->value)) {
+        Fail(std::string("M221 ") + letter + " must be a tool number");
+      }
       tool = int(*w->value);
     }
   }

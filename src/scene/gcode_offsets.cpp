@@ -8,6 +8,7 @@
 // and a firmware retraction's Z hop. G92's is kept apart from the work offsets, as LinuxCNC does
 // (RepRapFirmware and Marlin fold G92 into the active work system's offset: the two
 // differ only when a file changes work systems after a G92 on X, Y or Z).
+#include <cmath>
 #include <string>
 
 #include "core/error.h"
@@ -114,7 +115,7 @@ void GcodeReader::SetWorkOffset(int l) {
   Expect("LPXYZ", command);
   int index = work_system_;  // P0 or no P: the active system
   if (const Word* p = Find('P')) {
-    if (*p->value != int(*p->value) || *p->value < 0 || *p->value > 9) {
+    if (*p->value < 0 || *p->value > 9 || *p->value != std::floor(*p->value)) {  // range first: int() of 1e20 is UB
       Fail(command + " P must be a coordinate system 1-9 (G54-G59.3) or 0 (the active one), got " +
            FormatNumber(*p->value));
     }

@@ -246,5 +246,16 @@ TEST(GcodeRealFiles4, EReadAsTheActiveToolsAxisIsWarned) {
   EXPECT_NEAR(BeadFilamentMm(p), 8.0, 1e-9);
 }
 
+// Found by tools/fuzz's fuzz_gcode (UBSan): a tool or coordinate-system number too
+// large for an int was converted before its range was checked. Each is a clean error.
+TEST(GcodeRealFiles4, HugeToolAndSystemNumbersAreErrors) {
+  EXPECT_THAT(test::ErrorOf([] { ParseGcode("M221 S100 T600000000000\n", "t.gcode"); }),
+              HasSubstr("t.gcode:1: M221 T must be a tool number"));
+  EXPECT_THAT(test::ErrorOf([] { ParseGcode("M221 S100 D100000000000000000000\n", "t.gcode"); }),
+              HasSubstr("t.gcode:1: M221 D must be a tool number"));
+  EXPECT_THAT(test::ErrorOf([] { ParseGcode("G10 L2 P100000000000000000000 X1\n", "t.gcode"); }),
+              HasSubstr("t.gcode:1: G10 L2 P must be a coordinate system 1-9"));
+}
+
 }  // namespace
 }  // namespace lt
