@@ -2,21 +2,17 @@
 
 #include <map>
 #include <set>
-#include <sstream>
 
 #include "core/error.h"
 #include "core/text_fields.h"
+#include "pipeline/yaml_lines.h"
 #include "pipeline/yaml_scalar.h"
 
 namespace lt {
 
 namespace {
 
-struct Line {
-  int no = 0;
-  int indent = 0;
-  std::string text;  // without indentation, comment and trailing blanks
-};
+using Line = YamlContentLine;
 
 std::string Trim(const std::string& s) { return std::string(TrimBlanks(s)); }
 
@@ -29,37 +25,9 @@ bool IsSeqItem(const std::string& t) { return t == "-" || t.rfind("- ", 0) == 0;
 class TreeParser {
  public:
   TreeParser(const std::string& text, std::string file, YamlLine* first) : file_(std::move(file)) {
-    std::istringstream in(text);
-    std::string raw;
-    int no = 0;
-    bool content = false;
-    while (std::getline(in, raw)) {
-      ++no;
-      if (no == 1 && raw.rfind("\xEF\xBB\xBF", 0) == 0) raw = raw.substr(3);
-      if (!raw.empty() && raw.back() == '\r') raw.pop_back();
-      raw_.push_back(raw);
-      size_t indent = 0;
-      while (indent < raw.size() && (raw[indent] == ' ' || raw[indent] == '\t')) {
-        if (raw[indent] == '\t') Fail(no, "tab in indentation (YAML indents with spaces)");
-        ++indent;
-      }
-      const std::string body = Trim(StripYamlComment(raw.substr(indent)));
-      if (body.empty()) continue;
-      if (first && first->text.empty()) *first = {no, body};
-      if (indent == 0 && body[0] == '%') {
-        if (content) Fail(no, "a directive ('" + body + "') after the document's start");
-        continue;
-      }
-      if (indent == 0 && (body == "---" || body.rfind("--- ", 0) == 0)) {
-        if (body != "---") Fail(no, "expected '---' alone on its line");
-        if (content) break;  // a second document (rostopic echo ends each message with ---): only the first
-        content = true;
-        continue;
-      }
-      if (indent == 0 && body == "...") break;
-      content = true;
-      lines_.push_back({no, int(indent), body});
-    }
+    YamlLines lines = SplitYamlLines(text, file_, first);
+    raw_ = std::move(lines.raw);
+    lines_ = std::move(lines.content);
   }
 
   YamlNode Run() {
@@ -253,7 +221,7 @@ class TreeParser {
   std::string Property(const std::string& s, size_t& pos, int no) const {
     const size_t begin = pos;
     while (pos < s.size() && s[pos] != ' ' && s[pos] != '\t' && s[pos] != ',' && s[pos] != ']' && s[pos] != '}') ++pos;
-    if (pos == begin + 1) Fail(no, "'" + s.substr(begin, 1) + "' without a name");
+    if (pos == begin + 1) Fail(no, std::string("'") + s[begin] + "' without a name");
     return s[begin] == '&' ? s.substr(begin + 1, pos - begin - 1) : s.substr(begin, pos - begin);
   }
 
