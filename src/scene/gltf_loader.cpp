@@ -232,6 +232,7 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
       long slot = -1;
       if (mesh.TriangleCount() > 0) {
         uses_default |= stats.uses_default_material;
+        asset.texcoords_not_set_0 |= stats.texcoords_not_set_0;
         mesh.Validate();
         slot = long(asset.meshes.size());
         asset.meshes.push_back(std::move(mesh));

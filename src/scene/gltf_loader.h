@@ -54,6 +54,10 @@ struct GltfAsset {
   // "a", "b", "c" and 2 more`, empty if none. They are metal, meant or
   // not; the scene warns about them unless the object sets its material.
   std::string metallic_by_default;
+  // Some triangles' texture coordinates are a set other than TEXCOORD_0, named by
+  // their material's base-colour texture: loaded without materials (each primitive
+  // reading TEXCOORD_0) the meshes' texcoords would differ.
+  bool texcoords_not_set_0 = false;
   std::vector<std::string> warnings; // each prefixed with the file name
 };
 

@@ -113,6 +113,7 @@ Mesh ConvertGltfMesh(const GltfSource& src, int index, const std::vector<Materia
     const std::string set_name = "TEXCOORD_" + std::to_string(set);
     uv_accessor[pi] = FindAttribute(src, prim, set_name.c_str(), where);
     if (uv_accessor[pi] >= 0) uv_name[pi] = set_name;
+    stats->texcoords_not_set_0 |= uv_accessor[pi] >= 0 && set != 0;
     if (uv_accessor[pi] < 0 && set != 0) {
       uv_accessor[pi] = FindAttribute(src, prim, "TEXCOORD_0", where);
       warnings->push_back(src.file + ": mesh \"" + mesh.name + "\" primitive " + std::to_string(pi) +

@@ -17,6 +17,9 @@ namespace lt {
 struct GltfMeshStats {
   size_t degenerate_triangles = 0;  // dropped
   bool uses_default_material = false;
+  // Some primitive's texture coordinates are a set other than TEXCOORD_0 (the one
+  // its material's base-colour texture names): loaded without materials, they differ.
+  bool texcoords_not_set_0 = false;
   // Point and line primitives skipped (only triangles are rendered), in order:
   // the mode's name ("points", "lines", ...) and the primitive's index. The
   // loader warns about them once per mode for the whole file.

@@ -88,14 +88,19 @@ SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
   SceneGeometry g;
   for (const auto& m : scene.materials) g.materials.push_back(m.material);
 
-  // A glTF file used by several objects is loaded once.
+  // A glTF file used by several objects is loaded once, with its materials if some
+  // object takes them. An object with its own "material" reads TEXCOORD_0 (as a file
+  // loaded without materials gives it): when the file's materials read another set,
+  // such an object gets a second load of the geometry alone, so what it sees does
+  // not depend on the other objects.
   struct Loaded {
     size_t first_mesh;
     std::vector<GltfInstance> instances;
     bool uses_default_material;
     std::string metallic_by_default;
+    bool texcoords_not_set_0;
   };
-  std::map<std::filesystem::path, Loaded> loaded;
+  std::map<std::pair<std::filesystem::path, bool>, Loaded> loaded;  // (file, with materials)
   // Each file's key, and whether some object using it takes the file's materials: a
   // file used only by objects with a "material" of their own is loaded without them
   // (GltfLoadOptions::materials), so materials that cannot be read do not refuse it.
@@ -108,31 +113,41 @@ SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
     needs_materials[key] |= obj.material.empty() || scene.FindMaterial(obj.material) < 0;
     keys.push_back(std::move(key));
   }
+  // Loads `obj`'s file once per (file, materials); `override_id` is the material its
+  // triangles take without materials. A second load of a file (the geometry alone)
+  // repeats neither its warnings nor its degenerate-triangle count.
+  auto load = [&](const SceneObject& obj, const std::filesystem::path& key, bool materials, int32_t override_id) {
+    auto it = loaded.find({key, materials});
+    if (it != loaded.end()) return it;
+    const bool again = loaded.count({key, !materials}) != 0;
+    GltfLoadOptions options;
+    options.materials = materials;
+    GltfAsset asset = LoadGltf(obj.gltf, obj.gltf.string(), options);
+    // Without materials, every object using this load sets its own: the triangles
+    // index this one's (never read through an instance) in place of the placeholder.
+    const uint32_t material_base = materials ? uint32_t(g.materials.size()) : uint32_t(override_id);
+    if (materials) {
+      for (auto& m : asset.materials) g.materials.push_back(std::move(m));
+    }
+    Loaded l{g.meshes.size(), std::move(asset.instances), asset.uses_default_material, asset.metallic_by_default,
+             asset.texcoords_not_set_0};
+    for (auto& mesh : asset.meshes) {
+      for (auto& id : mesh.triangle_material) id += material_base;
+      g.meshes.push_back(std::move(mesh));
+    }
+    if (!again) {
+      g.degenerate_triangles += asset.degenerate_triangles;
+      for (auto& w : asset.warnings) g.warnings.push_back(std::move(w));
+    }
+    return loaded.emplace(std::make_pair(key, materials), std::move(l)).first;
+  };
   for (size_t oi = 0; oi < scene.objects.size(); ++oi) {
     const SceneObject& obj = scene.objects[oi];
     g.object_names.push_back(obj.name);
     const std::filesystem::path& key = keys[oi];
     const int32_t override_id = obj.material.empty() ? -1 : int32_t(scene.FindMaterial(obj.material));
-    auto it = loaded.find(key);
-    if (it == loaded.end()) {
-      GltfLoadOptions options;
-      options.materials = needs_materials[key];
-      GltfAsset asset = LoadGltf(obj.gltf, obj.gltf.string(), options);
-      // Without materials, every object using the file sets its own: the triangles
-      // index this one's (never read through an instance) in place of the placeholder.
-      const uint32_t material_base = options.materials ? uint32_t(g.materials.size()) : uint32_t(override_id);
-      if (options.materials) {
-        for (auto& m : asset.materials) g.materials.push_back(std::move(m));
-      }
-      Loaded l{g.meshes.size(), std::move(asset.instances), asset.uses_default_material, asset.metallic_by_default};
-      for (auto& mesh : asset.meshes) {
-        for (auto& id : mesh.triangle_material) id += material_base;
-        g.meshes.push_back(std::move(mesh));
-      }
-      g.degenerate_triangles += asset.degenerate_triangles;
-      for (auto& w : asset.warnings) g.warnings.push_back(std::move(w));
-      it = loaded.emplace(key, std::move(l)).first;
-    }
+    auto it = load(obj, key, needs_materials[key], override_id);
+    if (override_id >= 0 && it->second.texcoords_not_set_0) it = load(obj, key, false, override_id);
     if (override_id < 0 && it->second.uses_default_material) {
       // Files converted from STL or OBJ often hold no material at all.
       g.warnings.push_back("object \"" + obj.name + "\": " + obj.gltf.string() +

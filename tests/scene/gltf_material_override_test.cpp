@@ -167,6 +167,46 @@ TEST(GltfMaterialOverride, SharedFileKeepsItsMaterialsForAnObjectWithout) {
   EXPECT_TRUE(g.warnings.empty()) << AllWarnings(g.warnings);
 }
 
+// An object with its own material reads TEXCOORD_0, whichever other objects use
+// the file: here the file's material reads TEXCOORD_1 (Blender's second UV map).
+// Before, the object read TEXCOORD_0 alone but TEXCOORD_1 beside an object taking
+// the file's materials (the file was loaded once, with them).
+TEST(GltfMaterialOverride, OwnMaterialReadsTexcoord0WhateverTheOtherObjects) {
+  TempDir dir;
+  WriteImage(dir / "look.png", Image<uint8_t>(1, 1, 4, 255));
+  GltfBuilder b = TexturedSquare("look.png");
+  const std::vector<float> second = {0.5f, 0.5f, 0.75f, 0.5f, 0.75f, 0.25f, 0.5f, 0.25f};
+  b.json()["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_1"] = b.AddFloats(second, "VEC2");
+  b.json()["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = 1;
+  b.WriteGltf(dir / "part.gltf", false);
+  std::vector<Eigen::Vector2f> set0, set1;
+  for (size_t i = 0; i < 4; ++i) {
+    set0.emplace_back(test::SquareTexcoords()[2 * i], test::SquareTexcoords()[2 * i + 1]);
+    set1.emplace_back(second[2 * i], second[2 * i + 1]);
+  }
+  const SceneGeometry alone = LoadScene(dir, {{"a", "part.gltf", "pla"}});
+  ASSERT_EQ(alone.instances.size(), 1u);
+  EXPECT_EQ(alone.meshes[alone.instances[0].mesh].texcoords, set0);
+  for (const bool own_first : {true, false}) {
+    SCOPED_TRACE(own_first ? "the object with a material first" : "the object with a material second");
+    const SceneGeometry g = own_first ? LoadScene(dir, {{"a", "part.gltf", "pla"}, {"b", "part.gltf", ""}})
+                                      : LoadScene(dir, {{"b", "part.gltf", ""}, {"a", "part.gltf", "pla"}});
+    ASSERT_EQ(g.instances.size(), 2u);
+    const SceneInstance& a = g.instances[own_first ? 0 : 1];
+    const SceneInstance& other = g.instances[own_first ? 1 : 0];
+    EXPECT_EQ(g.materials[g.MaterialOf(a, 0)].name, "pla");
+    EXPECT_EQ(g.meshes[a.mesh].texcoords, set0);
+    EXPECT_EQ(g.materials[g.MaterialOf(other, 0)].name, "look");
+    EXPECT_EQ(g.meshes[other.mesh].texcoords, set1);
+    EXPECT_EQ(g.InstancedTriangleCount(), 4u);
+    EXPECT_TRUE(g.warnings.empty()) << AllWarnings(g.warnings);  // the second load repeats none
+    EXPECT_EQ(g.materials.size(), 2u);                            // "pla", "look": no ids for the second load
+  }
+  // A file whose materials read TEXCOORD_0 is still loaded once for both.
+  TexturedSquare("look.png").WriteGltf(dir / "part.gltf", false);
+  EXPECT_EQ(LoadScene(dir, {{"a", "part.gltf", "pla"}, {"b", "part.gltf", ""}}).meshes.size(), 1u);
+}
+
 void ExpectSameGeometry(const GltfAsset& with, const GltfAsset& without) {
   ASSERT_EQ(with.meshes.size(), without.meshes.size());
   for (size_t i = 0; i < with.meshes.size(); ++i) {
