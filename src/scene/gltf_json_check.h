@@ -1,29 +1,18 @@
 // A first pass over a glTF's JSON before tinygltf parses it: the nesting depth (at
 // most 256 levels: tinygltf recurses), the version, required extensions, the
-// structure (scene/gltf_schema.h), data: URIs, and that every external buffer and
-// image file exists, so a missing file is reported with the path looked for.
+// structure (scene/gltf_schema.h), and the data buffers and images name: data: URIs,
+// and that every external buffer and image file exists, so a missing file is
+// reported with the path looked for (scene/gltf_json_data.h).
 #pragma once
 
-#include <cstdint>
 #include <filesystem>
-#include <map>
 #include <string>
 #include <vector>
 
 #include "scene/gltf_container.h"
+#include "scene/gltf_json_data.h"
 
 namespace lt {
-
-// The external files of a glTF as CheckGltfJson found them, for tinygltf's file
-// callbacks.
-struct GltfExternalFiles {
-  // The path tinygltf asks for (TinygltfLookupPath) -> the file the uri names
-  // (ResolveGltfUri), for every external buffer and image.
-  std::map<std::string, std::filesystem::path> by_lookup_path;
-  // The byteLength of each external buffer file, by its normalized path, where it
-  // is shorter than the file.
-  std::map<std::filesystem::path, uint64_t> buffer_lengths;
-};
 
 // Checks the JSON before the full parse (see above). base_dir is the folder of the
 // file; `external` (optional) receives what the external files are. glTF 2.0 ("JSON

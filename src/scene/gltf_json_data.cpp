@@ -1,0 +1,141 @@
+#include "scene/gltf_json_data.h"
+
+#include <cstring>
+#include <utility>
+
+#include "core/error.h"
+#include "scene/gltf_container.h"
+#include "scene/gltf_uri.h"
+
+namespace lt {
+
+namespace {
+
+// Number of bytes a base64 payload decodes to; fails on a character outside the
+// base64 alphabet, padding before the end, or a length no encoder produces.
+size_t Base64DecodedSize(const std::string& uri, size_t start, const std::string& where) {
+  size_t chars = 0, padding = 0;
+  for (size_t i = start; i < uri.size(); ++i) {
+    const char c = uri[i];
+    if (c == '=') {
+      ++padding;
+      continue;
+    }
+    const bool alphabet = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '+' || c == '/';
+    if (!alphabet || padding > 0) {
+      const unsigned char u = static_cast<unsigned char>(c);
+      const std::string shown = u >= 0x20 && u < 0x7f ? std::string("'") + c + "'" : "byte " + std::to_string(u);
+      throw InputError(where, "invalid base64 data: " + (padding > 0 ? "data after the '=' padding" : shown) +
+                                  " at character " + std::to_string(i - start) + " of the data");
+    }
+    ++chars;
+  }
+  if (padding > 2 || chars % 4 == 1 || (padding > 0 && (chars + padding) % 4 != 0)) {
+    throw InputError(where, "invalid base64 data: " + std::to_string(chars) + " characters and " +
+                                std::to_string(padding) + " '=' is not a whole number of bytes");
+  }
+  return chars / 4 * 3 + (chars % 4 == 0 ? 0 : chars % 4 - 1);
+}
+
+// Checks a buffer's data: URI (tinygltf decodes only base64 with these media
+// types, and needs exactly byteLength bytes).
+void CheckBufferDataUri(const std::string& uri, const std::string& where, int64_t byte_length) {
+  static const char* kHeaders[] = {"data:application/octet-stream;base64,", "data:application/gltf-buffer;base64,"};
+  size_t start = 0;
+  for (const char* h : kHeaders) {
+    if (uri.rfind(h, 0) == 0) start = std::strlen(h);
+  }
+  if (start == 0) {
+    throw InputError(where, "a buffer's data URI must start with \"" + std::string(kHeaders[0]) + "\" or \"" +
+                                kHeaders[1] + "\", got \"" + ShortenDataUris(uri) + "\"");
+  }
+  const size_t size = Base64DecodedSize(uri, start, where);
+  if (byte_length >= 0 && size != uint64_t(byte_length)) {
+    throw InputError(where, "data URI holds " + std::to_string(size) + " bytes, byteLength says " +
+                                std::to_string(byte_length) + (size > uint64_t(byte_length) ? " (they must be equal)" : ""));
+  }
+}
+
+// Fails when an external file named by uri does not exist (or is shorter than
+// byte_length). Returns its normalized path and size, and enters it in `external`.
+std::pair<std::filesystem::path, uint64_t> CheckExternal(const nlohmann::json& uri, const std::string& where,
+                                                         const std::string& what,
+                                                         const std::filesystem::path& base_dir, int64_t byte_length,
+                                                         GltfExternalFiles* external) {
+  if (!uri.is_string()) throw InputError(where, "uri must be a string");
+  const std::string s = uri.get<std::string>();
+  if (s.rfind("data:", 0) == 0) return {};
+  if (s.empty()) throw InputError(where, "uri must not be empty");
+  std::filesystem::path p = ResolveGltfUri(s, base_dir, where);
+  if (external != nullptr) external->by_lookup_path[TinygltfLookupPath(s, base_dir.string())] = p;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(p, ec)) {
+    throw InputError(where, what + " file not found (looked for " + p.string() + ")");
+  }
+  const uint64_t size = std::filesystem::file_size(p, ec);
+  if (byte_length >= 0 && !ec && size < uint64_t(byte_length)) {
+    throw InputError(where, what + " file " + p.string() + " has " + std::to_string(size) +
+                                " bytes, byteLength says " + std::to_string(byte_length));
+  }
+  return {p, ec ? 0 : size};
+}
+
+}  // namespace
+
+void CheckGltfBufferData(const nlohmann::json& root, bool binary, const std::string& file,
+                         const std::filesystem::path& base_dir, GltfExternalFiles* external) {
+  if (auto buffers = root.find("buffers"); buffers != root.end() && buffers->is_array()) {
+    for (size_t i = 0; i < buffers->size(); ++i) {
+      const auto& b = (*buffers)[i];
+      if (!b.is_object()) continue;  // tinygltf reports it
+      auto uri = b.find("uri");
+      if (uri == b.end()) {
+        // Only a GLB's first buffer may omit uri: it is the BIN chunk. (tinygltf
+        // would hand the BIN chunk to every buffer without uri.)
+        if (binary && i == 0) continue;
+        // gltfpack 1.0 writes the ratified KHR_meshopt_compression, earlier ones the EXT_.
+        std::string meshopt;
+        for (const char* name : {"EXT_meshopt_compression", "KHR_meshopt_compression"}) {
+          if (b.contains("extensions") && b["extensions"].is_object() && b["extensions"].contains(name)) meshopt = name;
+        }
+        throw InputError(file + ": /buffers/" + std::to_string(i),
+                         !meshopt.empty() ? "the buffer holds no data: it is the fallback buffer of " + meshopt +
+                                                ", whose compressed data is not supported (write the file without "
+                                                "meshopt compression, e.g. gltfpack without -c/-cc)"
+                                  : std::string("buffer has no uri") +
+                                        (binary ? " (in a GLB only the first buffer, the BIN chunk, may "
+                                                            "omit it)"
+                                                          : " (a .gltf buffer needs one)"));
+      }
+      auto len = b.find("byteLength");
+      int64_t byte_length = len != b.end() && len->is_number_unsigned() ? int64_t(len->get<uint64_t>()) : -1;
+      const std::string where = file + ": /buffers/" + std::to_string(i) + "/uri";
+      if (uri->is_string() && uri->get_ref<const std::string&>().rfind("data:", 0) == 0) {
+        CheckBufferDataUri(uri->get_ref<const std::string&>(), where, byte_length);
+      } else {
+        auto [path, size] = CheckExternal(*uri, where, "buffer", base_dir, byte_length, external);
+        if (external != nullptr && byte_length >= 0 && size > uint64_t(byte_length)) {
+          // Two buffers naming one file with different lengths: left to tinygltf to refuse.
+          auto [it, added] = external->buffer_lengths.emplace(path, uint64_t(byte_length));
+          if (!added && it->second != uint64_t(byte_length)) it->second = size;
+        }
+      }
+    }
+  }
+}
+
+void CheckGltfImageFiles(const nlohmann::json& root, const std::string& file, const std::filesystem::path& base_dir,
+                         GltfExternalFiles* external) {
+  if (auto images = root.find("images"); images != root.end() && images->is_array()) {
+    for (size_t i = 0; i < images->size(); ++i) {
+      const auto& im = (*images)[i];
+      if (!im.is_object()) continue;
+      auto uri = im.find("uri");
+      if (uri == im.end()) continue;
+      CheckExternal(*uri, file + ": /images/" + std::to_string(i) + "/uri", "texture image", base_dir, -1,
+                    external);
+    }
+  }
+}
+
+}  // namespace lt

@@ -1,0 +1,38 @@
+// The data a glTF's buffers and images name, checked before tinygltf parses the
+// file (scene/gltf_json_check.h): each buffer's data: URI (media type, base64,
+// length) and that every external buffer and image file exists, so a missing file
+// is reported with the path looked for.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace lt {
+
+// The external files of a glTF as CheckGltfJson found them, for tinygltf's file
+// callbacks.
+struct GltfExternalFiles {
+  // The path tinygltf asks for (TinygltfLookupPath) -> the file the uri names
+  // (ResolveGltfUri), for every external buffer and image.
+  std::map<std::string, std::filesystem::path> by_lookup_path;
+  // The byteLength of each external buffer file, by its normalized path, where it
+  // is shorter than the file.
+  std::map<std::filesystem::path, uint64_t> buffer_lengths;
+};
+
+// Checks `root`'s buffers: a data: URI's media type, base64 and length, an external
+// file's existence and size (at least byteLength), a buffer without uri (only a
+// GLB's, `binary`, first may omit it; a meshopt fallback buffer is named as such).
+// `external` (optional) receives the external files.
+void CheckGltfBufferData(const nlohmann::json& root, bool binary, const std::string& file,
+                         const std::filesystem::path& base_dir, GltfExternalFiles* external);
+
+// Checks that every image file `root`'s images name exists (data: URIs are decoded
+// later); `external` (optional) receives them.
+void CheckGltfImageFiles(const nlohmann::json& root, const std::string& file, const std::filesystem::path& base_dir,
+                         GltfExternalFiles* external);
+
+}  // namespace lt
