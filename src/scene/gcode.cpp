@@ -4,8 +4,10 @@
 // gcode_moves.cpp and firmware retraction in gcode_retraction.cpp.
 #include "scene/gcode.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <optional>
 #include <string>
@@ -17,6 +19,30 @@
 namespace lt {
 namespace gcode_detail {
 
+void GcodeReader::WarnBlobsInLayers() {
+  // A start script's prime or purge in place (outside the layers) is expected; within
+  // the layers a blob is on the part, where the beads leave it out.
+  ToolpathWarning blobs;
+  double laid_mm = 0;
+  for (const ToolpathSegment& s : path_.segments) {
+    if (!s.LaysBlob() || s.layer == ToolpathSegment::kNoLayer) continue;
+    if (blobs.count++ == 0) blobs.line = s.line;
+    laid_mm += s.laid_m / kMetresPerMm;
+  }
+  if (blobs.count == 0) return;
+  char mm[32];
+  std::snprintf(mm, sizeof mm, "%.3f", laid_mm);
+  blobs.text = "filament fed in place (no X/Y motion) beyond what makes up a retraction, within a layer: a blob, "
+               "which the part's beads leave out (a bead needs a path; the blob's shape is the material's and the "
+               "surface's, not the file's); ";
+  blobs.text.append(mm);
+  blobs.text += " mm in all, in the filament laid in place";
+  // Warnings stay in the order of their first lines.
+  auto at = std::upper_bound(path_.warnings.begin(), path_.warnings.end(), blobs.line,
+                             [](int line, const ToolpathWarning& w) { return line < w.line; });
+  path_.warnings.insert(at, blobs);
+}
+
 Toolpath GcodeReader::Finish() {
   if (!layer_comments_) LayersFromZ();
   // The extra axes' warning names every one the file moved, not just the first line's.
@@ -26,6 +52,7 @@ Toolpath GcodeReader::Finish() {
     path_.warnings.erase(path_.warnings.begin() + warning_index_[kExtruderOnWithoutE]);
     warning_index_[kExtruderOnWithoutE] = -1;
   }
+  WarnBlobsInLayers();  // last: it inserts a warning, after which warning_index_ is stale
   return std::move(path_);
 }
 

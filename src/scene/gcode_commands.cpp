@@ -86,6 +86,12 @@ bool HasWord(std::string_view text, std::string_view word) {
 
 }  // namespace
 
+void GcodeReader::SelectTool(int n) {
+  if (n < 0 || n == active_tool_) return;  // RepRapFirmware's T-1 deselects: no tool's settings change
+  active_tool_ = n;   // the tool whose flow (M221) applies and whose axis E is (ExtruderSlot)
+  retracted_mm_ = 0;  // the new tool's filament: loaded to its nozzle by the firmware or the tool changer
+}
+
 // Axis words without a command on their line: the last G0-G3 again, as RS-274 makes the
 // motion mode modal (LinuxCNC, Grbl, RepRapFirmware; Marlin with GCODE_MOTION_MODES).
 // Legacy Cura's start scripts hold such lines ("G0 X100 Y100" then "Z10"), which were
@@ -386,9 +392,17 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
   if (letter == 'M' && n == 98 && integral) MacroFileCall(code.substr(pos));
   // Bambu Lab's pause is "M400 U1" (its printers' machine_pause_gcode); M400 alone waits for the moves.
   if (letter == 'M' && integral && (n != 400 || HasWord(code.substr(pos), "U1"))) PauseForUser(n, code.substr(pos));
-  if (letter == 'T' && n >= 0 && n != active_tool_) {
-    active_tool_ = n;    // the tool whose flow (M221) applies
-    retracted_mm_ = 0;  // the new tool's filament: loaded to its nozzle by the firmware or the tool changer
+  if (letter == 'T') SelectTool(n);
+  // MakerBot's tool changes by M code (GPX and ReplicatorG: "M135 T1", "M6 T1" and
+  // ReplicatorG's "M108 T1"), LinuxCNC's "M6 T1" too: the named tool becomes the active
+  // one, whose axis E is in a file that prints with A and B. Without T they change nothing
+  // here (Marlin's M108 ends a heating wait, RepRapFirmware's M135 sets a PID interval).
+  if (letter == 'M' && (n == 6 || n == 108 || n == 135)) {
+    for (std::string_view word : SplitBlanks(code.substr(pos))) {
+      if (word.size() < 2 || Upper(word[0]) != 'T') continue;
+      const std::optional<double> tool = ParseFiniteNumber(word.substr(1));
+      if (tool && *tool >= 0 && *tool < 1e6 && *tool == std::floor(*tool)) SelectTool(int(*tool));
+    }
   }
   // The nozzle moves to the dock and, for a park or a tool change with D0 (Prusa's
   // XL: "T1 S1 L0 D0", do not return), stays there: where is the firmware's.

@@ -20,6 +20,9 @@ constexpr double kPowerOnFeedMmS = 25.0;
 // An arc's end may lie off its circle by this much (rounding of I/J and X/Y).
 constexpr double kArcRadiusToleranceMm = 0.01;
 constexpr double kArcRadiusToleranceRel = 1e-3;
+// A feed that leaves less than this (mm) beyond making up a retraction lays nothing:
+// the rounding of absolute E differences (slicers write E to 1e-5 mm).
+constexpr double kRoundingMm = 1e-7;
 // End points closer than this (mm) are the same point (full circles).
 constexpr double kSamePointMm = 1e-9;
 // The most turns an arc's P may ask for (Marlin's ARC_P_CIRCLES takes up to 100).
@@ -142,7 +145,11 @@ void GcodeReader::AddSegment(int gcode, const Eigen::Vector3d& end_mm, double ex
     } else {
       const double made_up_mm = std::min(extruded_mm, retracted_mm_);
       retracted_mm_ -= made_up_mm;
-      s.laid_m = (extruded_mm - made_up_mm) * kMetresPerMm;
+      // What is left of a prime that makes up its retraction by the file's numbers is
+      // the rounding of differences of absolute E ("E2.42602" -> "E1.42602", then "G92
+      // E0", "E1": 4e-16 mm): nothing.
+      const double laid_mm = extruded_mm - made_up_mm;
+      s.laid_m = laid_mm > kRoundingMm ? laid_mm * kMetresPerMm : 0;
     }
     s.feed_m_s = feed_mm_s * kMetresPerMm;
     s.t_start_s = t_s_;

@@ -97,6 +97,9 @@ class GcodeReader {
   };
   void Warn(WarningKind kind, const std::string& text);
   int warning_index_[kWarningKinds] = {-1, -1, -1, -1, -1, -1, -1, -1};
+  // At the end (the layers known): filament laid in place inside a layer (a blob, in no
+  // bead) is warned, at its first line, with the count and the amount.
+  void WarnBlobsInLayers();
   // A line of axis words without a command ("Z10" in a legacy Cura start script): the
   // last motion command again (RS-274's modal motion), warned.
   void ModalMotion(std::string_view code, size_t pos);
@@ -107,6 +110,9 @@ class GcodeReader {
   // RepRapFirmware's M98 P"file.g": runs a macro file of the printer's (homing, probing,
   // a purge): skipped, one warning per file.
   void MacroFileCall(std::string_view params);
+  // T n (and MakerBot's M135 T n, M6 T n, M108 T n): tool n is the active one; n < 0
+  // (RepRapFirmware's T-1) changes nothing.
+  void SelectTool(int n);
   // M0, M1, M25, M226, M600, M601, M400 (called with U1 only: Bambu's pause) (a stop,
   // pause or filament change that waits for the user: Cura's Pause at Height,
   // PrusaSlicer's colour change): skipped, one warning per command, since every time
@@ -275,7 +281,7 @@ class GcodeReader {
   double feed_mm_s_ = 0;  // 0: none given yet
   double speed_factor_ = 1, saved_speed_factor_ = 1;  // M220 (and its B backup)
   std::map<int, double> flow_factor_;                 // M221 per tool (absent: 100 %)
-  int active_tool_ = 0;                               // the last T n
+  int active_tool_ = 0;                               // the last T n (or M6, M108, M135 T n)
   double retracted_mm_ = 0;  // filament drawn back since the nozzle last laid plastic (ToolpathSegment::laid_m)
   double unit_mm_ = 1;    // 25.4 under G20
   bool xyz_relative_ = false;

@@ -177,8 +177,12 @@ namespace {
 // The filament the beads take, to set beside a slicer's "filament used" (mm).
 std::string FilamentNote(const Toolpath& path) {
   const double beads_mm = path.BeadFilamentLength(false) * 1e3, in_layers_mm = path.BeadFilamentLength(true) * 1e3;
+  // Blobs: fed in place beyond what makes up a retraction (primes with extra length,
+  // purges in place, deliberate blobs); in no bead.
+  const double blobs_mm = path.BlobFilamentLength(false) * 1e3;
   return "; filament laid in beads " + Fixed(beads_mm, 3) + " mm" +
-         (in_layers_mm != beads_mm ? " (" + Fixed(in_layers_mm, 3) + " mm within the layers)" : "") + ", net fed " +
+         (in_layers_mm != beads_mm ? " (" + Fixed(in_layers_mm, 3) + " mm within the layers)" : "") +
+         (blobs_mm > 0 ? ", laid in place (blobs, in no bead) " + Fixed(blobs_mm, 3) + " mm" : "") + ", net fed " +
          Fixed(path.ExtrudedLength() * 1e3, 3) + " mm (retractions subtracted)";
 }
 

@@ -59,6 +59,14 @@ double Toolpath::BeadFilamentLength(bool within_layers) const {
   return sum;
 }
 
+double Toolpath::BlobFilamentLength(bool within_layers) const {
+  double sum = 0;
+  for (const auto& s : segments) {
+    if (s.LaysBlob() && (!within_layers || s.layer != ToolpathSegment::kNoLayer)) sum += s.laid_m;
+  }
+  return sum;
+}
+
 double Toolpath::PathLength() const {
   double sum = 0;
   for (const auto& s : segments) sum += s.length_m;

@@ -67,6 +67,11 @@ struct ToolpathSegment {
   // Lays plastic while moving across the bed: a bead (not a prime in place, not a Z move,
   // not a feed that only makes up an earlier retraction).
   bool LaysBead() const { return laid_m > 0 && xy_length_m > 0; }
+  // Lays plastic without moving across the bed (a feed in place, or with Z alone, beyond
+  // what makes up a retraction: Cura's clay start of a layer, a deliberate blob, a prime
+  // with extra length): a blob, which is in no bead (a bead needs a path; the blob's
+  // shape is the material's and the surface's, not the file's).
+  bool LaysBlob() const { return laid_m > 0 && !(xy_length_m > 0); }
   // The point at parameter u in [0, 1] (linear in path length for lines and arcs of
   // constant radius; u = 0 is start_m, u = 1 is end_m).
   Eigen::Vector3d PointAt(double u) const;
@@ -131,6 +136,9 @@ struct Toolpath {
   // start script's purge lines before the first layer): what a slicer's "filament used"
   // counts.
   double BeadFilamentLength(bool within_layers) const;
+  // The filament laid in place (ToolpathSegment::LaysBlob), all or inside a layer: with
+  // BeadFilamentLength, what a sum of E over the moves that name X or Y counts.
+  double BlobFilamentLength(bool within_layers) const;
   double PathLength() const;
   // Layers printed: the distinct layers among the moves that lay beads (outside any
   // layer counts as none), counted in each run of them that LayerSequences finds.

@@ -1,0 +1,85 @@
+// Constructs met in the fifth pass over real slicers' and printers' files (docs/sequences.md,
+// "Real files checked, fifth pass"), each as a tiny excerpt in the form the file has it.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "scene/gcode.h"
+
+namespace lt {
+namespace {
+
+using ::testing::HasSubstr;
+constexpr double kMm = 1e-3;
+
+// MakerBot's G-code (GPX, ReplicatorG) changes tools with "M135 T1" (also "M6 T1" and
+// ReplicatorG's "M108 T1"); E is then the new tool's axis, B. M135 was skipped, so E
+// stayed on A: after A3 the right extruder's "E0.5" was a 2.5 mm retraction of the left
+// one, which the next B feed made up (no bead on lines 8 and 9), and back on T0 "E4" fed
+// 3.5 mm where A feeds 1 mm.
+TEST(GcodeRealFiles5, MakerBotToolChangeByMCodeMovesEOntoB) {
+  for (const char* change : {"M135 T%", "M6 T%", "M108 T%"}) {
+    auto tool = [&](char n) {
+      std::string line(change);
+      line[line.size() - 1] = n;
+      return line + "\n";
+    };
+    const std::string text = "G92 X0 Y0 Z0 A0 B0\n" + tool('0') +
+                             "G1 X0 Y0 Z0.2 F1200\nG1 X10 Y0 A1\nG1 X10 Y10 A2\nG1 X0 Y10 A3\n" + tool('1') +
+                             "G1 X0 Y0 E0.5\nG1 X10 Y0 B1.5\n" + tool('0') + "G1 X10 Y10 E4\n";
+    Toolpath p = ParseGcode(text, "dual.gcode");
+    ASSERT_EQ(p.segments.size(), 7u) << change;
+    const double fed_mm[7] = {0, 1, 1, 1, 0.5, 1, 1};  // the moves from line 3 on
+    for (int k = 0; k < 7; ++k) {
+      EXPECT_NEAR(p.segments[size_t(k)].extruded_m / kMm, fed_mm[k], 1e-9) << change << ", line " << p.segments[size_t(k)].line;
+      EXPECT_NEAR(p.segments[size_t(k)].laid_m / kMm, fed_mm[k], 1e-9) << change << ", line " << p.segments[size_t(k)].line;
+    }
+  }
+  // Without T they select nothing (Skeinforge's "M108 S255" is a speed, RepRapFirmware's
+  // "M135 S100" a PID interval): E stays on A.
+  Toolpath p = ParseGcode(
+      "G92 A0 B0\nG1 X0 Y0 Z0.2 F1200\nG1 X10 Y0 A1\nG1 X10 Y10 A2\nM108 S255\nM135 S100\nG1 X0 Y10 E3\n", "t.gcode");
+  EXPECT_NEAR(p.BeadFilamentLength(false) / kMm, 3, 1e-9);
+}
+
+// A feed in place (no X/Y motion) that is no prime of an earlier retraction is a blob:
+// Cura 5.0's clay-style cube starts its layer with "G1 X82.0468 Y137.2064 E10" at the
+// travel's end point. It lays no bead (a bead needs a path; the blob's shape is the
+// material's), which left 10 of the file's 140 mm unaccounted for, silently. It is now
+// counted (Toolpath::BlobFilamentLength) and, within a layer, warned with the amount;
+// a prime after a retraction stays no blob.
+TEST(GcodeRealFiles5, BlobFedInPlaceIsCountedAndWarned) {
+  const std::string text =
+      ";FLAVOR:Marlin\n;Layer height: 1\nM82\nG92 E0\n;LAYER:0\n"
+      "G0 F600 X82.0468 Y137.2064 Z1\nG1 X82.0468 Y137.2064 E10\nG1 X92.0468 Y137.2064 E12\n"
+      "G1 E8 F1800\nG0 X100 Y100\nG1 E12 F1800\nG1 X110 Y100 E13\n";
+  Toolpath p = ParseGcode(text, "clay.gcode");
+  EXPECT_NEAR(p.BeadFilamentLength(true) / kMm, 3, 1e-9);
+  EXPECT_NEAR(p.BlobFilamentLength(true) / kMm, 10, 1e-9);
+  EXPECT_NEAR(p.ExtrudedLength() / kMm, 13, 1e-9);
+  ASSERT_EQ(p.warnings.size(), 1u);
+  EXPECT_EQ(p.warnings[0].line, 7);
+  EXPECT_EQ(p.warnings[0].count, 1);
+  EXPECT_THAT(p.warnings[0].text, HasSubstr("a blob"));
+  EXPECT_THAT(p.warnings[0].text, HasSubstr("10.000 mm"));
+
+  // A start script's prime or purge in place (outside the layers) is counted, not warned.
+  Toolpath start = ParseGcode("G92 E0\nG1 Z0.3 F600\nG1 E5 F300\n;LAYER:0\nG1 X10 Y0 E6\n", "start.gcode");
+  EXPECT_NEAR(start.BlobFilamentLength(false) / kMm, 5, 1e-9);
+  EXPECT_NEAR(start.BlobFilamentLength(true) / kMm, 0, 1e-12);
+  EXPECT_TRUE(start.warnings.empty());
+
+  // Slic3r's absolute E: a retraction to "E1.42602" from "E2.42602", "G92 E0" and the
+  // prime "E1.00000" make up each other up to the rounding of the differences (4e-16
+  // mm were laid: a blob of nothing, warned as "0.000 mm").
+  Toolpath slic3r = ParseGcode(
+      "G1 Z0.2 F600\nG1 X8.621 Y8.621 E2.07082\nG1 X-8.537 Y8.621 E2.42602\nG1 F1800.000 E1.42602\nG92 E0\n"
+      "G1 Z0.400 F7800.000\nG1 X8.621 Y8.621\nG1 F1800.000 E1.00000\nG1 X-8.621 Y8.621 F1800.000 E1.35694\n",
+      "slic3r.gcode");
+  for (const ToolpathSegment& s : slic3r.segments) EXPECT_FALSE(s.LaysBlob()) << "line " << s.line;
+  EXPECT_TRUE(slic3r.warnings.empty());
+}
+
+}  // namespace
+}  // namespace lt
