@@ -3,6 +3,7 @@
 #include <cmath>
 #include <optional>
 #include <stdexcept>
+#include <string>
 
 #include "core/error.h"
 
@@ -44,6 +45,10 @@ Pose ReadPose(const json::Value& v) {
     const Eigen::Vector3d view = target - eye;
     if (!up_value && view.squaredNorm() > 0 && view.normalized().cross(up).norm() < 1e-9) up = Eigen::Vector3d(0, 1, 0);
     look->Finish();
+    // look_at is a whole pose: another form's key beside it is no unknown key.
+    for (const char* key : {"translation_m", "rotation_quat_wxyz", "rotation_rpy_deg", "rotation_matrix"}) {
+      if (o.Has(key)) o.Get(key).Fail("look_at gives the whole pose (eye_m is the translation): give look_at or " + std::string(key) + ", not both");
+    }
     o.Finish();
     try {
       return LookAt(eye, target, up);

@@ -30,6 +30,13 @@ Eigen::AlignedBox3d SceneGeometry::WorldBounds() const {
 
 namespace {
 
+// A number in a warning: three significant digits.
+std::string Short(double v) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.3g", v);
+  return text;
+}
+
 // An object larger than this is no part for a laser-line scanner (working
 // ranges of centimetres to about a metre): most likely a file written in
 // millimetres (many CAD and STL converters do), read as metres.
@@ -52,12 +59,42 @@ void WarnImplausibleSizes(const SceneFile& scene, SceneGeometry* g) {
     if (object_bounds[oi].isEmpty()) continue;
     const double size = object_bounds[oi].sizes().maxCoeff();
     if (size > kImplausibleObjectSizeM) {
-      char text[64];
-      std::snprintf(text, sizeof text, "%.3g", size);
-      g->warnings.push_back("object \"" + scene.objects[oi].name + "\" is " + text +
+      g->warnings.push_back("object \"" + scene.objects[oi].name + "\" is " + Short(size) +
                             " m across; glTF is in metres: if the file is in millimetres, give the object "
                             "\"scale\": 0.001");
     }
+  }
+}
+
+// Camera values that only a wrong unit gives: the smallest pixels made are about
+// 0.5 um, the shortest lenses (fisheyes) about 1 mm, the shortest global-shutter
+// exposures about 1 us. A pitch written in millimetres or metres under
+// pixel_pitch_um (0.0048, 4.8e-6), a focal length in metres under focal_length_mm
+// (0.008) or an exposure in seconds under exposure_us (0.002) falls far below
+// these, renders black or one blur, and is otherwise accepted without a word.
+constexpr double kSmallestPixelPitchM = 0.3e-6;
+constexpr double kShortestFocalLengthM = 0.1e-3;
+constexpr double kShortestExposureS = 0.1e-6;
+
+void WarnImplausibleCamera(const SensorRig& rig, SceneGeometry* g) {
+  const Camera& cam = rig.camera;
+  if (cam.pixel_pitch_m() < kSmallestPixelPitchM) {
+    g->warnings.push_back("sensor camera pixel pitch is " + Short(cam.pixel_pitch_m() * 1e6) +
+                          " um; no sensor has pixels below 0.3 um: pixel_pitch_um is in micrometres (if it is in "
+                          "millimetres or metres, convert it)");
+  } else if (cam.image_distance_m() < kShortestFocalLengthM) {
+    g->warnings.push_back("sensor camera focal length (fx times the pixel pitch) is " +
+                          Short(cam.image_distance_m() * 1e3) +
+                          " mm; no lens is shorter than 0.1 mm: focal_length_mm is in millimetres (if it is in "
+                          "metres, multiply it by 1000)");
+  }
+  const auto& cycle = rig.shutter.params().cycle;
+  for (size_t i = 0; i < cycle.size(); ++i) {
+    if (cycle[i].exposure_s >= kShortestExposureS) continue;
+    g->warnings.push_back("sensor shutter frame \"" + cycle[i].label + "\" exposes for " +
+                          Short(cycle[i].exposure_s * 1e6) +
+                          " us; no camera exposes for less than 0.1 us: exposures are in microseconds (if it is in "
+                          "seconds, multiply it by 1e6)");
   }
 }
 
@@ -70,9 +107,7 @@ void WarnImplausibleRig(const SensorRig& rig, SceneGeometry* g) {
   auto check = [&](const std::string& what, const Pose& cam_from_emitter) {
     const double d = cam_from_emitter.translation().norm();
     if (!(d > kImplausibleEmitterDistanceM)) return;
-    char text[64];
-    std::snprintf(text, sizeof text, "%.3g", d);
-    g->warnings.push_back(what + " is " + text + " m from the camera; its translation_m is in metres: if it is in "
+    g->warnings.push_back(what + " is " + Short(d) + " m from the camera; its translation_m is in metres: if it is in "
                           "millimetres, divide it by 1000");
   };
   for (size_t i = 0; i < rig.lasers.size(); ++i) {
@@ -80,6 +115,7 @@ void WarnImplausibleRig(const SensorRig& rig, SceneGeometry* g) {
   }
   if (rig.pattern) check("sensor pattern projector", rig.pattern->cam_from_projector());
   if (rig.led) check("sensor LED", rig.led->cam_from_led());
+  WarnImplausibleCamera(rig, g);
 }
 
 }  // namespace

@@ -258,6 +258,26 @@ TEST(SceneFile, LookAtStraightDownWithoutUpIsAPlanView) {
             "scene.json: /motion/world_from_cam/look_at: eye and target coincide");
 }
 
+// A pose with look_at and another form's key: the other key was called unknown
+// ('/motion/world_from_cam/translation_m: unknown key "translation_m" (known keys:
+// look_at)'), though the docs' pose table lists it.
+TEST(SceneFile, LookAtBesideAnotherPoseFormIsNamed) {
+  auto pose = [](const std::string& world_from_cam) {
+    std::string text = R"({"objects": [{"name": "a", "gltf": "../gltf/square.gltf"}], )";
+    text += kSensor;
+    text += R"(, "motion": {"type": "static", "world_from_cam": {)" + world_from_cam + "}}}";
+    return Parse(text);
+  };
+  const std::string look = R"("look_at": {"eye_m": [0, 0, 1], "target_m": [0, 0, 0]})";
+  EXPECT_EQ(ErrorOf([&] { pose(look + R"(, "translation_m": [0, 0, 1])"); }),
+            "scene.json: /motion/world_from_cam/translation_m: look_at gives the whole pose (eye_m is the "
+            "translation): give look_at or translation_m, not both");
+  EXPECT_EQ(ErrorOf([&] { pose(R"("rotation_rpy_deg": [180, 0, 0], )" + look); }),
+            "scene.json: /motion/world_from_cam/rotation_rpy_deg: look_at gives the whole pose (eye_m is the "
+            "translation): give look_at or rotation_rpy_deg, not both");
+  EXPECT_NO_THROW(pose(look));
+}
+
 // A folder given for the scene file (`lasertwin render scenes/demo`) was read as
 // empty JSON: "scenes/demo:1:1: invalid JSON: ... unexpected end of input".
 TEST(SceneFile, AFolderIsNotASceneFile) {
@@ -330,6 +350,33 @@ TEST(SceneGeometry, EmittersFarFromTheCameraAreWarned) {
               ::testing::ElementsAre("sensor laser 0 is 40 m from the camera; its translation_m is in metres: if it is "
                                      "in millimetres, divide it by 1000",
                                      HasSubstr("sensor LED is 30 m from the camera")));
+}
+
+// A camera pitch, focal length or exposure written in the wrong unit (metres under
+// pixel_pitch_um, metres under focal_length_mm, seconds under exposure_us) loaded
+// without a word and rendered black frames.
+TEST(SceneGeometry, CameraValuesInTheWrongUnitAreWarned) {
+  auto warnings = [&](const std::string& pitch_um, const std::string& focal_mm, const std::string& exposure_us) {
+    SceneFile s = Parse(R"({"objects": [{"name": "a", "gltf": "../gltf/square.gltf", "material": "m"}],
+      "materials": {"m": {"base_color": [0.5, 0.5, 0.5]}},
+      "sensor": {"camera": {"resolution": [64, 48], "f_number": 4, "pixel_pitch_um": )" + pitch_um +
+                        R"(, "focal_length_mm": )" + focal_mm + R"(},
+        "shutter": {"frame_period_ms": 10, "alternating": {"bright_exposure_us": 2000, "dim_exposure_us": )" +
+                        exposure_us + "}}}}");
+    return LoadSceneGeometry(s).warnings;
+  };
+  EXPECT_THAT(warnings("4.8", "8", "100"), ::testing::IsEmpty());
+  EXPECT_THAT(warnings("0.56", "1.05", "1"), ::testing::IsEmpty());  // a phone's pixels, a fisheye, 1 us
+  EXPECT_THAT(warnings("4.8e-6", "8", "100"),
+              ::testing::ElementsAre("sensor camera pixel pitch is 4.8e-06 um; no sensor has pixels below 0.3 um: "
+                                     "pixel_pitch_um is in micrometres (if it is in millimetres or metres, convert it)"));
+  EXPECT_THAT(warnings("4.8", "0.008", "100"),
+              ::testing::ElementsAre(HasSubstr("sensor camera focal length (fx times the pixel pitch) is 0.008 mm; no "
+                                               "lens is shorter than 0.1 mm: focal_length_mm is in millimetres")));
+  EXPECT_THAT(warnings("4.8", "8", "0.0001"),
+              ::testing::ElementsAre("sensor shutter frame \"dim\" exposes for 0.0001 us; no camera exposes for less "
+                                     "than 0.1 us: exposures are in microseconds (if it is in seconds, multiply it by "
+                                     "1e6)"));
 }
 
 TEST(SceneGeometry, ObjectsShareTheirGltfAndKeepTheirPoses) {
