@@ -19,6 +19,26 @@ std::string Where(const std::string& name, size_t line) { return name + ":" + st
 
 bool UnitQuaternion(const Eigen::Quaterniond& q) { return std::abs(q.norm() - 1.0) <= kQuaternionTolerance; }
 
+bool EightNumbers(const std::vector<std::string_view>& fields) {
+  return fields.size() == 8 &&
+         std::all_of(fields.begin(), fields.end(), [](std::string_view f) { return ParseFiniteNumber(f).has_value(); });
+}
+
+// A line the format cannot read that is a line of the other format (a TUM file read
+// as the default CSV, a CSV file given "format": "tum"), or CSV poses before the
+// header: what to change, after the error.
+std::string OtherFormatHint(std::string_view line, PoseFileFormat format) {
+  if (format == PoseFileFormat::kCsv) {
+    if (EightNumbers(SplitBlanks(line))) {
+      return " (8 numbers separated by blanks: a TUM trajectory? give the motion \"format\": \"tum\")";
+    }
+    if (EightNumbers(SplitFields(line, ','))) return " (a pose before the header: the header comes first)";
+  } else if (SplitFields(line, ',').size() == 8) {
+    return " (fields separated by commas: a CSV pose list? leave out the motion's \"format\": \"tum\")";
+  }
+  return "";
+}
+
 }  // namespace
 
 PoseTrajectory ParsePoseList(const std::string& text, PoseFileFormat format, const std::string& display_name) {
@@ -40,7 +60,10 @@ PoseTrajectory ParsePoseList(const std::string& text, PoseFileFormat format, con
     if (format == PoseFileFormat::kCsv && !header_seen) {
       bool ok = fields.size() == 8;
       for (size_t i = 0; ok && i < 8; ++i) ok = fields[i] == kCsvHeader[i];
-      if (!ok) throw InputError(where, "expected the header \"t_s,x_m,y_m,z_m,qw,qx,qy,qz\", got \"" + std::string(line) + "\"");
+      if (!ok) {
+        throw InputError(where, "expected the header \"t_s,x_m,y_m,z_m,qw,qx,qy,qz\", got \"" + std::string(line) +
+                                    "\"" + OtherFormatHint(line, format));
+      }
       header_seen = true;
       continue;
     }
@@ -48,7 +71,8 @@ PoseTrajectory ParsePoseList(const std::string& text, PoseFileFormat format, con
       throw InputError(where, "expected 8 fields (" +
                                   std::string(format == PoseFileFormat::kCsv ? "t_s,x_m,y_m,z_m,qw,qx,qy,qz"
                                                                              : "timestamp tx ty tz qx qy qz qw") +
-                                  "), got " + std::to_string(fields.size()));
+                                  "), got " + std::to_string(fields.size()) +
+                                  (format == PoseFileFormat::kTum ? OtherFormatHint(line, format) : ""));
     }
     double v[8];
     for (size_t i = 0; i < 8; ++i) {

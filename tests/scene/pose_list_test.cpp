@@ -127,6 +127,25 @@ TEST(PoseList, BadFilesNameTheFileAndLine) {
               HasSubstr("missing.csv: cannot open file"));
 }
 
+// A TUM trajectory read with the default "format" (csv), a CSV file given "tum", and
+// CSV poses without their header were refused with the bare "expected the header"
+// or "expected 8 fields", which did not say that "format" was what to change.
+TEST(PoseList, AFileOfTheOtherFormatSaysWhatToChange) {
+  EXPECT_EQ(ErrorOf([&] { ParsePoseList("# TUM\n1700000000.0 0 0 0.1 0 0 0 1\n", PoseFileFormat::kCsv, "p.txt"); }),
+            "p.txt:2: expected the header \"t_s,x_m,y_m,z_m,qw,qx,qy,qz\", got \"1700000000.0 0 0 0.1 0 0 0 1\" (8 "
+            "numbers separated by blanks: a TUM trajectory? give the motion \"format\": \"tum\")");
+  EXPECT_THAT(ErrorOf([&] { ParsePoseList("0,0,0,0.1,1,0,0,0\n1,0,0,0.1,1,0,0,0\n", PoseFileFormat::kCsv, "p.csv"); }),
+              ::testing::EndsWith("(a pose before the header: the header comes first)"));
+  EXPECT_THAT(ErrorOf([&] { ParsePoseList("t_s,x_m,y_m,z_m,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n", PoseFileFormat::kTum, "p.csv"); }),
+              ::testing::EndsWith("got 1 (fields separated by commas: a CSV pose list? leave out the motion's "
+                                  "\"format\": \"tum\")"));
+  // Other bad lines get no hint.
+  EXPECT_THAT(ErrorOf([&] { ParsePoseList("t,x,y,z,qw,qx,qy,qz\n", PoseFileFormat::kCsv, "p.csv"); }),
+              ::testing::EndsWith("got \"t,x,y,z,qw,qx,qy,qz\""));
+  EXPECT_THAT(ErrorOf([&] { ParsePoseList("t_s,x_m,y_m,z_m,qw,qx,qy,qz\n0 0 0 0 1 0 0 0\n", PoseFileFormat::kCsv, "p.csv"); }),
+              ::testing::EndsWith("got 1"));
+}
+
 TEST(PoseList, CrlfAndCommentsAreAccepted) {
   PoseTrajectory traj = ParsePoseList(
       "t_s,x_m,y_m,z_m,qw,qx,qy,qz\r\n# comment\r\n0, 0,0,0, 1,0,0,0\r\n\r\n2,+1.,0,0,1,0,0,0\r\n", PoseFileFormat::kCsv,
