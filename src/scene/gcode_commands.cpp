@@ -89,7 +89,12 @@ bool HasWord(std::string_view text, std::string_view word) {
 void GcodeReader::SelectTool(int n) {
   if (n < 0 || n == active_tool_) return;  // RepRapFirmware's T-1 deselects: no tool's settings change
   active_tool_ = n;   // the tool whose flow (M221) applies and whose axis E is (ExtruderSlot)
-  retracted_mm_ = 0;  // the new tool's filament: loaded to its nozzle by the firmware or the tool changer
+  // The new tool's filament: loaded to its nozzle by the firmware or the tool changer
+  // (an MMU), or left retracted when the tool was parked (two nozzles: the slicer primes
+  // it in place after the change, "T0 / G1 F1200 E8.5"). Which is the printer's, so the
+  // feeds in place before the tool's first bead refill its nozzle: no blob.
+  retracted_mm_ = 0;
+  new_tool_unprimed_ = true;
 }
 
 // Axis words without a command on their line: the last G0-G3 again, as RS-274 makes the

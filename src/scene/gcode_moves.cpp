@@ -143,8 +143,11 @@ void GcodeReader::AddSegment(int gcode, const Eigen::Vector3d& end_mm, double ex
     if (extruded_mm < 0) {
       retracted_mm_ -= extruded_mm;
     } else {
-      const double made_up_mm = std::min(extruded_mm, retracted_mm_);
-      retracted_mm_ -= made_up_mm;
+      // After a tool change, feeds in place until the tool's first bead refill its nozzle.
+      const bool refill = new_tool_unprimed_ && !(xy_length_mm > 0);
+      if (extruded_mm > 0 && xy_length_mm > 0) new_tool_unprimed_ = false;
+      const double made_up_mm = refill ? extruded_mm : std::min(extruded_mm, retracted_mm_);
+      retracted_mm_ = std::max(0.0, retracted_mm_ - made_up_mm);
       // What is left of a prime that makes up its retraction by the file's numbers is
       // the rounding of differences of absolute E ("E2.42602" -> "E1.42602", then "G92
       // E0", "E1": 4e-16 mm): nothing.

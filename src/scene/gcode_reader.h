@@ -283,6 +283,7 @@ class GcodeReader {
   std::map<int, double> flow_factor_;                 // M221 per tool (absent: 100 %)
   int active_tool_ = 0;                               // the last T n (or M6, M108, M135 T n)
   double retracted_mm_ = 0;  // filament drawn back since the nozzle last laid plastic (ToolpathSegment::laid_m)
+  bool new_tool_unprimed_ = false;  // a tool change since the last bead: feeds in place refill the nozzle (SelectTool)
   double unit_mm_ = 1;    // 25.4 under G20
   bool xyz_relative_ = false;
   enum class EMode { kNone, kAbsolute, kRelative } e_mode_ = EMode::kNone;  // the last M82/M83

@@ -70,6 +70,18 @@ TEST(GcodeRealFiles5, BlobFedInPlaceIsCountedAndWarned) {
   EXPECT_NEAR(start.BlobFilamentLength(true) / kMm, 0, 1e-12);
   EXPECT_TRUE(start.warnings.empty());
 
+  // A printer with two nozzles primes the new tool in place after a change (Cura 4.9.1
+  // for a QIDI i-Fast: "G1 F1200 E89.20347" retracts the old tool 8.5 mm, then "G92 E0",
+  // "T0", "G92 E0", "G1 F1200 E8.5"): the new tool's nozzle is refilled, no blob, though
+  // the reader does not know how far that tool was retracted when it was parked.
+  Toolpath dual = ParseGcode(
+      ";LAYER:0\nG1 Z0.3 F600\nG1 X10 Y0 E5 F1350\nG1 F1200 E-3.5\nG92 E0\nT1\nG92 E0\nG0 X20 Y0\n"
+      "G1 F1200 E8.5\nG1 X30 Y0 E9.5\nG1 F1200 E1\nG92 E0\nT0\nG92 E0\nG1 F1200 E8.5\nG1 X30 Y10 E10\n",
+      "dual.gcode");
+  EXPECT_NEAR(dual.BlobFilamentLength(false) / kMm, 0, 1e-12);
+  EXPECT_NEAR(dual.BeadFilamentLength(false) / kMm, 5 + 1 + 1.5, 1e-9);
+  EXPECT_TRUE(dual.warnings.empty());
+
   // Slic3r's absolute E: a retraction to "E1.42602" from "E2.42602", "G92 E0" and the
   // prime "E1.00000" make up each other up to the rounding of the differences (4e-16
   // mm were laid: a blob of nothing, warned as "0.000 mm").
