@@ -9,6 +9,7 @@
 #include "core/text_fields.h"
 #include "core/image_io.h"
 #include "pipeline/demosaic.h"
+#include "pipeline/image_file_facts.h"
 
 namespace lt {
 
@@ -71,14 +72,19 @@ AnyImage CornerDetectionImage(AnyImage image, ColorFilter filter) {
 
 PhotoCameraResult CalibrateCameraFromImages(const std::vector<fs::path>& images, const CheckerboardSpec& board,
                                             const CameraCalibrationOptions& options,
-                                            const CornerDetectionOptions& corners, ColorFilter color_filter) {
+                                            const CornerDetectionOptions& corners, ColorFilter color_filter,
+                                            const std::function<void(const std::string&)>& warn) {
   options.Check();
   corners.Check();
   board.Check();
   PhotoCameraResult r;
   std::vector<CalibrationView> views;
+  ImageFileWarner warner(warn, "image");
   for (const fs::path& path : images) {
-    AnyImage image = ReadImage(path, AlphaChannel::kDrop);  // alpha is coverage, not light (as scan's frames)
+    ImageFileFacts facts;
+    AnyImage image = ReadImage(path, AlphaChannel::kDrop, &facts);  // alpha is coverage, not light (as scan's frames)
+    // The corners need no linear values: the Orientation tag alone is said.
+    warner.Check(path.string(), facts, /*transfer_given=*/true);
     const auto [w, h, c] = std::visit([](const auto& i) { return std::tuple{i.width, i.height, i.channels}; }, image);
     if (r.views.empty()) {
       r.width = w, r.height = h;
@@ -95,6 +101,7 @@ PhotoCameraResult CalibrateCameraFromImages(const std::vector<fs::path>& images,
     }
     r.views.push_back(std::move(v));
   }
+  warner.SayRepeats();
   r.calibration = CalibrateCamera(views, r.width, r.height, options);
   return r;
 }

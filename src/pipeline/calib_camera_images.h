@@ -5,6 +5,8 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
+#include <string>
 #include <vector>
 
 #include "pipeline/calib_camera.h"
@@ -43,11 +45,14 @@ struct PhotoCameraResult {
 // unreadable image, and for an image whose size differs from the first
 // one's (both sizes in the message): the intrinsics belong to one image size.
 // `color_filter` (`--bayer`): the one-channel images are that colour sensor's
-// raw mosaics (CornerDetectionImage); kMono: they are grey.
+// raw mosaics (CornerDetectionImage); kMono: they are grey. An image's
+// Orientation tag (a phone's photo) is not applied: `warn` is told so, once,
+// with the count of the other images it holds for at the end (ImageFileWarner).
 PhotoCameraResult CalibrateCameraFromImages(const std::vector<std::filesystem::path>& images,
                                             const CheckerboardSpec& board,
                                             const CameraCalibrationOptions& options = {},
                                             const CornerDetectionOptions& corners = {},
-                                            ColorFilter color_filter = ColorFilter::kMono);
+                                            ColorFilter color_filter = ColorFilter::kMono,
+                                            const std::function<void(const std::string&)>& warn = {});
 
 }  // namespace lt

@@ -24,6 +24,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -37,6 +38,7 @@
 #include "pipeline/calib_session_run.h"
 #include "pipeline/calib_target_pose.h"
 #include "pipeline/extraction_options.h"
+#include "pipeline/image_file_facts.h"
 #include "pipeline/plane_identification.h"
 #include "sensor/camera.h"
 
@@ -76,10 +78,18 @@ std::string ShutterHint(const SessionRun& run, const std::vector<SessionView>& v
 // The views of a run: every frame without laser light starts one; a laser
 // frame right after it is its dim frame. Corners are detected on the bright
 // frames (a colour sensor's mosaic, run.rig.color_filter, through
-// CornerDetectionImage, pipeline/calib_camera_images.h). Throws lt::InputError for an unreadable run or image, or a run
-// without bright frames.
+// CornerDetectionImage, pipeline/calib_camera_images.h). The frames are read
+// as scan reads them (pipeline/frame_image_reader.h); an Orientation tag goes
+// to `warner` (null: nowhere). Throws lt::InputError for an unreadable run or
+// image, or a run without bright frames.
 std::vector<SessionView> ReadSessionViews(const SessionRun& run, const CheckerboardSpec& board,
-                                          const CornerDetectionOptions& corners = {});
+                                          const CornerDetectionOptions& corners = {},
+                                          ImageFileWarner* warner = nullptr);
+
+// The Calibrate* functions below give what the frames' files declare and is
+// not applied (ImageFileWarnings: Orientation; a transfer-curve tag on the
+// laser step's dim frames) to `warn`, each once a run, with the count of the
+// other frames it holds for at the end (ImageFileWarner), as scan does.
 
 struct SessionCameraResult {
   std::vector<SessionView> views;
@@ -88,7 +98,8 @@ struct SessionCameraResult {
 };
 SessionCameraResult CalibrateSessionCamera(const SessionRun& run, const CheckerboardSpec& board,
                                            const CameraCalibrationOptions& options = {},
-                                           const CornerDetectionOptions& corners = {});
+                                           const CornerDetectionOptions& corners = {},
+                                           const std::function<void(const std::string&)>& warn = {});
 
 struct SessionLaserOptions {
   // As `scan` (pipeline/frame_extraction.h): threshold kAuto, 10% of the
@@ -98,6 +109,9 @@ struct SessionLaserOptions {
   // The method was not chosen: with several sheets multicom (com and max find
   // one stripe per search line), else extraction.method; as scan's.
   bool method_from_planes = false;
+  // --transfer was given (even linear): no warning about a dim frame's
+  // transfer-curve tag, as scan's ScanOptions::transfer_given.
+  bool transfer_given = false;
   // Unset: from the run rig's nominal planes (StripeAxis); without planes, the
   // axis finding more stripe points on the first dim frame read.
   std::optional<SearchAxis> axis;
@@ -144,7 +158,8 @@ struct SessionLaserResult {
   bool mosaic_mean = false;
 };
 SessionLaserResult CalibrateSessionLaser(const SessionRun& run, const CheckerboardSpec& board, const Camera& camera,
-                                         const SessionLaserOptions& options = {});
+                                         const SessionLaserOptions& options = {},
+                                         const std::function<void(const std::string&)>& warn = {});
 
 // Multi-line stripes on the flat target: each sheet's stripe is one straight
 // line across the board (up to lens distortion), broken into pieces where it
@@ -169,6 +184,7 @@ struct SessionHandEyeResult {
 };
 SessionHandEyeResult CalibrateSessionHandEye(const SessionRun& run, const CheckerboardSpec& board,
                                              const Camera& camera, const HandEyeOptions& options = {},
-                                             const CornerDetectionOptions& corners = {});
+                                             const CornerDetectionOptions& corners = {},
+                                             const std::function<void(const std::string&)>& warn = {});
 
 }  // namespace lt

@@ -22,7 +22,37 @@ const char* OrientationText(int orientation) {
   return "unknown";
 }
 
+// "its sBIT chunk declares 12 significant bits, stored unscaled (no sample
+// above 4095)": what a file with facts.unscaled_full_scale says.
+std::string UnscaledBitsClause(const ImageFileFacts& facts) {
+  return "its sBIT chunk declares " + std::to_string(facts.significant_bits) +
+         " significant bits, stored unscaled (no sample above " + FormatNumber(facts.unscaled_full_scale) + ")";
+}
+
 }  // namespace
+
+ImageFileWarner::ImageFileWarner(std::function<void(const std::string&)> warn, std::string noun)
+    : warn_(std::move(warn)), noun_(std::move(noun)) {}
+
+void ImageFileWarner::Say(const std::string& file, const std::string& text) {
+  auto& [first, count] = seen_[text];
+  if (count++ > 0) return;
+  first = file;
+  if (warn_) warn_(file + ": " + text);
+}
+
+void ImageFileWarner::Check(const std::string& file, const ImageFileFacts& facts, bool transfer_given) {
+  for (const std::string& w : ImageFileWarnings(facts, transfer_given)) Say(file, w);
+}
+
+void ImageFileWarner::SayRepeats() const {
+  if (!warn_) return;
+  for (const auto& [text, seen] : seen_) {
+    if (seen.second < 2) continue;
+    warn_("the same as for " + seen.first + " (" + text.substr(0, text.find(':')) + ") holds for " +
+          std::to_string(seen.second - 1) + " more " + noun_ + (seen.second > 2 ? "s" : ""));
+  }
+}
 
 std::vector<std::string> ImageFileWarnings(const ImageFileFacts& facts, bool transfer_given) {
   std::vector<std::string> out;
@@ -51,9 +81,7 @@ std::vector<std::string> ImageFileWarnings(const ImageFileFacts& facts, bool tra
 
 std::string UnscaledBitsNote(const ImageFileFacts& facts) {
   if (facts.unscaled_full_scale <= 0) return "";
-  return "its sBIT chunk declares " + std::to_string(facts.significant_bits) +
-         " significant bits, stored unscaled (no sample above " + FormatNumber(facts.unscaled_full_scale) +
-         "): the default threshold is 10% of " + FormatNumber(facts.unscaled_full_scale);
+  return UnscaledBitsClause(facts) + ": the default threshold is 10% of " + FormatNumber(facts.unscaled_full_scale);
 }
 
 std::string FloatScaleNote(double largest) {
@@ -70,10 +98,8 @@ int DeclaredUnscaledBits(const ImageFileFacts& facts) {
 ExtractionOptions OptionsForImageFile(const ExtractionOptions& o, const ImageFileFacts& facts) {
   if (facts.unscaled_full_scale <= 0) return o;
   if (o.transfer != Transfer::kLinear) {
-    throw InputError("", "its sBIT chunk declares " + std::to_string(facts.significant_bits) +
-                             " significant bits stored unscaled (no sample above " +
-                             FormatNumber(facts.unscaled_full_scale) +
-                             "): --transfer decodes samples on the full 8- or 16-bit scale only; scale the image's "
+    throw InputError("", UnscaledBitsClause(facts) +
+                             ": --transfer decodes samples on the full 8- or 16-bit scale only; scale the image's "
                              "values to it first");
   }
   ExtractionOptions out = o;

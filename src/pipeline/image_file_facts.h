@@ -4,7 +4,11 @@
 // real cameras").
 #pragma once
 
+#include <cstddef>
+#include <functional>
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/image_io.h"
@@ -20,6 +24,31 @@ namespace lt {
 // degrees clockwise)"), so a caller can name it again. Empty when there is
 // nothing to say.
 std::vector<std::string> ImageFileWarnings(const ImageFileFacts& facts, bool transfer_given);
+
+// Says each warning about a run's files once, on the first file it concerns (a
+// batch of a phone's JPEGs would repeat it for every one), and counts the
+// other files it holds for, as extract, scan and calibrate report
+// ImageFileWarnings.
+class ImageFileWarner {
+ public:
+  // `warn` gets each line without "warning: " (none when empty); `noun` names
+  // the files in the count ("image", "frame").
+  ImageFileWarner(std::function<void(const std::string&)> warn, std::string noun);
+  // Says "FILE: text" the first time `text` comes in the run; later ones are
+  // counted.
+  void Say(const std::string& file, const std::string& text);
+  // ImageFileWarnings(facts, transfer_given) of `file`, each through Say.
+  void Check(const std::string& file, const ImageFileFacts& facts, bool transfer_given);
+  // At the end of the run: for each text that came for several files, in text
+  // order, "the same as for FIRST (HEAD) holds for N more NOUNs", HEAD being
+  // the text up to its first ':' (what the file has, for ImageFileWarnings).
+  void SayRepeats() const;
+
+ private:
+  std::function<void(const std::string&)> warn_;
+  std::string noun_;
+  std::map<std::string, std::pair<std::string, size_t>> seen_;  // text -> first file, files
+};
 
 // The note for an image whose declared bits are stored unscaled (its default
 // threshold follows them), e.g. "its sBIT chunk declares 12 significant bits,

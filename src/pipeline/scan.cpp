@@ -7,7 +7,6 @@
 #include <type_traits>
 #include <map>
 #include <memory>
-#include <set>
 #include <tuple>
 
 #include "core/error.h"
@@ -18,6 +17,7 @@
 #include "pipeline/channel_weights.h"
 #include "pipeline/colorize.h"
 #include "pipeline/frame_extraction.h"
+#include "pipeline/frame_image_reader.h"
 #include "pipeline/image_file_facts.h"
 #include "pipeline/plane_id_sheets.h"
 #include "pipeline/scan_cloud.h"
@@ -208,7 +208,8 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
   bool warned_colour_default = false;
   bool warned_unknown_depth = false;
   bool warned_above_depth = false;
-  std::set<std::string> file_warnings;  // ImageFileWarnings already given: each once a scan
+  ImageFileWarner file_warnings(warn, "frame");  // each once a scan, counted for the other frames
+  const bool warn_transfer_tags = !options.transfer_given && options.extraction.transfer == Transfer::kLinear;
   std::vector<int> flooded;  // frames without shutter keys, mostly above the threshold
   std::vector<PendingPoint> pending;
   bool all_posed = true, any_posed = false, all_labelled = true;
@@ -226,21 +227,8 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     // earlier scan would pass for this scan's, which may stop on a bad frame.
     if (summary.laser_frames == 0) fs::remove(run_dir / "cloud.ply", ec);
     fs::remove(run_dir / ScanCentersName(frame.index), ec);
-    AnyImage image;
-    try {
-      ImageFileFacts facts;
-      image = ReadImage(frame.image, AlphaChannel::kDrop, &facts);  // a camera frame's alpha is coverage, not light
-      // Bits a PNG's sBIT chunk declares, stored unscaled, are the frame's bit
-      // depth (threshold, saturation) when nothing else gives one.
-      if (frame.bit_depth <= 0) frame.bit_depth = DeclaredUnscaledBits(facts);
-      // A transfer tag or an Orientation tag, as extract says them: once, on the first frame.
-      for (const std::string& w : ImageFileWarnings(facts, options.transfer_given || options.extraction.transfer != Transfer::kLinear)) {
-        if (file_warnings.insert(w).second) warn(frame.image.string() + ": " + w);
-      }
-    } catch (const InputError& e) {
-      throw InputError(e.where(), e.message() + context);
-    }
-    CheckFrameImageSize(image, frame, camera, summary.plane_source.string());
+    // Its bit depth may come from its file's sBIT; its tags are said once a scan.
+    const AnyImage image = ReadFrameImage(&frame, camera, summary.plane_source.string(), &file_warnings, warn_transfer_tags);
     const int width = camera.width(), height = camera.height();
     const double type_full_scale = ImageTypeFullScale(image);
     const SearchAxis axis = options.axis ? *options.axis : frame.gt_axis ? *frame.gt_axis : planes_axis;
@@ -378,6 +366,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
     summary.frames.push_back(fs_summary);
     ++summary.laser_frames;
   }
+  file_warnings.SayRepeats();
   if (!flooded.empty()) warn(FloodLitWarning(flooded, options.shutter, listed.from_listing));
   if (summary.laser_frames == 0) {
     throw InputError(listed.source.string(),

@@ -5,6 +5,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <OpenImageIO/imageio.h>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -344,6 +346,79 @@ TEST(CalibrateExtraction, SeveralSheetsTakeMulticom) {
   EXPECT_EQ(ReadCalibrationFile(dir / "default.yaml").laser_planes.size(), 3u);
   EXPECT_EQ(r[1].exit_code, 2);
   EXPECT_THAT(r[1].err, HasSubstr("laser plane calibration refused"));
+}
+
+// How many times `what` stands in `text`.
+size_t Count(const std::string& text, const std::string& what) {
+  size_t n = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+// Writes every frame of `folder` again as a TIFF with an Orientation tag (as
+// a camera's TIFF or a phone's JPEG has it; OpenImageIO writes none in a PNG),
+// the pixels as they were.
+void TagOrientation(const fs::path& folder, int orientation) {
+  std::vector<fs::path> pngs;
+  for (const auto& e : fs::directory_iterator(folder)) pngs.push_back(e.path());
+  for (const fs::path& png : pngs) {
+    const Image<uint16_t> im = std::get<Image<uint16_t>>(ReadImage(png));
+    const std::string tif = fs::path(png).replace_extension(".tif").string();
+    OIIO::ImageSpec spec(im.width, im.height, 1, OIIO::TypeDesc::UINT16);
+    spec.attribute("Orientation", orientation);
+    auto out = OIIO::ImageOutput::create(tif);
+    ASSERT_TRUE(out && out->open(tif, spec));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT16, im.pixels.data()));
+    ASSERT_TRUE(out->close());
+    fs::remove(png);
+  }
+}
+
+// What a frame's file declares and is not applied is said as scan says it
+// (pipeline/frame_image_reader.h), once a run, with the count of the other
+// frames at the end. An sRGB chunk on every frame: the laser step warns on the
+// first dim frame and counts the other 5 (the bright frames' corners need no
+// linear values); --transfer linear silences it. An Orientation tag on every
+// frame: the laser step warns on the first bright frame and counts the other
+// 11; the camera step, on the capture and on its bright frames as a folder of
+// photographs, counts the other 5. Before, calibrate said none of this.
+TEST(CalibrateExtraction, FileTagsAreSaidOnceAsScanSaysThem) {
+  ASSERT_TRUE(RenderedSession().ok);
+  const Capture s = MakeCapture("calib_x_srgb_tag");
+  for (const auto& e : fs::directory_iterator(s.capture / "frames")) {
+    InsertPngChunk(e.path(), "sRGB", std::string(1, char(0)));
+  }
+  const Capture o = MakeCapture("calib_x_orientation");
+  TagOrientation(o.capture / "frames", 6);
+  const fs::path photos = o.dir / "photos";
+  fs::create_directories(photos);
+  for (const char* f : {"000000.tif", "000002.tif", "000004.tif", "000006.tif", "000008.tif", "000010.tif"}) {
+    fs::copy_file(o.capture / "frames" / f, photos / f);
+  }
+  const std::string board = " --fix-k3 --board " + Quoted(RenderedSession().dir / "session/checkerboard.json");
+  const std::vector<CliResult> r = RunMany({
+      "calibrate laser " + Quoted(s.capture) + s.args + " --quiet --out " + Quoted(s.dir / "srgb.yaml"),
+      "calibrate laser " + Quoted(s.capture) + s.args + " --transfer linear --quiet --out " + Quoted(s.dir / "lin.yaml"),
+      "calibrate laser " + Quoted(o.capture) + o.args + " --quiet --out " + Quoted(o.dir / "laser.yaml"),
+      "calibrate camera " + Quoted(o.capture) + " --shutter alternate-bright-first" + board + " --quiet --out " +
+          Quoted(o.dir / "camera.yaml"),
+      "calibrate camera " + Quoted(photos) + board + " --quiet --out " + Quoted(o.dir / "photos.yaml"),
+  });
+  for (const CliResult& x : r) ASSERT_EQ(x.exit_code, 0) << x.err;
+  const std::string srgb = "has an sRGB chunk: its values encode light by the sRGB curve, but are read as linear: "
+                           "give --transfer srgb to linearize them";
+  EXPECT_EQ(Count(r[0].err, srgb), 1u) << r[0].err;
+  EXPECT_THAT(r[0].err, HasSubstr("frames/000001.png: " + srgb));
+  EXPECT_THAT(r[0].err, HasSubstr("frames/000001.png (has an sRGB chunk) holds for 5 more frames\n"));
+  EXPECT_THAT(r[1].err, ::testing::Not(HasSubstr("sRGB")));
+  const std::string turned = ": has an Orientation tag of 6 (shown turned 90 degrees clockwise): it is not applied";
+  for (const size_t k : {size_t(2), size_t(3), size_t(4)}) {
+    EXPECT_EQ(Count(r[k].err, turned), 1u) << r[k].err;
+    EXPECT_THAT(r[k].err, HasSubstr("000000.tif" + turned));
+    EXPECT_THAT(r[k].err, HasSubstr("000000.tif (has an Orientation tag of 6 (shown turned 90 degrees clockwise)) "
+                                    "holds for " + std::string(k == 2 ? "11 more frames" : k == 3 ? "5 more frames"
+                                                                                                  : "5 more images")));
+  }
 }
 
 }  // namespace

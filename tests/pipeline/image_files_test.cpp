@@ -163,6 +163,35 @@ TEST(ImageFileWarnings, NameTheTagAndTheOptionThatFollowsIt) {
             std::string::npos);
 }
 
+// Each text once, on the first file it concerns; the count of the others at the
+// end, per text, in text order, "frame" or "frames" as they number.
+TEST(ImageFileWarner, EachTextOnceThenTheCountOfTheOthers) {
+  std::vector<std::string> said;
+  ImageFileWarner w([&](const std::string& line) { said.push_back(line); }, "frame");
+  w.Say("a.png", "has X: x");
+  w.Say("b.png", "has X: x");
+  w.Say("b.png", "has Y: y");
+  w.Say("c.png", "has X: x");
+  ImageFileFacts tagged;
+  tagged.orientation = 3;
+  w.Check("c.png", tagged, true);
+  w.Check("d.png", tagged, true);
+  ASSERT_EQ(said.size(), 3u);
+  EXPECT_EQ(said[0], "a.png: has X: x");
+  EXPECT_EQ(said[1], "b.png: has Y: y");
+  EXPECT_EQ(said[2].rfind("c.png: has an Orientation tag of 3 (shown turned 180 degrees): it is not applied", 0), 0u)
+      << said[2];
+  said.clear();
+  w.SayRepeats();
+  ASSERT_EQ(said.size(), 2u);
+  EXPECT_EQ(said[0], "the same as for a.png (has X) holds for 2 more frames");
+  EXPECT_EQ(said[1], "the same as for c.png (has an Orientation tag of 3 (shown turned 180 degrees)) holds for 1 more frame");
+  ImageFileWarner quiet({}, "image");  // no function: nothing said, nothing thrown
+  quiet.Say("a.png", "has X: x");
+  quiet.Say("b.png", "has X: x");
+  quiet.SayRepeats();
+}
+
 // A float image of counts (ImageJ's 32-bit TIFF, a uint32 TIFF) is above the
 // default threshold, 0.1, everywhere: named, with a threshold in its units.
 TEST(ImageFileNotes, FloatImagesOfCountsAreNamed) {
@@ -204,8 +233,9 @@ TEST(ImageFileScan, SbitGivesTheBitDepthNothingElseGives) {
 }
 
 // A capture whose frames carry an sRGB chunk: scan says so once, naming the
-// first frame's file and --transfer (as extract does), not once per frame;
-// with --transfer given (even linear) it says nothing.
+// first frame's file and --transfer (as extract does), not once per frame, and
+// at the end for how many more frames it holds (before: no count); with
+// --transfer given (even linear) it says nothing.
 TEST(ImageFileScan, TransferTagIsWarnedOnceAScan) {
   using namespace scan_test;
   SyntheticRun run = MakeRun("srgb_tag", 1);
@@ -223,14 +253,21 @@ TEST(ImageFileScan, TransferTagIsWarnedOnceAScan) {
   std::vector<std::string> warnings;
   auto collect = [&](const std::string& w) { warnings.push_back(w); };
   ScanRun(run.dir, ScanOptions{}, collect);
-  int tagged = 0;
+  int tagged = 0, counted = 0;
   for (const std::string& w : warnings) {
     if (w.find("sRGB") == std::string::npos) continue;
+    if (w.rfind("the same as for ", 0) == 0) {
+      ++counted;
+      EXPECT_EQ(w, "the same as for " + (run.dir / "frames/000000.png").string() +
+                       " (has an sRGB chunk) holds for 1 more frame");
+      continue;
+    }
     ++tagged;
     EXPECT_NE(w.find("000000.png: "), std::string::npos) << w;
     EXPECT_NE(w.find("--transfer"), std::string::npos) << w;
   }
   EXPECT_EQ(tagged, 1);
+  EXPECT_EQ(counted, 1);
   warnings.clear();
   ScanOptions given;
   given.transfer_given = true;

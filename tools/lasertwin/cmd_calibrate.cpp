@@ -54,7 +54,7 @@ void CameraStep(const CalibrateArgs& a, CalibrationFile* file) {
     }
     const CheckerboardSpec board = Board(a);
     const PhotoCameraResult r = CalibrateCameraFromImages(ListImageFiles(a.run_dir), board, o, {},
-                                                          Bayer(a).value_or(ColorFilter::kMono));
+                                                          Bayer(a).value_or(ColorFilter::kMono), Warn);
     if (r.one_channel > 0 && a.extraction.bayer.empty()) {
       Warn(a.run_dir + ": " + std::to_string(r.one_channel) + " one-channel image(s) taken as a mono sensor's (--bayer "
            "sets a mosaic)");
@@ -67,7 +67,7 @@ void CameraStep(const CalibrateArgs& a, CalibrationFile* file) {
   } else {
     const CheckerboardSpec board = Board(a);
     run = Session(a, {}, false);
-    const SessionCameraResult r = CalibrateSessionCamera(*run, board, o);
+    const SessionCameraResult r = CalibrateSessionCamera(*run, board, o, {}, Warn);
     PrintSkipped(r.views);
     counts = std::to_string(r.used.size()) + " of " + std::to_string(r.views.size()) + " views";
     c = r.calibration;
@@ -126,6 +126,7 @@ void LaserStep(const CalibrateArgs& a, CalibrationFile* file) {
   SessionLaserOptions o;
   o.extraction = x.extraction;
   o.method_from_planes = x.method_from_planes;
+  o.transfer_given = x.transfer_given;
   o.plane_id = x.plane_id;
   o.planes = a.planes;
   if (!a.axis.empty()) o.axis = ParseAxis(a.axis, "--axis");
@@ -138,7 +139,7 @@ void LaserStep(const CalibrateArgs& a, CalibrationFile* file) {
                                 "sheets with --planes N");
   }
   const Camera camera = StepCamera(a, *file, rig);
-  const SessionLaserResult r = CalibrateSessionLaser(run, board, camera, o);
+  const SessionLaserResult r = CalibrateSessionLaser(run, board, camera, o, Warn);
   if (r.axis_from_frame >= 0 && !a.quiet) {
     const bool cols = r.axis == SearchAxis::kCols;
     std::cerr << "stripes searched along the " << (cols ? "columns" : "rows") << " (more stripe points than along the "
@@ -204,7 +205,7 @@ void HandEyeStep(const CalibrateArgs& a, CalibrationFile* file) {
   const CheckerboardSpec board = Board(a);
   const SessionRun run = Session(a, *file, true);
   const Camera camera = StepCamera(a, *file, run.rig);
-  const SessionHandEyeResult r = CalibrateSessionHandEye(run, board, camera);
+  const SessionHandEyeResult r = CalibrateSessionHandEye(run, board, camera, {}, {}, Warn);
   for (const auto& n : r.notes) Warn(n);
   const HandEyeResult& h = r.hand_eye;
   if (!h.ok) {

@@ -122,7 +122,9 @@ void Run(ExtractArgs& a) {
   // default threshold is 10% of it, not of the sample type's.
   std::map<double, std::unique_ptr<StripeExtractor>> unscaled_extractors;
   bool unscaled_noted = false, float_scale_noted = false;
-  std::map<std::string, std::pair<std::string, size_t>> file_warnings;  // text -> first image, images
+  // Each file warning once, on the first image it concerns (a batch of a
+  // phone's JPEGs would repeat it for every one); the others are counted at the end.
+  ImageFileWarner file_warnings([](const std::string& w) { std::cerr << "lasertwin: warning: " << w << "\n"; }, "image");
   // The first image's size: the frames of one camera share it, so an image of
   // another size (another camera's, a cropped or resized copy) is named.
   std::string first_image;
@@ -135,15 +137,7 @@ void Run(ExtractArgs& a) {
   auto extract_one = [&](const std::string& image) {
     ImageFileFacts facts;
     AnyImage img = ReadImage(image, AlphaChannel::kDrop, &facts);
-    // Each warning once, on the first image it concerns (a batch of a phone's
-    // JPEGs would repeat it for every one); the others are counted at the end.
-    for (const std::string& w : ImageFileWarnings(facts, a.transfer_given)) {
-      auto& [first, count] = file_warnings[w];
-      if (count++ == 0) {
-        first = image;
-        std::cerr << "lasertwin: warning: " << image << ": " << w << "\n";
-      }
-    }
+    file_warnings.Check(image, facts, a.transfer_given);
     std::vector<StripePoint> points;
     StripeExtractor* ex = &extractor;
     int width = 0, height = 0;
@@ -223,12 +217,7 @@ void Run(ExtractArgs& a) {
       failed.push_back(image);
     }
   }
-  for (const auto& [warning, seen] : file_warnings) {
-    if (seen.second > 1) {
-      std::cerr << "lasertwin: warning: the same as for " << seen.first << " (" << warning.substr(0, warning.find(':'))
-                << ") holds for " << seen.second - 1 << " more image" << (seen.second > 2 ? "s" : "") << "\n";
-    }
-  }
+  file_warnings.SayRepeats();
   for (const std::string& note : WidthRejectionNotes(rejected, o)) std::cerr << "lasertwin: note: " << note << "\n";
   if (total == 0 && failed.size() < a.images.size()) std::cerr << "lasertwin: note: " << NoStripePointsNote(o) << "\n";
   if (!failed.empty()) {
