@@ -84,6 +84,15 @@ bool HasWord(std::string_view text, std::string_view word) {
   return false;
 }
 
+// The value of the first word `letter` (either case) in a skipped command's text
+// ("M135 T1": 1); none if absent or not a number.
+std::optional<double> SkippedWordValue(std::string_view params, char letter) {
+  for (std::string_view word : SplitBlanks(params)) {
+    if (word.size() >= 2 && Upper(word[0]) == letter) return ParseFiniteNumber(word.substr(1));
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 void GcodeReader::SelectTool(int n) {
@@ -403,10 +412,19 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
   // one, whose axis E is in a file that prints with A and B. Without T they change nothing
   // here (Marlin's M108 ends a heating wait, RepRapFirmware's M135 sets a PID interval).
   if (letter == 'M' && (n == 6 || n == 108 || n == 135)) {
-    for (std::string_view word : SplitBlanks(code.substr(pos))) {
-      if (word.size() < 2 || Upper(word[0]) != 'T') continue;
-      const std::optional<double> tool = ParseFiniteNumber(word.substr(1));
-      if (tool && *tool >= 0 && *tool < 1e6 && *tool == std::floor(*tool)) SelectTool(int(*tool));
+    const std::optional<double> tool = SkippedWordValue(code.substr(pos), 'T');
+    if (tool && *tool >= 0 && *tool < 1e6 && *tool == std::floor(*tool)) SelectTool(int(*tool));
+  }
+  // Marlin's M605 (DUAL_X_CARRIAGE: S0 full control, S1 auto-park, S2 duplication, S3
+  // mirrored; BCN3D's Sigma firmware mirrors with S4): from S2 on the second carriage
+  // prints a copy of every move, which the toolpath (one nozzle) does not hold.
+  if (letter == 'M' && n == 605) {
+    const std::optional<double> mode = SkippedWordValue(code.substr(pos), 'S');
+    if (mode && *mode >= 2) {
+      WarnOncePerName("M605 duplication", "M605 S" + FormatNumber(*mode) +
+                                               ": the second carriage of a dual-carriage (IDEX) printer duplicates "
+                                               "(S2) or mirrors (S3, BCN3D's S4) the print; that copy is not in the "
+                                               "toolpath, which follows one nozzle");
     }
   }
   // The nozzle moves to the dock and, for a park or a tool change with D0 (Prusa's

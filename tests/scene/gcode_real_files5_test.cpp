@@ -93,5 +93,24 @@ TEST(GcodeRealFiles5, BlobFedInPlaceIsCountedAndWarned) {
   EXPECT_TRUE(slic3r.warnings.empty());
 }
 
+// BCN3D's Sigma (an IDEX printer) prints two copies with "M605 S2 X105.0" (Marlin's
+// DUAL_X_CARRIAGE duplication; S3 mirrors, BCN3D's firmware mirrors with S4), in the start
+// script Cura 2.7.0 and Sigma ProGen write. M605 was skipped silently: the toolpath holds
+// the first carriage's moves only, and half the printed parts were missing without a word.
+TEST(GcodeRealFiles5, DualCarriageDuplicationIsWarned) {
+  const std::string text =
+      "G28 X0 Y0\nG1 Z5 F200\nT0\nG92 E0\nG1 E20 F50\nG92 E0\nG1 F2400 E-8\n"
+      "G90\nM605 S2 X105.0\t\t;set dual carriage mode, Duplication\nG92 E-8\n"
+      ";LAYER:0\nG0 F3600 X20 Y20 Z0.2\nG1 F1500 E0\nG1 F1800 X40 Y20 E0.7\nM605 S4 X105.0\n";
+  Toolpath p = ParseGcode(text, "sigma.gcode");
+  ASSERT_EQ(p.warnings.size(), 1u);
+  EXPECT_EQ(p.warnings[0].line, 9);
+  EXPECT_EQ(p.warnings[0].count, 2);
+  EXPECT_THAT(p.warnings[0].text, HasSubstr("M605 S2"));
+  EXPECT_THAT(p.warnings[0].text, HasSubstr("not in the toolpath"));
+  // Full control (S0) and auto-park (S1) print with one carriage at a time: no warning.
+  EXPECT_TRUE(ParseGcode("M605 S1\nG1 X10 Y0 Z0.2 E1 F600\nM605 S0\n", "idex.gcode").warnings.empty());
+}
+
 }  // namespace
 }  // namespace lt
