@@ -198,6 +198,18 @@ SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
                            ", which glTF then makes metal (metallic 1: a laser line on it is a conductor's reflection, "
                            "not the diffuse line on plastic); give the object a \"material\" if the part is not metal");
     }
+    if (override_id >= 0 && g.materials[size_t(override_id)].base_color_texture) {
+      // A texture needs texture coordinates: without them every hit reads uv (0, 0).
+      bool without_uv = false;
+      for (const GltfInstance& gi : it->second.instances) {
+        without_uv |= g.meshes[it->second.first_mesh + gi.mesh].texcoords.empty();
+      }
+      if (without_uv) {
+        g.warnings.push_back("object \"" + obj.name + "\": " + obj.gltf.string() +
+                             " has meshes without texture coordinates (TEXCOORD_0): the base_color_texture of material "
+                             "\"" + obj.material + "\" is read at uv (0, 0) all over them, one colour");
+      }
+    }
     for (const GltfInstance& gi : it->second.instances) {
       SceneInstance inst;
       inst.mesh = it->second.first_mesh + gi.mesh;

@@ -81,7 +81,8 @@ TEST(InfoCommand, TextOutputNamesEverySection) {
                         "texture ", "checker.png (4x4)", "emissive [2, 2, 1.5] W/(m^2 sr)",
                         "laser 0: 450 nm, 5 mW", "motion: static, camera at [0, 0, 100] mm looking along [0, 0, -1]",
                         "\"scale\":2.5", "\"spp\":4", "\"png_bit_depth\":16",
-                        "warnings: 1\n  object \"tile_plain\": "}) {
+                        "warnings: 2\n  object \"tile\": ", "the base_color_texture of material \"painted\" is read at uv (0, 0)",
+                        "\n  object \"tile_plain\": "}) {
     EXPECT_THAT(r.out, HasSubstr(s));
   }
 }

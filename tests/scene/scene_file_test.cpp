@@ -379,6 +379,23 @@ TEST(SceneGeometry, CameraValuesInTheWrongUnitAreWarned) {
                                      "1e6)"));
 }
 
+// square.gltf has no TEXCOORD_0: a scene material's base_color_texture on it was read
+// at uv (0, 0) everywhere, the texture's corner colour, without a word.
+TEST(SceneGeometry, ATextureOnAMeshWithoutTextureCoordinatesIsWarned) {
+  auto warnings = [&](const std::string& material) {
+    SceneFile s = Parse(R"({"objects": [{"name": "a", "gltf": "../gltf/square.gltf", "material": "m"}],
+      "materials": {"m": )" + material + "}, " + kSensor + "}");
+    return LoadSceneGeometry(s).warnings;
+  };
+  EXPECT_THAT(warnings(R"({"base_color": [0.5, 0.5, 0.5]})"), ::testing::IsEmpty());
+  const auto w = warnings(R"({"base_color_texture": "checker.png"})");
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_THAT(w[0], ::testing::StartsWith("object \"a\": "));
+  EXPECT_THAT(w[0], ::testing::EndsWith("square.gltf has meshes without texture coordinates (TEXCOORD_0): the "
+                                        "base_color_texture of material \"m\" is read at uv (0, 0) all over them, "
+                                        "one colour"));
+}
+
 TEST(SceneGeometry, ObjectsShareTheirGltfAndKeepTheirPoses) {
   SceneFile s = LoadSceneFile(kScenes / "full.json");
   auto g = std::make_shared<const SceneGeometry>(LoadSceneGeometry(s));
