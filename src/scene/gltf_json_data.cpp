@@ -1,5 +1,6 @@
 #include "scene/gltf_json_data.h"
 
+#include <algorithm>
 #include <cstring>
 #include <utility>
 
@@ -11,18 +12,25 @@ namespace lt {
 
 namespace {
 
-// Number of bytes a base64 payload decodes to; fails on a character outside the
-// base64 alphabet, padding before the end, or a length no encoder produces.
+// ASCII whitespace, which a data: URL's base64 may hold (lines) and decoders skip.
+bool IsAsciiWhitespace(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f'; }
+bool IsBase64Char(char c) {
+  return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '+' || c == '/' || c == '=';
+}
+
+// Number of bytes a base64 payload decodes to, whitespace skipped; fails on a
+// character outside the base64 alphabet, padding before the end, or a length no
+// encoder produces (positions count the data as written).
 size_t Base64DecodedSize(const std::string& uri, size_t start, const std::string& where) {
   size_t chars = 0, padding = 0;
   for (size_t i = start; i < uri.size(); ++i) {
     const char c = uri[i];
+    if (IsAsciiWhitespace(c)) continue;
     if (c == '=') {
       ++padding;
       continue;
     }
-    const bool alphabet = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '+' || c == '/';
-    if (!alphabet || padding > 0) {
+    if (!IsBase64Char(c) || padding > 0) {
       const unsigned char u = static_cast<unsigned char>(c);
       const std::string shown = u >= 0x20 && u < 0x7f ? std::string("'") + c + "'" : "byte " + std::to_string(u);
       throw InputError(where, "invalid base64 data: " + (padding > 0 ? "data after the '=' padding" : shown) +
@@ -80,7 +88,58 @@ std::pair<std::filesystem::path, uint64_t> CheckExternal(const nlohmann::json& u
   return {p, ec ? 0 : size};
 }
 
+constexpr const char* kDataSections[] = {"buffers", "images"};
+
+// The position of a base64 data: URI's data (after ";base64,"), npos for any other uri.
+size_t Base64DataStart(const nlohmann::json& item) {
+  if (!item.is_object()) return std::string::npos;
+  auto uri = item.find("uri");
+  if (uri == item.end() || !uri->is_string()) return std::string::npos;
+  const std::string& s = uri->get_ref<const std::string&>();
+  if (s.rfind("data:", 0) != 0) return std::string::npos;
+  const size_t comma = s.find(',');
+  if (comma == std::string::npos || comma < 7 || s.compare(comma - 7, 7, ";base64") != 0) return std::string::npos;
+  return comma + 1;
+}
+
+// Whether the item's base64 data holds whitespace and otherwise only base64
+// characters (other data is left as written, for the check to name its place).
+bool HasWhitespaceData(const nlohmann::json& item) {
+  const size_t start = Base64DataStart(item);
+  if (start == std::string::npos) return false;
+  const std::string& s = item["uri"].get_ref<const std::string&>();
+  const auto data = s.begin() + std::ptrdiff_t(start);
+  return std::any_of(data, s.end(), IsAsciiWhitespace) &&
+         std::all_of(data, s.end(), [](char c) { return IsBase64Char(c) || IsAsciiWhitespace(c); });
+}
+
 }  // namespace
+
+bool DataUrisHaveWhitespace(const nlohmann::json& root) {
+  if (!root.is_object()) return false;
+  for (const char* section : kDataSections) {
+    auto items = root.find(section);
+    if (items == root.end() || !items->is_array()) continue;
+    if (std::any_of(items->begin(), items->end(), HasWhitespaceData)) return true;
+  }
+  return false;
+}
+
+bool StripDataUriWhitespace(nlohmann::json* root) {
+  if (!root->is_object()) return false;
+  bool any = false;
+  for (const char* section : kDataSections) {
+    auto items = root->find(section);
+    if (items == root->end() || !items->is_array()) continue;
+    for (nlohmann::json& item : *items) {
+      if (!HasWhitespaceData(item)) continue;
+      std::string& s = item["uri"].get_ref<std::string&>();
+      s.erase(std::remove_if(s.begin() + std::ptrdiff_t(Base64DataStart(item)), s.end(), IsAsciiWhitespace), s.end());
+      any = true;
+    }
+  }
+  return any;
+}
 
 void CheckGltfBufferData(const nlohmann::json& root, bool binary, const std::string& file,
                          const std::filesystem::path& base_dir, GltfExternalFiles* external) {

@@ -23,6 +23,17 @@ struct GltfExternalFiles {
   std::map<std::filesystem::path, uint64_t> buffer_lengths;
 };
 
+// Whether some buffer's or image's base64 data: URI holds ASCII whitespace (tab,
+// line feed, form feed, carriage return, space) in its data: base64 wrapped into
+// lines (Python's base64.encodebytes, MIME and OpenSSL encoders write 76- or
+// 64-character lines). Browsers' viewers read it (a data: URL's base64 is decoded
+// forgivingly, whitespace skipped); tinygltf and the check below stopped at it.
+// StripDataUriWhitespace removes it from data otherwise of base64 characters (other
+// data is left for CheckGltfBufferData, which skips whitespace, to name the place
+// as written) and returns whether it did.
+bool DataUrisHaveWhitespace(const nlohmann::json& root);
+bool StripDataUriWhitespace(nlohmann::json* root);
+
 // Checks `root`'s buffers: a data: URI's media type, base64 and length, an external
 // file's existence and size (at least byteLength), a buffer without uri (only a
 // GLB's, `binary`, first may omit it; a meshopt fallback buffer is named as such).

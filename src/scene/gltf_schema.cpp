@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "core/text_fields.h"
+#include "scene/gltf_json_data.h"
 
 namespace lt {
 
@@ -347,13 +348,14 @@ bool NeedsGltfFixUp(const json& root) {
       if (OddImageDataUri(image)) return true;
     }
   }
-  return false;
+  return DataUrisHaveWhitespace(root);
 }
 
 bool FixUpGltfJson(json* root, const std::string& file, std::vector<std::string>* warnings) {
   const bool strides = DropHarmlessByteStrides(root, file, warnings);
   const bool images = RelabelImageDataUris(root);
-  return strides || images;
+  const bool wrapped = StripDataUriWhitespace(root);
+  return strides || images || wrapped;
 }
 
 }  // namespace lt

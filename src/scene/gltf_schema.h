@@ -31,8 +31,9 @@ bool DropHarmlessByteStrides(nlohmann::json* root, const std::string& file, std:
 // error naming /images/N. Returns whether any was.
 bool RelabelImageDataUris(nlohmann::json* root);
 
-// Whether `root` holds anything DropHarmlessByteStrides or RelabelImageDataUris
-// would change (cheap: no copy), and both, with their warnings.
+// Whether `root` holds anything DropHarmlessByteStrides, RelabelImageDataUris or
+// StripDataUriWhitespace (gltf_json_data.h) would change (cheap: no copy), and all
+// three, with their warnings.
 bool NeedsGltfFixUp(const nlohmann::json& root);
 bool FixUpGltfJson(nlohmann::json* root, const std::string& file, std::vector<std::string>* warnings);
 

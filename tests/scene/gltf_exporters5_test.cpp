@@ -1,0 +1,87 @@
+// Features found in the fifth pass over real files (docs/scene-format.md, "Real
+// files checked, fifth pass"): base64 data: URIs wrapped into lines.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "core/base64.h"
+#include "core/image_io.h"
+#include "scene/gltf_loader.h"
+#include "test_util.h"
+
+namespace lt {
+namespace {
+
+using test::ErrorOf;
+using test::TempDir;
+using ::testing::HasSubstr;
+
+// `data` as base64 wrapped into lines of `width` characters ending in `eol`, as
+// Python's base64.encodebytes (76, "\n"), MIME encoders (76, "\r\n") and OpenSSL
+// (64, "\n") write it.
+std::string Wrapped(const std::vector<uint8_t>& data, size_t width, const std::string& eol) {
+  const std::string b64 = Base64Encode(data.data(), data.size());
+  std::string s;
+  for (size_t i = 0; i < b64.size(); i += width) s += b64.substr(i, width) + eol;
+  return s;
+}
+
+// A data: URI's base64 wrapped into lines (a script's json.dump of
+// base64.encodebytes, which escapes each line end as "\n") is read as browsers read
+// it (the base64 of a data: URL is decoded forgivingly, ASCII whitespace skipped):
+// the buffer and the image load as unwrapped. Before, the buffer was refused
+// ('/buffers/0/uri: invalid base64 data: byte 10 at character 76 of the data') and
+// the image was 'a corrupt PNG'. Other characters outside base64 are still errors.
+TEST(GltfExporters5, Base64WrappedIntoLinesIsRead) {
+  TempDir dir;
+  Image<uint8_t> texel(1, 1, 4, 0);
+  texel.At(0, 0, 0) = 255;  // red
+  texel.At(0, 0, 3) = 255;
+  WriteImage(dir / "red.png", texel);
+  std::ifstream in(dir / "red.png", std::ios::binary);
+  const std::vector<uint8_t> png_bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_FALSE(png_bytes.empty());
+
+  GltfBuilder b = test::SquareBuilder(true, true);
+  const int mat = b.AddMaterial("painted", {1, 1, 1, 1}, 0, 0.5);
+  b.json()["materials"][size_t(mat)]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  b.json()["meshes"][0]["primitives"][0]["material"] = mat;
+  b.json()["textures"] = {{{"source", 0}}};
+  const GltfAsset plain = [&] {
+    b.json()["images"] = {{{"uri", "data:image/png;base64," + Base64Encode(png_bytes.data(), png_bytes.size())}}};
+    b.WriteGltf(dir / "plain.gltf", true);
+    return LoadGltf(dir / "plain.gltf", "plain.gltf");
+  }();
+  for (const auto& [width, eol] : std::vector<std::pair<size_t, std::string>>{{76, "\n"}, {76, "\r\n"}, {64, "\n"}}) {
+    SCOPED_TRACE(width);
+    b.json()["images"] = {{{"uri", "data:image/png;base64," + Wrapped(png_bytes, width, eol)}}};
+    nlohmann::json doc = nlohmann::json::parse(b.ToGltf());
+    std::string& uri = doc["buffers"][0]["uri"].get_ref<std::string&>();
+    uri = "data:application/octet-stream;base64," + Wrapped(b.bin(), width, eol);
+    ASSERT_NE(uri.find('\n'), std::string::npos);
+    test::WriteText(dir / "wrapped.gltf", doc.dump());
+    const GltfAsset a = LoadGltf(dir / "wrapped.gltf", "wrapped.gltf");
+    ASSERT_EQ(a.meshes.size(), 1u);
+    EXPECT_EQ(a.meshes[0].positions, plain.meshes[0].positions);
+    EXPECT_EQ(a.meshes[0].texcoords, plain.meshes[0].texcoords);
+    ASSERT_NE(a.materials[0].base_color_texture, nullptr);
+    EXPECT_EQ(a.materials[0].base_color_texture->Texel(0, 0), Eigen::Vector4f(1, 0, 0, 1));
+    EXPECT_TRUE(a.warnings.empty()) << test::AllWarnings(a);
+  }
+  // A character that is neither base64 nor whitespace is named as before, at its
+  // place in the data as written (a line end, 76 characters, a line end).
+  nlohmann::json doc = nlohmann::json::parse(b.ToGltf());
+  doc["buffers"][0]["uri"] = "data:application/octet-stream;base64,\n" + Wrapped(b.bin(), 76, "\n*");
+  test::WriteText(dir / "bad.gltf", doc.dump());
+  EXPECT_THAT(ErrorOf([&] { LoadGltf(dir / "bad.gltf", "bad.gltf"); }),
+              HasSubstr("bad.gltf: /buffers/0/uri: invalid base64 data: '*' at character 78 of the data"));
+}
+
+
+
+}  // namespace
+}  // namespace lt
