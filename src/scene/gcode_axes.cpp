@@ -188,7 +188,12 @@ void GcodeReader::KlipperGcodeOffset(std::string_view params) {
 
 ExtruderAxes GcodeReader::CalledFor() const {
   if (!ab_named_) return ExtruderAxes::kSeparate;
-  if (xy_moves_e_ > xy_moves_ab_) return ExtruderAxes::kABExtra;
+  // A file that prints with E and names A and B each only under its own tool (QIDI
+  // Print's start script primes both nozzles: "T1", "G1 X330 B19", "T0", "G1 X5 A19")
+  // uses them as the tools' extruder axes: each keeps its own position beside E.
+  if (xy_moves_e_ > xy_moves_ab_) {
+    return b_on_move_ && !ab_off_their_tool_ ? ExtruderAxes::kSeparate : ExtruderAxes::kABExtra;
+  }
   return e_on_move_ ? ExtruderAxes::kEIsActiveAB : ExtruderAxes::kSeparate;
 }
 
@@ -199,6 +204,8 @@ ExtruderAxes GcodeReader::RereadAs() const {
 void GcodeReader::NoteExtruderAxes() {
   const bool ab = Find('A') || Find('B');
   ab_named_ = ab_named_ || ab;
+  b_on_move_ = b_on_move_ || Find('B');
+  ab_off_their_tool_ = ab_off_their_tool_ || (Find('A') && active_tool_ != 0) || (Find('B') && active_tool_ != 1);
   e_on_move_ = e_on_move_ || Find('E');
   if (!Find('X') && !Find('Y')) return;
   if (Find('E')) ++xy_moves_e_;

@@ -69,7 +69,9 @@ class GcodeReader {
   Toolpath Finish();
   // How a file read with ExtruderAxes::kSeparate should be read again, from the moves
   // (G0-G3) that name A or B and those with X or Y that give E or A/B: kABExtra where E
-  // prints and A or B also appear (more of those moves give E than A or B); kEIsActiveAB
+  // prints and A or B also appear (more of those moves give E than A or B), unless they
+  // keep MakerBot's convention (B named, every A under T0 and every B under T1: QIDI's
+  // primes of both nozzles), which is kSeparate; kEIsActiveAB
   // where A or B print and E also appears on a move (MakerBot's start script primes
   // with E); kSeparate (no second read) otherwise.
   ExtruderAxes RereadAs() const;
@@ -210,6 +212,10 @@ class GcodeReader {
   size_t xy_moves_e_ = 0;   // G0-G3 with X or Y and E
   size_t xy_moves_ab_ = 0;  // G0-G3 with X or Y and A or B
   bool e_on_move_ = false;  // E on a G0-G3
+  // MakerBot's convention (GPX: A is tool 0's axis, B tool 1's), which QIDI's printers
+  // keep: B named on a G0-G3, and every A while T0 is active and every B while T1 is.
+  bool b_on_move_ = false;
+  bool ab_off_their_tool_ = false;
   int m101_line_ = 0;
   // U, V, W, C words (a tool changer's coupler, a second carriage, a rotary axis; A and
   // B too where they are no extruders): not

@@ -93,6 +93,30 @@ TEST(GcodeRealFiles5, BlobFedInPlaceIsCountedAndWarned) {
   EXPECT_TRUE(slic3r.warnings.empty());
 }
 
+// QIDI Print (Cura 4.9.1) for the two-nozzle QIDI i-Fast primes both nozzles in its start
+// script on their own axes, MakerBot's way ("T1", "G1 X330 B19", "T0", "G1 X5 A19",
+// "G92 A0 B0"), and prints with E. Since A and B in a file printing with E were taken as
+// extra axes (a thread-laying ring's A), the two 19 mm purge lines were ignored, with a
+// warning that "A and B are no extruders here". A and B named each only under its own
+// tool keep the MakerBot reading: extruder axes beside E.
+TEST(GcodeRealFiles5, APrimeUnderT0AndBPrimeUnderT1AreExtruders) {
+  const std::string text =
+      ";FLAVOR:Marlin\nM82 ;absolute extrusion mode\nG92 A0 B0\nG28\nG1 X0 Y0 Z50 F3600\nG92 E0\nG92 A0 B0\n"
+      "G0 X0 Y4 Z0.3 F3600\nT1\nG1 X330 B19 F2400\nT0\nG1 X330 Y5 F3600\nG1 X5 A19 F2400\nG92 A0 B0\n"
+      "G0 X5 F2400\nG92 E0\nG1 F1800 E0\nG1 F2400 X147.594 Y108.322 E11.41078\nG92 E0\n;LAYER:0\n"
+      "G0 F4200 X150 Y110 Z0.3\nG1 F1350 X158.278 Y133.049 E1\nG1 X173.048 Y118.844 E2\n";
+  Toolpath p = ParseGcode(text, "qidi.gcode");
+  EXPECT_NEAR(p.BeadFilamentLength(false) / kMm, 19 + 19 + 11.41078 + 2, 1e-9);  // was 13.41078
+  EXPECT_NEAR(p.BeadFilamentLength(true) / kMm, 2, 1e-9);
+  EXPECT_TRUE(p.warnings.empty());
+  // An A turning under T1 (or a ring's A with no B) is still no extruder in such a file.
+  Toolpath ring = ParseGcode(
+      "T1\nG92 A0 B0\nG1 X10 Y0 Z0.3 B1 F600\nG1 X20 Y0 A30\nG1 X30 Y0 E1\nG1 X40 Y0 E2\nG1 X50 Y0 E3\n", "r.gcode");
+  EXPECT_NEAR(ring.BeadFilamentLength(false) / kMm, 3, 1e-9);
+  ASSERT_EQ(ring.warnings.size(), 1u);
+  EXPECT_THAT(ring.warnings[0].text, HasSubstr("A and B are no extruders here"));
+}
+
 // BCN3D's Sigma (an IDEX printer) prints two copies with "M605 S2 X105.0" (Marlin's
 // DUAL_X_CARRIAGE duplication; S3 mirrors, BCN3D's firmware mirrors with S4), in the start
 // script Cura 2.7.0 and Sigma ProGen write. M605 was skipped silently: the toolpath holds
