@@ -207,13 +207,19 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
       if (!e.is_string() || (kSupported.count(e.get<std::string>()) == 0 &&
                              (materials || !IsGltfMaterialExtension(e.get<std::string>())))) {
         // What to do about the extensions that optimising tools write.
+        static const char* kShaders =
+            "the materials are WebGL shader programs: give the object its own \"material\", which replaces them";
         static const std::map<std::string, std::string> kHints = {
             {"KHR_draco_mesh_compression", "the meshes are Draco-compressed: write or convert the file without compression"},
             {"EXT_meshopt_compression", "the buffers are meshopt-compressed: write the file without it, e.g. gltfpack without -c/-cc"},
             {"KHR_meshopt_compression", "the buffers are meshopt-compressed: write the file without it, e.g. gltfpack without -c/-cc"},
             {"KHR_texture_basisu", "the textures are KTX2: write or convert them as PNG or JPEG"},
             {"EXT_texture_webp", "the textures are WebP: write or convert them as PNG or JPEG"},
-            {"EXT_texture_avif", "the textures are AVIF: write or convert them as PNG or JPEG"}};
+            {"EXT_texture_avif", "the textures are AVIF: write or convert them as PNG or JPEG"},
+            {"KHR_techniques_webgl", kShaders},
+            {"KHR_technique_webgl", kShaders},
+            {"KHR_materials_common", "the materials are glTF 1.0's Blinn, Phong, Lambert or constant shading: give the "
+                                     "object its own \"material\", which replaces them"}};
         auto hint = e.is_string() ? kHints.find(e.get<std::string>()) : kHints.end();
         throw InputError(file + ": /extensionsRequired/" + std::to_string(i),
                          "required extension " + e.dump() + " is not supported" +

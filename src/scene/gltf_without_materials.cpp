@@ -41,8 +41,10 @@ void EraseVariants(JsonValue& o) {
 
 bool IsGltfMaterialExtension(const std::string& name) {
   if (name.rfind("KHR_materials_", 0) == 0) return true;
+  // KHR_techniques_webgl (and its 2.0-draft name, which COLLADA2GLTF's -t wrote):
+  // materials as WebGL shader programs.
   for (const char* e : {"KHR_texture_basisu", "KHR_texture_transform", "EXT_texture_webp", "EXT_texture_avif",
-                        "MSFT_texture_dds"}) {
+                        "MSFT_texture_dds", "KHR_techniques_webgl", "KHR_technique_webgl"}) {
     if (name == e) return true;
   }
   return false;

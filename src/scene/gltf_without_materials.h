@@ -12,7 +12,8 @@ namespace lt {
 
 // Whether a required extension concerns only materials and textures
 // (KHR_materials_*, KHR_texture_basisu, KHR_texture_transform, EXT_texture_webp,
-// EXT_texture_avif, MSFT_texture_dds): a file loaded without materials needs none of
+// EXT_texture_avif, MSFT_texture_dds, KHR_techniques_webgl and its draft name
+// KHR_technique_webgl): a file loaded without materials needs none of
 // them. Geometry extensions (Draco, meshopt, quantization) are not such.
 bool IsGltfMaterialExtension(const std::string& name);
 

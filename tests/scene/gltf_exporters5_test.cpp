@@ -1,5 +1,6 @@
 // Features found in the fifth pass over real files (docs/scene-format.md, "Real
-// files checked, fifth pass"): base64 data: URIs wrapped into lines.
+// files checked, fifth pass"): base64 data: URIs wrapped into lines, and materials
+// written as WebGL shaders (COLLADA2GLTF -t) or KHR_materials_common.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -82,6 +83,62 @@ TEST(GltfExporters5, Base64WrappedIntoLinesIsRead) {
 }
 
 
+// Khronos' Box glTF-techniqueWebGL (COLLADA2GLTF -t, a glTF 2.0 draft) requires
+// KHR_technique_webgl: its materials are shader programs (`technique`, `values`,
+// top-level `techniques`, `programs`, `shaders`); KHR_techniques_webgl is the
+// extension's later form. They concern only the materials, so a file loaded
+// without them (every object with its own "material") is accepted; with them the
+// refusal says what to do, as it does for KHR_materials_common. Before, both
+// were refused naming the extension alone, whatever the object's material.
+TEST(GltfExporters5, ShaderMaterialsAreReplacedByTheObjectsMaterial) {
+  TempDir dir;
+  GltfLoadOptions geometry_only;
+  geometry_only.materials = false;
+  const std::string shaders = "the materials are WebGL shader programs: give the object its own \"material\", which "
+                              "replaces them";
+  {
+    GltfBuilder b = test::SquareBuilder();
+    b.json()["materials"] = {{{"values", {{"diffuse", {0.8, 0, 0, 1}}}}, {"technique", 0}}};
+    b.json()["meshes"][0]["primitives"][0]["material"] = 0;
+    b.json()["techniques"] = {{{"program", 0}}};
+    b.json()["programs"] = {{{"fragmentShader", 1}, {"vertexShader", 0}}};
+    b.json()["shaders"] = {{{"type", 35633}, {"uri", "Box0.vert"}}, {{"type", 35632}, {"uri", "Box1.frag"}}};
+    b.json()["extensionsUsed"] = {"KHR_technique_webgl"};
+    b.json()["extensionsRequired"] = {"KHR_technique_webgl"};
+    b.WriteGltf(dir / "draft.gltf", true);
+    EXPECT_EQ(ErrorOf([&] { LoadGltf(dir / "draft.gltf", "draft.gltf"); }),
+              "draft.gltf: /extensionsRequired/0: required extension \"KHR_technique_webgl\" is not supported (" +
+                  shaders + ")");
+    const GltfAsset a = LoadGltf(dir / "draft.gltf", "draft.gltf", geometry_only);
+    ASSERT_EQ(a.instances.size(), 1u);
+    EXPECT_EQ(a.meshes[0].TriangleCount(), 2u);
+    EXPECT_TRUE(a.warnings.empty()) << test::AllWarnings(a);
+  }
+  {
+    GltfBuilder b = test::SquareBuilder();
+    b.json()["materials"] = {{{"extensions", {{"KHR_techniques_webgl", {{"technique", 0}}}}}}};
+    b.json()["meshes"][0]["primitives"][0]["material"] = 0;
+    b.json()["extensions"]["KHR_techniques_webgl"] = {{"techniques", {{{"program", 0}}}}};
+    b.json()["extensionsUsed"] = {"KHR_techniques_webgl"};
+    b.json()["extensionsRequired"] = {"KHR_techniques_webgl"};
+    b.WriteGltf(dir / "techniques.gltf", true);
+    EXPECT_THAT(ErrorOf([&] { LoadGltf(dir / "techniques.gltf", "techniques.gltf"); }), HasSubstr(shaders));
+    EXPECT_EQ(LoadGltf(dir / "techniques.gltf", "techniques.gltf", geometry_only).instances.size(), 1u);
+  }
+  {
+    GltfBuilder b = test::SquareBuilder();
+    b.json()["materials"] = {
+        {{"extensions", {{"KHR_materials_common", {{"technique", "PHONG"}, {"values", {{"diffuse", {1, 0, 0, 1}}}}}}}}}};
+    b.json()["meshes"][0]["primitives"][0]["material"] = 0;
+    b.json()["extensionsUsed"] = {"KHR_materials_common"};
+    b.json()["extensionsRequired"] = {"KHR_materials_common"};
+    b.WriteGltf(dir / "common.gltf", true);
+    EXPECT_THAT(ErrorOf([&] { LoadGltf(dir / "common.gltf", "common.gltf"); }),
+                HasSubstr("required extension \"KHR_materials_common\" is not supported (the materials are glTF 1.0's "
+                          "Blinn, Phong, Lambert or constant shading: give the object its own \"material\""));
+    EXPECT_EQ(LoadGltf(dir / "common.gltf", "common.gltf", geometry_only).instances.size(), 1u);
+  }
+}
 
 }  // namespace
 }  // namespace lt
