@@ -55,6 +55,13 @@
 //                   F feed on recovery (with axis words, RepRapFirmware's limits: skipped)
 //   M220, M221      feed rate and flow percentages (S; M220 B/R save and restore),
 //                   scaling the feed and the E of later G0-G3 moves
+//   T n             the active tool (its M221 flow; E's axis in MakerBot's reading); so
+//                   do MakerBot's M135 T n, M6 T n and ReplicatorG's M108 T n. Feeds in
+//                   place after a change, before the tool's first bead, refill its nozzle
+//   M605 S2-S4      an IDEX printer's duplication or mirror mode: warned (the second
+//                   carriage's copy is not in the toolpath)
+// A feed in place beyond what makes up a retraction is a blob: no bead, counted
+// (Toolpath::BlobFilamentLength), warned when it lies within a layer.
 //   F               feed rate in mm/min (inch/min under G20), modal, shared by G0-G3
 //   G29, G30, G32-G35, G38.2-5, G380 (Bambu), M48, G80 alone on its line (Prusa), Klipper's
 //                   BED_MESH_CALIBRATE etc. (probing: warned, it takes no time here);
