@@ -72,7 +72,7 @@ PathTracer::PathTracer(const EmbreeScene& scene, const Environment& environment,
 Eigen::Vector3f PathTracer::EnvironmentRadiance(const Eigen::Vector3d& dir) const {
   if (!has_environment_) return Eigen::Vector3f::Zero();
   if (environment_.kind == Environment::Kind::kConstant) return F(environment_.radiance);
-  // Lat-long map, world z up: u = azimuth from +x toward +y, v = polar angle from +z.
+  // Lat-long map, world z up: u = azimuth from -x (u = 0) through -y, +x (u = 0.5), +y; v = polar angle from +z.
   Eigen::Vector3d d = dir.normalized();
   double u = (std::atan2(d.y(), d.x()) + M_PI) / (2 * M_PI);
   double v = std::acos(std::clamp(d.z(), -1.0, 1.0)) / M_PI;

@@ -1,7 +1,7 @@
 // The lat-long environment map: world z up, v = polar angle from +z (top row),
-// u = azimuth from -x through +y. A camera looking straight up sees the top
-// rows, looking down the bottom rows; a white convex object under a uniform map
-// reads the map's value (furnace).
+// u = azimuth from -x (left edge) through -y, +x (centre), +y. A camera looking
+// straight up sees the top rows, looking down the bottom rows; a white convex
+// object under a uniform map reads the map's value (furnace).
 #include <gtest/gtest.h>
 
 #include "core/image_io.h"
