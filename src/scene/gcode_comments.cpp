@@ -151,6 +151,10 @@ void GcodeReader::Comment(std::string_view comment) {
     if (path_.filament_diameter_m <= 0) path_.filament_diameter_m = kUltimakerFilamentMm * kMetresPerMm;
   } else if (StartsWith(c, "Layer height:")) {
     path_.header_layer_height_m = *CommentNumber(c.substr(13), "Layer height") * kMetresPerMm;
+  } else if (StartsWith(c, "Basic settings: Layer height:")) {
+    // Legacy Cura (15.04 and before): ";Basic settings: Layer height: 0.15 Walls: 2 Fill: 10".
+    std::string_view v = TrimBlanks(c.substr(29));
+    path_.header_layer_height_m = *CommentNumber(v.substr(0, v.find(' ')), "Basic settings: Layer height") * kMetresPerMm;
   } else if (StartsWith(c, "layer_height =")) {
     path_.header_layer_height_m = *CommentNumber(c.substr(14), "layer_height") * kMetresPerMm;
   } else if (StartsWith(c, "layer_thickness_mm =")) {  // KISSlicer

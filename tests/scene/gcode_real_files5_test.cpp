@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "error_of.h"
 #include "scene/gcode.h"
 
 namespace lt {
@@ -115,6 +116,20 @@ TEST(GcodeRealFiles5, APrimeUnderT0AndBPrimeUnderT1AreExtruders) {
   EXPECT_NEAR(ring.BeadFilamentLength(false) / kMm, 3, 1e-9);
   ASSERT_EQ(ring.warnings.size(), 1u);
   EXPECT_THAT(ring.warnings[0].text, HasSubstr("A and B are no extruders here"));
+}
+
+// Legacy Cura (15.04) states the layer height in its settings line (a FABtotum file:
+// ";Basic settings: Layer height: 0.15 Walls: 2 Fill: 10"), which was not read (0: no
+// header height for the beads that need one, a spiral's).
+TEST(GcodeRealFiles5, LegacyCuraBasicSettingsGiveTheLayerHeight) {
+  Toolpath p = ParseGcode(
+      ";Sliced at: Thu 25-05-2017 10:25:01\n;Basic settings: Layer height: 0.15 Walls: 2 Fill: 10\n"
+      ";Print time: 37 minutes\n;Filament used: 1.707m 5.0g\nG90\n;LAYER:0\nG0 F12000 X84.858 Y27.177 Z0.150\n"
+      "G1 F2400 X87.164 Y25.363 E0.07319\n",
+      "fabtotum.gcode");
+  EXPECT_NEAR(p.header_layer_height_m / kMm, 0.15, 1e-12);
+  EXPECT_THAT(test::ErrorOf([] { ParseGcode(";Basic settings: Layer height: thin Walls: 2\n", "bad.gcode"); }),
+              HasSubstr("bad.gcode:1"));
 }
 
 // BCN3D's Sigma (an IDEX printer) prints two copies with "M605 S2 X105.0" (Marlin's
