@@ -1,6 +1,7 @@
 #include "scene/gltf_json_data.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstring>
 #include <utility>
 
@@ -90,51 +91,74 @@ std::pair<std::filesystem::path, uint64_t> CheckExternal(const nlohmann::json& u
 
 constexpr const char* kDataSections[] = {"buffers", "images"};
 
-// The position of a base64 data: URI's data (after ";base64,"), npos for any other uri.
-size_t Base64DataStart(const nlohmann::json& item) {
-  if (!item.is_object()) return std::string::npos;
-  auto uri = item.find("uri");
-  if (uri == item.end() || !uri->is_string()) return std::string::npos;
-  const std::string& s = uri->get_ref<const std::string&>();
-  if (s.rfind("data:", 0) != 0) return std::string::npos;
+// The length of a data: URI's header, "data:" through the comma, written in any
+// case (URI schemes and media types are case-insensitive); 0 for another uri.
+size_t DataUriHeader(const std::string& s) {
+  const auto same = [](char c, char lower) { return std::tolower(static_cast<unsigned char>(c)) == lower; };
+  if (s.size() < 5 || !std::equal(s.begin(), s.begin() + 5, "data:", same)) return 0;
   const size_t comma = s.find(',');
-  if (comma == std::string::npos || comma < 7 || s.compare(comma - 7, 7, ";base64") != 0) return std::string::npos;
-  return comma + 1;
+  return comma == std::string::npos ? 0 : comma + 1;
 }
 
-// Whether the item's base64 data holds whitespace and otherwise only base64
+// The item's uri if it is a data: URI, with its header's length.
+std::pair<const std::string*, size_t> DataUri(const nlohmann::json& item) {
+  if (!item.is_object()) return {nullptr, 0};
+  auto uri = item.find("uri");
+  if (uri == item.end() || !uri->is_string()) return {nullptr, 0};
+  const std::string& s = uri->get_ref<const std::string&>();
+  return {&s, DataUriHeader(s)};
+}
+
+bool IsBase64Header(const std::string& s, size_t header) {
+  static const std::string kMarker = ";base64,";
+  return header >= kMarker.size() + 5 &&
+         std::equal(kMarker.begin(), kMarker.end(), s.begin() + std::ptrdiff_t(header - kMarker.size()),
+                    [](char l, char c) { return std::tolower(static_cast<unsigned char>(c)) == l; });
+}
+
+// Whether a base64 data: URI's data holds whitespace and otherwise only base64
 // characters (other data is left as written, for the check to name its place).
-bool HasWhitespaceData(const nlohmann::json& item) {
-  const size_t start = Base64DataStart(item);
-  if (start == std::string::npos) return false;
-  const std::string& s = item["uri"].get_ref<const std::string&>();
-  const auto data = s.begin() + std::ptrdiff_t(start);
+bool WrappedBase64(const std::string& s, size_t header) {
+  if (!IsBase64Header(s, header)) return false;
+  const auto data = s.begin() + std::ptrdiff_t(header);
   return std::any_of(data, s.end(), IsAsciiWhitespace) &&
          std::all_of(data, s.end(), [](char c) { return IsBase64Char(c) || IsAsciiWhitespace(c); });
 }
 
+bool NeedsNormalizing(const nlohmann::json& item) {
+  const auto [s, header] = DataUri(item);
+  if (header == 0) return false;
+  return std::any_of(s->begin(), s->begin() + std::ptrdiff_t(header), [](char c) { return c >= 'A' && c <= 'Z'; }) ||
+         WrappedBase64(*s, header);
+}
+
 }  // namespace
 
-bool DataUrisHaveWhitespace(const nlohmann::json& root) {
+bool DataUrisNeedNormalizing(const nlohmann::json& root) {
   if (!root.is_object()) return false;
   for (const char* section : kDataSections) {
     auto items = root.find(section);
     if (items == root.end() || !items->is_array()) continue;
-    if (std::any_of(items->begin(), items->end(), HasWhitespaceData)) return true;
+    if (std::any_of(items->begin(), items->end(), NeedsNormalizing)) return true;
   }
   return false;
 }
 
-bool StripDataUriWhitespace(nlohmann::json* root) {
+bool NormalizeDataUris(nlohmann::json* root) {
   if (!root->is_object()) return false;
   bool any = false;
   for (const char* section : kDataSections) {
     auto items = root->find(section);
     if (items == root->end() || !items->is_array()) continue;
     for (nlohmann::json& item : *items) {
-      if (!HasWhitespaceData(item)) continue;
+      if (!NeedsNormalizing(item)) continue;
       std::string& s = item["uri"].get_ref<std::string&>();
-      s.erase(std::remove_if(s.begin() + std::ptrdiff_t(Base64DataStart(item)), s.end(), IsAsciiWhitespace), s.end());
+      const size_t header = DataUriHeader(s);
+      std::transform(s.begin(), s.begin() + std::ptrdiff_t(header), s.begin(),
+                     [](char c) { return c >= 'A' && c <= 'Z' ? char(c - 'A' + 'a') : c; });
+      if (WrappedBase64(s, header)) {
+        s.erase(std::remove_if(s.begin() + std::ptrdiff_t(header), s.end(), IsAsciiWhitespace), s.end());
+      }
       any = true;
     }
   }

@@ -23,16 +23,18 @@ struct GltfExternalFiles {
   std::map<std::filesystem::path, uint64_t> buffer_lengths;
 };
 
-// Whether some buffer's or image's base64 data: URI holds ASCII whitespace (tab,
-// line feed, form feed, carriage return, space) in its data: base64 wrapped into
-// lines (Python's base64.encodebytes, MIME and OpenSSL encoders write 76- or
-// 64-character lines). Browsers' viewers read it (a data: URL's base64 is decoded
-// forgivingly, whitespace skipped); tinygltf and the check below stopped at it.
-// StripDataUriWhitespace removes it from data otherwise of base64 characters (other
-// data is left for CheckGltfBufferData, which skips whitespace, to name the place
-// as written) and returns whether it did.
-bool DataUrisHaveWhitespace(const nlohmann::json& root);
-bool StripDataUriWhitespace(nlohmann::json* root);
+// Data: URIs of buffers and images written as browsers read them but tinygltf and
+// the check below do not: a header in upper case (`DATA:`, `;BASE64,`, a media type
+// such as `Image/PNG`; URI schemes and media types are case-insensitive) and base64
+// wrapped into lines, ASCII whitespace (tab, line feed, form feed, carriage return,
+// space) in the data (Python's base64.encodebytes, MIME and OpenSSL encoders write
+// 76- or 64-character lines; a data: URL's base64 is decoded forgivingly, whitespace
+// skipped). DataUrisNeedNormalizing says whether `root` holds one; NormalizeDataUris
+// writes the header in lower case and removes the whitespace from data otherwise of
+// base64 characters (other data is left for CheckGltfBufferData, which skips
+// whitespace, to name the place as written), and returns whether it changed any.
+bool DataUrisNeedNormalizing(const nlohmann::json& root);
+bool NormalizeDataUris(nlohmann::json* root);
 
 // Checks `root`'s buffers: a data: URI's media type, base64 and length, an external
 // file's existence and size (at least byteLength), a buffer without uri (only a

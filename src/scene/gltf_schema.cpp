@@ -348,14 +348,14 @@ bool NeedsGltfFixUp(const json& root) {
       if (OddImageDataUri(image)) return true;
     }
   }
-  return DataUrisHaveWhitespace(root);
+  return DataUrisNeedNormalizing(root);
 }
 
 bool FixUpGltfJson(json* root, const std::string& file, std::vector<std::string>* warnings) {
   const bool strides = DropHarmlessByteStrides(root, file, warnings);
+  const bool data = NormalizeDataUris(root);  // first: the relabelling reads lower-case headers
   const bool images = RelabelImageDataUris(root);
-  const bool wrapped = StripDataUriWhitespace(root);
-  return strides || images || wrapped;
+  return strides || images || data;
 }
 
 }  // namespace lt

@@ -32,7 +32,7 @@ bool DropHarmlessByteStrides(nlohmann::json* root, const std::string& file, std:
 bool RelabelImageDataUris(nlohmann::json* root);
 
 // Whether `root` holds anything DropHarmlessByteStrides, RelabelImageDataUris or
-// StripDataUriWhitespace (gltf_json_data.h) would change (cheap: no copy), and all
+// NormalizeDataUris (gltf_json_data.h) would change (cheap: no copy), and all
 // three, with their warnings.
 bool NeedsGltfFixUp(const nlohmann::json& root);
 bool FixUpGltfJson(nlohmann::json* root, const std::string& file, std::vector<std::string>* warnings);

@@ -1,5 +1,6 @@
 // Features found in the fifth pass over real files (docs/scene-format.md, "Real
-// files checked, fifth pass"): base64 data: URIs wrapped into lines, and materials
+// files checked, fifth pass"): base64 data: URIs wrapped into lines or with an
+// upper-case header, and materials
 // written as WebGL shaders (COLLADA2GLTF -t) or KHR_materials_common.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -82,6 +83,40 @@ TEST(GltfExporters5, Base64WrappedIntoLinesIsRead) {
               HasSubstr("bad.gltf: /buffers/0/uri: invalid base64 data: '*' at character 78 of the data"));
 }
 
+
+// URI schemes and media types are case-insensitive (RFC 3986, RFC 2045), and
+// browsers read `DATA:...;BASE64,`; tinygltf reads only lower case. Such a buffer
+// was refused as a remote file ('... is a data: URI; only local files are read
+// (download it ...)'); now headers in any case are read, with an image's
+// media-type relabelling (image/jpg) after them.
+TEST(GltfExporters5, UpperCaseDataUriHeadersAreRead) {
+  TempDir dir;
+  Image<uint8_t> texel(1, 1, 4, 0);
+  texel.At(0, 0, 1) = 255;  // green
+  texel.At(0, 0, 3) = 255;
+  WriteImage(dir / "green.png", texel);
+  std::ifstream in(dir / "green.png", std::ios::binary);
+  const std::vector<uint8_t> png((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  GltfBuilder b = test::SquareBuilder(true, true);
+  const int mat = b.AddMaterial("painted", {1, 1, 1, 1}, 0, 0.5);
+  b.json()["materials"][size_t(mat)]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  b.json()["meshes"][0]["primitives"][0]["material"] = mat;
+  b.json()["textures"] = {{{"source", 0}}};
+  b.json()["images"] = {{{"uri", "data:image/png;base64," + Base64Encode(png.data(), png.size())}}};
+  b.WriteGltf(dir / "plain.gltf", true);
+  for (const std::string image_header : {"DATA:IMAGE/PNG;BASE64,", "Data:image/JPG;Base64,"}) {
+    SCOPED_TRACE(image_header);
+    b.json()["images"] = {{{"uri", image_header + Base64Encode(png.data(), png.size())}}};
+    nlohmann::json doc = nlohmann::json::parse(b.ToGltf());
+    doc["buffers"][0]["uri"] = "DATA:Application/Octet-Stream;BASE64," + Base64Encode(b.bin().data(), b.bin().size());
+    test::WriteText(dir / "upper.gltf", doc.dump());
+    const GltfAsset a = LoadGltf(dir / "upper.gltf", "upper.gltf");
+    ASSERT_EQ(a.meshes.size(), 1u);
+    EXPECT_EQ(a.meshes[0].positions, LoadGltf(dir / "plain.gltf").meshes[0].positions);
+    ASSERT_NE(a.materials[0].base_color_texture, nullptr);
+    EXPECT_EQ(a.materials[0].base_color_texture->Texel(0, 0), Eigen::Vector4f(0, 1, 0, 1));
+  }
+}
 
 // Khronos' Box glTF-techniqueWebGL (COLLADA2GLTF -t, a glTF 2.0 draft) requires
 // KHR_technique_webgl: its materials are shader programs (`technique`, `values`,
