@@ -1,7 +1,6 @@
 #include "scene/gltf_json_data.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cstring>
 #include <utility>
 
@@ -15,6 +14,9 @@ namespace {
 
 // ASCII whitespace, which a data: URL's base64 may hold (lines) and decoders skip.
 bool IsAsciiWhitespace(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f'; }
+bool IsAsciiUpper(char c) { return c >= 'A' && c <= 'Z'; }
+char ToLowerAscii(char c) { return IsAsciiUpper(c) ? char(c - 'A' + 'a') : c; }
+bool SameIgnoringCase(char c, char lower) { return ToLowerAscii(c) == lower; }
 bool IsBase64Char(char c) {
   return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '+' || c == '/' || c == '=';
 }
@@ -94,8 +96,7 @@ constexpr const char* kDataSections[] = {"buffers", "images"};
 // The length of a data: URI's header, "data:" through the comma, written in any
 // case (URI schemes and media types are case-insensitive); 0 for another uri.
 size_t DataUriHeader(const std::string& s) {
-  const auto same = [](char c, char lower) { return std::tolower(static_cast<unsigned char>(c)) == lower; };
-  if (s.size() < 5 || !std::equal(s.begin(), s.begin() + 5, "data:", same)) return 0;
+  if (s.size() < 5 || !std::equal(s.begin(), s.begin() + 5, "data:", SameIgnoringCase)) return 0;
   const size_t comma = s.find(',');
   return comma == std::string::npos ? 0 : comma + 1;
 }
@@ -112,8 +113,8 @@ std::pair<const std::string*, size_t> DataUri(const nlohmann::json& item) {
 bool IsBase64Header(const std::string& s, size_t header) {
   static const std::string kMarker = ";base64,";
   return header >= kMarker.size() + 5 &&
-         std::equal(kMarker.begin(), kMarker.end(), s.begin() + std::ptrdiff_t(header - kMarker.size()),
-                    [](char l, char c) { return std::tolower(static_cast<unsigned char>(c)) == l; });
+         std::equal(s.begin() + std::ptrdiff_t(header - kMarker.size()), s.begin() + std::ptrdiff_t(header),
+                    kMarker.begin(), SameIgnoringCase);
 }
 
 // Whether a base64 data: URI's data holds whitespace and otherwise only base64
@@ -128,8 +129,7 @@ bool WrappedBase64(const std::string& s, size_t header) {
 bool NeedsNormalizing(const nlohmann::json& item) {
   const auto [s, header] = DataUri(item);
   if (header == 0) return false;
-  return std::any_of(s->begin(), s->begin() + std::ptrdiff_t(header), [](char c) { return c >= 'A' && c <= 'Z'; }) ||
-         WrappedBase64(*s, header);
+  return std::any_of(s->begin(), s->begin() + std::ptrdiff_t(header), IsAsciiUpper) || WrappedBase64(*s, header);
 }
 
 }  // namespace
@@ -154,8 +154,7 @@ bool NormalizeDataUris(nlohmann::json* root) {
       if (!NeedsNormalizing(item)) continue;
       std::string& s = item["uri"].get_ref<std::string&>();
       const size_t header = DataUriHeader(s);
-      std::transform(s.begin(), s.begin() + std::ptrdiff_t(header), s.begin(),
-                     [](char c) { return c >= 'A' && c <= 'Z' ? char(c - 'A' + 'a') : c; });
+      std::transform(s.begin(), s.begin() + std::ptrdiff_t(header), s.begin(), ToLowerAscii);
       if (WrappedBase64(s, header)) {
         s.erase(std::remove_if(s.begin() + std::ptrdiff_t(header), s.end(), IsAsciiWhitespace), s.end());
       }
