@@ -99,7 +99,7 @@ std::vector<RankedLine> SpanningLines(const std::map<long, Line>& lines, int n_p
 
 StripeOrderPlanes PlanesByStripeOrder(const std::vector<StripeSegment>& segments, const std::vector<int>& candidates,
                                       const std::vector<char>& unnumbered, const std::vector<SegmentEnds>& ends,
-                                      const PointAxes& axes, int n_planes) {
+                                      const PointAxes& axes, int n_planes, const LineFit& fit) {
   StripeOrderPlanes out;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   out.cut_before.assign(segments.size(), nan);
@@ -163,8 +163,37 @@ StripeOrderPlanes PlanesByStripeOrder(const std::vector<StripeSegment>& segments
     ranked.erase(std::remove_if(ranked.begin(), ranked.end(), [&](const RankedLine& r) { return on_cut_piece(*r.stripes); }),
                  ranked.end());
   }
+  // Lines of fewer stripes than sheets: numbered where the working range
+  // leaves one numbering (their stripes could be several of the sheets).
+  int fewer = 0, several = 0;
+  {
+    std::vector<long> taken;
+    for (const RankedLine& r : ranked) taken.push_back(r.line);
+    std::sort(taken.begin(), taken.end());
+    for (const auto& [line, v] : lines) {
+      if (int(v.size()) >= n_planes || !DistinctSegments(v) || on_cut_piece(v) ||
+          std::binary_search(taken.begin(), taken.end(), line)) {
+        continue;
+      }
+      ++fewer;
+      std::vector<int> rank;
+      const int numberings = FittingNumberings(v, line, n_planes, fit, &rank);
+      several += numberings > 1;
+      if (numberings == 1) ranked.push_back({line, &v, std::move(rank)});
+    }
+  }
   if (ranked.empty()) {
     out.error = "no search line meets all " + std::to_string(n_planes) + " stripes";
+    if (fewer > 0 && !fit) {
+      out.error += " (" + std::to_string(fewer) + " show fewer, which could be more than one set of the sheets, "
+                   "e.g. either end's: a working depth range, scan --depth-range, would decide)";
+    } else if (several > 0) {
+      out.error += ", and on " + std::to_string(several) + " line(s) of fewer stripes more than one numbering "
+                   "puts them within the depth range (e.g. both ends' sheets fit it)";
+    } else if (fewer > 0) {
+      out.error += ", and no numbering puts the stripes of the " + std::to_string(fewer) +
+                   " line(s) of fewer within the depth range";
+    }
     return out;
   }
   // Whether the stripes j0..j1 of line v stand about one spacing apart, each from the next.
@@ -219,8 +248,11 @@ StripeOrderPlanes PlanesByStripeOrder(const std::vector<StripeSegment>& segments
       if (spaced_line[f]) showing.push_back(ranked[f]);
     }
     if (full_lines) {
+      std::vector<long> read;  // lines read already (those the working range numbered)
+      for (const RankedLine& r : ranked) read.push_back(r.line);
+      std::sort(read.begin(), read.end());
       for (RankedLine& r : SpanningLines(lines, n_planes, spacing)) {
-        if (!on_cut_piece(*r.stripes)) showing.push_back(std::move(r));
+        if (!on_cut_piece(*r.stripes) && !std::binary_search(read.begin(), read.end(), r.line)) showing.push_back(std::move(r));
       }
     }
     std::vector<std::vector<std::pair<long, int>>> ranks_of(segments.size());

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/plane_id_range.h"
 #include "pipeline/plane_identification.h"
 
 namespace lt {
@@ -32,9 +33,11 @@ struct StripeOrderPlanes {
 
 // The plane of each of the candidate segments by the stripes' order (the
 // header's steps 1-3); `unnumbered` segments stand on the lines but take no
-// plane (pieces cut off an earlier reading).
+// plane (pieces cut off an earlier reading). With `fit` (the scanner's
+// working range), lines of fewer stripes than sheets that it leaves one
+// numbering (plane_id_range.h) are read as lines meeting all N.
 StripeOrderPlanes PlanesByStripeOrder(const std::vector<StripeSegment>& segments, const std::vector<int>& candidates,
                                       const std::vector<char>& unnumbered, const std::vector<SegmentEnds>& ends,
-                                      const PointAxes& axes, int n_planes);
+                                      const PointAxes& axes, int n_planes, const LineFit& fit = {});
 
 }  // namespace lt

@@ -89,6 +89,9 @@ double InverseDepth(const Plane& plane, const Eigen::Vector3d& ray) {
   return 1 / (-plane.d / plane.n.dot(ray) * ray.z());
 }
 
+// The inverse depth that moves sheet `here`'s stripe by kToleratedPx.
+double ToleratedInverseDepth(const Across& here, double focal) { return kToleratedPx / (focal * std::abs(here.beta)); }
+
 }  // namespace
 
 void DepthRange::Check(const std::string& where) const {
@@ -203,7 +206,7 @@ int SheetsOfRanks::Apply(std::vector<StripePoint>* points) const {
         const Plane& sheet = planes[size_t(k)];
         const double w = InverseDepth(sheet, r.ray);
         const std::vector<Across> here = AcrossLine(planes, rows, r.ray.x() / r.ray.z(), r.ray.y() / r.ray.z());
-        const double dw = kToleratedPx / (focal * std::abs(here[size_t(k)].beta));  // inverse depth per tolerated px
+        const double dw = ToleratedInverseDepth(here[size_t(k)], focal);
         fits = std::isfinite(w) && w > 0 && w >= run.w_lo - dw && w < run.w_hi + dw;
         double nearest = std::numeric_limits<double>::infinity();
         for (size_t q = 0; q < planes.size(); ++q) {
@@ -231,6 +234,39 @@ int SheetsOfRanks::Apply(std::vector<StripePoint>* points) const {
     }
   }
   return dropped;
+}
+
+bool SheetsOfRanks::RanksFit(const std::vector<StripePoint>& points) const {
+  const std::vector<Plane>& planes = triangulator_.planes();
+  const bool rows = axis_ == SearchAxis::kRows;
+  const double focal = rows ? triangulator_.camera().fx() : triangulator_.camera().fy();
+  std::vector<Eigen::Vector3d> rays;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const StripePoint& p : points) {
+    const std::optional<Eigen::Vector3d> ray = triangulator_.camera().Unproject({p.u, p.v});
+    if (p.plane < 0 || p.plane >= int(planes.size()) || !ray || !(ray->z() > 0)) return false;
+    rays.push_back(*ray);
+    mean += *ray / ray->z();
+  }
+  if (rays.empty()) return false;
+  mean /= double(rays.size());
+  // One projector: one order at every depth (Apply's). Facing projectors:
+  // the orders the sheets take on this line at depths within the range.
+  const std::vector<OrderRun> runs = depth_dependent_
+                                         ? OrdersOverDepth(AcrossLine(planes, rows, mean.x(), mean.y()), w_min_, w_max_)
+                                         : std::vector<OrderRun>{{order_, w_min_, w_max_}};
+  for (const OrderRun& run : runs) {
+    bool fits = true;
+    for (size_t j = 0; j < points.size() && fits; ++j) {
+      const int k = run.order[size_t(points[j].plane)];
+      const Eigen::Vector3d& ray = rays[j];
+      const double w = InverseDepth(planes[size_t(k)], ray);
+      const double dw = ToleratedInverseDepth(Across(planes[size_t(k)], rows, ray.x() / ray.z(), ray.y() / ray.z()), focal);
+      fits = std::isfinite(w) && w > 0 && w >= run.w_lo - dw && w <= run.w_hi + dw;
+    }
+    if (fits) return true;
+  }
+  return false;
 }
 
 }  // namespace lt

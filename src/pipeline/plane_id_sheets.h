@@ -64,6 +64,15 @@ class SheetsOfRanks {
   // the range; returns how many ranked points were left without a plane so.
   int Apply(std::vector<StripePoint>* points) const;
 
+  // Whether the points of one search line, each with a candidate rank in
+  // `plane`, lie within the depth range on the sheets those ranks give (for
+  // facing projectors: in one order the sheets take there), give or take
+  // 0.5 px of their positions, as Apply's orders fit. How plane
+  // identification reads a line of fewer stripes than sheets (IdentifyPlanes's
+  // range_fit); without a range, true wherever the ranks are sheets in front
+  // of the camera.
+  bool RanksFit(const std::vector<StripePoint>& points) const;
+
  private:
   const Triangulator& triangulator_;
   SearchAxis axis_;

@@ -42,7 +42,7 @@ int Find(std::vector<int>& parent, int i) {
 }  // namespace
 
 PlaneIdentification IdentifyPlanes(const std::vector<StripePoint>& points, const PixelRect& region, int n_planes,
-                                   const PlaneIdOptions& options) {
+                                   const PlaneIdOptions& options, const RankFit& range_fit) {
   options.Check();
   if (n_planes < 1) throw InputError("option planes", "must be >= 1, got " + std::to_string(n_planes));
   PlaneIdentification result;
@@ -195,9 +195,22 @@ PlaneIdentification IdentifyPlanes(const std::vector<StripePoint>& points, const
   axes.along.resize(size_t(n)), axes.across.resize(size_t(n));
   for (int i = 0; i < n; ++i) axes.along[size_t(i)] = along(i), axes.across[size_t(i)] = across(i);
   std::vector<char> cut_off(result.segments.size(), 0);
+  LineFit line_fit;
+  if (range_fit) {
+    line_fit = [&](long line, const std::vector<double>& across_at, const std::vector<int>& ranks) {
+      std::vector<StripePoint> line_points(across_at.size());
+      for (size_t j = 0; j < across_at.size(); ++j) {
+        StripePoint& p = line_points[j];
+        (rows ? p.u : p.v) = across_at[j];
+        (rows ? p.v : p.u) = double(line);
+        p.plane = ranks[j];
+      }
+      return range_fit(line_points);
+    };
+  }
   StripeOrderPlanes by_order;
   for (bool cut = true; cut;) {
-    by_order = PlanesByStripeOrder(result.segments, candidates, cut_off, ends, axes, n_planes);
+    by_order = PlanesByStripeOrder(result.segments, candidates, cut_off, ends, axes, n_planes, line_fit);
     cut = false;
     for (size_t s = 0, count = result.segments.size(); s < count; ++s) {
       const double before = by_order.cut_before[s], after = by_order.cut_after[s];

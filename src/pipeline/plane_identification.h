@@ -43,6 +43,7 @@
 // edges here.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -97,9 +98,19 @@ struct PlaneIdentification {
   std::vector<StripeSegment> segments;  // pieces cut off a joined segment come last
 };
 
+// Whether stripe points of one search line, each with a candidate rank in
+// `plane` (0..N-1 across the image), lie where the scanner measures: its
+// working range (scan: SheetsOfRanks::RanksFit, pipeline/plane_id_sheets.h).
+using RankFit = std::function<bool(const std::vector<StripePoint>& points)>;
+
 // `region` is the rectangle that was searched (the image or its ROI), in the
-// points' coordinates. n_planes >= 1.
+// points' coordinates. n_planes >= 1. With `range_fit`, a search line of
+// fewer stripes than sheets (whose stripes could be several sets of the
+// sheets: N - 1 one spacing apart, either end's) is read as a line meeting
+// all N when exactly one numbering of its stripes fits (every increasing
+// numbering is tried); without it, or when several fit, such a line numbers
+// nothing by itself.
 PlaneIdentification IdentifyPlanes(const std::vector<StripePoint>& points, const PixelRect& region, int n_planes,
-                                   const PlaneIdOptions& options);
+                                   const PlaneIdOptions& options, const RankFit& range_fit = {});
 
 }  // namespace lt

@@ -297,8 +297,13 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
       id_options.axis = axis;
       id_options.edge_margin = std::max(id_options.edge_margin, edge_lines_without_points + 2);
       const PixelRect region = eo.roi ? *eo.roi : PixelRect{0, 0, width, height};
-      PlaneIdentification id = IdentifyPlanes(points, region, int(planes.size()), id_options);
       const SheetsOfRanks& sheets = sheets_of_ranks.try_emplace(int(axis), triangulator, axis, depth_range).first->second;
+      // The working range decides the sheets of lines showing fewer stripes than sheets.
+      const RankFit range_fit = depth_range ? RankFit([&sheets](const std::vector<StripePoint>& line) {
+        return sheets.RanksFit(line);
+      })
+                                            : RankFit();
+      PlaneIdentification id = IdentifyPlanes(points, region, int(planes.size()), id_options, range_fit);
       points = std::move(id.points);
       const int uncertain = sheets.Apply(&points);
       if (uncertain > 0 && !warned_uncertain_sheet) {
