@@ -357,5 +357,70 @@ TEST_F(ScanCommand, NonFiniteThresholdsAreRefused) {
   EXPECT_FALSE(fs::exists(run / "cloud.ply"));
 }
 
+// A diffractive element's three sheets (sheet_angles_deg -14, -1, 6) on a floor
+// 100 mm below a 64x48 camera: the first sheet's stripe falls outside the image
+// (as a part, or a weak outer order, can hide an outer sheet everywhere), so
+// every column shows 2 stripes, which could be sheets 0 and 1 or 1 and 2.
+// Before, scan refused the frame with or without --depth-range (0
+// triangulated). Read as sheets 0 and 1 they would lie at 57 and 75 mm: a
+// range of 80:120 mm numbers them, each point on its true sheet; 50:200 mm
+// admits both readings and numbers nothing; without a range the warning says
+// that a depth range would decide.
+TEST(ScanDepthRange, ARangeNumbersTheSheetsWhenOneIsMissingOnEveryColumn) {
+  const fs::path dir = TestFolder("scan_range_missing_sheet");
+  fs::create_directories(dir);
+  const std::string square = (kSource / "tests/data/gltf/square.gltf").string();
+  const nlohmann::json laser = {{"power_mw", 3}, {"wavelength_nm", 650}, {"divergence_deg", 1},
+                                {"sheet_angles_deg", {-14, -1, 6}},
+                                {"cam_from_projector",
+                                 {{"translation_m", {0, 0.04, 0}}, {"rotation_rpy_deg", {std::atan(0.4) * 180 / M_PI, 0, 0}}}}};
+  const nlohmann::json scene = {
+      {"seed", 2},
+      {"objects",
+       {{{"name", "floor"}, {"gltf", square}, {"scale", 20}, {"material", "white"},
+         {"world_from_object", {{"translation_m", {-0.1, -0.1, 0}}}}}}},
+      {"materials", {{"white", {{"base_color", {0.8, 0.8, 0.8}}}}}},
+      {"sensor",
+       {{"camera", {{"resolution", {64, 48}}, {"pixel_pitch_um", 50}, {"focal_length_mm", 4.4}, {"f_number", 4}}},
+        {"lasers", {laser}},
+        {"shutter", {{"frame_period_ms", 10}, {"cycle", {{{"exposure_us", 50}, {"laser", true}}}}}}}},
+      {"motion", {{"type", "static"}, {"world_from_cam", {{"look_at", {{"eye_m", {0, 0, 0.1}}, {"target_m", {0, 0, 0}}}}}}}},
+      {"render", {{"spp", 1}, {"max_bounces", 0}, {"frames", 1}}},
+      {"output", {{"write_radiance", false}}}};
+  std::ofstream(dir / "scene.json") << scene.dump();
+  const fs::path run = dir / "run";
+  ASSERT_EQ(RunCli("render " + Quoted(dir / "scene.json") + " --out " + Quoted(run) + " --quiet").exit_code, 0);
+  // The true centres of each column: (row, sheet).
+  std::map<long, std::vector<std::pair<double, int>>> truth;
+  for (const auto& f : ReadCsv(run / "gt/000000_centers.csv", kTruthHeader)) {
+    truth[std::lround(std::stod(f[0]))].push_back({std::stod(f[1]), std::stoi(f[2])});
+    EXPECT_NE(std::stoi(f[2]), 0);  // outside the image
+  }
+
+  CliResult r = RunCli("scan " + Quoted(run));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("a working depth range, scan --depth-range, would decide"));
+  EXPECT_THAT(r.err + r.out, HasSubstr(" 0 triangulated"));
+  r = RunCli("scan " + Quoted(run) + " --depth-range 50:200");
+  EXPECT_THAT(r.err, HasSubstr("more than one numbering puts them within the depth range"));
+  EXPECT_THAT(r.err + r.out, HasSubstr(" 0 triangulated"));
+
+  r = RunCli("scan " + Quoted(run) + " --depth-range 80:120");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  int right = 0, wrong = 0, none = 0;
+  for (const auto& f : ReadCsv(run / "centers/000000.csv", kCentersHeader)) {
+    const int plane = std::stoi(f[4]);
+    int sheet = -1;  // the true centre within 2 px on the column
+    for (const auto& [v, k] : truth[std::lround(std::stod(f[0]))]) sheet = std::abs(v - std::stod(f[1])) < 2 ? k : sheet;
+    ASSERT_GE(sheet, 0) << f[0] << "," << f[1];
+    ++(plane < 0 ? none : plane == sheet ? right : wrong);
+    if (plane >= 0) EXPECT_NEAR(std::stod(f[10]), 0, 2e-3) << f[0] << "," << f[1];  // z_world on the floor (another sheet: 25 mm or more off)
+  }
+  EXPECT_EQ(wrong, 0);
+  EXPECT_EQ(none, 0);
+  EXPECT_GE(right, 2 * 60);
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace lt::test
