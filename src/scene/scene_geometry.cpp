@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <map>
 
+#include "core/error.h"
 #include "scene/gltf_loader.h"
 #include "scene/scene_file.h"
 
@@ -152,13 +153,21 @@ SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
   // Loads `obj`'s file once per (file, materials); `override_id` is the material its
   // triangles take without materials. A second load of a file (the geometry alone)
   // repeats neither its warnings nor its degenerate-triangle count.
-  auto load = [&](const SceneObject& obj, const std::filesystem::path& key, bool materials, int32_t override_id) {
+  auto load = [&](size_t oi, const std::filesystem::path& key, bool materials, int32_t override_id) {
+    const SceneObject& obj = scene.objects[oi];
     auto it = loaded.find({key, materials});
     if (it != loaded.end()) return it;
     const bool again = loaded.count({key, !materials}) != 0;
     GltfLoadOptions options;
     options.materials = materials;
-    GltfAsset asset = LoadGltf(obj.gltf, obj.gltf.string(), options);
+    GltfAsset asset;
+    try {
+      asset = LoadGltf(obj.gltf, obj.gltf.string(), options);
+    } catch (const InputError& e) {
+      // The file's own place first; then which object of which scene file named it.
+      throw InputError(e.where(), e.message() + " (object \"" + obj.name + "\", /objects/" + std::to_string(oi) +
+                                      "/gltf of " + scene.path.string() + ")");
+    }
     // Without materials, every object using this load sets its own: the triangles
     // index this one's (never read through an instance) in place of the placeholder.
     const uint32_t material_base = materials ? uint32_t(g.materials.size()) : uint32_t(override_id);
@@ -182,8 +191,8 @@ SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
     g.object_names.push_back(obj.name);
     const std::filesystem::path& key = keys[oi];
     const int32_t override_id = obj.material.empty() ? -1 : int32_t(scene.FindMaterial(obj.material));
-    auto it = load(obj, key, needs_materials[key], override_id);
-    if (override_id >= 0 && it->second.texcoords_not_set_0) it = load(obj, key, false, override_id);
+    auto it = load(oi, key, needs_materials[key], override_id);
+    if (override_id >= 0 && it->second.texcoords_not_set_0) it = load(oi, key, false, override_id);
     if (override_id < 0 && it->second.uses_default_material) {
       // Files converted from STL or OBJ often hold no material at all.
       g.warnings.push_back("object \"" + obj.name + "\": " + obj.gltf.string() +

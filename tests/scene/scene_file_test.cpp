@@ -396,6 +396,19 @@ TEST(SceneGeometry, ATextureOnAMeshWithoutTextureCoordinatesIsWarned) {
                                         "one colour"));
 }
 
+TEST(SceneGeometry, AFileThatCannotBeReadNamesTheObjectThatGaveIt) {
+  // The loader's message names the glTF file (and its place in it); a scene of
+  // many objects also needs which object, at which key, gave that file.
+  const fs::path dir = fs::path(::testing::TempDir()) / "lt_scene_bad_gltf";
+  fs::create_directories(dir);
+  std::ofstream(dir / "notes.gltf") << "hello";
+  SceneFile s = Parse(R"({"objects": [{"name": "a", "gltf": "../gltf/square.gltf"},
+    {"name": "part", "gltf": ")" + (dir / "notes.gltf").string() + R"("}], )" + kSensor + "}");
+  const std::string e = ErrorOf([&] { LoadSceneGeometry(s); });
+  EXPECT_THAT(e, HasSubstr("notes.gltf: neither a GLB"));
+  EXPECT_THAT(e, ::testing::EndsWith(" (object \"part\", /objects/1/gltf of scene.json)"));
+}
+
 TEST(SceneGeometry, ObjectsShareTheirGltfAndKeepTheirPoses) {
   SceneFile s = LoadSceneFile(kScenes / "full.json");
   auto g = std::make_shared<const SceneGeometry>(LoadSceneGeometry(s));
