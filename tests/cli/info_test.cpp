@@ -158,7 +158,7 @@ TEST(InfoCommand, UsageErrorsExitWithTwo) {
 struct BadScene {
   const char* file;      // in tests/data/scenes/bad
   std::string message;   // what follows "lasertwin: error: <where>"
-  bool gltf = false;     // the error names a glTF file instead of the scene file
+  bool gltf = false;     // the error names a glTF file first, then the scene's object "square" that gave it
 };
 
 // {file, expected message}. For scene errors the message follows
@@ -234,7 +234,10 @@ TEST(InfoCommand, BadScenesGiveTheirMessageAndExitCodeTwo) {
     Result r = runs[i].get();
     EXPECT_EQ(r.exit_code, 2) << c.file;
     EXPECT_EQ(r.out, "") << c.file;
-    const std::string expected = "lasertwin: error: " + (c.gltf ? c.message : p.string() + ": " + c.message) + "\n";
+    const std::string expected =
+        "lasertwin: error: " +
+        (c.gltf ? c.message + " (object \"square\", /objects/0/gltf of " + p.string() + ")" : p.string() + ": " + c.message) +
+        "\n";
     EXPECT_EQ(r.err, expected) << c.file;
   }
 }
