@@ -60,7 +60,7 @@ bool IsKnownMotionlessCommand(const std::string& name) {
         "EXCLUDE_OBJECT_DEFINE", "EXCLUDE_OBJECT_START", "EXCLUDE_OBJECT_END", "SET_PRINT_STATS_INFO",
         "SET_DISPLAY_TEXT", "SET_DISPLAY_GROUP", "RESPOND", "SAVE_VARIABLE", "SAVE_GCODE_STATE",
         "SET_FILAMENT_SENSOR", "SET_Z_THERMAL_ADJUST", "UPDATE_DELAYED_GCODE", "GET_POSITION", "STATUS",
-        "QUERY_ENDSTOPS", "QUERY_PROBE", "CLEAR_PAUSE", "SET_SKEW", "SKEW_PROFILE", "ECHO", "ACTIVATE_EXTRUDER",
+        "QUERY_ENDSTOPS", "QUERY_PROBE", "CLEAR_PAUSE", "SET_SKEW", "SKEW_PROFILE", "ECHO",
         "SET_GCODE_VARIABLE", "SET_STEPPER_ENABLE", "SET_SERVO", "SET_PAUSE_NEXT_LAYER", "SET_PAUSE_AT_LAYER"}) {
     if (name == known) return true;
   }
@@ -94,17 +94,6 @@ std::optional<double> SkippedWordValue(std::string_view params, char letter) {
 }
 
 }  // namespace
-
-void GcodeReader::SelectTool(int n) {
-  if (n < 0 || n == active_tool_) return;  // RepRapFirmware's T-1 deselects: no tool's settings change
-  active_tool_ = n;   // the tool whose flow (M221) applies and whose axis E is (ExtruderSlot)
-  // The new tool's filament: loaded to its nozzle by the firmware or the tool changer
-  // (an MMU), or left retracted when the tool was parked (two nozzles: the slicer primes
-  // it in place after the change, "T0 / G1 F1200 E8.5"). Which is the printer's, so the
-  // feeds in place before the tool's first bead refill its nozzle: no blob.
-  retracted_mm_ = 0;
-  new_tool_unprimed_ = true;
-}
 
 // Axis words without a command on their line: the last G0-G3 again, as RS-274 makes the
 // motion mode modal (LinuxCNC, Grbl, RepRapFirmware; Marlin with GCODE_MOTION_MODES).
@@ -147,6 +136,10 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
     }
     if (name == "SET_RETRACTION") {
       KlipperRetractSettings(code.substr(end));
+      return;
+    }
+    if (name == "ACTIVATE_EXTRUDER") {
+      KlipperActivateExtruder(code.substr(end));
       return;
     }
     if (name == "SET_GCODE_OFFSET") {

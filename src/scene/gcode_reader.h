@@ -115,6 +115,8 @@ class GcodeReader {
   // T n (and MakerBot's M135 T n, M6 T n, M108 T n): tool n is the active one; n < 0
   // (RepRapFirmware's T-1) changes nothing.
   void SelectTool(int n);
+  // Klipper's ACTIVATE_EXTRUDER EXTRUDER=extruderN: tool N, E restarting at 0, flow 100 %.
+  void KlipperActivateExtruder(std::string_view params);
   // M0, M1, M25, M226, M600, M601, M400 (called with U1 only: Bambu's pause) (a stop,
   // pause or filament change that waits for the user: Cura's Pause at Height,
   // PrusaSlicer's colour change): skipped, one warning per command, since every time
@@ -288,7 +290,8 @@ class GcodeReader {
   double speed_factor_ = 1, saved_speed_factor_ = 1;  // M220 (and its B backup)
   std::map<int, double> flow_factor_;                 // M221 per tool (absent: 100 %)
   int active_tool_ = 0;                               // the last T n (or M6, M108, M135 T n)
-  double retracted_mm_ = 0;  // filament drawn back since the nozzle last laid plastic (ToolpathSegment::laid_m)
+  double retracted_mm_ = 0;  // the active tool's filament drawn back since it last laid plastic (ToolpathSegment::laid_m)
+  std::map<int, double> parked_retraction_mm_;  // each other tool's, when it was parked (SelectTool)
   bool new_tool_unprimed_ = false;  // a tool change since the last bead: feeds in place refill the nozzle (SelectTool)
   double unit_mm_ = 1;    // 25.4 under G20
   bool xyz_relative_ = false;
