@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 
 #if defined(__SANITIZE_ADDRESS__)
 #include <sanitizer/lsan_interface.h>
@@ -39,6 +40,25 @@ void RefuseSeveralFrames(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, cons
                                       "(e.g. ImageJ's Stack to Images, or oiiotool's --subimage)");
 }
 
+// The most pixel data, as held (1, 2 or 4 bytes a sample), a header's size is
+// believed for: a camera's largest frames (150 Mpx of 3 float channels) hold under
+// 2 GB. A damaged or hostile header (a 69-byte PNG declaring 60000x60000 RGBA at
+// 16 bits) is an error naming it, before gigabytes are allocated and zeroed (or
+// std::bad_alloc) for a decoder that then fails on the first row.
+constexpr double kLargestImageBytes = 4e9;
+
+void RefuseDamagedSize(const OIIO::ImageSpec& spec, const std::filesystem::path& path) {
+  const int held = spec.format == OIIO::TypeDesc::UINT8 ? 1 : spec.format == OIIO::TypeDesc::UINT16 ? 2 : 4;
+  const double bytes = double(spec.width) * spec.height * spec.nchannels * held;
+  if (bytes <= kLargestImageBytes) return;
+  char gb[32];
+  std::snprintf(gb, sizeof gb, "%.1f", bytes / 1e9);
+  throw InputError(path.string(), "its header declares " + std::to_string(spec.width) + "x" +
+                                      std::to_string(spec.height) + " pixels of " + std::to_string(spec.nchannels) +
+                                      " channels (" + gb + " GB of samples); images above " +
+                                      FormatNumber(kLargestImageBytes / 1e9) + " GB are not read (a damaged file?)");
+}
+
 std::unique_ptr<OIIO::ImageInput> OpenInput(const std::filesystem::path& path, OIIO::ImageSpec* spec) {
   if (!std::filesystem::exists(path)) throw InputError(path.string(), "no such file");
   if (std::filesystem::is_directory(path)) throw InputError(path.string(), "is a folder, not an image");
@@ -62,6 +82,7 @@ std::unique_ptr<OIIO::ImageInput> OpenInput(const std::filesystem::path& path, O
                                         std::to_string(spec->nchannels) + " channels)");
   }
   if (spec->depth > 1) throw InputError(path.string(), "volume images are not supported");
+  RefuseDamagedSize(*spec, path);
   RefuseSeveralFrames(*in, *spec, path);
   (void)in->geterror();  // open succeeded: whatever it noted is not a pixel error (see ReadAs)
   return in;

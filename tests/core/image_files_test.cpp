@@ -193,5 +193,25 @@ TEST_F(ImageFiles, FileSizeNamesTheSampleType) {
   EXPECT_EQ(ReadImageFileSize(dir_ / "c.exr").sample_type, "float");
 }
 
+// A header's size was believed: a 69-byte PNG declaring 60000x60000 RGBA at 16
+// bits made extract say "internal error: std::bad_alloc" (28.8 GB asked for; one
+// of 30000x30000 had 7.2 GB allocated and zeroed before the decoder failed on
+// its first row). It is an error naming the file and the size (found
+// reading the image reader for tools/fuzz/fuzz_image).
+TEST_F(ImageFiles, AHeaderDeclaringAnImpossibleSizeIsAnError) {
+  using test::BigEndian32;
+  using test::Chunk;
+  const std::string ihdr = BigEndian32(1000000) + BigEndian32(1000000) + std::string{16, 6, 0, 0, 0};
+  std::ofstream(dir_ / "huge.png", std::ios::binary)
+      << std::string("\x89PNG\r\n\x1a\n", 8) + Chunk("IHDR", ihdr) + Chunk("IDAT", std::string(12, '\0')) +
+             Chunk("IEND", "");
+  const std::string e = ErrorOf([&] { ReadImage(dir_ / "huge.png", AlphaChannel::kDrop); });
+  EXPECT_NE(e.find("huge.png: its header declares 1000000x1000000 pixels of 4 channels (8000.0 GB of samples); "
+                   "images above 4 GB are not read"),
+            std::string::npos)
+      << e;
+  EXPECT_NE(ErrorOf([&] { ReadImageFileSize(dir_ / "huge.png"); }).find("its header declares"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace lt

@@ -1,0 +1,23 @@
+// Frame image files as scan, calibrate and extract read them (core/image_io.h:
+// ReadImage with its ImageFileFacts, OpenImageIO's decoders and the PNG header
+// chunks read here; pipeline/image_file_facts.h: the warnings and notes on what
+// the file declares). The first byte's low two bits choose the file's
+// extension: .png, .tif, .pgm, .jpg (OpenImageIO picks its decoder by it).
+#include "fuzz_common.h"
+#include "pipeline/image_file_facts.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  if (size == 0) return 0;
+  static const char* const kNames[4] = {"frame.png", "frame.tif", "frame.pgm", "frame.jpg"};
+  const std::filesystem::path path = lt::fuzz::WriteScratch(kNames[data[0] & 3], data + 1, size - 1);
+  lt::fuzz::ExpectCleanErrors([&] {
+    lt::ImageFileFacts facts;
+    (void)lt::ReadImage(path, lt::AlphaChannel::kDrop, &facts);
+    (void)lt::ImageFileWarnings(facts, false);
+    (void)lt::UnscaledBitsNote(facts);
+    (void)lt::DeclaredUnscaledBits(facts);
+    (void)lt::OptionsForImageFile(lt::ExtractionOptions{}, facts);
+  });
+  std::filesystem::remove(path);
+  return 0;
+}
