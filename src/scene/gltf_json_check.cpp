@@ -14,6 +14,7 @@
 #include "core/json_reader.h"
 #include "scene/gltf_json_data.h"
 #include "scene/gltf_schema.h"
+#include "scene/gltf_used.h"
 #include "scene/gltf_without_materials.h"
 
 
@@ -288,7 +289,10 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
       }
     }
   }
-  CheckGltfImageFiles(root, file, base_dir, external);
+  // Only the images of the materials some triangle uses are read (gltf_used.h).
+  GltfUse use = FindGltfUse(root);
+  CheckGltfImageFiles(root, file, base_dir, use.images, external);
+  if (external != nullptr) external->use = std::move(use);
 }
 
 }  // namespace lt

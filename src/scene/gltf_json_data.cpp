@@ -207,16 +207,38 @@ void CheckGltfBufferData(const nlohmann::json& root, bool binary, const std::str
 }
 
 void CheckGltfImageFiles(const nlohmann::json& root, const std::string& file, const std::filesystem::path& base_dir,
-                         GltfExternalFiles* external) {
+                         const std::vector<bool>& read, GltfExternalFiles* external) {
+  std::vector<std::pair<std::string, std::filesystem::path>> unread;  // (lookup path, file)
   if (auto images = root.find("images"); images != root.end() && images->is_array()) {
     for (size_t i = 0; i < images->size(); ++i) {
       const auto& im = (*images)[i];
       if (!im.is_object()) continue;
       auto uri = im.find("uri");
       if (uri == im.end()) continue;
-      CheckExternal(*uri, file + ": /images/" + std::to_string(i) + "/uri", "texture image", base_dir, -1,
-                    external);
+      const std::string where = file + ": /images/" + std::to_string(i) + "/uri";
+      if (i < read.size() && read[i]) {
+        CheckExternal(*uri, where, "texture image", base_dir, -1, external);
+        continue;
+      }
+      // Not read: tinygltf still asks for the file, and gets a placeholder for it.
+      if (!uri->is_string() || uri->get_ref<const std::string&>().rfind("data:", 0) == 0) continue;
+      const std::string& s = uri->get_ref<const std::string&>();
+      std::filesystem::path p;
+      try {
+        p = ResolveGltfUri(s, base_dir, where);
+      } catch (const InputError&) {  // a remote or malformed uri: never read, so never refused
+        p = (base_dir / ("unread image " + std::to_string(i))).lexically_normal();
+      }
+      unread.emplace_back(TinygltfLookupPath(s, base_dir.string()), p);
     }
+  }
+  if (external == nullptr) return;
+  // A file that a buffer or a read image also names is read for them.
+  std::set<std::filesystem::path> read_files;
+  for (const auto& entry : external->by_lookup_path) read_files.insert(entry.second);
+  for (auto& [lookup, p] : unread) {
+    external->by_lookup_path.emplace(lookup, p);
+    if (read_files.count(p) == 0) external->unread_images.insert(p);
   }
 }
 

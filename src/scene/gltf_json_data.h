@@ -8,7 +8,11 @@
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
+#include <vector>
+
+#include "scene/gltf_used.h"
 
 namespace lt {
 
@@ -21,6 +25,11 @@ struct GltfExternalFiles {
   // The byteLength of each external buffer file, by its normalized path, where it
   // is shorter than the file.
   std::map<std::filesystem::path, uint64_t> buffer_lengths;
+  // What the triangles use (FindGltfUse); the images not in use.images are not read.
+  GltfUse use;
+  // The files of images nothing reads (and no buffer or read image names), which
+  // need not exist: tinygltf gets a placeholder byte for them, never decoded.
+  std::set<std::filesystem::path> unread_images;
 };
 
 // Data: URIs of buffers and images written as browsers read them but tinygltf and
@@ -44,8 +53,10 @@ void CheckGltfBufferData(const nlohmann::json& root, bool binary, const std::str
                          const std::filesystem::path& base_dir, GltfExternalFiles* external);
 
 // Checks that every image file `root`'s images name exists (data: URIs are decoded
-// later); `external` (optional) receives them.
+// later), but for the images `read` (by index) says are not read: their uri is not
+// looked at (a missing file, a remote URI, ...) and their files, when resolved, are
+// entered in external->unread_images. `external` (optional) receives them.
 void CheckGltfImageFiles(const nlohmann::json& root, const std::string& file, const std::filesystem::path& base_dir,
-                         GltfExternalFiles* external);
+                         const std::vector<bool>& read, GltfExternalFiles* external);
 
 }  // namespace lt

@@ -45,9 +45,13 @@ void AddListed(const std::string& file, const std::vector<std::string>& places,
 // tinygltf looks for external files in the base folder and then in ".". Only
 // absolute paths (the base folder is made absolute) are accepted, so nothing is
 // ever picked up from the working directory by accident.
-bool FileExistsCallback(const std::string& path, void*) {
+// An image file nothing reads "exists" (GltfExternalFiles::unread_images), so that
+// tinygltf, which loads every image, asks for it and gets a placeholder.
+bool FileExistsCallback(const std::string& path, void* user) {
   std::error_code ec;
-  return std::filesystem::path(path).is_absolute() && std::filesystem::is_regular_file(path, ec);
+  return std::filesystem::path(path).is_absolute() &&
+         (std::filesystem::is_regular_file(path, ec) ||
+          static_cast<const GltfExternalFiles*>(user)->unread_images.count(path) != 0);
 }
 
 // Maps the path tinygltf asks for to the file the uri names, as CheckGltfJson
@@ -64,6 +68,10 @@ std::string ExpandFilePathCallback(const std::string& path, void* user) {
 // that it is not shorter), but tinygltf wants the exact size: such a file is cut
 // to byteLength as it is read.
 bool ReadWholeFileCallback(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+  if (static_cast<const GltfExternalFiles*>(user)->unread_images.count(path) != 0) {
+    *out = {0};  // an image nothing reads: a placeholder, never decoded (LoadImageCallback)
+    return true;
+  }
   try {
     *out = ReadFileBytes(path, path);
     const auto& lengths = static_cast<const GltfExternalFiles*>(user)->buffer_lengths;
@@ -86,9 +94,11 @@ bool WriteWholeFileCallback(std::string* err, const std::string&, const std::vec
 // image that cannot be decoded (WebP, KTX2, DDS, ... or corrupt bytes) is left
 // empty and its reason kept: it is an error only if a texture uses it (an unused
 // image, or an extension's alternative source with a PNG fallback, is fine).
+// Images that no used material reads (GltfUse::images) are not decoded.
 struct ImageLoadContext {
   const tinygltf::Model* model = nullptr;
   std::vector<std::string> errors;  // by image index
+  const std::vector<bool>* read = nullptr;  // by image index
 };
 
 // A name for the format of undecodable image bytes: their signature, else the mimeType.
@@ -125,6 +135,7 @@ bool LoadImageCallback(tinygltf::Image* image, const int index, std::string* err
     }
   }
   if (index < 0) return false;
+  if (size_t(index) >= ctx->read->size() || !(*ctx->read)[size_t(index)]) return true;  // left empty
   if (ctx->errors.size() <= size_t(index)) ctx->errors.resize(size_t(index) + 1);
   std::string& failure = ctx->errors[size_t(index)];
   if (bytes == nullptr || size <= 0) {
@@ -174,7 +185,7 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
   tinygltf::FsCallbacks fs{&FileExistsCallback, &ExpandFilePathCallback, &ReadWholeFileCallback,
                            &WriteWholeFileCallback, &external};
   loader.SetFsCallbacks(fs);
-  ImageLoadContext image_ctx{&model, {}};
+  ImageLoadContext image_ctx{&model, {}, &external.use.images};
   loader.SetImageLoader(&LoadImageCallback, &image_ctx);
   std::string err, warn;
   bool ok;
@@ -196,7 +207,9 @@ GltfAsset LoadGltf(const std::filesystem::path& path, const std::string& display
   const GltfSource src{model, file, &image_ctx.errors};
   std::vector<bool> metallic_by_default;
   // Without materials the JSON held none (CheckGltfJson): every primitive takes the default.
-  if (options.materials) asset.materials = ConvertGltfMaterials(src, &asset.warnings, &metallic_by_default);
+  if (options.materials) {
+    asset.materials = ConvertGltfMaterials(src, &asset.warnings, &metallic_by_default, &external.use.materials);
+  }
   std::vector<GltfNodeUse> uses = WalkGltfScene(src, &asset.warnings);
 
   const uint32_t default_material = uint32_t(asset.materials.size());

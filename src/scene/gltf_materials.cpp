@@ -123,7 +123,7 @@ constexpr const char* kIgnoredMaterialExtensions[] = {
 }  // namespace
 
 std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<std::string>* warnings,
-                                           std::vector<bool>* metallic_by_default) {
+                                           std::vector<bool>* metallic_by_default, const std::vector<bool>* used) {
   const auto& m = src.model;
   std::vector<std::shared_ptr<const Texture>> textures(m.textures.size());
   std::vector<Material> out;
@@ -131,7 +131,7 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
   std::map<std::string, std::string> ignored_extensions;  // name -> the materials using it
   std::string transmissive[2];
   std::string unlit_names;  // the materials with KHR_materials_unlit
-  std::vector<std::string> clamped;  // factors outside [0, 1]: their pointers and values
+  std::vector<std::string> clamped_used;  // factors outside [0, 1]: their pointers and values
   // Mean texel of (texture, sRGB-encoded), or why there is none (MeanTexel).
   std::map<std::pair<int, bool>, std::pair<std::optional<Eigen::Vector4d>, std::string>> texture_means;  // the materials with KHR_materials_transmission, [with a transmissionTexture]
   // Makes texture info.index (in range) mat's base colour texture, each texture
@@ -146,6 +146,9 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
   for (size_t i = 0; i < m.materials.size(); ++i) {
     const tinygltf::Material& gm = m.materials[i];
     const std::string where = GltfWhere(src, "materials", int(i));
+    const bool in_use = used == nullptr || (i < used->size() && (*used)[i]);
+    std::vector<std::string> unused_clamped;  // an unused material's: not warned about
+    std::vector<std::string>& clamped = in_use ? clamped_used : unused_clamped;
     Material mat;
     mat.name = gm.name.empty() ? "material " + std::to_string(i) : gm.name;
     const auto& pbr = gm.pbrMetallicRoughness;
@@ -177,6 +180,11 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
       mat.emissive[c] = float(strength * UnitFactor(gm.emissiveFactor[size_t(c)], where + "/emissiveFactor/" + std::to_string(c), &clamped));
     }
     mat.double_sided = gm.doubleSided;
+    if (!in_use) {  // no triangle uses it: nothing more is read (its texture indices are checked by the schema)
+      if (metallic_by_default) metallic_by_default->push_back(false);
+      out.push_back(std::move(mat));
+      continue;
+    }
 
     const int tex = pbr.baseColorTexture.index;
     if (tex >= 0) {
@@ -364,10 +372,10 @@ std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<st
                         "roughness 1, no emission; the other properties are the extension's fallbacks), " +
                         MaterialsNamed(unlit_names));
   }
-  if (!clamped.empty()) {
-    warnings->push_back(src.file + ": " + std::to_string(clamped.size()) +
-                        (clamped.size() == 1 ? " material factor is" : " material factors are") +
-                        " outside glTF's range [0, 1] and clamped to it: " + ListFirst(clamped, 3));
+  if (!clamped_used.empty()) {
+    warnings->push_back(src.file + ": " + std::to_string(clamped_used.size()) +
+                        (clamped_used.size() == 1 ? " material factor is" : " material factors are") +
+                        " outside glTF's range [0, 1] and clamped to it: " + ListFirst(clamped_used, 3));
   }
   for (const auto& [name, materials] : ignored_extensions) {
     warnings->push_back(src.file + ": " + name + " ignored (not rendered), used by " + MaterialsNamed(materials));

@@ -22,7 +22,12 @@ namespace lt {
 // COLLADA2GLTF writes no factor for its Phong materials, nor do KHR_materials_common
 // materials; other exporters leave out factors equal to glTF's defaults. Whether or not
 // a metal was meant, a scanner sees a conductor's reflection there.
+// `used` (optional, by material index; FindGltfUse): a material no triangle uses keeps
+// its index, and holds its name and core factors as written (alphaMode, doubleSided,
+// the emissive strength): its textures and other extensions are not read, nothing of
+// it is warned about, and its metallic_by_default is false.
 std::vector<Material> ConvertGltfMaterials(const GltfSource& src, std::vector<std::string>* warnings,
-                                           std::vector<bool>* metallic_by_default = nullptr);
+                                           std::vector<bool>* metallic_by_default = nullptr,
+                                           const std::vector<bool>* used = nullptr);
 
 }  // namespace lt

@@ -22,6 +22,7 @@ int64_t AsInteger(const json& v) { return v.get<int64_t>(); }
 
 struct Checker {
   const std::string& file;
+  size_t textures = 0;  // the file's textures, which textureInfo indices name
 
   [[noreturn]] void Fail(const std::string& pointer, const std::string& message) const {
     throw InputError(file + ": " + pointer, message);
@@ -75,6 +76,16 @@ struct Checker {
       if (!(*it)[k].is_number()) Fail(at + "/" + std::to_string(k), "must be a number, got " + (*it)[k].dump());
     }
   }
+  // Integer property `key` of `o`, when present, names one of the `count` `many`: a
+  // dangling reference is refused wherever it is, used or not (negative values are
+  // left to the loader).
+  void Reference(const json& o, const std::string& pointer, const char* key, const char* one, const char* many,
+                 size_t count) const {
+    auto it = o.find(key);
+    if (it == o.end() || !IsInteger(*it) || AsInteger(*it) < 0 || uint64_t(AsInteger(*it)) < count) return;
+    Fail(pointer + "/" + key, std::string(one) + " " + it->dump() + " does not exist (" + std::to_string(count) + " " +
+                                  many + ")");
+  }
   // A textureInfo object `key` of `o` (baseColorTexture, normalTexture, ...), when present.
   void TextureInfo(const json& o, const std::string& pointer, const char* key) const {
     auto it = o.find(key);
@@ -82,6 +93,7 @@ struct Checker {
     const std::string at = pointer + "/" + key;
     if (!it->is_object()) Fail(at, "must be an object, got " + it->dump());
     Integer(*it, at, "index", true);
+    Reference(*it, at, "index", "texture", "textures", textures);
     Integer(*it, at, "texCoord", false, 0);
     Number(*it, at, "scale");
     Number(*it, at, "strength");
@@ -91,7 +103,11 @@ struct Checker {
 }  // namespace
 
 void CheckGltfSchema(const json& root, const std::string& file) {
-  const Checker c{file};
+  auto count = [&](const char* name) {
+    auto it = root.find(name);
+    return it != root.end() && it->is_array() ? it->size() : size_t(0);
+  };
+  const Checker c{file, count("textures")};
   if (const json* accessors = c.Array(root, "accessors")) {
     static const std::set<int64_t> kComponentTypes = {5120, 5121, 5122, 5123, 5125, 5126};
     static const std::set<std::string> kTypes = {"SCALAR", "VEC2", "VEC3", "VEC4", "MAT2", "MAT3", "MAT4"};
@@ -187,6 +203,16 @@ void CheckGltfSchema(const json& root, const std::string& file) {
         c.Fail(at + "/alphaMode", "must be \"OPAQUE\", \"MASK\" or \"BLEND\", got " + mode->dump());
       }
       for (const char* key : {"normalTexture", "occlusionTexture", "emissiveTexture"}) c.TextureInfo(m, at, key);
+    }
+  }
+  // Every texture's references, used or not (gltf_used.h: an unused one is not read).
+  if (const json* textures = c.Array(root, "textures")) {
+    for (size_t i = 0; i < textures->size(); ++i) {
+      const std::string at = "/textures/" + std::to_string(i);
+      c.Integer((*textures)[i], at, "sampler", false);
+      c.Integer((*textures)[i], at, "source", false);
+      c.Reference((*textures)[i], at, "sampler", "sampler", "samplers", count("samplers"));
+      c.Reference((*textures)[i], at, "source", "image", "images", count("images"));
     }
   }
   if (const json* meshes = c.Array(root, "meshes")) {

@@ -160,6 +160,10 @@ TEST(GltfExporters, TransmissionTakesItsShareFromTheDiffuseLayer) {
   b.AddMaterial("metal", {0.8, 0.4, 0.2, 1}, 1, 0.1);
   b.AddMaterial("half", {0.8, 0.4, 0.2, 1}, 0.5, 0.1);
   for (int m = 0; m < 3; ++m) b.json()["materials"][m]["extensions"]["KHR_materials_transmission"] = {{"transmissionFactor", 0.75}};
+  for (int m = 1; m < 3; ++m) {  // each used by a triangle (unused materials are not read: GltfUnused)
+    b.json()["meshes"][0]["primitives"].push_back(b.json()["meshes"][0]["primitives"][0]);
+    b.json()["meshes"][0]["primitives"][size_t(m)]["material"] = m;
+  }
   b.json()["extensionsUsed"] = {"KHR_materials_transmission"};
   GltfAsset a = LoadGlb(b, dir);
   ASSERT_EQ(a.materials.size(), 3u);

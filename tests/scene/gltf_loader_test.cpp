@@ -541,6 +541,8 @@ TEST(GltfLoader, IgnoredExtensionsAreWarned) {
                                                         {"KHR_materials_ior", {{"ior", 1.5}}}};
   b.json()["materials"][size_t(bottle)]["extensions"] = {{"KHR_materials_transmission", {{"transmissionFactor", 1}}}};
   b.json()["meshes"][0]["primitives"][0]["material"] = glass;
+  b.json()["meshes"][0]["primitives"].push_back(b.json()["meshes"][0]["primitives"][0]);
+  b.json()["meshes"][0]["primitives"][1]["material"] = bottle;  // used (unused materials are not read: GltfUnused)
   TempDir dir;
   b.WriteGlb(dir / "model.glb");
   GltfAsset a = LoadGltf(dir / "model.glb", "model.glb");

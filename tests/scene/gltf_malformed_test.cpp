@@ -235,6 +235,8 @@ TEST(GltfMalformed, MissingTextureNamesThePath) {
   GltfBuilder b = test::SquareBuilder(true, true);
   b.json()["images"] = {{{"uri", "textures/wood%20grain.png"}}};
   b.json()["textures"] = {{{"source", 0}}};
+  b.json()["meshes"][0]["primitives"][0]["material"] = b.AddMaterial("wood", {1, 1, 1, 1}, 0, 0.5);
+  b.json()["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
   b.WriteGltf(dir / "m.gltf", true);
   EXPECT_EQ(ErrorOf([&] { LoadGltf(dir / "m.gltf", "m.gltf"); }),
             "m.gltf: /images/0/uri: texture image file not found (looked for " +
