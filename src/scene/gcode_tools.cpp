@@ -16,7 +16,8 @@ void GcodeReader::SelectTool(int n) {
   // Each tool's filament is its own: what the old tool drew back before it was parked
   // stays drawn back in its nozzle (a tool changer's or an IDEX printer's parked tool;
   // an MMU's unloaded filament) until that tool feeds again, possibly many changes
-  // later; the new tool takes up its own (none if it has not fed yet in the file).
+  // later; the new tool takes up its own (none if it has not fed yet in the file). Marlin
+  // keeps its firmware retraction per extruder too (FWRETRACT's retracted[active_extruder]).
   parked_retraction_mm_[active_tool_] = retracted_mm_;
   active_tool_ = n;  // the tool whose flow (M221) applies and whose axis E is (ExtruderSlot)
   const auto parked = parked_retraction_mm_.find(n);
