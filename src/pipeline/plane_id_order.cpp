@@ -106,8 +106,13 @@ StripeOrderPlanes PlanesByStripeOrder(const std::vector<StripeSegment>& segments
   out.cut_after.assign(segments.size(), nan);
   // The candidates' points on each search line, in order across.
   std::map<long, Line> lines;
+  std::map<std::pair<long, int>, double> width_of;  // a stripe's width by (line, segment)
   for (int s : candidates) {
-    for (int i : segments[size_t(s)].points) lines[std::lround(axes.along[size_t(i)])].push_back({axes.across[size_t(i)], s});
+    for (int i : segments[size_t(s)].points) {
+      const long line = std::lround(axes.along[size_t(i)]);
+      lines[line].push_back({axes.across[size_t(i)], s});
+      if (!axes.width.empty()) width_of[{line, s}] = axes.width[size_t(i)];
+    }
   }
   for (auto& [line, v] : lines) std::sort(v.begin(), v.end());
 
@@ -177,19 +182,22 @@ StripeOrderPlanes PlanesByStripeOrder(const std::vector<StripeSegment>& segments
       }
       ++fewer;
       std::vector<int> rank;
-      const int numberings = FittingNumberings(v, line, n_planes, fit, &rank);
+      std::vector<double> widths;
+      for (const auto& [x, seg] : v) widths.push_back(width_of.count({line, seg}) ? width_of[{line, seg}] : 0.0);
+      const int numberings = FittingNumberings(v, widths, line, n_planes, fit, &rank);
       several += numberings > 1;
       if (numberings == 1) ranked.push_back({line, &v, std::move(rank)});
     }
   }
   if (ranked.empty()) {
     out.error = "no search line meets all " + std::to_string(n_planes) + " stripes";
+    out.lines_of_fewer = fewer;
     if (fewer > 0 && !fit) {
       out.error += " (" + std::to_string(fewer) + " show fewer, which could be more than one set of the sheets, "
-                   "e.g. either end's: a working depth range, scan --depth-range, would decide)";
+                   "e.g. either end's)";
     } else if (several > 0) {
       out.error += ", and on " + std::to_string(several) + " line(s) of fewer stripes more than one numbering "
-                   "puts them within the depth range (e.g. both ends' sheets fit it)";
+                   "puts them within the depth range (e.g. both ends' sheets fit it, or a stripe may be two sheets' light)";
     } else if (fewer > 0) {
       out.error += ", and no numbering puts the stripes of the " + std::to_string(fewer) +
                    " line(s) of fewer within the depth range";

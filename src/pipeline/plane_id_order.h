@@ -17,9 +17,9 @@ struct SegmentEnds {
 };
 
 // Each point's position along the search direction (its search line, rounded)
-// and across it, by point index.
+// and across it, and its stripe's width (pixels), by point index.
 struct PointAxes {
-  std::vector<double> along, across;
+  std::vector<double> along, across, width;
 };
 
 // What the stripes' order gives: a plane per segment (-1: none), and per
@@ -29,6 +29,7 @@ struct StripeOrderPlanes {
   std::vector<int> planes;  // empty when the order cannot decide (see error)
   std::vector<double> cut_before, cut_after;
   std::string error;
+  int lines_of_fewer = 0;  // with the error: lines of fewer stripes than sheets, which no reading decided
 };
 
 // The plane of each of the candidate segments by the stripes' order (the

@@ -1,48 +1,63 @@
 #include "pipeline/plane_id_range.h"
 
 #include <algorithm>
+#include <array>
 
 namespace lt {
 
 namespace {
 
-// Numberings tried on one line before it counts as undecided (each tried
-// numbering costs one check of the whole line).
+// Readings tried on one line before it counts as undecided (each tried
+// reading costs one check of the whole line).
 constexpr int kMostTried = 256;
 
 }  // namespace
 
-int FittingNumberings(const StripeLine& v, long line, int n_planes, const LineFit& fit, std::vector<int>* rank) {
-  const size_t k = v.size();
-  if (k == 0 || int(k) > n_planes || !fit) return 0;
+int FittingNumberings(const StripeLine& v, const std::vector<double>& widths, long line, int n_planes,
+                      const LineFit& fit, std::vector<int>* rank) {
+  const int k = int(v.size());
+  if (k == 0 || k > n_planes || !fit) return 0;
   std::vector<double> across;
   for (const auto& [x, seg] : v) across.push_back(x);
-  // The ranks each stripe alone may take; the numberings are chosen among them.
-  std::vector<std::vector<char>> alone(k, std::vector<char>(size_t(n_planes), 0));
-  for (size_t j = 0; j < k; ++j) {
-    for (int r = int(j); r <= n_planes - int(k - j); ++r) alone[j][size_t(r)] = fit(line, {across[j]}, {r});
+  // The ranks each stripe alone may take, as one sheet (alone[j][r][0]) or
+  // as sheets r and r + 1 (alone[j][r][1]); the readings are chosen among them.
+  std::vector<std::vector<std::array<char, 2>>> alone(size_t(k), std::vector<std::array<char, 2>>(size_t(n_planes), {0, 0}));
+  for (int j = 0; j < k; ++j) {
+    const double x = across[size_t(j)], w = widths[size_t(j)];
+    for (int r = j; r < n_planes; ++r) {
+      alone[size_t(j)][size_t(r)][0] = fit(line, {x}, {w}, {r});
+      alone[size_t(j)][size_t(r)][1] = r + 1 < n_planes && fit(line, {x, x}, {w, w}, {r, r + 1});
+    }
   }
-  // Every increasing numbering of those ranks, checked as a whole (facing
-  // projectors' sheets fit a line only in one order for all its stripes).
+  // Every reading of the stripes as increasing ranks (a stripe as one sheet,
+  // or as two neighbouring ones), checked as a whole: facing projectors'
+  // sheets fit a line only in one order for all its stripes.
   int found = 0, tried = 0;
-  std::vector<int> current(k, -1);
-  std::function<void(size_t, int)> next = [&](size_t j, int from) {
+  bool found_double = false;
+  std::vector<double> at, width;
+  std::vector<int> ranks;
+  std::function<void(int, int)> next = [&](int j, int from) {
     if (found > 1 || tried > kMostTried) return;
     if (j == k) {
       ++tried;
-      if (fit(line, across, current)) {
-        if (++found == 1) *rank = current;
+      if (fit(line, at, width, ranks) && ++found == 1) {
+        found_double = int(ranks.size()) > k;
+        *rank = ranks;
       }
       return;
     }
-    for (int r = from; r <= n_planes - int(k - j) && found <= 1; ++r) {
-      if (!alone[j][size_t(r)]) continue;
-      current[j] = r;
-      next(j + 1, r + 1);
+    for (int r = from; r + (k - j) <= n_planes && found <= 1; ++r) {
+      for (int sheets = 1; sheets <= 2; ++sheets) {
+        if (r + sheets - 1 + (k - j) > n_planes || !alone[size_t(j)][size_t(r)][size_t(sheets - 1)]) continue;
+        for (int s = 0; s < sheets; ++s) at.push_back(across[size_t(j)]), width.push_back(widths[size_t(j)]), ranks.push_back(r + s);
+        next(j + 1, r + sheets);
+        at.resize(at.size() - size_t(sheets)), width.resize(width.size() - size_t(sheets)), ranks.resize(ranks.size() - size_t(sheets));
+      }
     }
   };
   next(0, 0);
-  return tried > kMostTried ? 2 : std::min(found, 2);
+  if (tried > kMostTried || found > 1 || (found == 1 && found_double)) return 2;
+  return found;
 }
 
 }  // namespace lt

@@ -258,11 +258,29 @@ bool SheetsOfRanks::RanksFit(const std::vector<StripePoint>& points) const {
   for (const OrderRun& run : runs) {
     bool fits = true;
     for (size_t j = 0; j < points.size() && fits; ++j) {
-      const int k = run.order[size_t(points[j].plane)];
       const Eigen::Vector3d& ray = rays[j];
-      const double w = InverseDepth(planes[size_t(k)], ray);
-      const double dw = ToleratedInverseDepth(Across(planes[size_t(k)], rows, ray.x() / ray.z(), ray.y() / ray.z()), focal);
-      fits = std::isfinite(w) && w > 0 && w >= run.w_lo - dw && w <= run.w_hi + dw;
+      const std::vector<Across> here = AcrossLine(planes, rows, ray.x() / ray.z(), ray.y() / ray.z());
+      // The inverse depths where the point's sheet(s) stand within `px` of it.
+      double lo = -std::numeric_limits<double>::infinity(), hi = -lo;
+      bool in_front = true;
+      auto within = [&](int k, double px) {
+        const double w = InverseDepth(planes[size_t(k)], ray);
+        const double dw = px / kToleratedPx * ToleratedInverseDepth(here[size_t(k)], focal);
+        in_front &= std::isfinite(w) && w > 0;
+        lo = std::max(lo, w - dw), hi = std::min(hi, w + dw);
+      };
+      // A stripe read as two sheets' light stands twice at one position: its
+      // centre lies between theirs, both within half its width (at least
+      // kMergedPx) of it at one depth.
+      if (j + 1 < points.size() && points[j + 1].u == points[j].u && points[j + 1].v == points[j].v) {
+        const double half = 0.5 * std::max(kMergedPx, points[j].width);
+        within(run.order[size_t(points[j].plane)], half);
+        within(run.order[size_t(points[j + 1].plane)], half);
+        ++j;
+      } else {
+        within(run.order[size_t(points[j].plane)], kToleratedPx);
+      }
+      fits = in_front && lo <= hi && lo <= run.w_hi && hi >= run.w_lo;
     }
     if (fits) return true;
   }

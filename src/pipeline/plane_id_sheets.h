@@ -67,10 +67,16 @@ class SheetsOfRanks {
   // Whether the points of one search line, each with a candidate rank in
   // `plane`, lie within the depth range on the sheets those ranks give (for
   // facing projectors: in one order the sheets take there), give or take
-  // 0.5 px of their positions, as Apply's orders fit. How plane
-  // identification reads a line of fewer stripes than sheets (IdentifyPlanes's
-  // range_fit); without a range, true wherever the ranks are sheets in front
-  // of the camera.
+  // 0.5 px of their positions, as Apply's orders fit. Two points at one
+  // position (a stripe read as two sheets' light) fit where both sheets
+  // stand within half the stripe's width (at least 1.5 px) of it at one
+  // depth within the range.
+  // How plane identification reads a line of fewer stripes than sheets
+  // (IdentifyPlanes's range_fit; scan uses it where !depth_dependent(): with
+  // facing projectors a stripe of two crossing sheets' light, which the
+  // stripes' order counts as one, numbered a neighbour by position wrong);
+  // without a range, true wherever the ranks are sheets in front of the
+  // camera.
   bool RanksFit(const std::vector<StripePoint>& points) const;
 
  private:

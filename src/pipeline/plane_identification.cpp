@@ -192,17 +192,21 @@ PlaneIdentification IdentifyPlanes(const std::vector<StripePoint>& points, const
   // finds joined of two sheets' pieces is cut, the piece beyond the cut kept
   // without a plane, and the order read again.
   PointAxes axes;
-  axes.along.resize(size_t(n)), axes.across.resize(size_t(n));
-  for (int i = 0; i < n; ++i) axes.along[size_t(i)] = along(i), axes.across[size_t(i)] = across(i);
+  axes.along.resize(size_t(n)), axes.across.resize(size_t(n)), axes.width.resize(size_t(n));
+  for (int i = 0; i < n; ++i) {
+    axes.along[size_t(i)] = along(i), axes.across[size_t(i)] = across(i), axes.width[size_t(i)] = points[size_t(i)].width;
+  }
   std::vector<char> cut_off(result.segments.size(), 0);
   LineFit line_fit;
   if (range_fit) {
-    line_fit = [&](long line, const std::vector<double>& across_at, const std::vector<int>& ranks) {
+    line_fit = [&](long line, const std::vector<double>& across_at, const std::vector<double>& widths,
+                   const std::vector<int>& ranks) {
       std::vector<StripePoint> line_points(across_at.size());
       for (size_t j = 0; j < across_at.size(); ++j) {
         StripePoint& p = line_points[j];
         (rows ? p.u : p.v) = across_at[j];
         (rows ? p.v : p.u) = double(line);
+        p.width = widths[j];
         p.plane = ranks[j];
       }
       return range_fit(line_points);
@@ -240,6 +244,7 @@ PlaneIdentification IdentifyPlanes(const std::vector<StripePoint>& points, const
   result.method = PlaneIdMethod::kStripeOrder;
   if (planes.empty()) {
     if (by_chains.empty()) {
+      result.lines_of_fewer_stripes = by_order.lines_of_fewer;
       result.error = "the stripes' order cannot number them (" + order_error + ") and the edge chains cannot (" +
                      chains_error + ")";
       return result;

@@ -94,6 +94,7 @@ struct PlaneIdentification {
   std::string order_error;          // with kEdgeChains: why the order could not decide
   int unidentified_segments = 0;    // segments (not noise) left without a plane
   int groups_found = 0;             // chains the edge method started
+  int lines_of_fewer_stripes = 0;   // when !ok: lines of fewer stripes than sheets, which nothing decided
   std::vector<StripePoint> points;  // the input, with `plane` set when ok
   std::vector<StripeSegment> segments;  // pieces cut off a joined segment come last
 };
@@ -101,6 +102,8 @@ struct PlaneIdentification {
 // Whether stripe points of one search line, each with a candidate rank in
 // `plane` (0..N-1 across the image), lie where the scanner measures: its
 // working range (scan: SheetsOfRanks::RanksFit, pipeline/plane_id_sheets.h).
+// A stripe tried as two neighbouring sheets' light (facing projectors' sheets
+// cross) stands twice, at one position, with consecutive ranks.
 using RankFit = std::function<bool(const std::vector<StripePoint>& points)>;
 
 // `region` is the rectangle that was searched (the image or its ROI), in the
@@ -108,8 +111,9 @@ using RankFit = std::function<bool(const std::vector<StripePoint>& points)>;
 // fewer stripes than sheets (whose stripes could be several sets of the
 // sheets: N - 1 one spacing apart, either end's) is read as a line meeting
 // all N when exactly one numbering of its stripes fits (every increasing
-// numbering is tried); without it, or when several fit, such a line numbers
-// nothing by itself.
+// numbering is tried, and each stripe also as two sheets' light) and it reads
+// each stripe as one sheet; without it, or when several fit, such a line
+// numbers nothing by itself.
 PlaneIdentification IdentifyPlanes(const std::vector<StripePoint>& points, const PixelRect& region, int n_planes,
                                    const PlaneIdOptions& options, const RankFit& range_fit = {});
 

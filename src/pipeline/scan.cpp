@@ -298,11 +298,15 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
       id_options.edge_margin = std::max(id_options.edge_margin, edge_lines_without_points + 2);
       const PixelRect region = eo.roi ? *eo.roi : PixelRect{0, 0, width, height};
       const SheetsOfRanks& sheets = sheets_of_ranks.try_emplace(int(axis), triangulator, axis, depth_range).first->second;
-      // The working range decides the sheets of lines showing fewer stripes than sheets.
-      const RankFit range_fit = depth_range ? RankFit([&sheets](const std::vector<StripePoint>& line) {
+      // The working range decides the sheets of lines showing fewer stripes
+      // than sheets, where the sheets keep one order (facing projectors'
+      // crossing sheets show two in one stripe, which numbering by position
+      // counts once: measured to put a stripe on the wrong sheet).
+      const bool ranges_lines = depth_range && !sheets.depth_dependent();
+      const RankFit range_fit = ranges_lines ? RankFit([&sheets](const std::vector<StripePoint>& line) {
         return sheets.RanksFit(line);
       })
-                                            : RankFit();
+                                             : RankFit();
       PlaneIdentification id = IdentifyPlanes(points, region, int(planes.size()), id_options, range_fit);
       points = std::move(id.points);
       const int uncertain = sheets.Apply(&points);
@@ -323,7 +327,11 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
       if (!id.ok) {
         fs_summary.identified = false;
         fs_summary.identification_error = id.error;
-        warn(frame.image.string() + ": plane identification failed, its points are not triangulated: " + id.error);
+        const bool range_decides = !depth_range && !sheets.depth_dependent() && id.lines_of_fewer_stripes > 0;
+        warn(frame.image.string() + ": plane identification failed, its points are not triangulated: " + id.error +
+             (range_decides ? "; a working depth range (--depth-range, or the calibration file's depth_min_mm and "
+                              "depth_max_mm) would decide which"
+                            : ""));
       }
     }
     std::vector<ScanPoint> scan = TriangulatePoints(triangulator, points, frame.world_from_cam, &fs_summary.stats);

@@ -399,7 +399,8 @@ TEST(ScanDepthRange, ARangeNumbersTheSheetsWhenOneIsMissingOnEveryColumn) {
 
   CliResult r = RunCli("scan " + Quoted(run));
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_THAT(r.err, HasSubstr("a working depth range, scan --depth-range, would decide"));
+  EXPECT_THAT(r.err, HasSubstr("; a working depth range (--depth-range, or the calibration file's depth_min_mm and "
+                               "depth_max_mm) would decide which"));
   EXPECT_THAT(r.err + r.out, HasSubstr(" 0 triangulated"));
   r = RunCli("scan " + Quoted(run) + " --depth-range 50:200");
   EXPECT_THAT(r.err, HasSubstr("more than one numbering puts them within the depth range"));
