@@ -170,38 +170,16 @@ StripeOrderPlanes PlanesByStripeOrder(const std::vector<StripeSegment>& segments
   }
   // Lines of fewer stripes than sheets: numbered where the working range
   // leaves one numbering (their stripes could be several of the sheets).
-  int fewer = 0, several = 0;
-  {
-    std::vector<long> taken;
-    for (const RankedLine& r : ranked) taken.push_back(r.line);
-    std::sort(taken.begin(), taken.end());
-    for (const auto& [line, v] : lines) {
-      if (int(v.size()) >= n_planes || !DistinctSegments(v) || on_cut_piece(v) ||
-          std::binary_search(taken.begin(), taken.end(), line)) {
-        continue;
-      }
-      ++fewer;
-      std::vector<int> rank;
-      std::vector<double> widths;
-      for (const auto& [x, seg] : v) widths.push_back(width_of.count({line, seg}) ? width_of[{line, seg}] : 0.0);
-      const int numberings = FittingNumberings(v, widths, line, n_planes, fit, &rank);
-      several += numberings > 1;
-      if (numberings == 1) ranked.push_back({line, &v, std::move(rank)});
-    }
-  }
+  std::vector<long> taken;
+  for (const RankedLine& r : ranked) taken.push_back(r.line);
+  std::sort(taken.begin(), taken.end());
+  const LinesOfFewer fewer = ReadLinesOfFewer(lines, n_planes, width_of, fit, [&](long line, const Line& v) {
+    return !DistinctSegments(v) || on_cut_piece(v) || std::binary_search(taken.begin(), taken.end(), line);
+  });
+  for (const auto& [line, rank] : fewer.ranked) ranked.push_back({line, &lines.at(line), rank});
   if (ranked.empty()) {
-    out.error = "no search line meets all " + std::to_string(n_planes) + " stripes";
-    out.lines_of_fewer = fewer;
-    if (fewer > 0 && !fit) {
-      out.error += " (" + std::to_string(fewer) + " show fewer, which could be more than one set of the sheets, "
-                   "e.g. either end's)";
-    } else if (several > 0) {
-      out.error += ", and on " + std::to_string(several) + " line(s) of fewer stripes more than one numbering "
-                   "puts them within the depth range (e.g. both ends' sheets fit it, or a stripe may be two sheets' light)";
-    } else if (fewer > 0) {
-      out.error += ", and no numbering puts the stripes of the " + std::to_string(fewer) +
-                   " line(s) of fewer within the depth range";
-    }
+    out.error = "no search line meets all " + std::to_string(n_planes) + " stripes" + fewer.Reason(bool(fit));
+    out.lines_of_fewer = fewer.lines;
     return out;
   }
   // Whether the stripes j0..j1 of line v stand about one spacing apart, each from the next.

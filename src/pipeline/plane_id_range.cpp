@@ -60,4 +60,38 @@ int FittingNumberings(const StripeLine& v, const std::vector<double>& widths, lo
   return found;
 }
 
+LinesOfFewer ReadLinesOfFewer(const std::map<long, StripeLine>& lines, int n_planes,
+                              const std::map<std::pair<long, int>, double>& width_of, const LineFit& fit,
+                              const std::function<bool(long, const StripeLine&)>& skip) {
+  LinesOfFewer out;
+  for (const auto& [line, v] : lines) {
+    if (int(v.size()) >= n_planes || skip(line, v)) continue;
+    ++out.lines;
+    std::vector<int> rank;
+    std::vector<double> widths;
+    for (const auto& [x, seg] : v) {
+      const auto w = width_of.find({line, seg});
+      widths.push_back(w != width_of.end() ? w->second : 0.0);
+    }
+    const int readings = FittingNumberings(v, widths, line, n_planes, fit, &rank);
+    out.several += readings > 1;
+    if (readings == 1) out.ranked.push_back({line, std::move(rank)});
+  }
+  return out;
+}
+
+std::string LinesOfFewer::Reason(bool ranged) const {
+  if (lines > 0 && !ranged) {
+    return " (" + std::to_string(lines) + " show fewer, which could be more than one set of the sheets, e.g. either end's)";
+  }
+  if (several > 0) {
+    return ", and on " + std::to_string(several) + " line(s) of fewer stripes more than one numbering puts them "
+           "within the depth range (e.g. both ends' sheets fit it, or a stripe may be two sheets' light)";
+  }
+  if (lines > 0) {
+    return ", and no numbering puts the stripes of the " + std::to_string(lines) + " line(s) of fewer within the depth range";
+  }
+  return "";
+}
+
 }  // namespace lt

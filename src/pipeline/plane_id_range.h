@@ -10,6 +10,9 @@
 #pragma once
 
 #include <functional>
+#include <map>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "pipeline/plane_id_room.h"
@@ -28,5 +31,20 @@ using LineFit = std::function<bool(long line, const std::vector<double>& across,
 // or more, one reading a stripe as two sheets, or more than can be tried).
 int FittingNumberings(const StripeLine& v, const std::vector<double>& widths, long line, int n_planes,
                       const LineFit& fit, std::vector<int>* rank);
+
+// The lines of fewer stripes than sheets, read by FittingNumberings.
+struct LinesOfFewer {
+  std::vector<std::pair<long, std::vector<int>>> ranked;  // (line, rank of each stripe): one reading fits
+  int lines = 0;    // lines of fewer stripes read
+  int several = 0;  // of which several readings fit
+  // Why they number nothing, for the order's error (" (...)" or ", and ...").
+  std::string Reason(bool ranged) const;
+};
+
+// Reads the lines of `lines` (widths by (line, segment)) with fewer stripes
+// than sheets, but for those `skip` names.
+LinesOfFewer ReadLinesOfFewer(const std::map<long, StripeLine>& lines, int n_planes,
+                              const std::map<std::pair<long, int>, double>& width_of, const LineFit& fit,
+                              const std::function<bool(long, const StripeLine&)>& skip);
 
 }  // namespace lt
