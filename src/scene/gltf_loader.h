@@ -14,6 +14,8 @@
 // EXT_mesh_gpu_instancing, the uncompressed fallback of Draco / meshopt
 // compression that is not required.
 // COLOR_0 vertex colours multiply the base colour (Mesh::colors).
+// Materials, textures and images that no triangle uses are not read or warned about
+// (their references are checked; scene/gltf_used.h); such a material keeps its index.
 // Points and lines are skipped with a warning naming the mesh; so are other unrendered
 // features (material extensions, animations). Degenerate
 // triangles are counted and dropped. See docs/scene-format.md.
