@@ -8,21 +8,15 @@
 
 #include "pipeline/plane_id_sheets.h"
 #include "pipeline/plane_identification.h"
+#include "small_camera.h"
 
 namespace lt::test {
 namespace {
 
-// A 160 x 120 pinhole camera, f = 200 px, and N sheets of one projector 40 mm
+// SmallCamera (small_camera.h: 160 x 120, f = 200 px) and N sheets of one projector 40 mm
 // to the right, each holding the y direction: sheet k's stripe stands at
 // u = 79.5 + 200 (0.04 / z + slope_k), slopes 0.1 apart (20 px), so a stripe
 // read as its neighbour's sheet lies 20 mm nearer or 33 mm farther at 100 mm.
-Camera SmallCamera() {
-  CameraParams c;
-  c.width = 160, c.height = 120;
-  c.fx = c.fy = 200;
-  c.cx = 79.5, c.cy = 59.5;
-  return Camera(c);
-}
 double Slope(int k) { return -0.6 + 0.1 * k; }
 
 // A surface at 95 to 107 mm (z = 0.095 + 0.0001 v) lit by sheets 0..N-1 but

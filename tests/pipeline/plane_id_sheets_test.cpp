@@ -9,18 +9,12 @@
 
 #include "core/error.h"
 #include "pipeline/plane_id_sheets.h"
+#include "small_camera.h"
 
 namespace lt::test {
 namespace {
 
-// A 160 x 120 pinhole camera, f = 200 px.
-Camera SmallCamera() {
-  CameraParams c;
-  c.width = 160, c.height = 120;
-  c.fx = c.fy = 200;
-  c.cx = 79.5, c.cy = 59.5;
-  return Camera(c);
-}
+// The camera: SmallCamera (small_camera.h), 160 x 120, f = 200 px.
 
 // A sheet from a projector at x = baseline (on the camera's x axis) holding
 // the y direction and the points x = baseline + slope z: its stripe stands at
