@@ -40,23 +40,29 @@ void RefuseSeveralFrames(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, cons
                                       "(e.g. ImageJ's Stack to Images, or oiiotool's --subimage)");
 }
 
-// The most pixel data, as held (1, 2 or 4 bytes a sample), a header's size is
-// believed for: a camera's largest frames (150 Mpx of 3 float channels) hold under
-// 2 GB. A damaged or hostile header (a 69-byte PNG declaring 60000x60000 RGBA at
-// 16 bits) is an error naming it, before gigabytes are allocated and zeroed (or
+// The most pixel data, as held (1, 2 or 4 bytes a sample) or as OpenImageIO
+// 2.4's read_image buffers it (at least its read_chunk, 256 rows, at the file's
+// sample size), a header's size is believed for: a camera's largest frames (150
+// Mpx of 3 float channels) hold under 2 GB. A damaged or hostile header (a
+// 69-byte PNG declaring 60000x60000 RGBA at 16 bits, a 42-byte PGM declaring
+// 51000000x2) is an error naming it, before gigabytes are allocated (or
 // std::bad_alloc) for a decoder that then fails on the first row.
 constexpr double kLargestImageBytes = 4e9;
+constexpr int kReadChunkRows = 256;
 
 void RefuseDamagedSize(const OIIO::ImageSpec& spec, const std::filesystem::path& path) {
-  const int held = spec.format == OIIO::TypeDesc::UINT8 ? 1 : spec.format == OIIO::TypeDesc::UINT16 ? 2 : 4;
-  const double bytes = double(spec.width) * spec.height * spec.nchannels * held;
+  const double held = spec.format == OIIO::TypeDesc::UINT8 ? 1 : spec.format == OIIO::TypeDesc::UINT16 ? 2 : 4;
+  const double sample = std::max(held, double(spec.format.size()));
+  const double bytes = double(spec.width) * std::max(spec.height, kReadChunkRows) * spec.nchannels * sample;
   if (bytes <= kLargestImageBytes) return;
   char gb[32];
   std::snprintf(gb, sizeof gb, "%.1f", bytes / 1e9);
   throw InputError(path.string(), "its header declares " + std::to_string(spec.width) + "x" +
                                       std::to_string(spec.height) + " pixels of " + std::to_string(spec.nchannels) +
-                                      " channels (" + gb + " GB of samples); images above " +
-                                      FormatNumber(kLargestImageBytes / 1e9) + " GB are not read (a damaged file?)");
+                                      (spec.nchannels == 1 ? " channel (" : " channels (") + gb + " GB to read" +
+                                      (spec.height < kReadChunkRows ? ", 256 rows at a time" : "") +
+                                      "); images above " + FormatNumber(kLargestImageBytes / 1e9) +
+                                      " GB are not read (a damaged file?)");
 }
 
 std::unique_ptr<OIIO::ImageInput> OpenInput(const std::filesystem::path& path, OIIO::ImageSpec* spec) {

@@ -196,8 +196,9 @@ TEST_F(ImageFiles, FileSizeNamesTheSampleType) {
 // A header's size was believed: a 69-byte PNG declaring 60000x60000 RGBA at 16
 // bits made extract say "internal error: std::bad_alloc" (28.8 GB asked for; one
 // of 30000x30000 had 7.2 GB allocated and zeroed before the decoder failed on
-// its first row). It is an error naming the file and the size (found
-// reading the image reader for tools/fuzz/fuzz_image).
+// its first row), and so did a 42-byte PGM declaring 51000000x2 (OpenImageIO
+// reads 256 rows at a time: 13 GB). Each is an error naming the file and the
+// size (found reading the image reader for tools/fuzz/fuzz_image, the PGM by it).
 TEST_F(ImageFiles, AHeaderDeclaringAnImpossibleSizeIsAnError) {
   using test::BigEndian32;
   using test::Chunk;
@@ -206,11 +207,18 @@ TEST_F(ImageFiles, AHeaderDeclaringAnImpossibleSizeIsAnError) {
       << std::string("\x89PNG\r\n\x1a\n", 8) + Chunk("IHDR", ihdr) + Chunk("IDAT", std::string(12, '\0')) +
              Chunk("IEND", "");
   const std::string e = ErrorOf([&] { ReadImage(dir_ / "huge.png", AlphaChannel::kDrop); });
-  EXPECT_NE(e.find("huge.png: its header declares 1000000x1000000 pixels of 4 channels (8000.0 GB of samples); "
+  EXPECT_NE(e.find("huge.png: its header declares 1000000x1000000 pixels of 4 channels (8000.0 GB to read); "
                    "images above 4 GB are not read"),
             std::string::npos)
       << e;
   EXPECT_NE(ErrorOf([&] { ReadImageFileSize(dir_ / "huge.png"); }).find("its header declares"), std::string::npos);
+
+  std::ofstream(dir_ / "wide.pgm", std::ios::binary) << "P2\n51000000 2\n3\n0 1 2 3\n";
+  const std::string w = ErrorOf([&] { ReadImage(dir_ / "wide.pgm", AlphaChannel::kDrop); });
+  EXPECT_NE(w.find("wide.pgm: its header declares 51000000x2 pixels of 1 channel (13.1 GB to read, 256 rows at a "
+                   "time); images above 4 GB are not read"),
+            std::string::npos)
+      << w;
 }
 
 }  // namespace
