@@ -19,6 +19,7 @@ namespace {
 using test::AllWarnings;
 using test::ErrorOf;
 using test::TempDir;
+using test::LoadWrittenGltf;
 using ::testing::HasSubstr;
 
 // A 2x2 RGBA PNG `name` in dir with the given texels (row by row), as image 0 and texture 0.
@@ -35,11 +36,6 @@ GltfBuilder SquareWithTexture(const TempDir& dir, const std::vector<std::array<u
   return b;
 }
 
-GltfAsset Load(const GltfBuilder& b, const TempDir& dir) {
-  b.WriteGltf(dir / "model.gltf", false);
-  return LoadGltf(dir / "model.gltf", "model.gltf");
-}
-
 // Blender's export of a Principled BSDF with a metallic and a roughness map:
 // factors 1 and a texture with roughness in G, metallic in B (linear, not sRGB).
 TEST(GltfMaterialTextures, MetallicRoughnessTextureScalesTheFactors) {
@@ -47,7 +43,7 @@ TEST(GltfMaterialTextures, MetallicRoughnessTextureScalesTheFactors) {
   GltfBuilder b = SquareWithTexture(dir, {{0, 255, 0, 255}, {0, 128, 0, 255}, {0, 0, 0, 255}, {0, 128, 255, 255}});
   const int mat = b.AddMaterial("painted", {1, 1, 1, 1}, 1, 0.8);
   b.json()["materials"][size_t(mat)]["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {{"index", 0}};
-  const GltfAsset a = Load(b, dir);
+  const GltfAsset a = LoadWrittenGltf(b, dir);
   ASSERT_EQ(a.materials.size(), 1u);
   // metallic = 1 * mean(B) = 255/255/4; roughness = 0.8 * mean(G) = 0.8 * (255 + 128 + 0 + 128)/255/4.
   EXPECT_FLOAT_EQ(a.materials[0].metallic, 0.25f);
@@ -64,7 +60,7 @@ TEST(GltfMaterialTextures, EmissiveTextureScalesTheFactor) {
   const int mat = b.AddMaterial("lamp", {1, 1, 1, 1}, 0, 0.5, {1, 0.5, 0});
   b.json()["materials"][size_t(mat)]["emissiveTexture"] = {{"index", 0}};
   b.json()["materials"][size_t(mat)]["extensions"] = {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}}};
-  const GltfAsset a = Load(b, dir);
+  const GltfAsset a = LoadWrittenGltf(b, dir);
   const float mean = float((1.0 + 0.2158605) / 4);
   EXPECT_TRUE(a.materials[0].emissive.isApprox(Eigen::Vector3f(4 * mean, 2 * mean, 0), 1e-5f))
       << a.materials[0].emissive.transpose();
@@ -82,7 +78,7 @@ TEST(GltfMaterialTextures, SpecularGlossinessTextureScalesTheGlossiness) {
   b.json()["materials"][size_t(mat)]["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {{"index", 0}};
   b.json()["materials"][size_t(mat)]["extensions"]["KHR_materials_pbrSpecularGlossiness"] = {
       {"glossinessFactor", 0.8}, {"specularGlossinessTexture", {{"index", 0}}}};
-  const GltfAsset a = Load(b, dir);
+  const GltfAsset a = LoadWrittenGltf(b, dir);
   EXPECT_EQ(a.materials[0].metallic, 0.0f);
   EXPECT_FLOAT_EQ(a.materials[0].roughness, 1 - 0.8f * 0.5f);
   EXPECT_THAT(AllWarnings(a), HasSubstr("specular-glossiness texture not sampled, its mean used: glossiness 0.8 x 0.5"));
@@ -98,7 +94,7 @@ TEST(GltfMaterialTextures, UnreadableTextureKeepsTheFactor) {
   const int mat = b.AddMaterial("rough", {1, 1, 1, 1}, 0.5, 0.7, {0.25, 0.25, 0.25});
   b.json()["materials"][size_t(mat)]["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {{"index", 0}};
   b.json()["materials"][size_t(mat)]["emissiveTexture"] = {{"index", 0}};
-  const GltfAsset a = Load(b, dir);
+  const GltfAsset a = LoadWrittenGltf(b, dir);
   EXPECT_EQ(a.materials[0].metallic, 0.5f);
   EXPECT_EQ(a.materials[0].roughness, 0.7f);
   EXPECT_EQ(a.materials[0].emissive, Eigen::Vector3f::Constant(0.25f));

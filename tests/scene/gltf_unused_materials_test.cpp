@@ -20,6 +20,7 @@ namespace {
 using test::AllWarnings;
 using test::ErrorOf;
 using test::TempDir;
+using test::LoadWrittenGltf;
 using ::testing::HasSubstr;
 
 // A square using material "used" (its base colour texture: texture 0, image 0 =
@@ -38,15 +39,10 @@ GltfBuilder Library(const TempDir& dir, const std::string& library_uri) {
   return b;
 }
 
-GltfAsset Load(const GltfBuilder& b, const TempDir& dir) {
-  b.WriteGltf(dir / "model.gltf", false);
-  return LoadGltf(dir / "model.gltf", "model.gltf");
-}
-
 // pygltflib's material library: the unused material's image file is missing.
 TEST(GltfUnused, AMissingImageOfAnUnusedMaterialIsNotLookedFor) {
   TempDir dir;
-  const GltfAsset a = Load(Library(dir, "textures/library.png"), dir);
+  const GltfAsset a = LoadWrittenGltf(Library(dir, "textures/library.png"), dir);
   EXPECT_EQ(AllWarnings(a), "");
   ASSERT_EQ(a.materials.size(), 2u);  // the unused one keeps its id
   ASSERT_TRUE(a.materials[0].base_color_texture);
@@ -61,10 +57,10 @@ TEST(GltfUnused, AMissingImageOfAnUnusedMaterialIsNotLookedFor) {
   // Used, the same missing file refuses the file, as before.
   GltfBuilder b = Library(dir, "textures/library.png");
   b.json()["meshes"][0]["primitives"][0]["material"] = 1;
-  EXPECT_THAT(ErrorOf([&] { Load(b, dir); }),
+  EXPECT_THAT(ErrorOf([&] { LoadWrittenGltf(b, dir); }),
               HasSubstr("model.gltf: /images/1/uri: texture image file not found (looked for "));
   // Nor is a remote uri of an unused image refused.
-  EXPECT_EQ(AllWarnings(Load(Library(dir, "https://example.com/library.png"), dir)), "");
+  EXPECT_EQ(AllWarnings(LoadWrittenGltf(Library(dir, "https://example.com/library.png"), dir)), "");
 }
 
 // A material used only by a mesh that no node of the scene places, or only by points
@@ -75,16 +71,16 @@ TEST(GltfUnused, MaterialsOfUnplacedMeshesAndOfPointsAreUnused) {
   b.AddTriangleMesh("spare", test::SquarePositions(), test::SquareNormals(), test::SquareTexcoords(),
                     test::SquareIndices(), 1);
   b.AddNode("unplaced", 1, {}, false);  // in no scene
-  EXPECT_EQ(AllWarnings(Load(b, dir)), "");
+  EXPECT_EQ(AllWarnings(LoadWrittenGltf(b, dir)), "");
   b.json()["meshes"][0]["primitives"].push_back(b.json()["meshes"][0]["primitives"][0]);
   b.json()["meshes"][0]["primitives"][1]["material"] = 1;
   b.json()["meshes"][0]["primitives"][1]["mode"] = 0;  // points
-  const GltfAsset a = Load(b, dir);
+  const GltfAsset a = LoadWrittenGltf(b, dir);
   EXPECT_THAT(AllWarnings(a), HasSubstr("points skipped"));
   EXPECT_THAT(AllWarnings(a), ::testing::Not(HasSubstr("missing.png")));
   // As triangles, it is used: its image is looked for.
   b.json()["meshes"][0]["primitives"][1]["mode"] = 4;
-  EXPECT_THAT(ErrorOf([&] { Load(b, dir); }), HasSubstr("/images/1/uri: texture image file not found"));
+  EXPECT_THAT(ErrorOf([&] { LoadWrittenGltf(b, dir); }), HasSubstr("/images/1/uri: texture image file not found"));
 }
 
 // The warnings of a material's reader (textures not sampled, factors clamped,
@@ -103,20 +99,20 @@ TEST(GltfUnused, AnUnusedMaterialIsNotWarnedAbout) {
   b.AddMaterial("no_metallic", {1, 1, 1, 1}, 0, 0.5);
   b.json()["materials"][2]["pbrMetallicRoughness"].erase("metallicFactor");
   b.json()["extensionsUsed"] = {"KHR_materials_clearcoat", "KHR_materials_transmission", "KHR_materials_unlit"};
-  const GltfAsset a = Load(b, dir);
+  const GltfAsset a = LoadWrittenGltf(b, dir);
   EXPECT_EQ(AllWarnings(a), "");
   EXPECT_EQ(a.metallic_by_default, "");
   ASSERT_EQ(a.materials.size(), 3u);
   EXPECT_EQ(a.materials[1].roughness, 1.0f);
   // Used, each is warned about, as before.
   b.json()["meshes"][0]["primitives"][0]["material"] = 1;
-  const std::string warnings = AllWarnings(Load(b, dir));
+  const std::string warnings = AllWarnings(LoadWrittenGltf(b, dir));
   EXPECT_THAT(warnings, HasSubstr("KHR_materials_clearcoat ignored (not rendered), used by material \"library\""));
   EXPECT_THAT(warnings, HasSubstr("KHR_materials_unlit"));
   EXPECT_THAT(warnings, HasSubstr("/materials/1/pbrMetallicRoughness/roughnessFactor 1.5"));
   EXPECT_THAT(warnings, HasSubstr("ignored normal texture"));
   b.json()["meshes"][0]["primitives"][0]["material"] = 2;
-  EXPECT_THAT(Load(b, dir).metallic_by_default, "material \"no_metallic\"");
+  EXPECT_THAT(LoadWrittenGltf(b, dir).metallic_by_default, "material \"no_metallic\"");
 }
 
 // The metallic-roughness texture of an unused material (the warning of the last
@@ -125,9 +121,9 @@ TEST(GltfUnused, AnUnusedMetallicRoughnessTextureIsNotWarned) {
   TempDir dir;
   GltfBuilder b = Library(dir, "used.png");
   b.json()["materials"][1]["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {{"index", 1}};
-  EXPECT_EQ(AllWarnings(Load(b, dir)), "");
+  EXPECT_EQ(AllWarnings(LoadWrittenGltf(b, dir)), "");
   b.json()["materials"][0]["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {{"index", 1}};
-  EXPECT_THAT(AllWarnings(Load(b, dir)),
+  EXPECT_THAT(AllWarnings(LoadWrittenGltf(b, dir)),
               HasSubstr("model.gltf: material \"used\": metallic-roughness texture not sampled, its mean used"));
 }
 
@@ -136,7 +132,7 @@ TEST(GltfUnused, AnUnusedMetallicRoughnessTextureIsNotWarned) {
 TEST(GltfUnused, AnUnusedImageThatDoesNotDecodeIsNotRead) {
   TempDir dir;
   GltfBuilder b = Library(dir, "data:image/png;base64,AAAAAAAA");
-  EXPECT_EQ(AllWarnings(Load(b, dir)), "");
+  EXPECT_EQ(AllWarnings(LoadWrittenGltf(b, dir)), "");
   const std::vector<uint8_t> junk(64, 7);
   const int view = b.AddBufferView(junk.data(), junk.size());
   b.json()["images"][1] = {{"bufferView", view}, {"mimeType", "image/png"}};
@@ -155,12 +151,12 @@ TEST(GltfUnused, ADanglingReferenceIsRefusedUsedOrNot) {
   TempDir dir;
   GltfBuilder b = Library(dir, "used.png");
   b.json()["textures"].push_back({{"source", 0}, {"sampler", 3}});  // texture 2: no material uses it
-  EXPECT_EQ(ErrorOf([&] { Load(b, dir); }), "model.gltf: /textures/2/sampler: sampler 3 does not exist (0 samplers)");
+  EXPECT_EQ(ErrorOf([&] { LoadWrittenGltf(b, dir); }), "model.gltf: /textures/2/sampler: sampler 3 does not exist (0 samplers)");
   b.json()["textures"][2] = {{"source", 5}};
-  EXPECT_EQ(ErrorOf([&] { Load(b, dir); }), "model.gltf: /textures/2/source: image 5 does not exist (2 images)");
+  EXPECT_EQ(ErrorOf([&] { LoadWrittenGltf(b, dir); }), "model.gltf: /textures/2/source: image 5 does not exist (2 images)");
   b.json()["textures"].erase(2);
   b.json()["materials"][1]["emissiveTexture"] = {{"index", 4}};  // of the unused material
-  EXPECT_EQ(ErrorOf([&] { Load(b, dir); }), "model.gltf: /materials/1/emissiveTexture/index: texture 4 does not exist (2 textures)");
+  EXPECT_EQ(ErrorOf([&] { LoadWrittenGltf(b, dir); }), "model.gltf: /materials/1/emissiveTexture/index: texture 4 does not exist (2 textures)");
 }
 
 }  // namespace

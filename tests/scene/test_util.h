@@ -62,6 +62,13 @@ inline GltfBuilder SquareBuilder(bool normals = true, bool texcoords = false) {
   return b;
 }
 
+// `b` written as dir/model.gltf (its buffers embedded) and loaded from there, so
+// that relative image paths resolve against `dir`.
+inline GltfAsset LoadWrittenGltf(const GltfBuilder& b, const TempDir& dir) {
+  b.WriteGltf(dir / "model.gltf", false);
+  return LoadGltf(dir / "model.gltf", "model.gltf");
+}
+
 // A loaded file's warnings, one a line, for HasSubstr checks.
 inline std::string AllWarnings(const GltfAsset& a) {
   std::string s;
