@@ -21,8 +21,10 @@ constexpr double kPowerOnFeedMmS = 25.0;
 constexpr double kArcRadiusToleranceMm = 0.01;
 constexpr double kArcRadiusToleranceRel = 1e-3;
 // A feed that leaves less than this (mm) beyond making up a retraction lays nothing:
-// the rounding of absolute E differences (slicers write E to 1e-5 mm).
-constexpr double kRoundingMm = 1e-7;
+// the rounding of the E words that drew the filament back and fed it again (each
+// written to 1e-5 mm: a wipe's pieces in M83, absolute E differences), kept below
+// the 0.001 mm the warnings show.
+constexpr double kRoundingMm = 5e-4;
 // End points closer than this (mm) are the same point (full circles).
 constexpr double kSamePointMm = 1e-9;
 // The most turns an arc's P may ask for (Marlin's ARC_P_CIRCLES takes up to 100).
@@ -149,10 +151,11 @@ void GcodeReader::AddSegment(int gcode, const Eigen::Vector3d& end_mm, double ex
       const double made_up_mm = refill ? extruded_mm : std::min(extruded_mm, retracted_mm_);
       retracted_mm_ = std::max(0.0, retracted_mm_ - made_up_mm);
       // What is left of a prime that makes up its retraction by the file's numbers is
-      // the rounding of differences of absolute E ("E2.42602" -> "E1.42602", then "G92
-      // E0", "E1": 4e-16 mm): nothing.
+      // the rounding of its E words (absolute E differences: "E2.42602" -> "E1.42602",
+      // "G92 E0", "E1" leave 4e-16 mm; a wipe retracting in rounded pieces, then fed
+      // back in one, 1e-5 mm): nothing. A feed with no retraction to make up lays all.
       const double laid_mm = extruded_mm - made_up_mm;
-      s.laid_m = laid_mm > kRoundingMm ? laid_mm * kMetresPerMm : 0;
+      s.laid_m = made_up_mm > 0 && laid_mm < kRoundingMm ? 0 : laid_mm * kMetresPerMm;
     }
     s.feed_m_s = feed_mm_s * kMetresPerMm;
     s.t_start_s = t_s_;

@@ -137,7 +137,7 @@ struct Toolpath {
   // counts.
   double BeadFilamentLength(bool within_layers) const;
   // The filament laid in place (ToolpathSegment::LaysBlob), all or inside a layer: with
-  // BeadFilamentLength, what a sum of E over the moves that name X or Y counts.
+  // BeadFilamentLength, every positive feed that makes up no retraction.
   double BlobFilamentLength(bool within_layers) const;
   double PathLength() const;
   // Layers printed: the distinct layers among the moves that lay beads (outside any

@@ -92,6 +92,20 @@ TEST(GcodeRealFiles5, BlobFedInPlaceIsCountedAndWarned) {
       "slic3r.gcode");
   for (const ToolpathSegment& s : slic3r.segments) EXPECT_FALSE(s.LaysBlob()) << "line " << s.line;
   EXPECT_TRUE(slic3r.warnings.empty());
+
+  // Relative E (M83): a wipe retracting in three rounded pieces, the rest of the
+  // retraction, then the prime of the whole in one word: 0.79999 mm drawn back, 0.8 fed
+  // (a blob of 1e-5 mm, warned as "0.000 mm", before the rounding of several words was
+  // allowed for). A prime with a deliberate extra (0.05 mm) still lays a blob.
+  const std::string wipe =
+      "M83\n;LAYER_CHANGE\n;Z:0.2\nG1 Z0.2 F600\nG1 X10 Y10 F9000\nG1 X30 Y10 E0.9 F1200\n"
+      "G1 X30 Y25 E-0.12345 F2400\nG1 X30 Y20 E-0.12345\nG1 X30 Y15 E-0.12345\nG1 E-0.42964 F2100\n"
+      "G1 X40 Y40 F9000\nG1 E0.8 F2100\nG1 X50 Y40 E0.4 F1200\n";
+  Toolpath wiped = ParseGcode(wipe, "wipe.gcode");
+  EXPECT_EQ(wiped.BlobFilamentLength(false), 0);
+  EXPECT_TRUE(wiped.warnings.empty());
+  Toolpath extra = ParseGcode(wipe.substr(0, wipe.find("G1 E0.8")) + "G1 E0.85 F2100\n", "extra.gcode");
+  EXPECT_NEAR(extra.BlobFilamentLength(true) / kMm, 0.05001, 1e-9);
 }
 
 // QIDI Print (Cura 4.9.1) for the two-nozzle QIDI i-Fast primes both nozzles in its start
