@@ -143,11 +143,14 @@ SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
   // (GltfLoadOptions::materials), so materials that cannot be read do not refuse it.
   std::vector<std::filesystem::path> keys;
   std::map<std::filesystem::path, bool> needs_materials;
+  auto takes_file_materials = [&](const SceneObject& obj) {
+    return obj.material.empty() || scene.FindMaterial(obj.material) < 0;
+  };
   for (const SceneObject& obj : scene.objects) {
     std::error_code ec;
     std::filesystem::path key = std::filesystem::weakly_canonical(obj.gltf, ec);
     if (ec) key = obj.gltf;
-    needs_materials[key] |= obj.material.empty() || scene.FindMaterial(obj.material) < 0;
+    needs_materials[key] |= takes_file_materials(obj);
     keys.push_back(std::move(key));
   }
   // Loads `obj`'s file once per (file, materials); `override_id` is the material its
@@ -164,9 +167,18 @@ SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
     try {
       asset = LoadGltf(obj.gltf, obj.gltf.string(), options);
     } catch (const InputError& e) {
-      // The file's own place first; then which object of which scene file named it.
-      throw InputError(e.where(), e.message() + " (object \"" + obj.name + "\", /objects/" + std::to_string(oi) +
-                                      "/gltf of " + scene.path.string() + ")");
+      // The file's own place first; then which object of which scene file named it: for
+      // a load with the file's materials, the first object that takes them (an object
+      // with its own material would not need them).
+      size_t named = oi;
+      for (size_t j = 0; materials && j < scene.objects.size(); ++j) {
+        if (keys[j] == key && takes_file_materials(scene.objects[j])) {
+          named = j;
+          break;
+        }
+      }
+      throw InputError(e.where(), e.message() + " (object \"" + scene.objects[named].name + "\", /objects/" +
+                                      std::to_string(named) + "/gltf of " + scene.path.string() + ")");
     }
     // Without materials, every object using this load sets its own: the triangles
     // index this one's (never read through an instance) in place of the placeholder.

@@ -407,6 +407,22 @@ TEST(SceneGeometry, AFileThatCannotBeReadNamesTheObjectThatGaveIt) {
   const std::string e = ErrorOf([&] { LoadSceneGeometry(s); });
   EXPECT_THAT(e, HasSubstr("notes.gltf: neither a GLB"));
   EXPECT_THAT(e, ::testing::EndsWith(" (object \"part\", /objects/1/gltf of scene.json)"));
+
+  // A file whose materials refuse it is read with them for the object that takes them:
+  // that object is named, in either order, not one with its own material.
+  std::ofstream(dir / "shader.gltf")
+      << R"({"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_techniques_webgl"],
+             "extensionsRequired": ["KHR_techniques_webgl"]})";
+  const std::string shader = (dir / "shader.gltf").string();
+  const std::string own = R"({"name": "own", "gltf": ")" + shader + R"(", "material": "m"})";
+  const std::string takes = R"({"name": "takes", "gltf": ")" + shader + R"("})";
+  for (const bool own_first : {true, false}) {
+    SceneFile both = Parse(R"({"objects": [)" + (own_first ? own + ", " + takes : takes + ", " + own) +
+                           R"(], "materials": {"m": {"base_color": [0.5, 0.5, 0.5]}}, )" + kSensor + "}");
+    EXPECT_THAT(ErrorOf([&] { LoadSceneGeometry(both); }),
+                ::testing::EndsWith(" (object \"takes\", /objects/" + std::string(own_first ? "1" : "0") +
+                                    "/gltf of scene.json)"));
+  }
 }
 
 TEST(SceneGeometry, ObjectsShareTheirGltfAndKeepTheirPoses) {
