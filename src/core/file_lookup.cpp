@@ -1,8 +1,9 @@
 #include "core/file_lookup.h"
 
 #include <algorithm>
-#include <cctype>
 #include <string>
+
+#include "core/text_fields.h"
 
 namespace lt {
 
@@ -16,10 +17,6 @@ std::filesystem::path FindExportedFile(const std::filesystem::path& path) {
     wanted = fs::path(s).lexically_normal();
     if (fs::is_regular_file(wanted, ec)) return wanted;
   }
-  auto lower = [](std::string s) {
-    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-  };
   fs::path found = wanted.root_path();
   for (const fs::path& part : wanted.relative_path()) {
     fs::path next = found / part;
@@ -27,11 +24,11 @@ std::filesystem::path FindExportedFile(const std::filesystem::path& path) {
       found = next;
       continue;
     }
-    const std::string name = lower(part.string());
+    const std::string name = Lower(part.string());
     fs::path match;
     int matches = 0;
     for (fs::directory_iterator it(found.empty() ? fs::path(".") : found, ec), end; !ec && it != end; it.increment(ec)) {
-      if (lower(it->path().filename().string()) == name) {
+      if (Lower(it->path().filename().string()) == name) {
         match = found / it->path().filename();
         ++matches;
       }

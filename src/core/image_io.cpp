@@ -14,6 +14,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/png_chunks.h"
+#include "core/text_fields.h"
 
 namespace lt {
 
@@ -203,8 +204,7 @@ int AlphaChannelOf(const OIIO::ImageSpec& spec) {
   const int n = spec.nchannels;
   if (spec.alpha_channel >= 0 && spec.alpha_channel < n) return spec.alpha_channel;
   if ((n == 2 || n == 4) && int(spec.channelnames.size()) == n) {
-    std::string name = spec.channelnames[size_t(n - 1)];
-    for (char& ch : name) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    const std::string name = Lower(spec.channelnames[size_t(n - 1)]);
     if (name == "a" || name == "alpha") return n - 1;
   }
   return -1;

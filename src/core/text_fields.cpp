@@ -14,6 +14,14 @@ namespace {
 bool IsBlank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; }
 }  // namespace
 
+std::string Lower(std::string_view text) {
+  std::string out(text);
+  for (char& c : out) {
+    if (c >= 'A' && c <= 'Z') c = char(c - 'A' + 'a');
+  }
+  return out;
+}
+
 std::optional<double> ParseFiniteNumber(std::string_view text) {
   if (!text.empty() && text.front() == '+') {
     text.remove_prefix(1);

@@ -32,6 +32,10 @@ std::vector<std::string_view> SplitBlanks(std::string_view text);
 // between `quote`s when given ("'a', 'b' and 4 more").
 std::string ListFirst(const std::vector<std::string>& items, size_t shown, char quote = 0);
 
+// `text` with its ASCII letters in lower case (file extensions, column and
+// channel names, URI schemes, G-code names: none of them locale-dependent).
+std::string Lower(std::string_view text);
+
 // An image size for messages: "640x480".
 std::string SizeText(int width, int height);
 

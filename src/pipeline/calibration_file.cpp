@@ -244,8 +244,7 @@ std::vector<std::string> CalibrationFileWarnings(const CalibrationFile& c, const
 }
 
 StorageFormat CalibrationFileFormat(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+  const std::string ext = Lower(path.extension().string());
   if (ext == ".xml") return StorageFormat::kXml;
   if (ext == ".yaml" || ext == ".yml") return StorageFormat::kYaml;
   throw InputError(path.string(), (ext.empty() ? std::string("no extension") : "unknown extension '" + ext + "'") +

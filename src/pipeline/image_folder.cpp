@@ -20,8 +20,7 @@ bool IsDigit(char c) { return c >= '0' && c <= '9'; }
 const char* const kImageExtensionsText = ".png, .jpg, .jpeg, .tif, .tiff, .bmp, .pgm, .ppm, .pnm, .exr";
 
 bool IsImageFile(const fs::path& p) {
-  std::string ext = p.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  const std::string ext = Lower(p.extension().string());
   for (const char* e : {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".pgm", ".ppm", ".pnm", ".exr"}) {
     if (ext == e) return true;
   }

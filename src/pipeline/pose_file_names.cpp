@@ -9,12 +9,6 @@
 
 namespace lt::pose_file_detail {
 
-std::string Lower(std::string_view s) {
-  std::string out(s);
-  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return out;
-}
-
 std::string NameAndUnit(std::string_view field, std::string* unit) {
   std::string name = Lower(TrimBlanks(field));
   unit->clear();

@@ -9,9 +9,9 @@
 #include <string_view>
 #include <vector>
 
-namespace lt::pose_file_detail {
+#include "core/text_fields.h"  // Lower
 
-std::string Lower(std::string_view s);
+namespace lt::pose_file_detail {
 
 // A column name without its unit ("x [mm]", "x (m)", "x_mm", "x_m"), lower case, and that unit.
 std::string NameAndUnit(std::string_view field, std::string* unit);

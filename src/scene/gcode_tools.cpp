@@ -1,11 +1,11 @@
 // The G-code reader's tools: the active tool, each tool's filament drawn back
 // (retraction pending per tool), Klipper's ACTIVATE_EXTRUDER.
 #include <algorithm>
-#include <cctype>
 #include <optional>
 #include <string>
 #include <string_view>
 
+#include "core/text_fields.h"
 #include "scene/gcode_reader.h"
 
 namespace lt {
@@ -41,8 +41,7 @@ void GcodeReader::KlipperActivateExtruder(std::string_view params) {
   for (const auto& [key, text] : KeyValues(params)) {
     if (key != "EXTRUDER") continue;
     given = std::string(text);
-    std::string lower = given;
-    for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+    const std::string lower = Lower(given);
     const std::string_view digits = std::string_view(lower).substr(std::min<size_t>(8, lower.size()));
     if (!StartsWith(lower, "extruder") || digits.size() > 6 ||
         digits.find_first_not_of("0123456789") != std::string_view::npos) {

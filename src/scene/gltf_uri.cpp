@@ -4,6 +4,7 @@
 #include <cctype>
 
 #include "core/error.h"
+#include "core/text_fields.h"
 
 namespace lt {
 
@@ -27,9 +28,7 @@ std::string SchemeOf(const std::string& uri) {
     ++i;
   }
   if (i < 2 || i >= uri.size() || uri[i] != ':') return {};
-  std::string scheme = uri.substr(0, i);
-  for (char& c : scheme) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return scheme;
+  return Lower(std::string_view(uri).substr(0, i));
 }
 
 }  // namespace
