@@ -15,6 +15,22 @@ size_t SceneGeometry::UniqueTriangleCount() const {
   return n;
 }
 
+std::vector<bool> SceneGeometry::UsedMaterials() const {
+  std::vector<bool> used(materials.size(), false);
+  std::vector<bool> mesh_seen(meshes.size(), false);
+  for (const SceneInstance& inst : instances) {
+    if (inst.material_override >= 0) {
+      if (size_t(inst.material_override) < used.size()) used[size_t(inst.material_override)] = true;
+    } else if (!mesh_seen[inst.mesh]) {
+      mesh_seen[inst.mesh] = true;
+      for (uint32_t id : meshes[inst.mesh].triangle_material) {
+        if (id < used.size()) used[id] = true;
+      }
+    }
+  }
+  return used;
+}
+
 size_t SceneGeometry::InstancedTriangleCount() const {
   size_t n = 0;
   for (const auto& i : instances) n += meshes[i.mesh].TriangleCount();

@@ -42,6 +42,12 @@ struct SceneGeometry {
     return instance.material_override >= 0 ? uint32_t(instance.material_override)
                                            : meshes[instance.mesh].triangle_material[triangle];
   }
+  // By material id, whether some placed triangle takes the material: an instance's
+  // material_override (the printed part's too, before it grows), else its mesh's
+  // triangle_material. A glTF material no triangle of the loaded scene names
+  // (exporters' material libraries, a mesh no node places, points and lines) or a
+  // scene material no object takes is false: changing it changes nothing.
+  std::vector<bool> UsedMaterials() const;
   size_t UniqueTriangleCount() const;     // sum over meshes
   size_t InstancedTriangleCount() const;  // sum over instances
   // Exact world bounds of every instanced vertex (computed in double).

@@ -130,6 +130,37 @@ TEST(InfoCommand, TextAndJsonNameAlphaModes) {
   fs::remove_all(dir);
 }
 
+// Materials no triangle takes are marked, so that a change to one having no effect
+// is explained: a glTF material library's extra material and a scene material no
+// object takes. Before, both were listed as the used ones are.
+TEST(InfoCommand, MarksMaterialsNoTriangleTakes) {
+  const fs::path dir = lt::test::TestFolder("info_unused");
+  fs::create_directories(dir);
+  nlohmann::json g = nlohmann::json::parse(ReadFile(kData / "gltf/square.gltf"));
+  g["materials"] = {{{"name", "grey"}, {"pbrMetallicRoughness", {{"metallicFactor", 0}}}},
+                    {{"name", "oak"}, {"pbrMetallicRoughness", {{"metallicFactor", 0}}}}};
+  g["meshes"][0]["primitives"][0]["material"] = 0;
+  std::ofstream(dir / "library.gltf") << g.dump();
+  std::ofstream(dir / "scene.json") << R"({"objects": [{"name": "plate", "gltf": "library.gltf"}],
+    "materials": {"pla": {"base_color": [0.8, 0.8, 0.8]}},
+    "sensor": {"camera": {"resolution": [64, 48], "pixel_pitch_um": 5, "focal_length_mm": 4, "f_number": 4}}})";
+  Result r = RunLasertwin("info " + Quoted(dir / "scene.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("materials: 3 (2 unused)\n"));
+  EXPECT_THAT(r.out, HasSubstr("  0 pla: base_color [0.8, 0.8, 0.8], metallic 0, roughness 0.5; unused: no object takes it\n"));
+  EXPECT_THAT(r.out, HasSubstr("  1 grey: base_color [1, 1, 1], metallic 0, roughness 1\n"));
+  EXPECT_THAT(r.out, HasSubstr("  2 oak: base_color [1, 1, 1], metallic 0, roughness 1; unused: no triangle of its glTF "
+                               "file names it\n"));
+  Result j = RunLasertwin("info --json " + Quoted(dir / "scene.json"));
+  ASSERT_EQ(j.exit_code, 0) << j.err;
+  const auto materials = nlohmann::json::parse(j.out)["materials"];
+  ASSERT_EQ(materials.size(), 3u);
+  EXPECT_EQ(materials[0]["unused"], "no object takes it");
+  EXPECT_FALSE(materials[1].contains("unused"));
+  EXPECT_EQ(materials[2]["unused"], "no triangle of its glTF file names it");
+  fs::remove_all(dir);
+}
+
 TEST(InfoCommand, ListsWarnings) {
   // warnings.gltf: a triangle, a collinear (degenerate) triangle and a points primitive.
   Result r = RunLasertwin("info " + Quoted(kData / "scenes/warnings.json"));

@@ -92,7 +92,12 @@ nlohmann::json Describe(const SceneFile& scene, const EmbreeScene& embree) {
   }
 
   nlohmann::json materials = nlohmann::json::array();
-  for (const Material& m : g.materials) {
+  // A material no triangle takes is marked, so that a change to it having no effect
+  // is explained: glTF materials no placed triangle names (material libraries), scene
+  // materials no object takes.
+  const std::vector<bool> used = g.UsedMaterials();
+  for (size_t mi = 0; mi < g.materials.size(); ++mi) {
+    const Material& m = g.materials[mi];
     nlohmann::json jm = {{"name", m.name},
                          {"base_color", JsonVec(m.base_color.cast<double>())},
                          {"metallic", m.metallic},
@@ -111,6 +116,9 @@ nlohmann::json Describe(const SceneFile& scene, const EmbreeScene& embree) {
     if (m.subsurface) {
       jm["subsurface"] = {{"mean_free_path_mm", JsonVec(m.subsurface->mean_free_path_m * 1e3)},
                           {"mean_free_path_laser_mm", m.subsurface->mean_free_path_laser_m * 1e3}};
+    }
+    if (!used[mi]) {
+      jm["unused"] = mi < scene.materials.size() ? "no object takes it" : "no triangle of its glTF file names it";
     }
     materials.push_back(jm);
   }
@@ -208,7 +216,11 @@ void PrintText(const nlohmann::json& j, std::ostream& out) {
   } else {
     out << "bounds: empty\n";
   }
-  out << "materials: " << j["materials"].size() << "\n";
+  size_t unused = 0;
+  for (const auto& m : j["materials"]) unused += m.contains("unused") ? 1 : 0;
+  out << "materials: " << j["materials"].size();
+  if (unused > 0) out << " (" << unused << " unused)";
+  out << "\n";
   for (size_t i = 0; i < j["materials"].size(); ++i) {
     const auto& m = j["materials"][i];
     out << "  " << i << " " << m["name"].get<std::string>() << ": base_color " << vec(m["base_color"]) << ", metallic "
@@ -232,6 +244,7 @@ void PrintText(const nlohmann::json& j, std::ostream& out) {
       out << ", subsurface mean free path " << vec(m["subsurface"]["mean_free_path_mm"]) << " mm (laser "
           << Num(m["subsurface"]["mean_free_path_laser_mm"].get<double>()) << " mm)";
     }
+    if (m.contains("unused")) out << "; unused: " << m["unused"].get<std::string>();
     out << "\n";
   }
   const auto& s = j["sensor"];
