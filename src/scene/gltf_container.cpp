@@ -131,6 +131,11 @@ GltfContainer ParseGltfContainer(const std::vector<unsigned char>& bytes, const 
   auto fail = [&](const std::string& m) -> void { throw InputError(file, "invalid GLB: " + m); };
   if (n < 20) fail("truncated: " + std::to_string(n) + " bytes, the header needs 20");
   uint32_t version = ReadU32(bytes, 4), length = ReadU32(bytes, 8);
+  if (version == 1) {
+    // glTF 1.0's binary glTF (KHR_binary_glTF): CesiumJS's older tiles, early exporters.
+    fail("container version 1 (glTF 1.0's KHR_binary_glTF), only 2 is supported: upgrade the file to glTF 2.0 "
+         "(gltf-pipeline -i in.glb -o out.glb does)");
+  }
   if (version != 2) fail("container version " + std::to_string(version) + ", only 2 is supported");
   if (length > n) {
     fail("truncated: the header says " + std::to_string(length) + " bytes, the file has " + std::to_string(n));

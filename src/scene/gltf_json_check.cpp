@@ -189,8 +189,12 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
   if (asset == root.end() || !asset->is_object()) throw InputError(file + ": /asset", "missing required object");
   auto version = asset->find("version");
   if (version == asset->end() || !version->is_string() || version->get<std::string>().rfind("2.", 0) != 0) {
+    // glTF 1.0 (obj2gltf 1.x, COLLADA2GLTF 1.x, CesiumJS's older tiles) and its drafts.
+    const bool old = version != asset->end() && version->is_string() &&
+                     (version->get<std::string>().rfind("1.", 0) == 0 || version->get<std::string>().rfind("0.", 0) == 0);
     throw InputError(file + ": /asset/version",
-                     "glTF version must be 2.x, got " + (version == asset->end() ? std::string("none") : version->dump()));
+                     "glTF version must be 2.x, got " + (version == asset->end() ? std::string("none") : version->dump()) +
+                         (old ? " (upgrade the file to glTF 2.0: gltf-pipeline -i in.gltf -o out.gltf does)" : ""));
   }
   CheckGltfSchema(root, file);
   // Read, converted, or ignored as glTF allows and warned about: lights (the

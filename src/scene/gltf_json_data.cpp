@@ -4,6 +4,7 @@
 #include <cstring>
 #include <utility>
 
+#include "core/base64.h"
 #include "core/error.h"
 #include "scene/gltf_container.h"
 #include "scene/gltf_uri.h"
@@ -48,6 +49,9 @@ size_t Base64DecodedSize(const std::string& uri, size_t start, const std::string
   return chars / 4 * 3 + (chars % 4 == 0 ? 0 : chars % 4 - 1);
 }
 
+size_t DataUriHeader(const std::string& s);
+bool IsBase64Header(const std::string& s, size_t header);
+
 // Checks a buffer's data: URI (tinygltf decodes only base64 with these media
 // types, and needs exactly byteLength bytes).
 void CheckBufferDataUri(const std::string& uri, const std::string& where, int64_t byte_length) {
@@ -55,6 +59,12 @@ void CheckBufferDataUri(const std::string& uri, const std::string& where, int64_
   size_t start = 0;
   for (const char* h : kHeaders) {
     if (uri.rfind(h, 0) == 0) start = std::strlen(h);
+  }
+  const size_t header = DataUriHeader(uri);
+  if (start == 0 && header > 0 && !IsBase64Header(uri, header)) {
+    // RFC 2397's percent-encoded data, which glTF allows for images but not buffers.
+    throw InputError(where, "a buffer's data URI must hold base64 (\";base64,\" before the data, as glTF embeds "
+                            "buffers), got \"" + ShortenDataUris(uri) + "\"");
   }
   if (start == 0) {
     throw InputError(where, "a buffer's data URI must start with \"" + std::string(kHeaders[0]) + "\" or \"" +
@@ -75,7 +85,12 @@ std::pair<std::filesystem::path, uint64_t> CheckExternal(const nlohmann::json& u
                                                          GltfExternalFiles* external) {
   if (!uri.is_string()) throw InputError(where, "uri must be a string");
   const std::string s = uri.get<std::string>();
-  if (s.rfind("data:", 0) == 0) return {};
+  if (s.size() >= 5 && std::equal(s.begin(), s.begin() + 5, "data:", SameIgnoringCase)) {
+    if (s.find(',') == std::string::npos) {
+      throw InputError(where, "a data: URI needs a ',' between its header and its data, got \"" + ShortenDataUris(s) + "\"");
+    }
+    return {};  // read by tinygltf (normalized by NormalizeDataUris)
+  }
   if (s.empty()) throw InputError(where, "uri must not be empty");
   std::filesystem::path p = ResolveGltfUri(s, base_dir, where);
   if (external != nullptr) external->by_lookup_path[TinygltfLookupPath(s, base_dir.string())] = p;
@@ -126,9 +141,55 @@ bool WrappedBase64(const std::string& s, size_t header) {
          std::all_of(data, s.end(), [](char c) { return IsBase64Char(c) || IsAsciiWhitespace(c); });
 }
 
-bool NeedsNormalizing(const nlohmann::json& item) {
+int HexValue(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  c = ToLowerAscii(c);
+  return c >= 'a' && c <= 'f' ? c - 'a' + 10 : -1;
+}
+
+// RFC 2397's data without ";base64": percent-encoded octets, decoded as browsers
+// decode a data: URL (WHATWG fetch): '%' and two hex digits is that byte; anything
+// else, a '%' not followed by two hex digits included, stands for itself.
+std::vector<uint8_t> PercentDecoded(const std::string& s, size_t start) {
+  std::vector<uint8_t> bytes;
+  bytes.reserve(s.size() - start);
+  for (size_t i = start; i < s.size(); ++i) {
+    const int hi = s[i] == '%' && i + 2 < s.size() ? HexValue(s[i + 1]) : -1;
+    const int lo = hi >= 0 ? HexValue(s[i + 2]) : -1;
+    if (lo >= 0) {
+      bytes.push_back(uint8_t(hi * 16 + lo));
+      i += 2;
+    } else {
+      bytes.push_back(uint8_t(s[i]));
+    }
+  }
+  return bytes;
+}
+
+// The media type of a data: URI's header without its parameters ("image/png" of
+// "data:image/png;charset=utf-8;base64,").
+std::string MediaType(const std::string& s, size_t header) {
+  const std::string media = s.substr(5, header - 6);  // between "data:" and the comma
+  return media.substr(0, media.find(';'));
+}
+
+// A buffer's base64 data: URI of glTF's media type with parameters before ";base64,"
+// (`application/octet-stream;charset=binary`): RFC 2397's mediatype holds parameters,
+// and glTF-Validator and browsers read the type without them. tinygltf wants the
+// bare header.
+bool BufferWithParameters(const std::string& s, size_t header) {
+  if (!IsBase64Header(s, header)) return false;
+  std::string type = MediaType(s, header);
+  std::transform(type.begin(), type.end(), type.begin(), ToLowerAscii);
+  return (type == "application/octet-stream" || type == "application/gltf-buffer") &&
+         header > 5 + type.size() + std::strlen(";base64,");
+}
+
+// `image`: an item of "images", else of "buffers".
+bool NeedsNormalizing(const nlohmann::json& item, bool image) {
   const auto [s, header] = DataUri(item);
   if (header == 0) return false;
+  if (image ? !IsBase64Header(*s, header) : BufferWithParameters(*s, header)) return true;
   return std::any_of(s->begin(), s->begin() + std::ptrdiff_t(header), IsAsciiUpper) || WrappedBase64(*s, header);
 }
 
@@ -139,7 +200,10 @@ bool DataUrisNeedNormalizing(const nlohmann::json& root) {
   for (const char* section : kDataSections) {
     auto items = root.find(section);
     if (items == root.end() || !items->is_array()) continue;
-    if (std::any_of(items->begin(), items->end(), NeedsNormalizing)) return true;
+    const bool image = std::strcmp(section, "images") == 0;
+    if (std::any_of(items->begin(), items->end(), [&](const nlohmann::json& item) { return NeedsNormalizing(item, image); })) {
+      return true;
+    }
   }
   return false;
 }
@@ -150,13 +214,21 @@ bool NormalizeDataUris(nlohmann::json* root) {
   for (const char* section : kDataSections) {
     auto items = root->find(section);
     if (items == root->end() || !items->is_array()) continue;
+    const bool image = std::strcmp(section, "images") == 0;
     for (nlohmann::json& item : *items) {
-      if (!NeedsNormalizing(item)) continue;
+      if (!NeedsNormalizing(item, image)) continue;
       std::string& s = item["uri"].get_ref<std::string&>();
       const size_t header = DataUriHeader(s);
       std::transform(s.begin(), s.begin() + std::ptrdiff_t(header), s.begin(), ToLowerAscii);
       if (WrappedBase64(s, header)) {
         s.erase(std::remove_if(s.begin() + std::ptrdiff_t(header), s.end(), IsAsciiWhitespace), s.end());
+      }
+      if (image && !IsBase64Header(s, header)) {
+        // Percent-encoded: as base64 (an image is decoded by its content, whatever its type).
+        const std::vector<uint8_t> bytes = PercentDecoded(s, header);
+        s = "data:application/octet-stream;base64," + Base64Encode(bytes.data(), bytes.size());
+      } else if (!image && BufferWithParameters(s, header)) {
+        s = "data:" + MediaType(s, header) + ";base64," + s.substr(header);
       }
       any = true;
     }

@@ -38,14 +38,22 @@ struct GltfExternalFiles {
 // wrapped into lines, ASCII whitespace (tab, line feed, form feed, carriage return,
 // space) in the data (Python's base64.encodebytes, MIME and OpenSSL encoders write
 // 76- or 64-character lines; a data: URL's base64 is decoded forgivingly, whitespace
-// skipped). DataUrisNeedNormalizing says whether `root` holds one; NormalizeDataUris
-// writes the header in lower case and removes the whitespace from data otherwise of
-// base64 characters (other data is left for CheckGltfBufferData, which skips
-// whitespace, to name the place as written), and returns whether it changed any.
+// skipped); an image's data in RFC 2397's percent-encoded form (no ";base64": glTF's
+// image URIs are RFC 2397 data: URIs, its buffers' base64 ones), decoded as browsers
+// decode it ('%' and two hex digits a byte, any other character itself); and a
+// buffer's media type with parameters (`application/octet-stream;charset=binary;base64,`,
+// which RFC 2397 and glTF-Validator read as application/octet-stream).
+// DataUrisNeedNormalizing says whether `root` holds one; NormalizeDataUris writes the
+// header in lower case, removes the whitespace from data otherwise of base64
+// characters (other data is left for CheckGltfBufferData, which skips whitespace, to
+// name the place as written), writes a percent-encoded image as
+// `data:application/octet-stream;base64,` (images are decoded by their content) and a
+// buffer's header without its parameters, and returns whether it changed any.
 bool DataUrisNeedNormalizing(const nlohmann::json& root);
 bool NormalizeDataUris(nlohmann::json* root);
 
-// Checks `root`'s buffers: a data: URI's media type, base64 and length, an external
+// Checks `root`'s buffers: a data: URI's media type, base64 (percent-encoded data is
+// refused: glTF embeds buffers as base64) and length, an external
 // file's existence and size (at least byteLength), a buffer without uri (only a
 // GLB's, `binary`, first may omit it; a meshopt fallback buffer is named as such).
 // `external` (optional) receives the external files.

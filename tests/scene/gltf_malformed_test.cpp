@@ -123,7 +123,10 @@ TEST(GltfMalformed, DeeplyNestedJsonIsRefusedBeforeTinygltf) {
 TEST(GltfMalformed, WrongVersion) {
   GltfBuilder b = test::SquareBuilder();
   b.json()["asset"]["version"] = "1.0";
-  EXPECT_EQ(GlbError(b), "bad.glb: /asset/version: glTF version must be 2.x, got \"1.0\"");
+  EXPECT_EQ(GlbError(b), "bad.glb: /asset/version: glTF version must be 2.x, got \"1.0\" (upgrade the file to glTF "
+                        "2.0: gltf-pipeline -i in.gltf -o out.gltf does)");
+  b.json()["asset"]["version"] = "3.0";
+  EXPECT_EQ(GlbError(b), "bad.glb: /asset/version: glTF version must be 2.x, got \"3.0\"");
 }
 
 TEST(GltfMalformed, BufferViewOutOfRange) {
