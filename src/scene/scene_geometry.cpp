@@ -143,9 +143,11 @@ SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
 
   // A glTF file used by several objects is loaded once, with its materials if some
   // object takes them. An object with its own "material" reads TEXCOORD_0 (as a file
-  // loaded without materials gives it): when the file's materials read another set,
-  // such an object gets a second load of the geometry alone, so what it sees does
-  // not depend on the other objects.
+  // loaded without materials gives it): when the file's materials read another set
+  // and the object's material has a texture to read, such an object gets a second
+  // load of the geometry alone, so what it sees does not depend on the other
+  // objects. Without a texture nothing reads its texture coordinates (the triangles,
+  // normals and colours of both loads are the same), and it shares the first load.
   struct Loaded {
     size_t first_mesh;
     std::vector<GltfInstance> instances;
@@ -220,7 +222,9 @@ SceneGeometry LoadSceneGeometry(const SceneFile& scene) {
     const std::filesystem::path& key = keys[oi];
     const int32_t override_id = obj.material.empty() ? -1 : int32_t(scene.FindMaterial(obj.material));
     auto it = load(oi, key, needs_materials[key], override_id);
-    if (override_id >= 0 && it->second.texcoords_not_set_0) it = load(oi, key, false, override_id);
+    if (override_id >= 0 && it->second.texcoords_not_set_0 && g.materials[size_t(override_id)].base_color_texture) {
+      it = load(oi, key, false, override_id);
+    }
     if (override_id < 0 && it->second.uses_default_material) {
       // Files converted from STL or OBJ often hold no material at all.
       g.warnings.push_back("object \"" + obj.name + "\": " + obj.gltf.string() +

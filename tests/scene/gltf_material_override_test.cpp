@@ -46,20 +46,23 @@ void Require(GltfBuilder* b, const std::string& extension) {
   b->json()["extensionsRequired"].push_back(extension);
 }
 
-// A scene of one object per entry: {name, gltf file name, material or ""}.
-std::string SceneText(const std::vector<std::array<std::string, 3>>& objects) {
+// A scene of one object per entry: {name, gltf file name, material or ""}; its
+// material "pla" has the base_color_texture `pla_texture` if one is given.
+std::string SceneText(const std::vector<std::array<std::string, 3>>& objects, const std::string& pla_texture = "") {
   std::string list;
   for (const auto& [name, gltf, material] : objects) {
     list += std::string(list.empty() ? "" : ", ") + R"({"name": ")" + name + R"(", "gltf": ")" + gltf + "\"" +
             (material.empty() ? "" : R"(, "material": ")" + material + "\"") + "}";
   }
   return R"({"objects": [)" + list + R"(],
-    "materials": {"pla": {"base_color": [0.8, 0.8, 0.8], "metallic": 0, "roughness": 0.5}},
+    "materials": {"pla": {"base_color": [0.8, 0.8, 0.8], "metallic": 0, "roughness": 0.5)" +
+         (pla_texture.empty() ? "" : R"(, "base_color_texture": ")" + pla_texture + "\"") + R"(}},
     "sensor": {"camera": {"resolution": [8, 8], "pixel_pitch_um": 5, "focal_length_mm": 4, "f_number": 4}}})";
 }
 
-SceneGeometry LoadScene(const TempDir& dir, const std::vector<std::array<std::string, 3>>& objects) {
-  test::WriteText(dir / "scene.json", SceneText(objects));
+SceneGeometry LoadScene(const TempDir& dir, const std::vector<std::array<std::string, 3>>& objects,
+                        const std::string& pla_texture = "") {
+  test::WriteText(dir / "scene.json", SceneText(objects, pla_texture));
   return LoadSceneGeometry(LoadSceneFile(dir / "scene.json"));
 }
 
@@ -184,13 +187,14 @@ TEST(GltfMaterialOverride, OwnMaterialReadsTexcoord0WhateverTheOtherObjects) {
     set0.emplace_back(test::SquareTexcoords()[2 * i], test::SquareTexcoords()[2 * i + 1]);
     set1.emplace_back(second[2 * i], second[2 * i + 1]);
   }
-  const SceneGeometry alone = LoadScene(dir, {{"a", "part.gltf", "pla"}});
+  // "pla" reads a texture of its own, at the object's TEXCOORD_0.
+  const SceneGeometry alone = LoadScene(dir, {{"a", "part.gltf", "pla"}}, "look.png");
   ASSERT_EQ(alone.instances.size(), 1u);
   EXPECT_EQ(alone.meshes[alone.instances[0].mesh].texcoords, set0);
   for (const bool own_first : {true, false}) {
     SCOPED_TRACE(own_first ? "the object with a material first" : "the object with a material second");
-    const SceneGeometry g = own_first ? LoadScene(dir, {{"a", "part.gltf", "pla"}, {"b", "part.gltf", ""}})
-                                      : LoadScene(dir, {{"b", "part.gltf", ""}, {"a", "part.gltf", "pla"}});
+    const SceneGeometry g = own_first ? LoadScene(dir, {{"a", "part.gltf", "pla"}, {"b", "part.gltf", ""}}, "look.png")
+                                      : LoadScene(dir, {{"b", "part.gltf", ""}, {"a", "part.gltf", "pla"}}, "look.png");
     ASSERT_EQ(g.instances.size(), 2u);
     const SceneInstance& a = g.instances[own_first ? 0 : 1];
     const SceneInstance& other = g.instances[own_first ? 1 : 0];
@@ -201,6 +205,25 @@ TEST(GltfMaterialOverride, OwnMaterialReadsTexcoord0WhateverTheOtherObjects) {
     EXPECT_EQ(g.InstancedTriangleCount(), 4u);
     EXPECT_TRUE(g.warnings.empty()) << AllWarnings(g.warnings);  // the second load repeats none
     EXPECT_EQ(g.materials.size(), 2u);                            // "pla", "look": no ids for the second load
+    EXPECT_EQ(g.meshes.size(), 2u);                               // the second load's mesh
+  }
+  // Without a texture nothing reads the object's texture coordinates: it shares the
+  // file's one load (before, a second load of the geometry alone, its mesh counted
+  // again in info's unique triangles).
+  for (const bool own_first : {true, false}) {
+    SCOPED_TRACE(own_first ? "untextured, the object with a material first" : "untextured, the object second");
+    const SceneGeometry g = own_first ? LoadScene(dir, {{"a", "part.gltf", "pla"}, {"b", "part.gltf", ""}})
+                                      : LoadScene(dir, {{"b", "part.gltf", ""}, {"a", "part.gltf", "pla"}});
+    ASSERT_EQ(g.instances.size(), 2u);
+    EXPECT_EQ(g.meshes.size(), 1u);
+    EXPECT_EQ(g.instances[0].mesh, g.instances[1].mesh);
+    const SceneInstance& a = g.instances[own_first ? 0 : 1];
+    const SceneInstance& other = g.instances[own_first ? 1 : 0];
+    EXPECT_EQ(g.materials[g.MaterialOf(a, 0)].name, "pla");
+    EXPECT_EQ(g.materials[g.MaterialOf(other, 0)].name, "look");
+    EXPECT_EQ(g.UniqueTriangleCount(), 2u);
+    EXPECT_EQ(g.InstancedTriangleCount(), 4u);
+    EXPECT_TRUE(g.warnings.empty()) << AllWarnings(g.warnings);
   }
   // A file whose materials read TEXCOORD_0 is still loaded once for both.
   TexturedSquare("look.png").WriteGltf(dir / "part.gltf", false);
