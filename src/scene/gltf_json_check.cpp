@@ -253,6 +253,20 @@ void CheckGltfJson(const GltfContainer& container, const std::string& file, cons
     }
   }
   CheckGltfBufferData(root, container.binary, file, base_dir, external);
+  // A GLB's buffer 0 without uri is its BIN chunk, which may be longer (padding), not shorter.
+  if (auto buffers = root.find("buffers"); container.binary && buffers != root.end() && buffers->is_array() &&
+                                           !buffers->empty() && (*buffers)[0].is_object() &&
+                                           !(*buffers)[0].contains("uri")) {
+    auto length = (*buffers)[0].find("byteLength");
+    if (length != (*buffers)[0].end() && length->is_number_unsigned() &&
+        length->get<uint64_t>() > (container.has_bin ? container.bin_length : 0)) {
+      throw InputError(file + ": /buffers/0/byteLength",
+                       std::to_string(length->get<uint64_t>()) + " bytes, but " +
+                           (container.has_bin ? "the GLB's BIN chunk holds " + std::to_string(container.bin_length)
+                                              : std::string("the GLB has no BIN chunk")) +
+                           " (buffer 0 without a uri is the BIN chunk; a truncated or mis-written file?)");
+    }
+  }
   // A Draco-compressed primitive that is not required may keep uncompressed
   // attributes as a fallback; its accessors without a bufferView are placeholders
   // (zeros to a reader without Draco), so such a primitive cannot be read.

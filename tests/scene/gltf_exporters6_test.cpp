@@ -159,6 +159,34 @@ TEST(GltfExporters6, Gltf1FilesAreRefusedWithTheUpgrade) {
             "gltf-pipeline -i in.gltf -o out.gltf does)");
 }
 
+// A GLB's buffer 0 without a uri is its BIN chunk: a byteLength past the chunk
+// (a writer that counted the buffer before trimming it, a truncated chunk) is an
+// error naming /buffers/0/byteLength. Before, tinygltf's message named no place
+// ("invalid glTF: Invalid `byteLength'. Must be equal or less than binary size").
+TEST(GltfExporters6, GlbBufferLongerThanItsBinChunkIsNamed) {
+  TempDir dir;
+  GltfBuilder b = test::SquareBuilder();
+  const size_t bin = b.bin().size();
+  b.WriteGlb(dir / "ok.glb");
+  EXPECT_EQ(LoadGltf(dir / "ok.glb").instances.size(), 1u);
+  std::vector<uint8_t> glb = b.ToGlb();
+  // The JSON chunk: rewrite byteLength, keep the chunk's length by padding with spaces.
+  const uint32_t json_length = uint32_t(glb[12]) | uint32_t(glb[13]) << 8 | uint32_t(glb[14]) << 16 | uint32_t(glb[15]) << 24;
+  std::string json(glb.begin() + 20, glb.begin() + 20 + json_length);
+  const std::string from = "\"byteLength\":" + std::to_string(bin) + "}";
+  const size_t at = json.find(from);
+  ASSERT_NE(at, std::string::npos) << json;
+  const std::string to = "\"byteLength\":" + std::to_string(bin + 64) + "}";
+  ASSERT_LE(to.size(), from.size() + 2);
+  json.replace(at, from.size(), to);
+  json.resize(json_length, ' ');
+  std::copy(json.begin(), json.end(), glb.begin() + 20);
+  test::WriteBytes(dir / "long.glb", glb);
+  EXPECT_EQ(ErrorOf([&] { LoadGltf(dir / "long.glb", "long.glb"); }),
+            "long.glb: /buffers/0/byteLength: " + std::to_string(bin + 64) + " bytes, but the GLB's BIN chunk holds " +
+                std::to_string(bin) + " (buffer 0 without a uri is the BIN chunk; a truncated or mis-written file?)");
+}
+
 // SceneGeometry::UsedMaterials, which `lasertwin info` marks: a glTF material no
 // placed triangle names (a library material, one of a mesh no node places, one of
 // lines) and a scene material no object takes are unused; the printed part's and
