@@ -62,8 +62,17 @@ void ExtractCom(const ImageView<T>& image, const MethodParams& params, BandedPoi
       // border, above the threshold only 26 px either side of its centre, gave
       // a point in 11 of 48 rows (1% noise), multicom in every row. A window
       // shrunk further cuts the steep part of the profile, which the pixel
-      // fractions at its edges weigh inexactly.)
-      const double min_h = std::max(1.0, fwhm) + 0.5 * (peak.last - peak.first + 1);
+      // fractions at its edges weigh inexactly.) "One FWHM" is that of the
+      // flanks: a plateau's FWHM already spans the plateau (P pixels, P - 1 px
+      // between its end pixels), so the flanks' is fwhm - (P - 1), the same for
+      // a one-pixel maximum. Counting the plateau twice asked a saturated
+      // stripe for a FWHM of room beyond its half-maximum crossings: an 8-bit
+      // sigma-10 stripe clipped at 20x its peak at 60 degrees (plateau ~98 px,
+      // FWHM ~108 px along the row, light above the threshold 65 px either
+      // side) needed 157 px either side and gave a point in 2 of 96 rows of a
+      // 320-px frame, max and multicom in every row.
+      const int plateau = peak.last - peak.first + 1;
+      const double min_h = std::max(1.0, fwhm - (plateau - 1)) + 0.5 * plateau;
       lo = std::max(lo, -0.5);
       hi = std::min(hi, n - 0.5);
       double c = 0;
