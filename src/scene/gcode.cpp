@@ -103,11 +103,30 @@ size_t MoveLinesAtMost(std::string_view text) {
   return count;
 }
 
+// Whether the file states that it is for Klipper: a comment line ";FLAVOR:Klipper" or
+// "; gcode_flavor = klipper" (PrusaSlicer's, SuperSlicer's and OrcaSlicer's config
+// block, which PrusaSlicer writes at the file's end), anywhere in the text.
+bool KlipperFlavour(std::string_view text) {
+  for (std::string_view tag : {std::string_view("gcode_flavor = klipper"), std::string_view("FLAVOR:Klipper")}) {
+    for (size_t at = text.find(tag); at != std::string_view::npos; at = text.find(tag, at + 1)) {
+      size_t start = at;
+      while (start > 0 && (text[start - 1] == ' ' || text[start - 1] == '\t')) --start;
+      if (start > 0 && text[start - 1] == ';') {
+        size_t before = start - 1;
+        while (before > 0 && (text[before - 1] == ' ' || text[before - 1] == '\t')) --before;
+        if (before == 0 || text[before - 1] == '\n' || text[before - 1] == '\r') return true;
+      }
+    }
+  }
+  return false;
+}
+
 // The text's lines through one reader reading E, A and B as `axes` says; sets
 // `called_for` (if given) to GcodeReader::CalledFor.
 Toolpath ReadLines(std::string_view text, const std::string& display_name, ExtruderAxes axes,
                    ExtruderAxes* called_for) {
   GcodeReader reader(display_name, axes);
+  if (KlipperFlavour(text)) reader.SetKlipper();
   size_t pos = StartsWith(text, "\xEF\xBB\xBF") ? 3 : 0;  // a UTF-8 byte order mark
   reader.ReserveSegments(MoveLinesAtMost(text.substr(pos)));
   int line_no = 0;

@@ -1,6 +1,7 @@
 // The G-code reader's commands: which command a line holds and what each does
 // (the motion commands are in scene/gcode_moves.cpp, firmware retraction in
-// gcode_retraction.cpp), or how it is skipped and counted.
+// gcode_retraction.cpp, extended commands such as Klipper's in gcode_extended.cpp),
+// or how it is skipped and counted.
 #include <cmath>
 #include <string>
 #include <string_view>
@@ -10,20 +11,6 @@
 
 namespace lt {
 namespace gcode_detail {
-
-namespace {
-
-// Klipper's probing and levelling commands (the names its documentation gives): the
-// toolhead ends where the probing stops.
-bool IsProbingMacro(const std::string& name) {
-  for (const char* probing : {"BED_MESH_CALIBRATE", "QUAD_GANTRY_LEVEL", "Z_TILT_ADJUST", "SCREWS_TILT_CALCULATE",
-                              "PROBE", "PROBE_ACCURACY", "DELTA_CALIBRATE", "BED_TILT_CALIBRATE"}) {
-    if (name == probing) return true;
-  }
-  return false;
-}
-
-}  // namespace
 
 // G29 forms that load, fill, activate or save a mesh without probing: RepRapFirmware's
 // S1 (load the height map), S2 (clear), S3 (save); Marlin's unified bed levelling and
@@ -46,26 +33,6 @@ bool GcodeReader::MeshCommandOnly() const {
 }
 
 namespace {
-
-// Klipper's own commands that neither move the toolhead nor change how the file's
-// moves are read (limits, pressure advance, temperatures, fans, lights, object labels,
-// displays, settings): skipped without a warning. Any other extended command (a user's
-// macro: PRINT_START, ...) is skipped with a warning naming it.
-bool IsKnownMotionlessCommand(const std::string& name) {
-  for (const char* known :
-       {"SET_VELOCITY_LIMIT", "SET_PRESSURE_ADVANCE", "SET_FAN_SPEED", "SET_HEATER_TEMPERATURE", "TEMPERATURE_WAIT",
-        "SET_TEMPERATURE_FAN_TARGET", "TURN_OFF_HEATERS", "SET_PIN", "SET_LED", "SET_LED_TEMPLATE", "SET_IDLE_TIMEOUT",
-        "SET_INPUT_SHAPER", "SET_TMC_CURRENT", "SET_TMC_FIELD", "SET_EXTRUDER_ROTATION_DISTANCE",
-        "SYNC_EXTRUDER_MOTION", "BED_MESH_PROFILE", "BED_MESH_CLEAR", "BED_MESH_OUTPUT", "EXCLUDE_OBJECT",
-        "EXCLUDE_OBJECT_DEFINE", "EXCLUDE_OBJECT_START", "EXCLUDE_OBJECT_END", "SET_PRINT_STATS_INFO",
-        "SET_DISPLAY_TEXT", "SET_DISPLAY_GROUP", "RESPOND", "SAVE_VARIABLE", "SAVE_GCODE_STATE",
-        "SET_FILAMENT_SENSOR", "SET_Z_THERMAL_ADJUST", "UPDATE_DELAYED_GCODE", "GET_POSITION", "STATUS",
-        "QUERY_ENDSTOPS", "QUERY_PROBE", "CLEAR_PAUSE", "SET_SKEW", "SKEW_PROFILE", "ECHO",
-        "SET_GCODE_VARIABLE", "SET_STEPPER_ENABLE", "SET_SERVO", "SET_PAUSE_NEXT_LAYER", "SET_PAUSE_AT_LAYER"}) {
-    if (name == known) return true;
-  }
-  return false;
-}
 
 // Whether `text` holds `word` as a blank-separated word (letters in any case).
 bool HasWord(std::string_view text, std::string_view word) {
@@ -117,39 +84,7 @@ void GcodeReader::ModalMotion(std::string_view code, size_t pos) {
 }
 
 void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
-  // An extended command (Klipper's PRINT_START, EXCLUDE_OBJECT_START NAME=...,
-  // SET_PRESSURE_ADVANCE ADVANCE=...): a name of letters, digits and
-  // underscores that does not start with a letter and a number. Skipped, counted by name.
-  // Klipper's macro names may start with '_' (its "hidden" macros: _PRINT_START). A
-  // line starting with '@' is a command to the host (OctoPrint's and Repetier's
-  // "@pause", which Cura's Pause at Height script writes), not sent to the printer.
-  const bool host_command = code[pos] == '@';
-  if (host_command || (pos + 1 < code.size() && (IsLetter(code[pos]) || code[pos] == '_') &&
-                       (IsLetter(code[pos + 1]) || code[pos + 1] == '_'))) {
-    size_t end = pos;
-    while (end < code.size() && !IsBlank(code[end])) ++end;
-    std::string name(code.substr(pos, end - pos));
-    for (char& ch : name) ch = Upper(ch);
-    if (IsProbingMacro(name)) {
-      PositionUnknown(name);
-      return;
-    }
-    if (name == "SET_RETRACTION") {
-      KlipperRetractSettings(code.substr(end));
-      return;
-    }
-    if (name == "ACTIVATE_EXTRUDER") {
-      KlipperActivateExtruder(code.substr(end));
-      return;
-    }
-    if (name == "SET_GCODE_OFFSET") {
-      KlipperGcodeOffset(code.substr(end));
-      return;
-    }
-    ++path_.skipped_commands[name];
-    if (!host_command && !IsKnownMotionlessCommand(name)) UnknownExtendedCommand(name);
-    return;
-  }
+  if (ExtendedCommand(code, pos)) return;
   char letter = Upper(code[pos]);
   // P: Prusa firmware's (Buddy: XL) "P0 S1 L2 D0", parking the tool in its dock.
   const bool park = letter == 'P' && pos + 1 < code.size() && code[pos + 1] >= '0' && code[pos + 1] <= '9';
@@ -250,8 +185,13 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
           SetWorkOffset(int(*l->value));  // a work coordinate system's offset
           return;
         }
+        // Marlin's swap retraction (multi-extruder: before a tool swap, by M207 W).
+        if (words_.size() == 1 && words_[0].letter == 'S' && *words_[0].value == 1) {
+          FirmwareRetract(true, true);
+          return;
+        }
         // With other parameters: tool offsets and temperatures (RepRapFirmware's G10 P,
-        // G10 L1), Marlin's swap retraction (G10 S1): skipped.
+        // G10 L1; "G10 S0" without P sets the active tool's temperature there): skipped.
         ++path_.skipped_commands["G10"];
         return;
       case 11: ReadWords(code, pos, true); Expect("", "G11"); FirmwareRetract(false); return;
@@ -355,9 +295,9 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
     return;
   }
   if (letter == 'M' && n == 208) {
-    // Marlin's recovery settings (S, F); RepRapFirmware's axis limits name axes
-    // ("M208 X0:200 Y0:200", "M208 S1 Z-0.2") and are skipped.
-    if (code.substr(pos).find_first_of("XYZUVWABCxyzuvwabc") != std::string_view::npos) {
+    // Marlin's recovery settings (S, F; W, R the swap's); RepRapFirmware's axis limits
+    // name axes or give ranges ("M208 X0:200 Y0:200", "M208 S1 Z-0.2") and are skipped.
+    if (code.substr(pos).find_first_of("XYZUVABCxyzuvabc:") != std::string_view::npos) {
       ++path_.skipped_commands["M208"];
       return;
     }
@@ -397,9 +337,18 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
     if (n == 101) m101_line_ = line_no_;
   }
   if (letter == 'M' && n == 98 && integral) MacroFileCall(code.substr(pos));
+  if (letter == 'M' && (n == 3 || n == 4) && integral && spindle_on_since_.empty()) {
+    spindle_on_since_ = name + " (line " + std::to_string(line_no_) + ")";  // see MoveS
+  }
   // Bambu Lab's pause is "M400 U1" (its printers' machine_pause_gcode); M400 alone waits for the moves.
   if (letter == 'M' && integral && (n != 400 || HasWord(code.substr(pos), "U1"))) PauseForUser(n, code.substr(pos));
-  if (letter == 'T') SelectTool(n);
+  if (letter == 'T') {
+    if (klipper_) {
+      KlipperToolMacro(n);
+    } else {
+      SelectTool(n);
+    }
+  }
   // MakerBot's tool changes by M code (GPX and ReplicatorG: "M135 T1", "M6 T1" and
   // ReplicatorG's "M108 T1"), LinuxCNC's "M6 T1" too: the named tool becomes the active
   // one, whose axis E is in a file that prints with A and B. Without T they change nothing
@@ -407,6 +356,8 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
   if (letter == 'M' && (n == 6 || n == 108 || n == 135)) {
     const std::optional<double> tool = SkippedWordValue(code.substr(pos), 'T');
     if (tool && *tool >= 0 && *tool < 1e6 && *tool == std::floor(*tool)) SelectTool(int(*tool));
+  } else if (letter == 'M' && integral) {
+    ToolWordOnMCommand(name, SkippedWordValue(code.substr(pos), 'T'));
   }
   // Marlin's M605 (DUAL_X_CARRIAGE: S0 full control, S1 auto-park, S2 duplication, S3
   // mirrored; BCN3D's Sigma firmware mirrors with S4): from S2 on the second carriage

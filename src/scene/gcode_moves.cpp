@@ -1,5 +1,6 @@
 // The G-code reader's motion: G0/G1 moves, G2/G3 arcs, G4 dwell, G28 home, the feed
-// rate, and the timed segments they append to the toolpath.
+// rate, and the timed segments they append to the toolpath (what the extruder words
+// feed: scene/gcode_extrusion.cpp).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -70,62 +71,21 @@ Eigen::Vector3d GcodeReader::Target() const {
   return target;
 }
 
-void GcodeReader::MoveS(const std::string& command) const {
+void GcodeReader::MoveS(const std::string& command) {
   const Word* s = Find('S');
+  if (s && *s->value != 0 && !spindle_on_since_.empty()) {
+    // After M3/M4 (a laser or spindle head: Marlin's laser mode with inline power, Grbl,
+    // LightBurn's and LaserGRBL's "G1 X10 Y5 S255"), S is the head's power or speed.
+    WarnOncePerName("S on moves", command + " S" + FormatNumber(*s->value) + ": a laser's power or a spindle's "
+                    "speed, since " + spindle_on_since_ + " turned one on; ignored (a move without E lays no bead)");
+    return;
+  }
   if (s && *s->value != 0) {
     Fail(command + " S" + FormatNumber(*s->value) +
          " is not supported: on a move S is a laser power or spindle speed (Marlin's laser mode, Grbl) or, in "
          "older RepRapFirmware and Repetier, an endstop mode (RepRapFirmware's S1 as H1, S2 as H2); S0, none of "
          "them, is ignored");
   }
-}
-
-double GcodeReader::Extruded() {
-  const Word* e = nullptr;
-  int axis = -1;
-  const char letters[3] = {'E', 'A', 'B'};
-  for (int k = 0; k < (ABAreExtruders() ? 3 : 1); ++k) {
-    if (const Word* w = Find(letters[k])) {
-      // A 5-axis printer's file turns rotary A, B (and C) axes while E extrudes: say so.
-      if (e) {
-        Fail(std::string("both ") + letters[axis] + " and " + letters[k] +
-             ": one extruder axis per move (A and B are read as extruders, as the Mach3 and Machinekit flavours "
-             "and MakerBot's second extruder use them; rotary A/B axes of a 5-axis printer are not modelled)");
-      }
-      e = w;
-      axis = k;
-    }
-  }
-  if (!e) return 0;
-  if (axis == 0 && extruder_axes_ == ExtruderAxes::kEIsActiveAB) {
-    Warn(kEAsActiveAB, "E read as the active tool's axis, A (T0) or B (T1), sharing its position as MakerBot's "
-                       "firmware reads it, since the file prints with A or B and gives E on moves too");
-  }
-  double v = *e->value * unit_mm_;
-  double& logical = e_logical_mm_[ExtruderSlot(axis)];
-  double delta = ERelative() ? v : v - logical;
-  logical = ERelative() ? logical + v : v;
-  // Volumetric: mm^3 of filament, as the length of the M200 diameter's filament.
-  if (volumetric_ && volumetric_diameter_mm_ > 0) delta /= M_PI * 0.25 * volumetric_diameter_mm_ * volumetric_diameter_mm_;
-  // M221's flow percentage scales what the motor feeds (retractions too, as Marlin's
-  // e_factor does), not the logical E.
-  const auto flow = flow_factor_.find(active_tool_);
-  return flow == flow_factor_.end() ? delta : delta * flow->second;
-}
-
-void GcodeReader::VolumetricExtrusion() {
-  // Marlin's and RepRapFirmware's M200: D the filament diameter (mm; D0 turns volumetric
-  // extrusion off), S0/S1 off/on with the last diameter; T the extruder (all alike here).
-  Expect("DSTL", "M200");
-  if (const Word* d = Find('D')) {
-    if (*d->value < 0) Fail("M200 D (filament diameter) must be >= 0, got " + FormatNumber(*d->value));
-    // As Marlin: D0 turns it off and keeps the diameter for a later S1.
-    if (*d->value > 0) volumetric_diameter_mm_ = *d->value * unit_mm_;
-    volumetric_ = *d->value > 0;
-  }
-  if (const Word* on = Find('S')) volumetric_ = *on->value != 0 && !(Find('D') && *Find('D')->value == 0);
-  // The part's beads take the filament's volume: the diameter the lengths are of.
-  if (volumetric_ && volumetric_diameter_mm_ > 0) path_.filament_diameter_m = volumetric_diameter_mm_ * kMetresPerMm;
 }
 
 void GcodeReader::AddSegment(int gcode, const Eigen::Vector3d& end_mm, double extruded_mm, double length_mm,
@@ -189,26 +149,6 @@ void GcodeReader::SpeedFactor() {
   if (const Word* s = Find('S')) {
     if (!s->value || !(*s->value > 0)) Fail("M220 S (feed rate percentage) must be > 0");
     speed_factor_ = *s->value / 100.0;
-  }
-}
-
-void GcodeReader::FlowFactor() {
-  // T (Marlin) or D (RepRapFirmware's drive, taken as the tool) picks the extruder,
-  // else the active tool's.
-  Expect("STD", "M221");
-  int tool = active_tool_;
-  for (char letter : {'T', 'D'}) {
-    if (const Word* w = Find(letter)) {
-      // At most the largest command number read (ReadCommand's 1e6): int() of more is UB.
-      if (!w->value || *w->value < 0 || *w->value >= 1e6 || *w->value != std::floor(*w->value)) {
-        Fail(std::string("M221 ") + letter + " must be a tool number");
-      }
-      tool = int(*w->value);
-    }
-  }
-  if (const Word* s = Find('S')) {
-    if (!s->value || !(*s->value >= 0)) Fail("M221 S (flow percentage) must be >= 0");
-    flow_factor_[tool] = *s->value / 100.0;
   }
 }
 

@@ -61,6 +61,9 @@ class GcodeReader {
     for (Eigen::Vector3d& offset : work_offset_mm_) offset.setZero();
   }
 
+  // The file is for Klipper (its flavour comment, found anywhere in the file: a
+  // PrusaSlicer config block comes at the end): see klipper_.
+  void SetKlipper() { klipper_ = true; }
   // Room for n segments (a hint: more are appended as needed).
   void ReserveSegments(size_t n) { path_.segments.reserve(n); }
   void ReadLine(std::string_view line, int line_no);
@@ -106,6 +109,10 @@ class GcodeReader {
   // last motion command again (RS-274's modal motion), warned.
   void ModalMotion(std::string_view code, size_t pos);
   int motion_mode_ = -1;  // the last G0-G3 read (-1: none yet)
+  // An extended command (a name: Klipper's commands, a printer's macros) or a command
+  // to the host ("@pause") at code[pos]: read or skipped (scene/gcode_extended.cpp).
+  // Returns false when code[pos] starts no such command.
+  bool ExtendedCommand(std::string_view code, size_t pos);
   // An extended command the reader does not know (a macro of the printer's
   // configuration: PRINT_START, ...): skipped, one warning per distinct name.
   void UnknownExtendedCommand(const std::string& name);
@@ -117,6 +124,14 @@ class GcodeReader {
   void SelectTool(int n);
   // Klipper's ACTIVATE_EXTRUDER EXTRUDER=extruderN: tool N, E restarting at 0, flow 100 %.
   void KlipperActivateExtruder(std::string_view params);
+  void ActivateKlipperExtruder(int tool);
+  // "T n" in a Klipper file: a macro of the printer's configuration (Klipper has no T
+  // command), read as the ACTIVATE_EXTRUDER it calls, warned.
+  void KlipperToolMacro(int n);
+  // A T word on another M command in the MakerBot reading (kEIsActiveAB: "M104 S220
+  // T1"): the tool the command is for, the active tool unchanged, as GPX reads it;
+  // warned, since ReplicatorG makes it the active tool.
+  void ToolWordOnMCommand(const std::string& command, std::optional<double> tool);
   // M0, M1, M25, M226, M600, M601, M400 (called with U1 only: Bambu's pause) (a stop,
   // pause or filament change that waits for the user: Cura's Pause at Height,
   // PrusaSlicer's colour change): skipped, one warning per command, since every time
@@ -205,8 +220,10 @@ class GcodeReader {
     return k == 0 && extruder_axes_ == ExtruderAxes::kEIsActiveAB ? (active_tool_ == 1 ? 2 : 1) : k;
   }
   // S on a G0-G3: S0 is ignored (a laser's power off, no endstop check: nothing in any
-  // firmware's reading); another S is refused, naming its meanings.
-  void MoveS(const std::string& command) const;
+  // firmware's reading); after M3/M4 any S is the laser's power or spindle's speed,
+  // ignored and warned; another S is refused, naming its meanings.
+  void MoveS(const std::string& command);
+  std::string spindle_on_since_;  // "M3 (line 12)": the first M3/M4 (spindle or laser on)
   // Counts a G0-G3's extruder words for RereadAs.
   void NoteExtruderAxes();
   ExtruderAxes extruder_axes_ = ExtruderAxes::kSeparate;
@@ -228,7 +245,8 @@ class GcodeReader {
   enum class ExtraAxesUse { kMove, kSet, kHome };
   bool ExtraAxes(const std::string& command, double extruded_mm, ExtraAxesUse use = ExtraAxesUse::kMove);
   // Firmware retraction (G10/G11) and its settings (M207).
-  void FirmwareRetract(bool retract);
+  // `swap`: Marlin's G10 S1 (a long retraction before a tool swap; G11 recovers it).
+  void FirmwareRetract(bool retract, bool swap = false);
   void RetractSettings();
   // Klipper's SET_RETRACTION RETRACT_LENGTH= RETRACT_SPEED= UNRETRACT_EXTRA_LENGTH=
   // UNRETRACT_SPEED= (mm, mm/s; Kalico's Z_HOP_HEIGHT= too); `params` after the name.
@@ -307,15 +325,36 @@ class GcodeReader {
   int type_ = -1;
   double stated_height_m_ = 0;  // the height the file states for the moves that follow (0: none)
   double t_s_ = 0;
-  // Firmware retraction: length, feed rates, Z hop (mm, mm/s), as set by M207 or
-  // Marlin's defaults; whether the filament is retracted and the nozzle lifted now.
-  double fw_retract_mm_ = 3.0;
-  double fw_retract_feed_mm_s_ = 45.0;
-  double fw_recover_extra_mm_ = 0.0;
-  double fw_recover_feed_mm_s_ = 8.0;
-  double fw_hop_mm_ = 0.0;
-  bool fw_retracted_ = false;
+  // Firmware retraction's settings (mm, mm/s), as M207, M208 or Klipper's SET_RETRACTION
+  // set them, else Marlin's defaults; the swap retraction's (Marlin's G10 S1 on a
+  // multi-extruder printer: M207 W, M208 W and R; RETRACT_LENGTH_SWAP 13 mm,
+  // RETRACT_RECOVER_LENGTH_SWAP 0, RETRACT_RECOVER_FEEDRATE_SWAP 8 mm/s).
+  struct FwRetraction {
+    double length_mm = 3.0;
+    double feed_mm_s = 45.0;
+    double recover_extra_mm = 0.0;
+    double recover_feed_mm_s = 8.0;
+    double hop_mm = 0.0;
+    double swap_length_mm = 13.0;
+    double swap_recover_extra_mm = 0.0;
+    double swap_recover_feed_mm_s = 8.0;
+  };
+  FwRetraction fw_;                         // every tool's (M207 without P, Marlin, Klipper)
+  std::map<int, FwRetraction> fw_of_tool_;  // RepRapFirmware's "M207 P1 ...": tool 1's own
+  FwRetraction& FwSettings(std::optional<int> tool);  // tool's (none: every tool's)
+  // Whether a tool is retracted by G10 (1) or by a swap retraction G10 S1 (2), per tool
+  // as Marlin (retracted[], retracted_swap[]) and RepRapFirmware (Tool::isRetracted)
+  // keep it; Klipper's firmware_retraction keeps one state (tool 0's key here).
+  std::map<int, int> fw_state_;
+  int FwStateKey() const { return klipper_ ? 0 : active_tool_; }
+  // The Z hop is one for the machine (Marlin's current_hop): a G10 of a second tool
+  // while the first one's hop holds lifts no further.
   double fw_hop_applied_mm_ = 0.0;
+  // The file is for Klipper: its flavour says so (";FLAVOR:Klipper", a PrusaSlicer or
+  // OrcaSlicer "; gcode_flavor = klipper"), or one of Klipper's own extended commands
+  // was read. Then "T1" is the printer's macro, read as ACTIVATE_EXTRUDER, and firmware
+  // retraction keeps one state.
+  bool klipper_ = false;
 };
 
 }  // namespace gcode_detail

@@ -1,10 +1,12 @@
 // The G-code reader's tools: the active tool, each tool's filament drawn back
-// (retraction pending per tool), Klipper's ACTIVATE_EXTRUDER.
+// (retraction pending per tool), Klipper's ACTIVATE_EXTRUDER and T macros, a T on
+// another M command in MakerBot's G-code.
 #include <algorithm>
 #include <optional>
 #include <string>
 #include <string_view>
 
+#include "core/error.h"
 #include "core/text_fields.h"
 #include "scene/gcode_reader.h"
 
@@ -54,10 +56,40 @@ void GcodeReader::KlipperActivateExtruder(std::string_view params) {
     Fail("ACTIVATE_EXTRUDER needs EXTRUDER= naming an extruder (\"extruder\", \"extruder1\", ...), got \"" +
          given + "\"");
   }
-  if (*tool == active_tool_) return;
-  SelectTool(*tool);
+  ActivateKlipperExtruder(*tool);
+}
+
+void GcodeReader::ActivateKlipperExtruder(int tool) {
+  if (tool == active_tool_) return;
+  SelectTool(tool);
   e_logical_mm_[ExtruderSlot(0)] = 0;
   flow_factor_.clear();
+}
+
+void GcodeReader::KlipperToolMacro(int n) {
+  // Klipper has no T command: a file's "T1" runs the printer's [gcode_macro T1], which
+  // on a multi-extruder printer calls ACTIVATE_EXTRUDER EXTRUDER=extruder1 (Klipper's
+  // sample configurations and the usual toolchanger and IDEX macros do), beside what
+  // the macro moves (a park, a dock) and sets (offsets, temperatures).
+  if (n < 0 || n == active_tool_) return;  // the active extruder again: Klipper does nothing
+  const std::string extruder = n == 0 ? "extruder" : "extruder" + std::to_string(n);
+  WarnOncePerName("Klipper T", "T" + std::to_string(n) + " in a Klipper file is a macro of the printer's "
+                  "configuration, read as the ACTIVATE_EXTRUDER EXTRUDER=" + extruder + " it usually calls (E "
+                  "restarts at 0, the flow is 100 %); whatever else it does (parking, moves, offsets) is not in the "
+                  "toolpath or its times");
+  ActivateKlipperExtruder(n);
+}
+
+void GcodeReader::ToolWordOnMCommand(const std::string& command, std::optional<double> tool) {
+  // GPX (MakerBot's and Sailfish's G-code to x3g): "M104 S220 T1" sets tool 1's
+  // temperature, M106/M107/M126/M127 T1 its fans, M109 T1 its platform; only T n,
+  // M6 T n and M135 T n change the tool. ReplicatorG on a dual-extruder machine takes
+  // the T of any M command as a tool selection (its E then goes to that tool's axis).
+  // Read as GPX; warned where the two differ (a T other than the active tool).
+  if (extruder_axes_ != ExtruderAxes::kEIsActiveAB || !tool || *tool == active_tool_) return;
+  WarnOncePerName("M command T", command + " T" + FormatNumber(*tool) + ": the tool the command is for, read "
+                  "as GPX reads it (the active tool stays T" + std::to_string(active_tool_) + ", E on its axis); "
+                  "ReplicatorG on a dual-extruder machine makes it the active tool, so E would feed the other axis");
 }
 
 }  // namespace gcode_detail
