@@ -69,6 +69,18 @@ void ParseBackground(const std::string& text, const std::string& where, double* 
   *mode = BackgroundMode::kLevel;
 }
 
+void ParseThreshold(const std::string& text, const std::string& where, double* threshold, ThresholdMode* mode) {
+  const std::string t(TrimBlanks(text));
+  if (t == "auto") {
+    *mode = ThresholdMode::kNoise;
+    return;
+  }
+  const std::optional<double> v = ParseFiniteNumber(t);
+  if (!v) throw InputError(where, "expected a finite number or 'auto', got '" + text + "'");
+  *threshold = *v;
+  *mode = ThresholdMode::kFixed;
+}
+
 void ParseTransfer(const std::string& text, const std::string& where, Transfer* transfer, double* gamma) {
   const std::string t(TrimBlanks(text));
   if (t == "linear" || t == "srgb") {
@@ -98,7 +110,7 @@ void ExtractionOptions::Check() const {
   Require(FiniteOrAuto(threshold) && !(threshold < 0), "threshold", "must be >= 0, got " + FormatNumber(threshold));
   Require(FiniteOrAuto(high_threshold) && !(high_threshold < 0), "high_threshold",
           "must be >= 0, got " + FormatNumber(high_threshold));
-  if (!std::isnan(threshold) && !std::isnan(high_threshold)) {
+  if (threshold_mode == ThresholdMode::kFixed && !std::isnan(threshold) && !std::isnan(high_threshold)) {
     Require(high_threshold >= threshold, "high_threshold",
             "must be >= threshold (" + FormatNumber(threshold) + "), got " + FormatNumber(high_threshold));
   }

@@ -2,6 +2,7 @@
 // and parameter).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <optional>
@@ -42,6 +43,12 @@ enum class BackgroundMode { kLevel, kLocal };
 // threshold, background and widths are in linear units.
 enum class Transfer { kLinear, kSrgb, kGamma };
 
+// How the threshold is set (docs/extraction.md, "Automatic threshold").
+// kFixed: `threshold` (kAuto: 10% of full scale). kNoise (`--threshold auto`):
+// per frame (per ROI), the frame's background plus 6 times its noise, with
+// floors for noise-free frames (pipeline/auto_threshold.h).
+enum class ThresholdMode { kFixed, kNoise };
+
 // Candidate peaks (above the threshold) that max, com and multicom dropped
 // for their FWHM: narrower than min_width without continuing on the adjacent
 // search lines, or wider than max_width.
@@ -73,6 +80,10 @@ void ParseTransfer(const std::string& text, const std::string& where, Transfer* 
 // Parse a --background value: a number (mode kLevel, *level set) or "local"
 // (mode kLocal, *level untouched); throw lt::InputError(where, ...) otherwise.
 void ParseBackground(const std::string& text, const std::string& where, double* level, BackgroundMode* mode);
+// Parse a --threshold value: a finite number (mode kFixed, *threshold set) or
+// "auto" (mode kNoise, *threshold untouched); throw lt::InputError(where, ...)
+// otherwise.
+void ParseThreshold(const std::string& text, const std::string& where, double* threshold, ThresholdMode* mode);
 // Comma-separated finite numbers ("1,0,0"; --weights), and an ROI "X,Y,W,H" of
 // whole pixels (--roi); throw lt::InputError(where, ...) otherwise.
 std::vector<double> ParseNumberList(const std::string& text, const std::string& where);
@@ -93,8 +104,11 @@ struct ExtractionOptions {
   // For steger it is the low hysteresis threshold,
   // expressed as the peak intensity of a stripe of the expected width.
   double threshold = kAuto;
+  // kNoise: `threshold` is ignored; each frame's is estimated from its
+  // background and noise (StripeExtractor::last_noise_threshold()).
+  ThresholdMode threshold_mode = ThresholdMode::kFixed;
   // Steger's high hysteresis threshold, same units: each chain must reach it
-  // somewhere. kAuto: the threshold.
+  // somewhere. kAuto: the threshold (with kNoise: at least the frame's threshold).
   double high_threshold = kAuto;
   // Level subtracted from intensities before the centre of mass (com), and
   // before the half-maximum and width estimates of every method
@@ -142,6 +156,9 @@ struct ExtractionOptions {
 
   // Worker threads (TBB arena); 0 = all hardware threads.
   int threads = 0;
+
+  // The threshold is the default: 10% of full scale (kFixed, kAuto).
+  bool DefaultThreshold() const { return threshold_mode == ThresholdMode::kFixed && std::isnan(threshold); }
 
   // Throws lt::InputError naming the offending option.
   void Check() const;

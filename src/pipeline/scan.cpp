@@ -255,6 +255,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
       points = extractor.Extract(image);
       edge_lines_without_points = extractor.resolved_options().EdgeLinesWithoutPoints();
       if (eo.method == ExtractionMethod::kSteger) fs_summary.steger_width_px = extractor.resolved_options().expected_width;
+      if (const NoiseThreshold* t = extractor.last_noise_threshold()) fs_summary.noise_threshold = *t;
       summary.width_rejected += extractor.last_rejections();
       // A saturated pixel reads its level give or take the read noise: within 1%.
       const double saturated = 0.99 * frame.SaturationLevel(type_full_scale);
@@ -277,7 +278,7 @@ ScanSummary ScanRun(const fs::path& run_dir, const ScanOptions& options,
       }
     }
     if (points.empty() && !warned_unknown_depth && type_full_scale == 65535.0 && frame.bit_depth <= 0 &&
-        std::isnan(options.extraction.threshold)) {
+        options.extraction.DefaultThreshold()) {
       // A 10- or 12-bit camera's raw DN in 16-bit files lie far below 10% of 65535.
       const double brightest = Brightest(image);
       const int bits = UnscaledBitDepth(brightest);

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/auto_threshold.h"
 #include "pipeline/calibration_file.h"
 #include "pipeline/capture_folder.h"
 #include "pipeline/colorize.h"
@@ -30,7 +31,8 @@ struct ScanOptions {
   // Extraction as in `lasertwin extract`, with three run-aware defaults:
   //   threshold kAuto: 10% of the frame's full scale, from its bit depth (a
   //     16-bit PNG holding 10-bit raw DN has full scale 1023, not 65535),
-  //     times the channel weights' WeightedFullScale();
+  //     times the channel weights' WeightedFullScale() (threshold_mode
+  //     kNoise, --threshold auto: each frame's own, pipeline/auto_threshold.h);
   //   background kAuto (NaN here): the image sensor's black level (rig.json),
   //     times the weights' WeightedLevel();
   //   colour frames (a Bayer mosaic or 3 channels) without `channel` or
@@ -106,6 +108,9 @@ struct ScanFrameSummary {
   // was extracted with: --width, or the one measured on the frame
   // (StripeExtractor::resolved_options()); NaN for the other methods.
   double steger_width_px = std::numeric_limits<double>::quiet_NaN();
+  // --threshold auto: the frame's threshold and how it was set
+  // (StripeExtractor::last_noise_threshold()); unset with a fixed threshold.
+  std::optional<NoiseThreshold> noise_threshold;
 };
 
 struct ScanSummary {

@@ -149,11 +149,14 @@ struct StripeExtractor::Impl {
   std::vector<float> demosaiced;  // R, G, B of a Bayer mosaic
   std::vector<float> transfer_table, linear;  // options.transfer's table, the linearized image
   WidthRejections rejections;     // of the last Extract
+  NoiseThreshold noise_threshold;  // of the last Extract (threshold_mode kNoise)
+  bool has_noise_threshold = false;
 
   explicit Impl(ExtractionOptions o)
       : options((o.Check(), std::move(o))),
         resolved(options),
         arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic) {
+    if (options.threshold_mode == ThresholdMode::kNoise) resolved.threshold = ExtractionOptions::kAuto;
     if (options.method != ExtractionMethod::kSteger) return;
     if (std::isnan(resolved.expected_width)) resolved.expected_width = ExtractionOptions::kDefaultExpectedWidth;
     steger = std::make_unique<StegerDetector>(resolved);
@@ -191,7 +194,21 @@ struct StripeExtractor::Impl {
   // Runs the method on a mono image whose rows are search lines; appends
   // points in that image's coordinates.
   template <typename T>
-  void RunMethod(const ImageView<T>& work, const MethodParams& params, std::vector<StripePoint>* points) {
+  void RunMethod(const ImageView<T>& work, const MethodParams& given, std::vector<StripePoint>* points) {
+    MethodParams params = given;
+    if (options.threshold_mode == ThresholdMode::kNoise) {
+      // The frame's own threshold (pipeline/auto_threshold.h) on the search
+      // lines; a height above the background with the local background and
+      // for steger (its threshold is a contrast, blind to the background).
+      noise_threshold = EstimateNoiseThreshold(work, std::is_integral_v<T>,
+                                               options.background_mode == BackgroundMode::kLocal ||
+                                                   options.method == ExtractionMethod::kSteger);
+      has_noise_threshold = true;
+      params.threshold = noise_threshold.threshold;
+      params.high_threshold = std::isnan(options.high_threshold) ? params.threshold
+                                                                 : std::max(options.high_threshold, params.threshold);
+      resolved.threshold = params.threshold;
+    }
     arena.execute([&] {
       switch (options.method) {
         case ExtractionMethod::kMax:
@@ -236,9 +253,13 @@ StripeExtractor::~StripeExtractor() = default;
 const ExtractionOptions& StripeExtractor::options() const { return impl_->options; }
 const ExtractionOptions& StripeExtractor::resolved_options() const { return impl_->resolved; }
 const WidthRejections& StripeExtractor::last_rejections() const { return impl_->rejections; }
+const NoiseThreshold* StripeExtractor::last_noise_threshold() const {
+  return impl_->has_noise_threshold ? &impl_->noise_threshold : nullptr;
+}
 
 template <typename T>
 double StripeExtractor::ThresholdFor() const {
+  if (impl_->options.threshold_mode == ThresholdMode::kNoise) return impl_->resolved.threshold;
   const double t = impl_->options.threshold;
   return std::isnan(t) ? 0.1 * FullScale<T>() * impl_->options.WeightedFullScale() : t;
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/image.h"
+#include "pipeline/auto_threshold.h"
 #include "pipeline/extraction_options.h"
 #include "pipeline/stripe_point.h"
 
@@ -25,8 +26,9 @@ class StripeExtractor {
   const ExtractionOptions& options() const;
   // The options as the last Extract used them: steger's automatic width
   // (expected_width kAuto) resolved to the one measured on that frame
-  // (kDefaultExpectedWidth before any frame). Its EdgeLinesWithoutPoints() are
-  // that frame's.
+  // (kDefaultExpectedWidth before any frame), and with threshold_mode kNoise
+  // `threshold` that frame's (NaN before any frame). Its
+  // EdgeLinesWithoutPoints() are that frame's.
   const ExtractionOptions& resolved_options() const;
 
   // Finds stripe points, ordered by search line (row or column) and then
@@ -50,7 +52,13 @@ class StripeExtractor {
   // multicom; zero for steger), so callers can tell the user.
   const WidthRejections& last_rejections() const;
 
-  // The threshold used for images of sample type T (resolves kAuto).
+  // threshold_mode kNoise: how the last Extract set its threshold (per frame,
+  // per ROI; pipeline/auto_threshold.h); nullptr before any frame and with
+  // kFixed.
+  const NoiseThreshold* last_noise_threshold() const;
+
+  // The threshold used for images of sample type T (resolves kAuto; with
+  // threshold_mode kNoise the last frame's, NaN before any).
   template <typename T>
   double ThresholdFor() const;
 

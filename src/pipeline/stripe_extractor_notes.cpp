@@ -25,7 +25,11 @@ std::vector<std::string> WidthRejectionNotes(const WidthRejections& rejected, co
 }
 
 std::string NoStripePointsNote(const ExtractionOptions& o) {
-  std::string note = "no stripe points found; check --threshold (the default is 10% of the image's full scale), --roi and --axis";
+  std::string note = o.threshold_mode == ThresholdMode::kNoise
+                         ? "no stripe points found; check --threshold (auto: each image's background + 6 x its noise, "
+                           "in the notes above), --roi and --axis"
+                         : "no stripe points found; check --threshold (the default is 10% of the image's full scale), "
+                           "--roi and --axis";
   if (o.method == ExtractionMethod::kSteger && !std::isnan(o.expected_width)) {
     note += ", and --width (" + FormatNumber(o.expected_width) + " px): steger finds only stripes of about that width";
   }

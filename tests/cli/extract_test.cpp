@@ -414,7 +414,9 @@ TEST_F(ExtractCommand, NonFiniteThresholdsAreRefused) {
       CliResult r = RunCli("extract " + Quoted(p) + " " + option + " " + value);
       EXPECT_EQ(r.exit_code, 2) << option << " " << value << "\n" << r.err;
       EXPECT_EQ(r.out, "") << option << " " << value;
-      EXPECT_THAT(r.err, HasSubstr(option + ": expected a finite number, got '" + value + "'"));
+      const std::string expected = option == "--threshold" ? "expected a finite number or 'auto', got '"
+                                                           : "expected a finite number, got '";
+      EXPECT_THAT(r.err, HasSubstr(option + ": " + expected + value + "'"));
     }
   }
   CliResult r = RunCli("extract " + Quoted(p) + " --threshold 100 --high-threshold 150");

@@ -32,6 +32,7 @@ struct ExtractArgs {
   std::string bayer = "none";
   std::string out;
   std::string background = "0";
+  std::string threshold;  // empty: 10% of full scale; a number, or "auto"
   std::string transfer = "linear";
   bool transfer_given = false;  // --transfer on the command line (even linear): no warning about a file's tag
   ExtractionOptions options;
@@ -61,7 +62,7 @@ std::string DimImageNote(const Image<T>& im, const StripeExtractor& extractor, c
   if (!(brightest < threshold)) return "";
   std::string note = "its brightest pixel" + std::string(o.roi ? " in the ROI" : "") + " is " + FormatNumber(brightest) +
                      (linearized ? " linearized" : "") + ", below the threshold " + FormatNumber(threshold);
-  if (std::is_same_v<T, uint16_t> && std::isnan(o.threshold)) {
+  if (std::is_same_v<T, uint16_t> && o.DefaultThreshold()) {
     note += " (10% of 65535)";
     if (const int bits = UnscaledBitDepth(brightest)) {
       const double full = std::ldexp(1.0, bits) - 1;
@@ -81,6 +82,7 @@ void Run(ExtractArgs& a) {
   if (!a.weights.empty()) o.channel_weights = ParseNumberList(a.weights, "--weights");
   o.bayer = ParseBayerPattern(a.bayer, "--bayer");
   ParseBackground(a.background, "--background", &o.background, &o.background_mode);
+  if (!a.threshold.empty()) ParseThreshold(a.threshold, "--threshold", &o.threshold, &o.threshold_mode);
   ParseTransfer(a.transfer, "--transfer", &o.transfer, &o.gamma);
   a.plane_options.axis = o.axis;
   if (a.planes < 0) throw InputError("--planes", "must be >= 1");
@@ -153,7 +155,7 @@ void Run(ExtractArgs& a) {
       // A file declaring bits stored unscaled (sBIT) has its own default threshold.
       if (facts.unscaled_full_scale > 0) {
         const ExtractionOptions declared = OptionsForImageFile(o, facts);  // refuses --transfer
-        if (std::isnan(o.threshold)) {
+        if (o.DefaultThreshold()) {
           std::unique_ptr<StripeExtractor>& slot = unscaled_extractors[declared.threshold];
           if (!slot) slot = std::make_unique<StripeExtractor>(declared);
           ex = slot.get();
@@ -167,7 +169,10 @@ void Run(ExtractArgs& a) {
       throw InputError(image, e.message());
     }
     total += points.size();
-    if (const auto* f = std::get_if<Image<float>>(&img); f && std::isnan(o.threshold) && !float_scale_noted) {
+    if (const NoiseThreshold* t = ex->last_noise_threshold()) {
+      std::cerr << "lasertwin: note: " << image << ": threshold auto: " << DescribeNoiseThreshold(*t) << "\n";
+    }
+    if (const auto* f = std::get_if<Image<float>>(&img); f && o.DefaultThreshold() && !float_scale_noted) {
       float largest = 0;
       for (float v : f->pixels) largest = std::max(largest, v);
       const std::string note = FloatScaleNote(largest);
@@ -239,10 +244,10 @@ void AddExtract(CLI::App& app) {
   cmd->add_option("--out", args->out, "CSV file (one image; its folder must exist) or folder (several images, or an existing folder: "
                   "FOLDER/<image name>.csv); default: standard output");
   auto& o = args->options;
-  cmd->add_option("--threshold", o.threshold,
+  cmd->add_option("--threshold", args->threshold,
                   "Minimum stripe peak intensity in image units (default: 10% of full scale, times the sum of the "
-                  "positive --weights)")
-      ->check(FiniteNumber());
+                  "positive --weights), or 'auto': each image's background + 6 x its noise (docs/extraction.md)")
+      ->check(ThresholdValue());
   cmd->add_option("--high-threshold", o.high_threshold, "steger: high hysteresis threshold, which each chain must reach somewhere (default: the threshold)")
       ->check(FiniteNumber());
   cmd->add_option("--background", args->background,

@@ -108,6 +108,28 @@ void Run(ScanArgs& a) {
     std::cerr << (std::isnan(o.extraction.expected_width) ? ", measured on each frame (--width fixes it)\n"
                                                            : ", from --width\n");
   }
+  std::vector<const NoiseThreshold*> thresholds;  // --threshold auto: each frame's
+  for (const ScanFrameSummary& f : s.frames) {
+    if (f.noise_threshold) thresholds.push_back(&*f.noise_threshold);
+  }
+  if (!thresholds.empty()) {
+    std::sort(thresholds.begin(), thresholds.end(),
+              [](const NoiseThreshold* a, const NoiseThreshold* b) { return a->threshold < b->threshold; });
+    const NoiseThreshold& mid = *thresholds[thresholds.size() / 2];
+    std::cerr << "threshold auto: " << DescribeNoiseThreshold(mid);
+    if (thresholds.size() > 1) {
+      std::cerr << " on the median frame; " << FormatNumber(thresholds.front()->threshold) << " to "
+                << FormatNumber(thresholds.back()->threshold) << " over " << thresholds.size() << " frames";
+    }
+    const auto varied = std::count_if(thresholds.begin(), thresholds.end(), [](const NoiseThreshold* t) {
+      return t->from == NoiseThreshold::From::kSpread;
+    });
+    if (varied > 0 && thresholds.size() > 1) {
+      std::cerr << "; " << varied << " frame" << (varied == 1 ? "" : "s")
+                << " set by the background's spread (ambient light: --background local)";
+    }
+    std::cerr << "\n";
+  }
   if (s.frames_by_edge_chains > 0) {
     std::cerr << "planes numbered by the edge chains in " << s.frames_by_edge_chains << " frame"
               << (s.frames_by_edge_chains == 1 ? "" : "s") << " (no search line met all the stripes)\n";

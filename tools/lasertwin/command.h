@@ -35,6 +35,17 @@ inline CLI::Validator FiniteNumber() {
       "");
 }
 
+// --threshold: a finite number or "auto" (ParseThreshold reads it after).
+inline CLI::Validator ThresholdValue() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double v = 0;
+        if (text == "auto" || (CLI::detail::lexical_cast(text, v) && std::isfinite(v))) return {};
+        return "expected a finite number or 'auto', got '" + text + "'";
+      },
+      "");
+}
+
 // An output file's folder must exist before any work: lt::InputError naming
 // `option` otherwise.
 inline void RequireOutputFolder(const std::string& option, const std::string& file) {

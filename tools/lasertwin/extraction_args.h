@@ -20,7 +20,8 @@ namespace lt::cli {
 // What the options give, parsed.
 struct ParsedExtraction {
   // threshold and background kAuto (NaN) unless given: 10% of each frame's
-  // full scale, the image sensor's black level (RunFrameExtraction).
+  // full scale, the image sensor's black level (RunFrameExtraction);
+  // threshold_mode kNoise with --threshold auto.
   ExtractionOptions extraction;
   // --transfer was given (even linear): no warning about a file's transfer tag.
   bool transfer_given = false;
@@ -37,6 +38,7 @@ struct ExtractionArgs {
   std::string background;  // empty: the black level
   std::string bayer;       // empty: the rig's color_filter
   std::string transfer = "linear";
+  std::string threshold;   // empty: 10% of full scale; a number, or "auto"
   ExtractionOptions options;  // the numeric options, bound directly
   PlaneIdOptions plane_id;
   std::vector<CLI::Option*> declared;
@@ -49,10 +51,11 @@ struct ExtractionArgs {
     add(cmd->add_option("--method", method,
                         "max | com | multicom | steger (default: com, multicom for several laser planes)"));
     add(cmd->add_option("--roi", roi, "Search only in X,Y,W,H (pixels)"));
-    add(cmd->add_option("--threshold", e.threshold,
+    add(cmd->add_option("--threshold", threshold,
                         "Minimum stripe peak in image DN (default: 10% of the frame's full scale, 2^bit_depth - 1, "
-                        "times the sum of the positive channel weights)"))
-        ->check(FiniteNumber());
+                        "times the sum of the positive channel weights), or 'auto': each frame's background + 6 x its "
+                        "noise (docs/extraction.md)"))
+        ->check(ThresholdValue());
     add(cmd->add_option("--high-threshold", e.high_threshold,
                         "steger: high hysteresis threshold, which each chain must reach somewhere (default: the "
                         "threshold)"))
@@ -103,6 +106,7 @@ struct ExtractionArgs {
     e = options;
     p.method_from_planes = method.empty();
     e.method = ParseMethod(method.empty() ? "com" : method, "--method");
+    if (!threshold.empty()) ParseThreshold(threshold, "--threshold", &e.threshold, &e.threshold_mode);
     if (!background.empty()) ParseBackground(background, "--background", &e.background, &e.background_mode);
     if (!roi.empty()) e.roi = ParseRoi(roi, "--roi");
     ParseTransfer(transfer, "--transfer", &e.transfer, &e.gamma);
