@@ -149,15 +149,15 @@ TEST(InfoCommand, MarksMaterialsNoTriangleTakes) {
   EXPECT_THAT(r.out, HasSubstr("materials: 3 (2 unused)\n"));
   EXPECT_THAT(r.out, HasSubstr("  0 pla: base_color [0.8, 0.8, 0.8], metallic 0, roughness 0.5; unused: no object takes it\n"));
   EXPECT_THAT(r.out, HasSubstr("  1 grey: base_color [1, 1, 1], metallic 0, roughness 1\n"));
-  EXPECT_THAT(r.out, HasSubstr("  2 oak: base_color [1, 1, 1], metallic 0, roughness 1; unused: no triangle of its glTF "
-                               "file names it\n"));
+  EXPECT_THAT(r.out, HasSubstr("  2 oak: base_color [1, 1, 1], metallic 0, roughness 1; unused: no triangle the scene "
+                               "places uses it\n"));
   Result j = RunLasertwin("info --json " + Quoted(dir / "scene.json"));
   ASSERT_EQ(j.exit_code, 0) << j.err;
   const auto materials = nlohmann::json::parse(j.out)["materials"];
   ASSERT_EQ(materials.size(), 3u);
   EXPECT_EQ(materials[0]["unused"], "no object takes it");
   EXPECT_FALSE(materials[1].contains("unused"));
-  EXPECT_EQ(materials[2]["unused"], "no triangle of its glTF file names it");
+  EXPECT_EQ(materials[2]["unused"], "no triangle the scene places uses it");
   fs::remove_all(dir);
 }
 

@@ -118,7 +118,7 @@ nlohmann::json Describe(const SceneFile& scene, const EmbreeScene& embree) {
                           {"mean_free_path_laser_mm", m.subsurface->mean_free_path_laser_m * 1e3}};
     }
     if (!used[mi]) {
-      jm["unused"] = mi < scene.materials.size() ? "no object takes it" : "no triangle of its glTF file names it";
+      jm["unused"] = mi < scene.materials.size() ? "no object takes it" : "no triangle the scene places uses it";
     }
     materials.push_back(jm);
   }
