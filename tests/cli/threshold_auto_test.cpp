@@ -72,22 +72,25 @@ TEST(ThresholdAuto, ExtractNamesTheThresholdAndFindsADimStripe) {
   EXPECT_NEAR(NotedThreshold(r[3].err), 9.2, 0.4);
 }
 
-// A rendered frame of a plane lit by one laser sheet: scan with auto names the
-// threshold in its summary and triangulates as many points as the default or
+// Two rendered frames of a plane lit by one laser sheet: scan with auto names
+// the median frame's threshold and the range (4 digits) in its summary and triangulates as many points as the default or
 // more; scan and calibrate laser refuse "autox" alike.
 TEST(ThresholdAuto, ScanNamesTheThreshold) {
   const fs::path dir = NewTestFolder("threshold_auto_scan");
   const nlohmann::json laser = {{"power_mw", 3}, {"wavelength_nm", 650}, {"divergence_deg", 1},
                                 {"cam_from_projector",
                                  {{"translation_m", {0, 0.04, 0}}, {"rotation_rpy_deg", {std::atan(0.4) * 180 / M_PI, 0, 0}}}}};
-  std::ofstream(dir / "scene.json") << PlaneScene(nlohmann::json::array({laser})).dump();
+  nlohmann::json scene = PlaneScene(nlohmann::json::array({laser}));
+  scene["render"]["frames"] = 2;  // the summary gives the median frame's threshold and the range
+  std::ofstream(dir / "scene.json") << scene.dump();
   const fs::path run = dir / "run";
   ASSERT_EQ(RunCli("render " + Quoted(dir / "scene.json") + " --out " + Quoted(run) + " --quiet").exit_code, 0);
   const CliResult fixed = RunCli("scan " + Quoted(run));
   ASSERT_EQ(fixed.exit_code, 0) << fixed.err;
   const CliResult automatic = RunCli("scan " + Quoted(run) + " --threshold auto");
   ASSERT_EQ(automatic.exit_code, 0) << automatic.err;
-  EXPECT_THAT(automatic.err, HasSubstr("threshold auto: "));
+  EXPECT_THAT(automatic.err, ::testing::ContainsRegex("\nthreshold auto: [0-9.]+ \\(background [0-9.]+ \\+ [^\n]*\\) "
+                                                      "on the median frame; [0-9.]{1,6} to [0-9.]{1,6} over 2 frames\n"));
   EXPECT_THAT(fixed.err, ::testing::Not(HasSubstr("threshold auto: ")));
   auto triangulated = [](const std::string& err) {
     const size_t at = err.find(" triangulated");

@@ -118,8 +118,9 @@ void Run(ScanArgs& a) {
     const NoiseThreshold& mid = *thresholds[thresholds.size() / 2];
     std::cerr << "threshold auto: " << DescribeNoiseThreshold(mid);
     if (thresholds.size() > 1) {
-      std::cerr << " on the median frame; " << FormatNumber(thresholds.front()->threshold) << " to "
-                << FormatNumber(thresholds.back()->threshold) << " over " << thresholds.size() << " frames";
+      std::ostringstream range;
+      range << std::setprecision(4) << thresholds.front()->threshold << " to " << thresholds.back()->threshold;
+      std::cerr << " on the median frame; " << range.str() << " over " << thresholds.size() << " frames";
     }
     const auto varied = std::count_if(thresholds.begin(), thresholds.end(), [](const NoiseThreshold* t) {
       return t->from == NoiseThreshold::From::kSpread;
