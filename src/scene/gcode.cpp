@@ -107,8 +107,14 @@ size_t MoveLinesAtMost(std::string_view text) {
 // "; gcode_flavor = klipper" (PrusaSlicer's, SuperSlicer's and OrcaSlicer's config
 // block, which PrusaSlicer writes at the file's end), anywhere in the text.
 bool KlipperFlavour(std::string_view text) {
+  // memmem (two-way search): string_view::find stops at every 'F' of the file's feed
+  // words, 5 % of a 100 MB file's read.
+  auto find = [&](std::string_view tag, size_t from) {
+    const void* hit = memmem(text.data() + from, text.size() - from, tag.data(), tag.size());
+    return hit ? size_t(static_cast<const char*>(hit) - text.data()) : std::string_view::npos;
+  };
   for (std::string_view tag : {std::string_view("gcode_flavor = klipper"), std::string_view("FLAVOR:Klipper")}) {
-    for (size_t at = text.find(tag); at != std::string_view::npos; at = text.find(tag, at + 1)) {
+    for (size_t at = find(tag, 0); at != std::string_view::npos; at = find(tag, at + 1)) {
       size_t start = at;
       while (start > 0 && (text[start - 1] == ' ' || text[start - 1] == '\t')) --start;
       if (start > 0 && text[start - 1] == ';') {

@@ -356,8 +356,8 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
   if (letter == 'M' && (n == 6 || n == 108 || n == 135)) {
     const std::optional<double> tool = SkippedWordValue(code.substr(pos), 'T');
     if (tool && *tool >= 0 && *tool < 1e6 && *tool == std::floor(*tool)) SelectTool(int(*tool));
-  } else if (letter == 'M' && integral) {
-    ToolWordOnMCommand(name, SkippedWordValue(code.substr(pos), 'T'));
+  } else if (letter == 'M' && integral && extruder_axes_ == ExtruderAxes::kEIsActiveAB) {
+    ToolWordOnMCommand(name, SkippedWordValue(code.substr(pos), 'T'));  // (its words read only where they matter)
   }
   // Marlin's M605 (DUAL_X_CARRIAGE: S0 full control, S1 auto-park, S2 duplication, S3
   // mirrored; BCN3D's Sigma firmware mirrors with S4): from S2 on the second carriage
