@@ -41,7 +41,21 @@ std::string Num(double v) {
 }  // namespace
 
 template <typename T>
-NoiseThreshold EstimateNoiseThreshold(const ImageView<T>& lines, bool integer_samples, bool local) {
+double MosaicNoise(const ImageView<T>& raw, bool integer_samples) {
+  const int W = raw.width, H = raw.height;
+  if (W < 3 || H <= 0) return 0;
+  const int step = int(std::max<size_t>(1, (size_t(W) * size_t(H) + kSamples - 1) / kSamples));
+  std::vector<float> diffs;
+  diffs.reserve(size_t(W) * size_t((H + step - 1) / step));
+  for (int y = 0; y < H; y += step) {
+    const T* row = raw.Row(y);
+    for (int x = 0; x + 2 < W; ++x) diffs.push_back(std::abs(float(row[x + 2]) - float(row[x])));
+  }
+  return kMadToSigma * Median(diffs, integer_samples, true) / std::sqrt(2.0);
+}
+
+template <typename T>
+NoiseThreshold EstimateNoiseThreshold(const ImageView<T>& lines, bool integer_samples, bool local, double noise) {
   NoiseThreshold t;
   t.local = local;
   const int W = lines.width, H = lines.height;
@@ -62,7 +76,7 @@ NoiseThreshold EstimateNoiseThreshold(const ImageView<T>& lines, bool integer_sa
   const float centre = values[values.size() / 2];
   for (float& v : values) v = std::abs(v - centre);
   t.spread = kMadToSigma * Median(values, integer_samples, true);
-  t.noise = kMadToSigma * Median(diffs, integer_samples, true) / std::sqrt(2.0);
+  t.noise = std::isnan(noise) ? kMadToSigma * Median(diffs, integer_samples, true) / std::sqrt(2.0) : noise;
   // The robust stripe peak: the 90th percentile of the lines' maxima above b.
   std::vector<float> maxima(size_t(H), 0.0f);
   for (int y = 0; y < H; ++y) {
@@ -115,8 +129,11 @@ std::string DescribeNoiseThreshold(const NoiseThreshold& t) {
   return s + ")";
 }
 
-template NoiseThreshold EstimateNoiseThreshold(const ImageView<uint8_t>&, bool, bool);
-template NoiseThreshold EstimateNoiseThreshold(const ImageView<uint16_t>&, bool, bool);
-template NoiseThreshold EstimateNoiseThreshold(const ImageView<float>&, bool, bool);
+template NoiseThreshold EstimateNoiseThreshold(const ImageView<uint8_t>&, bool, bool, double);
+template NoiseThreshold EstimateNoiseThreshold(const ImageView<uint16_t>&, bool, bool, double);
+template NoiseThreshold EstimateNoiseThreshold(const ImageView<float>&, bool, bool, double);
+template double MosaicNoise(const ImageView<uint8_t>&, bool);
+template double MosaicNoise(const ImageView<uint16_t>&, bool);
+template double MosaicNoise(const ImageView<float>&, bool);
 
 }  // namespace lt

@@ -33,6 +33,7 @@
 // under one step (sigma 0.5 DN) is still measured.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -64,8 +65,19 @@ struct NoiseThreshold {
 // are interpolated. `local`: the threshold is a height above the background
 // (--background local, steger). Reads about 2^16 samples (every
 // n-th line) for the medians and every line for the peaks.
+// `noise`: the noise when the lines cannot tell it (NaN: from the lines' first
+// differences): a demosaiced mosaic's interpolation correlates neighbouring
+// pixels, so its differences read the noise 2-3x too low (MosaicNoise).
 template <typename T>
-NoiseThreshold EstimateNoiseThreshold(const ImageView<T>& lines, bool integer_samples, bool local);
+NoiseThreshold EstimateNoiseThreshold(const ImageView<T>& lines, bool integer_samples, bool local,
+                                      double noise = std::numeric_limits<double>::quiet_NaN());
+
+// The noise of a raw Bayer mosaic: from the differences of same-colour pixels
+// two apart along its rows (a sigma, in the raw samples' units). A channel of
+// the demosaiced image is a weighted mean of raw samples, so its noise is at
+// most this; a weighted sum of channels' at most sum |w| times it.
+template <typename T>
+double MosaicNoise(const ImageView<T>& raw, bool integer_samples);
 
 // "37.2 (background 12 + 6 x noise 4.2)", "21.73 (background 20 + quantization
 // floor 1.732, noise 0)", "25.2 (a height above the background: 6 x noise 4.2)":

@@ -151,6 +151,7 @@ struct StripeExtractor::Impl {
   WidthRejections rejections;     // of the last Extract
   NoiseThreshold noise_threshold;  // of the last Extract (threshold_mode kNoise)
   bool has_noise_threshold = false;
+  double mosaic_noise = 0;  // kNoise on a Bayer mosaic: the noise bound from the raw mosaic (NaN: none)
 
   explicit Impl(ExtractionOptions o)
       : options((o.Check(), std::move(o))),
@@ -200,9 +201,10 @@ struct StripeExtractor::Impl {
       // The frame's own threshold (pipeline/auto_threshold.h) on the search
       // lines; a height above the background with the local background and
       // for steger (its threshold is a contrast, blind to the background).
-      noise_threshold = EstimateNoiseThreshold(work, std::is_integral_v<T>,
-                                               options.background_mode == BackgroundMode::kLocal ||
-                                                   options.method == ExtractionMethod::kSteger);
+      noise_threshold = EstimateNoiseThreshold(
+          work, std::is_integral_v<T>,
+          options.background_mode == BackgroundMode::kLocal || options.method == ExtractionMethod::kSteger,
+          mosaic_noise);
       has_noise_threshold = true;
       params.threshold = noise_threshold.threshold;
       params.high_threshold = std::isnan(options.high_threshold) ? params.threshold
@@ -334,6 +336,7 @@ void StripeExtractor::ExtractLinear(const ImageView<T>& image, double threshold,
       if (!ok) throw InputError("", "image row " + std::to_string(region.y + y) + " holds NaN or infinite values");
     }
   }
+  impl_->mosaic_noise = ExtractionOptions::kAuto;
   MethodParams params;
   params.options = &o;
   params.threshold = threshold;
@@ -349,6 +352,10 @@ void StripeExtractor::ExtractLinear(const ImageView<T>& image, double threshold,
       for (int c = 0; c < 3; ++c) w[c] = c == o.channel ? 1.0 : 0.0;
     } else if (!o.channel_weights.empty()) {
       for (int c = 0; c < 3; ++c) w[c] = o.channel_weights[size_t(c)];
+    }
+    if (o.threshold_mode == ThresholdMode::kNoise) {
+      impl_->mosaic_noise =
+          MosaicNoise(view, std::is_integral_v<T>) * (std::abs(w[0]) + std::abs(w[1]) + std::abs(w[2]));
     }
     auto& buf = impl_->Buffer<float>(0);
     buf.resize(size_t(W) * H);
