@@ -8,6 +8,9 @@ namespace {
 
 // A permutation of [0, l) chosen by p (Kensler's hash-based permute).
 uint32_t Permute(uint32_t i, uint32_t l, uint32_t p) {
+  // [0, 1) has one permutation: the loop below would give i = 0 and return
+  // (0 + p) % 1 = 0 (the single column of a batch of 2 or 3 samples).
+  if (l == 1) return 0;
   uint32_t w = l - 1;
   w |= w >> 1;
   w |= w >> 2;
@@ -55,6 +58,9 @@ double RandUnit(uint32_t i, uint32_t p) {
 }  // namespace
 
 Eigen::Vector2d MultiJitter2D(uint32_t s, uint32_t n, uint32_t pattern) {
+  // One sample: one cell, s = sx = sy = 0, so the point is (jx, jy) exactly
+  // (the general form's sums and divisions by 1 leave it as it is).
+  if (n == 1) return {RandUnit(0, pattern * 0x967a889bu), RandUnit(0, pattern * 0x368cc8b7u)};
   const uint32_t m = std::max(1u, uint32_t(std::sqrt(double(n))));  // columns
   const uint32_t rows = (n + m - 1) / m;
   // The points are N of the m x rows cells, a different subset per pattern when
