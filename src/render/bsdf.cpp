@@ -46,43 +46,50 @@ Bsdf::Bsdf(const Eigen::Vector3f& base_color, float metallic_factor, const GgxAl
 }
 
 float Bsdf::SpecularProbability(float cos_o) const {
+  if (diffuse_weight_ <= 0.0f) return 1.0f;
+  return SpecularProbabilityWithAlbedo(cos_o, DielectricSpecularAlbedo(cos_o, ggx_.row));
+}
+
+// E reads its cosine clamped to [0, 1], so e_o = E(cos_o) whether or not cos_o was clamped.
+float Bsdf::SpecularProbabilityWithAlbedo(float cos_o, float e_o) const {
   const float mu = std::clamp(cos_o, 0.0f, 1.0f);
   if (diffuse_weight_ <= 0.0f) return 1.0f;
   const float spec = (SchlickFresnel(f0_.x(), mu) + SchlickFresnel(f0_.y(), mu) + SchlickFresnel(f0_.z(), mu)) / 3;
-  const float diff = diffuse_weight_ * (1.0f - DielectricSpecularAlbedo(mu, ggx_.row));
+  const float diff = diffuse_weight_ * (1.0f - e_o);
   return std::clamp(spec / (spec + diff), kMinSpecularProbability, kMaxSpecularProbability);
 }
 
-Eigen::Vector3f Bsdf::EvaluateWithHalf(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi,
-                                       const Eigen::Vector3f& h) const {
+Eigen::Vector3f Bsdf::EvaluateWithHalf(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi, const Eigen::Vector3f& h,
+                                       float e_o) const {
   const float wo_h = std::clamp(wo.dot(h), 0.0f, 1.0f);
   const float m = 1.0f - wo_h, m2 = m * m, m5 = m2 * m2 * m;
   const Eigen::Vector3f fresnel = f0_ + (Eigen::Vector3f::Ones() - f0_) * m5;
   const float dv = GgxD(h, ggx_.alpha, ggx_.alpha) * GgxVisibility(wo, wi, ggx_.alpha, ggx_.alpha);
-  const float coupling =
-      (1.0f - DielectricSpecularAlbedo(wo.z(), ggx_.row)) * (1.0f - DielectricSpecularAlbedo(wi.z(), ggx_.row));
+  const float coupling = (1.0f - e_o) * (1.0f - DielectricSpecularAlbedo(wi.z(), ggx_.row));
   return fresnel * dv + diffuse_ * coupling;
 }
 
-float Bsdf::PdfWithHalf(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi, const Eigen::Vector3f& h) const {
-  const float ps = SpecularProbability(wo.z());
+float Bsdf::PdfWithHalf(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi, const Eigen::Vector3f& h,
+                        float ps) const {
   return ps * GgxReflectionPdf(wo, h, ggx_.alpha, ggx_.alpha) + (1.0f - ps) * CosineHemispherePdf(wi.z());
 }
 
 Eigen::Vector3f Bsdf::Evaluate(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi) const {
   if (wo.z() < kMinCos || wi.z() < kMinCos) return Eigen::Vector3f::Zero();
-  return EvaluateWithHalf(wo, wi, (wo + wi).normalized());
+  return EvaluateWithHalf(wo, wi, (wo + wi).normalized(), DielectricSpecularAlbedo(wo.z(), ggx_.row));
 }
 
 float Bsdf::Pdf(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi) const {
   if (wo.z() < kMinCos || wi.z() < kMinCos) return 0.0f;
-  return PdfWithHalf(wo, wi, (wo + wi).normalized());
+  return PdfWithHalf(wo, wi, (wo + wi).normalized(), SpecularProbability(wo.z()));
 }
 
 BsdfSample Bsdf::Sample(const Eigen::Vector3f& wo, float u1, float u2, float u3) const {
   BsdfSample s;
   if (wo.z() < kMinCos) return s;
-  const float ps = SpecularProbability(wo.z());
+  // E(cos_o) once, for the lobe choice, the pdf and f.
+  const float e_o = DielectricSpecularAlbedo(wo.z(), ggx_.row);
+  const float ps = SpecularProbabilityWithAlbedo(wo.z(), e_o);
   Eigen::Vector3f wi, h;
   if (u3 < ps) {
     h = SampleGgxVisibleNormal(wo, ggx_.alpha, ggx_.alpha, u1, u2);
@@ -95,10 +102,10 @@ BsdfSample Bsdf::Sample(const Eigen::Vector3f& wo, float u1, float u2, float u3)
     if (wi.z() < kMinCos) return s;
     h = (wo + wi).normalized();
   }
-  const float pdf = PdfWithHalf(wo, wi, h);
+  const float pdf = PdfWithHalf(wo, wi, h, ps);
   if (!(pdf > 0.0f) || !std::isfinite(pdf)) return s;
   s.wi = wi;
-  s.f = EvaluateWithHalf(wo, wi, h);
+  s.f = EvaluateWithHalf(wo, wi, h, e_o);
   s.pdf = pdf;
   s.weight = s.f * (wi.z() / pdf);
   return s;

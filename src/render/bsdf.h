@@ -91,9 +91,12 @@ class Bsdf {
   float alpha() const { return ggx_.alpha; }
 
  private:
-  Eigen::Vector3f EvaluateWithHalf(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi,
-                                   const Eigen::Vector3f& h) const;
-  float PdfWithHalf(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi, const Eigen::Vector3f& h) const;
+  // e_o: the dielectric specular albedo E(wo.z); ps: SpecularProbability(wo.z)
+  // (Sample computes each once).
+  float SpecularProbabilityWithAlbedo(float cos_o, float e_o) const;
+  Eigen::Vector3f EvaluateWithHalf(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi, const Eigen::Vector3f& h,
+                                   float e_o) const;
+  float PdfWithHalf(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi, const Eigen::Vector3f& h, float ps) const;
 
   Eigen::Vector3f diffuse_;  // (1 - metallic) base_color / (pi (1 - E_avg))
   Eigen::Vector3f f0_;       // mix(0.04, base_color, metallic)

@@ -6,37 +6,14 @@
 #include "render/sampling.h"
 
 namespace lt {
-namespace {
-
-// sqrt(w.z^2 + alpha_x^2 w.x^2 + alpha_y^2 w.y^2) = w.z sqrt(1 + tan^2 alpha^2),
-// so that Lambda(w) = (S - w.z) / (2 w.z).
-float SmithS(const Eigen::Vector3f& w, float ax, float ay) {
-  const float x = ax * w.x(), y = ay * w.y();
-  return std::sqrt(w.z() * w.z() + x * x + y * y);
-}
-
-}  // namespace
-
-float GgxD(const Eigen::Vector3f& m, float ax, float ay) {
-  if (m.z() <= 0.0f) return 0.0f;
-  const float x = m.x() / ax, y = m.y() / ay;
-  const float q = x * x + y * y + m.z() * m.z();
-  return 1.0f / (kPi * ax * ay * q * q);
-}
-
 float GgxG1(const Eigen::Vector3f& w, float ax, float ay) {
   if (w.z() <= 0.0f) return 0.0f;
-  return 2.0f * w.z() / (w.z() + SmithS(w, ax, ay));
+  return 2.0f * w.z() / (w.z() + GgxSmithS(w, ax, ay));
 }
 
 float GgxG2(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi, float ax, float ay) {
   if (wo.z() <= 0.0f || wi.z() <= 0.0f) return 0.0f;
-  return 2.0f * wo.z() * wi.z() / (wi.z() * SmithS(wo, ax, ay) + wo.z() * SmithS(wi, ax, ay));
-}
-
-float GgxVisibility(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi, float ax, float ay) {
-  if (wo.z() <= 0.0f || wi.z() <= 0.0f) return 0.0f;
-  return 0.5f / (wi.z() * SmithS(wo, ax, ay) + wo.z() * SmithS(wi, ax, ay));
+  return 2.0f * wo.z() * wi.z() / (wi.z() * GgxSmithS(wo, ax, ay) + wo.z() * GgxSmithS(wi, ax, ay));
 }
 
 Eigen::Vector3f SampleGgxVisibleNormal(const Eigen::Vector3f& wo, float ax, float ay, float u1, float u2) {
@@ -61,12 +38,7 @@ float GgxVisibleNormalPdf(const Eigen::Vector3f& wo, const Eigen::Vector3f& m, f
   if (wo.z() <= 0.0f) return 0.0f;
   const float wo_m = wo.dot(m);
   if (wo_m <= 0.0f) return 0.0f;
-  return 2.0f * wo_m * GgxD(m, ax, ay) / (wo.z() + SmithS(wo, ax, ay));
-}
-
-float GgxReflectionPdf(const Eigen::Vector3f& wo, const Eigen::Vector3f& m, float ax, float ay) {
-  if (wo.z() <= 0.0f || wo.dot(m) <= 0.0f) return 0.0f;
-  return GgxD(m, ax, ay) / (2.0f * (wo.z() + SmithS(wo, ax, ay)));
+  return 2.0f * wo_m * GgxD(m, ax, ay) / (wo.z() + GgxSmithS(wo, ax, ay));
 }
 
 double GgxDirectionalAlbedo(float cos_theta, float alpha, float f0, int n) {

@@ -5,17 +5,18 @@
 #include <cmath>
 
 namespace lt {
+
+const float kSpecularAlbedoTable[kSpecularAlbedoNodes * kSpecularAlbedoNodes] = {
+#include "render/specular_albedo_table.inc"
+};
+
 namespace {
 
 constexpr int kN = kSpecularAlbedoNodes;
 
-constexpr float kTable[kN * kN] = {
-#include "render/specular_albedo_table.inc"
-};
+const float* const kTable = kSpecularAlbedoTable;
 
-// Table coordinate t in [0, 1] of mu (mu = t^4) and s of alpha.
-float MuCoordinate(float mu) { return std::sqrt(std::sqrt(std::clamp(mu, 0.0f, 1.0f))); }
-
+// Table coordinate s in [0, 1] of alpha (that of mu, t = mu^(1/4): DielectricSpecularAlbedo).
 float AlphaCoordinate(float alpha) {
   const float r_min = std::sqrt(kMinGgxAlpha);
   const float u = std::clamp((std::sqrt(std::max(alpha, 0.0f)) - r_min) / (1.0f - r_min), 0.0f, 1.0f);
@@ -59,17 +60,6 @@ const Averages& GetAverages() {
 float DielectricSpecularAlbedoNode(int i, int j) { return kTable[j * kN + i]; }
 
 SpecularAlbedoRow::SpecularAlbedoRow(float alpha) { Locate(AlphaCoordinate(alpha), &j, &f); }
-
-float DielectricSpecularAlbedo(float cos_theta, const SpecularAlbedoRow& alpha) {
-  int i;
-  float fi;
-  Locate(MuCoordinate(cos_theta), &i, &fi);
-  const float* r0 = kTable + alpha.j * kN;
-  const float* r1 = r0 + kN;
-  const float e0 = r0[i] + fi * (r0[i + 1] - r0[i]);
-  const float e1 = r1[i] + fi * (r1[i + 1] - r1[i]);
-  return e0 + alpha.f * (e1 - e0);
-}
 
 float DielectricSpecularAlbedo(float cos_theta, float alpha) {
   return DielectricSpecularAlbedo(cos_theta, SpecularAlbedoRow(alpha));

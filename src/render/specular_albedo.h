@@ -16,6 +16,8 @@
 // lobe integrates exactly to 1 - E(mu) of the table.
 #pragma once
 
+#include <cmath>
+
 namespace lt {
 
 inline constexpr float kDielectricF0 = 0.04f;
@@ -47,8 +49,25 @@ struct SpecularAlbedoRow {
   float f = 0.0f;
 };
 
-// The tabulated E(mu, alpha), mu = cos(theta_o) in [0, 1], alpha in [kMinGgxAlpha, 1].
-float DielectricSpecularAlbedo(float cos_theta, const SpecularAlbedoRow& alpha);
+// The table, row j (alpha) after row j - 1, column i (mu) within a row.
+extern const float kSpecularAlbedoTable[kSpecularAlbedoNodes * kSpecularAlbedoNodes];
+
+// The tabulated E(mu, alpha), mu = cos(theta_o) in [0, 1], alpha in [kMinGgxAlpha, 1]
+// (inline: every BSDF evaluation reads it twice).
+inline float DielectricSpecularAlbedo(float cos_theta, const SpecularAlbedoRow& alpha) {
+  constexpr int kN = kSpecularAlbedoNodes;
+  // Table coordinate t = mu^(1/4) in [0, 1], its column i and the fraction fi toward i + 1.
+  const float mu = cos_theta < 0.0f ? 0.0f : (cos_theta > 1.0f ? 1.0f : cos_theta);
+  const float t = std::sqrt(std::sqrt(mu));
+  const float x = (t < 0.0f ? 0.0f : (t > 1.0f ? 1.0f : t)) * float(kN - 1);
+  const int i = int(x) < kN - 2 ? int(x) : kN - 2;
+  const float fi = x - float(i);
+  const float* r0 = kSpecularAlbedoTable + alpha.j * kN;
+  const float* r1 = r0 + kN;
+  const float e0 = r0[i] + fi * (r0[i + 1] - r0[i]);
+  const float e1 = r1[i] + fi * (r1[i + 1] - r1[i]);
+  return e0 + alpha.f * (e1 - e0);
+}
 float DielectricSpecularAlbedo(float cos_theta, float alpha);
 // E_avg(alpha) of the interpolated table.
 float DielectricSpecularAlbedoAverage(const SpecularAlbedoRow& alpha);
