@@ -172,9 +172,8 @@ void GcodeReader::ReadCommand(std::string_view code, size_t pos) {
           ++path_.skipped_commands["G5"];
           return;
         }
-        // A Bezier move skipped, the nozzle's path would go on from the curve's start: refused instead.
-        Fail("G5 (Marlin's cubic Bezier move) is not supported: its path would be missing; write the curve as "
-             "G1 or G2/G3 moves");
+        Bezier();
+        return;
       case 10:
         ReadWords(code, pos, true);
         if (words_.empty()) {

@@ -30,10 +30,6 @@ constexpr double kRoundingMm = 5e-4;
 constexpr double kSamePointMm = 1e-9;
 // The most turns an arc's P may ask for (Marlin's ARC_P_CIRCLES takes up to 100).
 constexpr double kMaxArcTurns = 100;
-// Arcs outside the XY plane (G18, G19) become chords off the arc by at most this (mm),
-// and at most this many per arc.
-constexpr double kChordSagittaMm = 1e-3;
-constexpr double kMaxChords = 100000;
 
 // Angle wrapped into (0, 2 pi].
 double WrapPositive(double a) {

@@ -18,6 +18,10 @@ namespace lt {
 namespace gcode_detail {
 
 constexpr double kMetresPerMm = 1e-3;
+// Curves the toolpath does not hold as arcs (G18/G19 arcs, G5 Bezier moves) become
+// straight chords off the curve by at most this (mm), and at most this many per move.
+constexpr double kChordSagittaMm = 1e-3;
+constexpr double kMaxChords = 100000;
 
 // "G1", "M83" (built by appending: GCC 12 warns falsely on "G" + std::string).
 inline std::string CommandName(char letter, int n) {
@@ -157,6 +161,8 @@ class GcodeReader {
 
   void Move(int gcode);
   void Arc(int gcode);
+  // G5 (Marlin's cubic Bezier move, BEZIER_CURVE_SUPPORT): scene/gcode_bezier.cpp.
+  void Bezier();
   void Dwell();
   void AddDwell(double seconds);  // a segment standing still for `seconds` (> 0)
   void Home();

@@ -99,7 +99,8 @@ TEST(GcodeDialects, SemicolonInsideParenthesesIsPartOfTheComment) {
 
 // Text parameters: a '*' in a message or file name (M117, M23, ...) is text unless only
 // a checksum follows it; a quoted string (RepRapFirmware's M291 P"...") holds ';', '('
-// and '*' as text. G5, a Bezier move whose path would be missing, is refused.
+// and '*' as text. G5 (a Bezier move) outside the XY plane is refused, as Marlin does
+// (G5 itself: GcodeRealFiles6.MarlinBezierMoveIsRunAsChords).
 TEST(GcodeDialects, MessagesFileNamesAndQuotedStringsHoldTheirText) {
   Toolpath p = ParseGcode(
       "G1 F600\nM117 Layer 5 * of 10\nM23 my*file.gco\nM291 P\"Insert; (filament\" R\"Hi*\" S2 (a note)\n"
@@ -117,8 +118,8 @@ TEST(GcodeDialects, MessagesFileNamesAndQuotedStringsHoldTheirText) {
   EXPECT_THAT(ErrorOf([] { ParseGcode("T\n", "t.gcode"); }), HasSubstr("t.gcode:1: T without a number"));
   EXPECT_THAT(ErrorOf([] { ParseGcode("M117 Hi*5\n", "t.gcode"); }), HasSubstr("t.gcode:1: checksum *5 does not match"));
   EXPECT_THAT(ErrorOf([] { ParseGcode("G1 X1 F600 *x\n", "t.gcode"); }), HasSubstr("t.gcode:1: checksum after '*'"));
-  EXPECT_THAT(ErrorOf([] { ParseGcode("G1 F600\nG5 I0 J3 P0 Q-3 X2 Y2 E1\n", "t.gcode"); }),
-              HasSubstr("t.gcode:2: G5 (Marlin's cubic Bezier move) is not supported"));
+  EXPECT_THAT(ErrorOf([] { ParseGcode("G1 F600\nG18\nG5 I0 J3 P0 Q-3 X2 Y2 E1\n", "t.gcode"); }),
+              HasSubstr("t.gcode:3: G5 (Bezier move) needs the XY plane (G17)"));
 }
 
 // G28 homes X, then Y, then Z, at Marlin's homing speeds (50, 50 and 4 mm/s),

@@ -5,6 +5,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "error_of.h"
@@ -362,6 +364,40 @@ G1 E-.8 F1800
   EXPECT_NEAR(p.BlobFilamentLength(false) / kMm, 2, 1e-9);
   EXPECT_NEAR(p.ExtrudedLength() / kMm, 104.65195, 1e-9);
   EXPECT_TRUE(p.warnings.empty());
+}
+
+// Marlin's G5 (BEZIER_CURVE_SUPPORT; Marlin 2's and post-processors' curves): a cubic
+// Bezier from the position to X Y, control points at the start + I J and the end + P Q,
+// Z and E linear in the curve's parameter. It was refused ("G5 ... is not supported").
+// Run as chords within 1 um of the curve: a straight "curve" is its chord (10 mm, 1 s at
+// 10 mm/s, 1 mm laid); a quarter circle of radius 10 by the usual control distance
+// 0.5522847 r stays within 0.0028 mm of its circle (the Bezier's own error, 2.7e-4 r) and
+// is 15.7102 mm long in the plane (pi/2 r = 15.7080; the curve's length by 10^6 steps
+// of t, in Python), 15.7114 mm with its 0.2 mm rise.
+TEST(GcodeRealFiles6, MarlinBezierMoveIsRunAsChords) {
+  Toolpath line = ParseGcode("G1 X0 Y0 Z0.2 F600\nG5 I3 J0 P-3 Q0 X10 Y0 E1\n", "g5.gcode");
+  double length = 0, laid = 0, seconds = 0;
+  for (const ToolpathSegment& s : line.segments) {
+    if (s.gcode != 5) continue;
+    length += s.length_m / kMm;
+    laid += s.laid_m / kMm;
+    seconds += s.t_end_s - s.t_start_s;
+  }
+  EXPECT_NEAR(length, 10, 1e-9);
+  EXPECT_NEAR(laid, 1, 1e-9);
+  EXPECT_NEAR(seconds, 1, 1e-9);
+  Toolpath quarter = ParseGcode("G1 X10 Y0 Z0.2 F600\nG5 I0 J5.522847 P5.522847 Q0 X0 Y10 Z0.4 E1\n", "q.gcode");
+  length = 0;
+  double worst = 0;
+  for (const ToolpathSegment& s : quarter.segments) {
+    if (s.gcode != 5) continue;
+    length += s.length_m / kMm;
+    worst = std::max(worst, std::abs(s.end_m.head<2>().norm() / kMm - 10));
+  }
+  EXPECT_LT(worst, 0.0028);
+  EXPECT_NEAR(length, 15.7114, 1e-3);
+  EXPECT_NEAR(quarter.segments.back().end_m.z() / kMm, 0.4, 1e-12);
+  EXPECT_NEAR(quarter.BeadFilamentLength(false) / kMm, 1, 1e-9);
 }
 
 }  // namespace
