@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "scene/gcode_reader.h"
 
@@ -39,6 +40,7 @@ void GcodeReader::Bezier() {
   // A polyline of N equal steps in t lies within max|B''| / (8 N^2) of the curve, and
   // |B''| <= 6 max(|p0 - 2 p1 + p2|, |p1 - 2 p2 + p3|).
   const double bend = 6 * std::max((p0 - 2 * p1 + p2).norm(), (p1 - 2 * p2 + p3).norm());
+  if (!std::isfinite(bend)) Fail("G5 control points I J / P Q are too far to compute the curve");
   const int chords = int(std::min(kMaxChords, std::max(1.0, std::ceil(std::sqrt(bend / (8 * kChordSagittaMm))))));
   std::vector<Eigen::Vector3d> points;
   double xy_length = 0, length = 0;

@@ -398,6 +398,9 @@ TEST(GcodeRealFiles6, MarlinBezierMoveIsRunAsChords) {
   EXPECT_NEAR(length, 15.7114, 1e-3);
   EXPECT_NEAR(quarter.segments.back().end_m.z() / kMm, 0.4, 1e-12);
   EXPECT_NEAR(quarter.BeadFilamentLength(false) / kMm, 1, 1e-9);
+  const std::string far(308, '9');  // 1e308: finite, its sums are not ("1e308" is 1 and a second E)
+  EXPECT_THAT(test::ErrorOf([&] { ParseGcode("G5 I" + far + " J" + far + " P-" + far + " Q0 X1 Y1\n", "far.gcode"); }),
+              HasSubstr("far.gcode:1: G5 control points I J / P Q are too far"));
 }
 
 }  // namespace
