@@ -10,6 +10,7 @@
 //    other_passes_ms, the last iteration's): run time against error;
 //  - DimFrame640Noise/bounces: the noise of one 16-spp render of that frame, per
 //    max_bounces (three pairs of seeds, pooled);
+//  - DimFrame640Once/spp: that frame alone, one render, for profilers;
 //  - BrightFrame1280: the 1280x1024 bright frame (LED, 2 bounces, 16 spp);
 //  - EmbreePrimaryRays: a bare rtcIntersect1 loop over the 1280x1024 pinhole
 //    rays of the demo camera, the upper bound on rays per second; the renderer's
@@ -274,6 +275,23 @@ BENCHMARK(BM_DimFrame640)
     ->Args({128, 25})
     ->Args({16, 0})
     ->Args({64, 0})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The same frame rendered once per iteration without the reference or the
+// noise render, for profilers (valgrind --tool=callgrind ... --benchmark_filter=
+// DimFrame640Once/1, docs/performance.md); counters as BM_DimFrame640's.
+void BM_DimFrame640Once(benchmark::State& state) {
+  Demo& d = Demo640();
+  RenderOverrides o;
+  o.spp = int(state.range(0));
+  o.threads = BenchThreads();
+  FrameRenderer renderer(d.scene, *d.embree, o);
+  RenderedFrame frame;
+  for (auto _ : state) frame = renderer.Render(1);
+  state.counters["samples"] = double(frame.stats.samples);
+  state.counters["samples_ms"] = frame.stats.pass_ms.samples;
+  state.counters["other_passes_ms"] = frame.stats.pass_ms.Sum() - frame.stats.pass_ms.samples;
+}
+BENCHMARK(BM_DimFrame640Once)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 
 // Where the dim frame's noise comes from: renders with different seeds at 16 spp
 // (every near pixel at spp), per max_bounces, in kNoisePairs pairs. One pair's
