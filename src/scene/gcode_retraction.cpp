@@ -19,6 +19,7 @@ GcodeReader::FwRetraction& GcodeReader::FwSettings(std::optional<int> tool) {
 
 void GcodeReader::FirmwareRetract(bool retract, bool swap) {
   ++(retract ? path_.firmware_retractions : path_.firmware_recoveries);
+  if (retract && swap) ++path_.swap_retractions;
   if (path_.firmware_retractions + path_.firmware_recoveries == 1) path_.first_firmware_retraction_line = line_no_;
   // Marlin keeps whether each extruder is retracted (retracted[active_extruder]), and
   // so does RepRapFirmware (per tool): a G10 after a tool change retracts the new tool

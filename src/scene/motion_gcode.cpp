@@ -210,7 +210,12 @@ std::vector<std::string> GcodeMotionNotes(const GcodeMotion& m) {
     notes.push_back(m.file.string() + ":" + std::to_string(path.first_firmware_retraction_line) + ": " +
                     std::to_string(path.firmware_retractions) + " G10 and " + std::to_string(path.firmware_recoveries) +
                     " G11 (firmware retraction) without M207 in the file: Marlin's defaults assumed (3 mm at 45 mm/s, "
-                    "recovered at 8 mm/s, no Z hop)");
+                    "recovered at 8 mm/s, no Z hop" +
+                    (path.swap_retractions > 0
+                         ? "; " + std::to_string(path.swap_retractions) +
+                               " of the G10 are swap retractions (G10 S1): 13 mm, recovered at 8 mm/s"
+                         : std::string()) +
+                    ")");
   }
   for (const ToolpathWarning& w : path.warnings) {
     notes.push_back(m.file.string() + ":" + std::to_string(w.line) + ": " + w.text +

@@ -110,6 +110,7 @@ struct Toolpath {
   // run with Marlin's defaults (3 mm at 45 mm/s, recovered at 8 mm/s, no Z hop).
   int firmware_retractions = 0;
   int firmware_recoveries = 0;
+  int swap_retractions = 0;  // of the G10: swap retractions (Marlin's G10 S1; 13 mm by default)
   int first_firmware_retraction_line = 0;
   bool firmware_retraction_set = false;
   // The program's end (M2, M30; 0: none) and the lines after it holding commands or

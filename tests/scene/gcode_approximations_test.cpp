@@ -19,6 +19,7 @@ namespace {
 
 using test::ErrorOf;
 using ::testing::HasSubstr;
+using ::testing::Not;
 constexpr double kMm = 1e-3;
 
 // Marlin (PAREN_COMMENTS) and RepRapFirmware end a '(' comment without ')' at the
@@ -258,6 +259,27 @@ TEST(GcodeApproximations, MotionNotesCarryTheWarnings) {
   for (const std::string& note : MotionNotes(ParseMotion(doc.Root()))) notes += note + "\n";
   EXPECT_THAT(notes, HasSubstr("u.gcode:2: axis U ignored"));
   EXPECT_THAT(notes, HasSubstr("extrudes (2 times)\n"));
+}
+
+// Without M207, the note on firmware retraction gives the lengths it assumed, the
+// swap retraction's (G10 S1: 13 mm) as well as the plain one's (3 mm).
+TEST(GcodeApproximations, FirmwareRetractionNoteNamesTheSwapLength) {
+  test::TempDir dir;
+  test::WriteText(dir / "s.gcode", "M83\nG1 X10 F600 E1\nG10 S1\nG11\nG10\nG11\nG1 X20 E1\n");
+  test::WriteText(dir / "p.gcode", "M83\nG1 X10 F600 E1\nG10\nG11\nG1 X20 E1\n");
+  std::string swap_notes, plain_notes;
+  for (const char* name : {"s.gcode", "p.gcode"}) {
+    json::Document doc = json::Document::Parse(std::string(R"({"type": "gcode", "file": ")") + name + "\"}",
+                                               "scene.json", dir.path());
+    for (const std::string& note : MotionNotes(ParseMotion(doc.Root()))) {
+      (name[0] == 's' ? swap_notes : plain_notes) += note + "\n";
+    }
+  }
+  EXPECT_THAT(swap_notes, HasSubstr("s.gcode:3: 2 G10 and 2 G11 (firmware retraction) without M207 in the file: "
+                                    "Marlin's defaults assumed (3 mm at 45 mm/s, recovered at 8 mm/s, no Z hop; 1 of "
+                                    "the G10 are swap retractions (G10 S1): 13 mm, recovered at 8 mm/s)"));
+  EXPECT_THAT(plain_notes, HasSubstr("no Z hop)"));
+  EXPECT_THAT(plain_notes, Not(HasSubstr("swap")));
 }
 
 }  // namespace
