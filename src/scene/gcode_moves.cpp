@@ -62,6 +62,12 @@ Eigen::Vector3d GcodeReader::Target() const {
       double v = *w->value * unit_mm_;
       // G53: machine coordinates for this line's move (no G92 or work offset).
       target[i] = xyz_relative_ ? pos_mm_[i] + v : v + (machine_coordinates_ ? PhysicalOffset()[i] : offset_mm_[i]);
+      // No machine reaches 1 km: such a number is a corrupted one, and its squares
+      // and durations would overflow.
+      if (!(std::abs(target[i]) <= kMaxCoordinateMm)) {
+        Fail(std::string(1, axes[i]) + FormatNumber(*w->value) + " puts the nozzle at " + FormatNumber(target[i]) +
+             " mm, beyond any machine's reach (1 km): a corrupted number?");
+      }
     }
   }
   return target;
@@ -254,6 +260,10 @@ void GcodeReader::Arc(int gcode) {
   double r0 = (start2 - centre).norm();
   double r1 = (end2 - centre).norm();
   if (r0 == 0) Fail(command + " with zero radius");
+  if (!(centre.norm() + r0 <= kMaxCoordinateMm)) {
+    Fail(command + " radius " + FormatLength(r0 / unit_mm_) +
+         " takes the arc beyond any machine's reach (1 km from the origin): a corrupted number?");
+  }
   if (std::abs(r1 - r0) > std::max(kArcRadiusToleranceMm, kArcRadiusToleranceRel * r0)) {
     Fail(command + " end point is not on the arc: radius " + FormatLength(r0 / unit_mm_) + " at the start, " +
          FormatLength(r1 / unit_mm_) + " at the end");

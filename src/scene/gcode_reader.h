@@ -87,6 +87,8 @@ class GcodeReader {
   ExtruderAxes CalledFor() const;
 
  private:
+  // The largest coordinate a move may reach (mm): no machine's axes span 1 km.
+  static constexpr double kMaxCoordinateMm = 1e6;
   [[noreturn]] void Fail(const std::string& message) const {
     throw InputError(name_ + ":" + std::to_string(line_no_), message);
   }

@@ -198,5 +198,20 @@ TEST(GcodeFirmware, BambuZTrimAndSoftEndstops) {
   EXPECT_EQ(ParseGcode("G29.1 Q\n", "b.gcode").skipped_commands.at("G29.1"), 1u);
 }
 
+// A coordinate no machine reaches (1 km and more: a corrupted number) is refused
+// naming the line, for lines and arcs alike: its squares overflowed (a move of
+// infinite duration), and a full circle 100 km wide ran for minutes.
+TEST(GcodeFirmware, CoordinatesBeyondAnyMachineAreRefused) {
+  const std::string huge = "1" + std::string(200, '0');
+  EXPECT_THAT(ErrorOf([&] { ParseGcode("G1 X10 F600\nG1 X" + huge + " E1\n", "far.gcode"); }),
+              HasSubstr("far.gcode:2: X1e+200 puts the nozzle at 1e+200 mm, beyond any machine's reach (1 km)"));
+  EXPECT_THAT(ErrorOf([] { ParseGcode("G91\nG1 X600000 F600\nG1 X600000\n", "rel.gcode"); }),
+              HasSubstr("rel.gcode:3: X600000 puts the nozzle at 1200000 mm"));
+  EXPECT_THAT(ErrorOf([] { ParseGcode("G1 X10 Y0 F600\nG2 X10 Y0 I-100000000 J0 E1\n", "arc.gcode"); }),
+              HasSubstr("arc.gcode:2: G2 radius 1e+08 takes the arc beyond any machine's reach"));
+  // A large part's coordinates (a 10 m gantry, in mm) and a 400 m arc are read.
+  EXPECT_NO_THROW(ParseGcode("G1 X10000 Y5000 F6000\nG2 X10000 Y5000.001 I-400000 J0\n", "big.gcode"));
+}
+
 }  // namespace
 }  // namespace lt
