@@ -13,10 +13,15 @@
 #include <vector>
 
 #include "core/image.h"
+#include "stripe_frames.h"
 
 namespace stress {
 
-using Profile = std::function<double(double)>;
+// The profiles across a stripe (Gauss, FlatTop, Tail) are exp_stripes'.
+using exp_stripes::FlatTop;
+using exp_stripes::Gauss;
+using exp_stripes::Profile;
+using exp_stripes::Tail;
 
 struct Curve {
   bool arc = false;
@@ -115,21 +120,6 @@ inline lt::Image<float> Render(const Frame& f) {
       img.At(x, y) = float(v);
     }
   return img;
-}
-
-inline Profile Gauss(double a, double s) {
-  return [=](double d) { return a * std::exp(-d * d / (2 * s * s)); };
-}
-// Plateau of width w with soft (erf) edges of sigma `soft`.
-inline Profile FlatTop(double a, double w, double soft) {
-  return [=](double d) { return a * 0.5 * std::erfc((std::abs(d) - w / 2) / (soft * std::sqrt(2.0))); };
-}
-// Gaussian core and, on the right, an exponential tail starting at `k` of the peak.
-inline Profile Tail(double a, double s, double tail, double k) {
-  return [=](double d) {
-    const double g = a * std::exp(-d * d / (2 * s * s));
-    return d > 0 ? std::max(g, k * a * std::exp(-d / tail)) : g;
-  };
 }
 
 }  // namespace stress
