@@ -75,6 +75,7 @@ struct StripeExtractor::Impl {
   NoiseThreshold noise_threshold;  // of the last Extract (threshold_mode kNoise)
   bool has_noise_threshold = false;
   double mosaic_noise = 0;  // kNoise on a Bayer mosaic: the noise bound from the raw mosaic (NaN: none)
+  SampleScale scale;        // kNoise: the search lines' quantization step and full scale
 
   explicit Impl(ExtractionOptions o)
       : options((o.Check(), std::move(o))),
@@ -117,7 +118,7 @@ struct StripeExtractor::Impl {
       // lines; a height above the background with the local background and
       // for steger (its threshold is a contrast, blind to the background).
       noise_threshold = EstimateNoiseThreshold(
-          work, std::is_integral_v<T>,
+          work, scale,
           options.background_mode == BackgroundMode::kLocal || options.method == ExtractionMethod::kSteger,
           mosaic_noise);
       has_noise_threshold = true;
@@ -189,10 +190,24 @@ void StripeExtractor::Extract(const ImageView<T>& image, std::vector<StripePoint
   if (image.data == nullptr || image.empty()) {
     throw InputError("", "image is empty (" + SizeText(image.width, image.height) + ")");
   }
-  if (o.transfer == Transfer::kLinear) return ExtractLinear(image, ThresholdFor<T>(), points);
+  const bool noise_mode = o.threshold_mode == ThresholdMode::kNoise;
+  if (o.transfer == Transfer::kLinear) {
+    if (noise_mode) impl_->scale = MeasureSampleScale(image);
+    return ExtractLinear(image, ThresholdFor<T>(), points);
+  }
   if constexpr (std::is_floating_point_v<T>) {
     throw InputError("", "a float image holds linear values: --transfer applies to 8- and 16-bit images");
   } else {
+    if (noise_mode) {
+      // The linearized samples are still quantized: their step is the curve's
+      // step at the background's code value (median), one code step wide.
+      SampleScale& scale = impl_->scale;
+      scale = MeasureSampleScale(image);
+      const double full = scale.full;
+      const double lo = std::clamp(scale.median - 0.5 * scale.step, 0.0, full - scale.step);
+      scale.step = full * (DecodeTransfer(o.transfer, o.gamma, (lo + scale.step) / full) -
+                           DecodeTransfer(o.transfer, o.gamma, lo / full));
+    }
     // Linear values on the image's own scale: the threshold is T's.
     ExtractLinear(LinearizeImage(image, o.transfer, o.gamma, &impl_->transfer_table, &impl_->linear),
                   ThresholdFor<T>(), points);
@@ -269,8 +284,11 @@ void StripeExtractor::ExtractLinear(const ImageView<T>& image, double threshold,
       for (int c = 0; c < 3; ++c) w[c] = o.channel_weights[size_t(c)];
     }
     if (o.threshold_mode == ThresholdMode::kNoise) {
-      impl_->mosaic_noise =
-          MosaicNoise(view, std::is_integral_v<T>) * (std::abs(w[0]) + std::abs(w[1]) + std::abs(w[2]));
+      // Each colour's own noise (a red-lit frame's R is noisier than G).
+      impl_->mosaic_noise = MosaicNoise(view, o.bayer, region.x, region.y, w, impl_->scale.step);
+      // The mix is not on the samples' grid; its full scale is the positive weights'.
+      impl_->scale.full *= std::max(0.0, w[0]) + std::max(0.0, w[1]) + std::max(0.0, w[2]);
+      impl_->scale.step = 0;
     }
     auto& buf = impl_->Buffer<float>(0);
     buf.resize(size_t(W) * H);
@@ -278,6 +296,12 @@ void StripeExtractor::ExtractLinear(const ImageView<T>& image, double threshold,
     for (size_t i = 0; i < buf.size(); ++i) buf[i] = w0 * rgb[3 * i] + w1 * rgb[3 * i + 1] + w2 * rgb[3 * i + 2];
     impl_->RunOriented(ImageView<float>{buf.data(), W, H, 1, ptrdiff_t(W)}, params, points);
   } else if (!o.channel_weights.empty() && !(C == 1 && o.channel_weights[0] == 1.0)) {
+    if (o.threshold_mode == ThresholdMode::kNoise) {  // the mix is not on the samples' grid
+      double positive = 0;
+      for (double wc : o.channel_weights) positive += std::max(0.0, wc);
+      impl_->scale.full *= positive;
+      impl_->scale.step = 0;
+    }
     auto& buf = impl_->Buffer<float>(0);
     buf.resize(size_t(W) * H);
     for (int y = 0; y < H; ++y) {

@@ -72,6 +72,24 @@ TEST(ThresholdAuto, ExtractNamesTheThresholdAndFindsADimStripe) {
   EXPECT_NEAR(NotedThreshold(r[3].err), 9.2, 0.4);
 }
 
+// " auto" (blanks around it) is read as ParseThreshold reads it (the option's
+// check refused it before); a flat 8-bit frame's dim-image note names the
+// measured threshold (5 + the quantization floor 6/sqrt 12 = 6.732) in 4
+// significant digits, as the auto note (before: 6.732050807568877).
+TEST(ThresholdAuto, BlanksAroundAutoAndTheDimNotesPrecision) {
+  const fs::path dir = NewTestFolder("threshold_auto_blanks");
+  const fs::path p = dir / "flat.png";
+  WriteImage(p, Image<uint8_t>(64, 16, 1, 5));
+  const std::vector<CliResult> r =
+      RunMany({"extract " + Quoted(p) + " --threshold auto", "extract " + Quoted(p) + " --threshold ' auto '"});
+  for (const CliResult& c : r) {
+    ASSERT_EQ(c.exit_code, 0) << c.err;
+    EXPECT_EQ(Lines(c.out), 1);
+    EXPECT_THAT(c.err, HasSubstr("threshold auto: 6.732 (background 5 + quantization floor 1.732"));
+    EXPECT_THAT(c.err, HasSubstr("its brightest pixel is 5, below the threshold 6.732\n"));
+  }
+}
+
 // Two rendered frames of a plane lit by one laser sheet: scan with auto names
 // the median frame's threshold and the range (4 digits) in its summary and triangulates as many points as the default or
 // more; scan and calibrate laser refuse "autox" alike.

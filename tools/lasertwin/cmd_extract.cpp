@@ -2,6 +2,7 @@
 // [--axis rows|cols] [--out FILE.csv | DIR] [--planes N] ...`: laser stripe
 // centres of camera images as CSV (u,v,width,strength[,plane]).
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <type_traits>
@@ -40,6 +41,15 @@ struct ExtractArgs {
   PlaneIdOptions plane_options;
 };
 
+// A threshold for notes: as given, or a measured one (--threshold auto) in 4
+// significant digits, as its "threshold auto" note prints it.
+std::string ThresholdText(double threshold, const ExtractionOptions& o) {
+  if (o.threshold_mode != ThresholdMode::kNoise) return FormatNumber(threshold);
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", threshold);
+  return buf;
+}
+
 // Why a mono image gave no point when its brightest pixel (in the ROI) is below
 // the threshold: that value, the threshold, and for 16-bit images the bits its
 // values fit in (a 12-bit camera's frames stored unscaled in 16-bit files read
@@ -61,7 +71,7 @@ std::string DimImageNote(const Image<T>& im, const StripeExtractor& extractor, c
   const double threshold = extractor.ThresholdFor<T>();
   if (!(brightest < threshold)) return "";
   std::string note = "its brightest pixel" + std::string(o.roi ? " in the ROI" : "") + " is " + FormatNumber(brightest) +
-                     (linearized ? " linearized" : "") + ", below the threshold " + FormatNumber(threshold);
+                     (linearized ? " linearized" : "") + ", below the threshold " + ThresholdText(threshold, o);
   if (std::is_same_v<T, uint16_t> && o.DefaultThreshold()) {
     note += " (10% of 65535)";
     if (const int bits = UnscaledBitDepth(brightest)) {

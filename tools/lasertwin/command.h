@@ -12,6 +12,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "pipeline/extraction_options.h"
 
 namespace lt::cli {
 
@@ -35,13 +36,19 @@ inline CLI::Validator FiniteNumber() {
       "");
 }
 
-// --threshold: a finite number or "auto" (ParseThreshold reads it after).
+// --threshold: a finite number or "auto", blanks around it allowed: what
+// ParseThreshold (which reads it after) accepts, by asking it.
 inline CLI::Validator ThresholdValue() {
   return CLI::Validator(
       [](std::string& text) -> std::string {
-        double v = 0;
-        if (text == "auto" || (CLI::detail::lexical_cast(text, v) && std::isfinite(v))) return {};
-        return "expected a finite number or 'auto', got '" + text + "'";
+        double threshold = 0;
+        ThresholdMode mode = ThresholdMode::kFixed;
+        try {
+          ParseThreshold(text, "--threshold", &threshold, &mode);
+        } catch (const InputError&) {
+          return "expected a finite number or 'auto', got '" + text + "'";
+        }
+        return {};
       },
       "");
 }
