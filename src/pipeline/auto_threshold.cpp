@@ -154,13 +154,13 @@ NoiseThreshold EstimateNoiseThreshold(const ImageView<T>& lines, const SampleSca
   }
   const double b = Median(values, scale.step, false);
   t.noise = std::isnan(noise) ? kMadToSigma * Median(diffs, scale.step, true) / std::sqrt(2.0) : noise;
-  // The background's top: the trend's 90th percentile (stripes and their glow
-  // cover less than 10% of a frame's samples, ambient light and texture more),
-  // extrapolated as for a slope, whose values spread evenly: from b - a to
-  // b + a the 90th percentile is b + 0.8 a, the top b + 1.25 x that height.
-  auto p90 = trend.begin() + ptrdiff_t(0.9 * double(trend.size() - 1));
-  std::nth_element(trend.begin(), p90, trend.end());
-  t.spread = std::max(0.0, 1.25 * (double(*p90) - b));
+  // The background's top: the trend's 75th percentile (a DOE's sheets and
+  // their glow cover up to 10-20% of a frame's samples, ambient light and
+  // texture more), extrapolated as for a slope, whose values spread evenly:
+  // from b - a to b + a the 75th percentile is b + a / 2, the top b + 2 x that.
+  auto p75 = trend.begin() + ptrdiff_t(0.75 * double(trend.size() - 1));
+  std::nth_element(trend.begin(), p75, trend.end());
+  t.spread = std::max(0.0, 2.0 * (double(*p75) - b));
 
   const double k = NoiseThreshold::kNoiseSigmas;
   const double quantization = k * scale.step / std::sqrt(12.0);

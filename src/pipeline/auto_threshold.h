@@ -13,11 +13,11 @@
 //               the background's level where it varies (ambient light, a
 //               slope, texture, vignetting), blind to stripes narrower than
 //               half the window across the line and to stripes running along
-//               it (under 15 lines thick); spread = 1.25 x (its 90th
+//               it (under 15 lines thick); spread = 2 x (its 75th
 //               percentile - b): the top of a slope (evenly spread values:
-//               from b - a to b + a the 90th percentile is b + 0.8 a); the
-//               stripes and their glow, under 10% of the samples, do not
-//               reach the 90th percentile.
+//               from b - a to b + a the 75th percentile is b + a / 2); the
+//               stripes and their glow (a DOE's five sheets on multi_line:
+//               10-20% of the samples) do not reach the 75th percentile.
 //
 // threshold = b + max(k s, floor)             with --background a level, and
 //           = b + spread + k s                there when spread > 2 s: the
@@ -67,7 +67,7 @@ struct NoiseThreshold {
 
   double background = 0;  // b, the median sample (0 with local: not part of the threshold)
   double noise = 0;       // s, from the first differences
-  double spread = 0;      // the background's top above b (from the trend's 90th percentile)
+  double spread = 0;      // the background's top above b (from the trend's 75th percentile)
   double step = 0;        // the samples' quantization step (0: continuous)
   double peak = 0;        // the robust stripe peak's height above b
   double floor = 0;       // the floor's height above b
