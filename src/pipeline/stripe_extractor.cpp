@@ -287,7 +287,7 @@ void StripeExtractor::ExtractLinear(const ImageView<T>& image, double threshold,
       // Each colour's own noise (a red-lit frame's R is noisier than G).
       impl_->mosaic_noise = MosaicNoise(view, o.bayer, region.x, region.y, w, impl_->scale.step);
       // The mix is not on the samples' grid; its full scale is the positive weights'.
-      impl_->scale.full *= std::max(0.0, w[0]) + std::max(0.0, w[1]) + std::max(0.0, w[2]);
+      impl_->scale.full *= o.WeightedFullScale();
       impl_->scale.step = 0;
     }
     auto& buf = impl_->Buffer<float>(0);
@@ -297,9 +297,7 @@ void StripeExtractor::ExtractLinear(const ImageView<T>& image, double threshold,
     impl_->RunOriented(ImageView<float>{buf.data(), W, H, 1, ptrdiff_t(W)}, params, points);
   } else if (!o.channel_weights.empty() && !(C == 1 && o.channel_weights[0] == 1.0)) {
     if (o.threshold_mode == ThresholdMode::kNoise) {  // the mix is not on the samples' grid
-      double positive = 0;
-      for (double wc : o.channel_weights) positive += std::max(0.0, wc);
-      impl_->scale.full *= positive;
+      impl_->scale.full *= o.WeightedFullScale();
       impl_->scale.step = 0;
     }
     auto& buf = impl_->Buffer<float>(0);
