@@ -141,29 +141,13 @@ bool WrappedBase64(const std::string& s, size_t header) {
          std::all_of(data, s.end(), [](char c) { return IsBase64Char(c) || IsAsciiWhitespace(c); });
 }
 
-int HexValue(char c) {
-  if (c >= '0' && c <= '9') return c - '0';
-  c = ToLowerAscii(c);
-  return c >= 'a' && c <= 'f' ? c - 'a' + 10 : -1;
-}
-
 // RFC 2397's data without ";base64": percent-encoded octets, decoded as browsers
 // decode a data: URL (WHATWG fetch): '%' and two hex digits is that byte; anything
 // else, a '%' not followed by two hex digits included, stands for itself.
+// The same decoding as a file URI's (DecodeUri, scene/gltf_uri.h).
 std::vector<uint8_t> PercentDecoded(const std::string& s, size_t start) {
-  std::vector<uint8_t> bytes;
-  bytes.reserve(s.size() - start);
-  for (size_t i = start; i < s.size(); ++i) {
-    const int hi = s[i] == '%' && i + 2 < s.size() ? HexValue(s[i + 1]) : -1;
-    const int lo = hi >= 0 ? HexValue(s[i + 2]) : -1;
-    if (lo >= 0) {
-      bytes.push_back(uint8_t(hi * 16 + lo));
-      i += 2;
-    } else {
-      bytes.push_back(uint8_t(s[i]));
-    }
-  }
-  return bytes;
+  const std::string decoded = DecodeUri(s.substr(start));
+  return std::vector<uint8_t>(decoded.begin(), decoded.end());
 }
 
 // The media type of a data: URI's header without its parameters ("image/png" of
